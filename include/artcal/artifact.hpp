@@ -1,0 +1,54 @@
+#pragma once
+// Calibrated artifacts (method.md sections 1 and 2): their features W*_i, which coordinates are
+// valued, which rigid motions of a placement move those coordinates (N(r_j)), and their
+// systematic calibration errors c (W* = W*_0 + C c, prior covariance Sigma_c), shared by every
+// placement of the same physical artifact.
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+namespace artcal {
+
+enum class ArtifactKind { BallBar, BallPlate, StepGauge };
+
+std::string artifactKindName(ArtifactKind kind);
+
+/// One systematic error of an artifact: moves coordinate `coordinate` of feature `feature` by c,
+/// with prior standard deviation `sigma` (mm).
+struct SystematicError {
+  int feature;
+  int coordinate;
+  double sigma;
+};
+
+class Artifact {
+ public:
+  std::string id;
+  ArtifactKind kind = ArtifactKind::BallBar;
+  int dimension = 2;
+  Eigen::MatrixXd features;  ///< dimension x featureCount, calibrated nominal coordinates W*_0
+  std::vector<SystematicError> systematic;  ///< only errors with sigma > 0
+
+  static Artifact ballBar(std::string id, int dimension, double length, double u_length);
+  static Artifact ballPlate(std::string id, const Eigen::MatrixXd& centers, double u);
+  static Artifact stepGauge(std::string id, int dimension, const std::vector<double>& positions,
+                            double u);
+
+  int featureCount() const { return static_cast<int>(features.cols()); }
+  /// k: valued coordinates per feature (all of them for a ball, the first for a step-gauge face).
+  int valuedPerFeature() const { return kind == ArtifactKind::StepGauge ? 1 : dimension; }
+  /// N(r_j): the rigid-motion directions that move valued coordinates (method.md section 1).
+  int rigidDof() const { return static_cast<int>(rigidDirections().size()); }
+  /// Indices into the full rigid motion (translation, rotation) that a placement estimates.
+  const std::vector<int>& rigidDirections() const;
+  /// dW_valued / dr at artifact-frame point W: valuedPerFeature() x rigidDof().
+  void rigidJacobian(const Eigen::VectorXd& W, Eigen::Ref<Eigen::MatrixXd> J) const;
+  /// The full rigid motion (translation, rotation) for a step in the estimated directions.
+  Eigen::VectorXd expandRigidStep(const Eigen::VectorXd& step) const;
+  int systematicCount() const { return static_cast<int>(systematic.size()); }
+  /// Calibrated coordinates of feature i with the systematic errors c added.
+  Eigen::VectorXd feature(int i, const Eigen::VectorXd& c) const;
+};
+
+}  // namespace artcal

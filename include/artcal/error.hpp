@@ -1,0 +1,32 @@
+#pragma once
+// Errors at the input edge carry the file and the JSON pointer of the fault, so that the command
+// line can answer with one line: "error: plan.json: /placements/3/joints: expected 2 numbers, got
+// 3".
+
+#include <stdexcept>
+#include <string>
+
+namespace artcal {
+
+/// Bad input: the command line maps it to exit status 2.
+class InputError : public std::runtime_error {
+ public:
+  InputError(std::string file, std::string pointer, const std::string& message)
+      : std::runtime_error(message), file_(std::move(file)), pointer_(std::move(pointer)) {}
+
+  const std::string& file() const { return file_; }
+  /// JSON pointer of the offending value ("" for the whole document).
+  const std::string& pointer() const { return pointer_; }
+  /// "FILE: POINTER: MESSAGE" (the pointer is left out when empty).
+  std::string describe() const {
+    std::string out = file_;
+    if (!pointer_.empty()) out += ": " + pointer_;
+    return out + ": " + what();
+  }
+
+ private:
+  std::string file_;
+  std::string pointer_;
+};
+
+}  // namespace artcal

@@ -1,0 +1,36 @@
+#pragma once
+// Reading and writing plan files (plan-format.md). Every fault in the input raises InputError
+// with the file and the JSON pointer of the offending value; outputs are written to a temporary
+// file in the same folder and renamed, so that a reader never sees a half-written file.
+
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "artcal/error.hpp"
+#include "artcal/plan.hpp"
+
+namespace artcal {
+
+/// Largest plan file read, bytes (a bound against unbounded allocation).
+inline constexpr std::size_t kMaxPlanFileBytes = 256u << 20;
+
+/// Reads and parses a JSON file; InputError when unreadable or malformed.
+nlohmann::json readJsonFile(const std::string& path);
+
+/// Validates a plan document and converts it to internal units. `source` names it in errors.
+/// `require_placements`: a plan for check/evaluate needs at least one; a design spec may have none.
+Plan parsePlan(const nlohmann::json& document, const std::string& source,
+               bool require_placements = true);
+
+/// readJsonFile + parsePlan.
+Plan loadPlan(const std::string& path, bool require_placements = true);
+
+/// The placements of a plan as plan-file JSON (file units), e.g. for a plan the tool writes.
+nlohmann::json placementsToJson(const Plan& plan);
+/// The machine block with the given full parameter vector as nominal values (file units).
+nlohmann::json machineToJson(const Machine& machine, const Eigen::VectorXd& parameters);
+
+/// Writes `content` to `path` through a temporary file and a rename; std::runtime_error on failure.
+void writeFileAtomically(const std::string& path, const std::string& content);
+
+}  // namespace artcal

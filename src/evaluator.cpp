@@ -1,0 +1,56 @@
+#include "artcal/evaluator.hpp"
+
+#include <Eigen/Cholesky>
+
+namespace artcal {
+
+std::optional<ParameterCovariance> covarianceFromInformation(const Eigen::MatrixXd& information) {
+  const int n = static_cast<int>(information.rows());
+  // Invert in scaled form (unit diagonal): parameters in mm and rad differ by orders of magnitude.
+  const Eigen::VectorXd diagonal = information.diagonal();
+  if (!(diagonal.array() > 0.0).all() || !diagonal.allFinite()) return std::nullopt;
+  const Eigen::VectorXd scale = diagonal.cwiseSqrt().cwiseInverse();
+  const Eigen::MatrixXd scaled = scale.asDiagonal() * information * scale.asDiagonal();
+  const Eigen::LLT<Eigen::MatrixXd> llt(scaled);
+  if (llt.info() != Eigen::Success) return std::nullopt;
+  const Eigen::MatrixXd scaled_inverse = llt.solve(Eigen::MatrixXd::Identity(n, n));
+  ParameterCovariance cov;
+  cov.V = scale.asDiagonal() * scaled_inverse * scale.asDiagonal();
+  if (!cov.V.allFinite() || !(cov.V.diagonal().array() > 0.0).all()) return std::nullopt;
+  cov.u = cov.V.diagonal().cwiseSqrt();
+  cov.correlation = cov.u.cwiseInverse().asDiagonal() * cov.V * cov.u.cwiseInverse().asDiagonal();
+  return cov;
+}
+
+Eigen::MatrixXd parameterInformation(const Plan& plan, const std::vector<Placement>& placements,
+                                     const Eigen::VectorXd& p) {
+  const std::vector<RigidTransform> poses = fitPlacements(plan, placements, p);
+  DesignMatrixBuilder builder(plan.machine, plan.noise);
+  NormalMatrixReducer reducer(GlobalLayout::of(plan));
+  ObservationBlock block;
+  const Eigen::VectorXd no_c;
+  for (std::size_t j = 0; j < placements.size(); ++j) {
+    const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placements[j].artifact)];
+    builder.build(artifact, placements[j].measurements, p, poses[j], no_c, false, block);
+    reducer.add(block, placements[j].artifact);
+  }
+  return reducer.parameterInformation();
+}
+
+Evaluation evaluatePlan(const Plan& plan, const EvaluateOptions& options) {
+  Evaluation evaluation;
+  evaluation.information = parameterInformation(plan, plan.placements, plan.machine.nominal);
+  evaluation.identifiability =
+      analyseIdentifiability(plan, plan.placements, evaluation.information, options.rank_tolerance);
+  if (evaluation.identifiability.deficiency > 0) return evaluation;
+  evaluation.covariance = covarianceFromInformation(evaluation.information);
+  if (!evaluation.covariance) return evaluation;
+  evaluation.workspace = workspaceConfigurations(plan.machine, plan.workspace);
+  const TipEvaluator tip(plan.machine, plan.noise, evaluation.workspace);
+  evaluation.tip = tip.summarize(evaluation.covariance->V);
+  evaluation.profile =
+      reachProfile(plan.machine, plan.noise, evaluation.covariance->V, options.profile_steps);
+  return evaluation;
+}
+
+}  // namespace artcal

@@ -1,0 +1,69 @@
+// The reference cases of an independent implementation (tests/data/*.expected.json).
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "artcal/artcal.hpp"
+
+namespace artcal {
+namespace {
+
+nlohmann::json readExpected(const std::string& name) {
+  std::ifstream in(std::string(ARTCAL_TEST_DATA) + "/" + name + ".expected.json");
+  return nlohmann::json::parse(in);
+}
+
+Plan readPlan(const std::string& name) {
+  return loadPlan(std::string(ARTCAL_TEST_DATA) + "/" + name + ".json");
+}
+
+void expectRelative(double actual, double expected, double tolerance, const std::string& what) {
+  EXPECT_NEAR(actual, expected, tolerance * std::abs(expected)) << what;
+}
+
+void expectMatchesReference(const std::string& name) {
+  const Plan plan = readPlan(name);
+  const nlohmann::json expected = readExpected(name);
+  const Evaluation ev = evaluatePlan(plan);
+  const nlohmann::json got = evaluationToJson(plan, ev);
+  EXPECT_EQ(got["identifiable"], expected["identifiable"]);
+  EXPECT_EQ(got["rank"]["deficiency"], expected["rank"]["deficiency"]);
+  for (const char* key : {"N_p", "N_b", "N_r", "satisfied"}) {
+    EXPECT_EQ(got["counting"][key], expected["counting"][key]) << key;
+  }
+  if (expected.contains("parameters")) {
+    ASSERT_EQ(got["parameters"].size(), expected["parameters"].size());
+    for (std::size_t i = 0; i < expected["parameters"].size(); ++i) {
+      const auto& e = expected["parameters"][i];
+      const auto& g = got["parameters"][i];
+      EXPECT_EQ(g["name"], e["name"]);
+      expectRelative(g["u"].get<double>(), e["u"].get<double>(), 1e-6, e["name"]);
+    }
+  }
+  if (expected.contains("tip")) {
+    const auto& e = expected["tip"];
+    const auto& g = got["tip"];
+    for (const char* key : {"total", "kinematic", "encoder"}) {
+      expectRelative(g["worst"][key].get<double>(), e["worst"][key].get<double>(), 1e-6, key);
+    }
+    for (std::size_t j = 0; j < e["worst"]["joints"].size(); ++j) {
+      EXPECT_NEAR(g["worst"]["joints"][j].get<double>(), e["worst"]["joints"][j].get<double>(),
+                  1e-9);
+    }
+    expectRelative(g["mean"].get<double>(), e["mean"].get<double>(), 1e-6, "mean");
+  }
+}
+
+TEST(Reference, Planar2R5Bars) {
+  expectMatchesReference("ref-2r-5bars");
+}
+TEST(Reference, RingLayoutIsDegenerate) {
+  expectMatchesReference("ref-2r-ring-degenerate");
+}
+TEST(Reference, Aacmm3Bars3Postures) {
+  expectMatchesReference("ref-aacmm-3bars-3postures");
+}
+
+}  // namespace
+}  // namespace artcal

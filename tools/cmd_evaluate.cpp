@@ -1,0 +1,89 @@
+// artcal check PLAN / artcal evaluate PLAN (plan-format.md, command line).
+
+#include <iostream>
+
+#include "artcal/evaluator.hpp"
+#include "artcal/report.hpp"
+#include "commands.hpp"
+
+namespace artcal::cli {
+
+namespace {
+
+struct EvaluateArguments {
+  std::string plan;
+  bool json = false;
+  double rank_tolerance = kDefaultRankTolerance;
+  int profile_steps = 21;
+};
+
+void addCommonOptions(CLI::App* cmd, EvaluateArguments& args) {
+  cmd->add_option("PLAN", args.plan, "plan file (artcal-plan/1)")->required();
+  cmd->add_flag("--json", args.json, "print one JSON document instead of the table");
+  cmd->add_option("--rank-tol", args.rank_tolerance,
+                  "relative eigenvalue tolerance of the rank test on the scaled N_red")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+}
+
+}  // namespace
+
+namespace {
+
+void addCheckCommand(CLI::App& app, Action& action) {
+  auto args = std::make_shared<EvaluateArguments>();
+  CLI::App* cmd =
+      app.add_subcommand("check",
+                         "counting condition and rank: can this plan identify every parameter? "
+                         "(exit 0 identifiable, 1 not)");
+  addCommonOptions(cmd, *args);
+  cmd->callback([&action, args] {
+    action = [args] {
+      const Plan plan = loadPlanReporting(args->plan);
+      const Eigen::MatrixXd information =
+          parameterInformation(plan, plan.placements, plan.machine.nominal);
+      const Identifiability id =
+          analyseIdentifiability(plan, plan.placements, information, args->rank_tolerance);
+      if (args->json) {
+        nlohmann::json out = identifiabilityToJson(id);
+        out["plan"] = plan.name;
+        printJson(out);
+      } else {
+        std::cout << identifiabilityTable(plan, id);
+      }
+      return id.identifiable() ? 0 : 1;
+    };
+  });
+}
+
+void addEvaluateCommand(CLI::App& app, Action& action) {
+  auto args = std::make_shared<EvaluateArguments>();
+  CLI::App* cmd = app.add_subcommand(
+      "evaluate",
+      "parameter uncertainties and tip uncertainty over the workspace, before any "
+      "measurement (exit 0; 1 when the plan is not identifiable)");
+  addCommonOptions(cmd, *args);
+  cmd->add_option("--profile-steps", args->profile_steps,
+                  "rows of the planar2r tip-uncertainty profile against reach")
+      ->check(CLI::Range(2, 10000))
+      ->capture_default_str();
+  cmd->callback([&action, args] {
+    action = [args] {
+      const Plan plan = loadPlanReporting(args->plan);
+      const Evaluation evaluation = evaluatePlan(plan, {args->rank_tolerance, args->profile_steps});
+      if (args->json) {
+        printJson(evaluationToJson(plan, evaluation));
+      } else {
+        std::cout << evaluationTable(plan, evaluation);
+      }
+      return evaluation.identifiable() ? 0 : 1;
+    };
+  });
+}
+
+const Registrar check_registrar(10, addCheckCommand);
+const Registrar evaluate_registrar(20, addEvaluateCommand);
+
+}  // namespace
+
+}  // namespace artcal::cli

@@ -1,0 +1,38 @@
+#pragma once
+// The artcal command line: each subcommand lives in its own file and registers itself here.
+// A command returns its exit status; InputError escapes to main, which answers with status 2.
+
+#include <CLI/CLI.hpp>
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "artcal/plan.hpp"
+
+namespace artcal::cli {
+
+/// What main runs once the command line is parsed.
+using Action = std::function<int()>;
+
+/// Adds one subcommand to the app; its callback sets `action`.
+using CommandFactory = void (*)(CLI::App& app, Action& action);
+
+/// Each cmd_*.cpp registers its subcommands with a static Registrar; `order` sorts --help.
+struct Registrar {
+  Registrar(int order, CommandFactory factory);
+};
+
+/// The registered factories, sorted by order.
+std::vector<CommandFactory> registeredCommands();
+
+/// Loads a plan and prints its warnings (unknown fields) on stderr.
+Plan loadPlanReporting(const std::string& path, bool require_placements = true);
+
+/// Prints a JSON document (2-space indent) on stdout.
+void printJson(const nlohmann::json& document);
+
+/// Writes JSON to a file atomically; "-" means stdout.
+void writeJsonOutput(const std::string& path, const nlohmann::json& document);
+
+}  // namespace artcal::cli
