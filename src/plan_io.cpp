@@ -611,7 +611,10 @@ void writeFileAtomically(const std::string& path, const std::string& content) {
   namespace fs = std::filesystem;
   const fs::path target(path);
   const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
-  std::string pattern = (dir / ("." + target.filename().string() + ".XXXXXX")).string();
+  std::string name = target.filename().string();
+  name.insert(name.begin(), '.');
+  name.append(".XXXXXX");
+  std::string pattern = (dir / name).string();
   const int fd = ::mkstemp(pattern.data());
   if (fd < 0) throw std::runtime_error(path + ": cannot create a temporary file beside it");
   const char* data = content.data();
