@@ -37,6 +37,42 @@ Eigen::MatrixXd parameterInformation(const Plan& plan, const std::vector<Placeme
   return reducer.parameterInformation();
 }
 
+PlanEvaluator::PlanEvaluator(const Plan& plan)
+    : PlanEvaluator(plan, workspaceConfigurations(plan.machine, plan.workspace)) {}
+
+PlanEvaluator::PlanEvaluator(const Plan& plan, std::vector<Eigen::VectorXd> workspace)
+    : plan_(&plan),
+      tip_(plan.machine, plan.noise, std::move(workspace)),
+      builder_(plan.machine, plan.noise),
+      reducer_(GlobalLayout::of(plan)) {}
+
+const Eigen::MatrixXd& PlanEvaluator::information(const std::vector<Placement>& placements,
+                                                  const std::vector<RigidTransform>* poses) {
+  const Plan& plan = *plan_;
+  std::vector<RigidTransform> fitted;
+  if (!poses) {
+    fitted = fitPlacements(plan, placements, plan.machine.nominal);
+    poses = &fitted;
+  }
+  reducer_.reset();
+  const Eigen::VectorXd no_c;
+  for (std::size_t j = 0; j < placements.size(); ++j) {
+    const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placements[j].artifact)];
+    builder_.build(artifact, placements[j].measurements, plan.machine.nominal, (*poses)[j], no_c,
+                   false, block_);
+    reducer_.add(block_, placements[j].artifact);
+  }
+  information_ = reducer_.parameterInformation();
+  return information_;
+}
+
+std::optional<TipSummary> PlanEvaluator::tip(const std::vector<Placement>& placements,
+                                             const std::vector<RigidTransform>* poses) {
+  const auto covariance = covarianceFromInformation(information(placements, poses));
+  if (!covariance) return std::nullopt;
+  return tip_.summarize(covariance->V);
+}
+
 Evaluation evaluatePlan(const Plan& plan, const EvaluateOptions& options) {
   Evaluation evaluation;
   evaluation.information = parameterInformation(plan, plan.placements, plan.machine.nominal);

@@ -49,4 +49,34 @@ struct EvaluateOptions {
 
 Evaluation evaluatePlan(const Plan& plan, const EvaluateOptions& options = {});
 
+/// Prepared, repeated evaluation (Pinocchio's model/data split): the plan is the immutable model;
+/// this object holds the workspace Jacobians, computed once, and the scratch space reused by
+/// every call. The optimizer re-evaluates candidate placements thousands of times through it.
+/// Not thread-safe: one per thread.
+class PlanEvaluator {
+ public:
+  /// Prepares the plan's own workspace (plan.workspace).
+  explicit PlanEvaluator(const Plan& plan);
+  PlanEvaluator(const Plan& plan, std::vector<Eigen::VectorXd> workspace);
+
+  const Plan& plan() const { return *plan_; }
+  const TipEvaluator& workspace() const { return tip_; }
+
+  /// The information of p for `placements` at the nominal parameters. `poses` gives each r_j;
+  /// when null every r_j is fitted to the probed points.
+  const Eigen::MatrixXd& information(const std::vector<Placement>& placements,
+                                     const std::vector<RigidTransform>* poses = nullptr);
+  /// V_p and the tip summary for `placements`; std::nullopt when V_p does not exist.
+  std::optional<TipSummary> tip(const std::vector<Placement>& placements,
+                                const std::vector<RigidTransform>* poses = nullptr);
+
+ private:
+  const Plan* plan_;
+  TipEvaluator tip_;
+  DesignMatrixBuilder builder_;
+  NormalMatrixReducer reducer_;
+  ObservationBlock block_;
+  Eigen::MatrixXd information_;
+};
+
 }  // namespace artcal
