@@ -1,0 +1,215 @@
+// artcal simulate / calibrate / confirm (plan-format.md, command line; method.md section 6).
+
+#include <unistd.h>
+
+#include <iostream>
+
+#include "artcal/calibration_report.hpp"
+#include "artcal/calibrator.hpp"
+#include "artcal/confirmation.hpp"
+#include "artcal/plan_io.hpp"
+#include "artcal/simulation.hpp"
+#include "artcal/truth_io.hpp"
+#include "commands.hpp"
+
+namespace artcal::cli {
+
+namespace {
+
+void checkOptions(bool valid, const std::string& what, const std::string& error) {
+  if (!valid) throw std::invalid_argument(what + ": " + error);
+}
+
+// ---------------------------------------------------------------------------------- simulate
+
+struct SimulateArguments {
+  std::string plan, truth, output;
+  std::uint64_t seed = 1;
+  double noise_scale = 1.0;
+  bool no_artifact_errors = false;
+  bool json = false;
+};
+
+constexpr const char* kTruthHelp =
+    "TRUTH file: the true machine, file units (mm, deg). Either a machine block as "
+    "`calibrate --write-machine` writes it, or {\"parameters\": {\"l1\": 150.02, ...}} (named "
+    "values over the plan's nominal ones), or {\"machine\": {...}, \"parameters\": {...}}.";
+
+int runSimulate(const SimulateArguments& args) {
+  const Plan plan = loadPlanReporting(args.plan);
+  nlohmann::json document = readJsonFile(args.plan);
+  const Eigen::VectorXd truth = loadTruth(args.truth, plan);
+  SimulationOptions options;
+  options.noise_scale = args.noise_scale;
+  options.artifact_errors = !args.no_artifact_errors;
+  std::string error;
+  checkOptions(options.isValid(&error), "simulate", error);
+  const Simulator simulator(plan, options);
+  NormalSource normal(args.seed);
+  const SimulatedRun run = simulator.simulate(truth, normal);
+  Plan simulated = plan;
+  simulated.placements = run.placements;
+  document["placements"] = placementsToJson(simulated);
+  nlohmann::json record = truthToJson(plan.machine, truth);
+  record["seed"] = args.seed;
+  record["noise_scale"] = args.noise_scale;
+  record["artifact_errors"] =
+      std::vector<double>(run.systematic.data(), run.systematic.data() + run.systematic.size());
+  document["simulation"] = record;
+  writeJsonOutput(args.output, document);
+  if (args.output != "-") {
+    if (args.json) {
+      printJson({{"output", args.output}, {"seed", args.seed}, {"simulation", record}});
+    } else {
+      std::cout << "simulated readings of " << run.placements.size() << " placements (seed "
+                << args.seed << ") written to " << args.output << "\n";
+    }
+  }
+  return 0;
+}
+
+void addSimulateCommand(CLI::App& app, Action& action) {
+  auto args = std::make_shared<SimulateArguments>();
+  CLI::App* cmd = app.add_subcommand(
+      "simulate",
+      "the readings a machine with the TRUTH parameters would report for the plan (inverse "
+      "kinematics, probe and encoder noise, one draw of each artifact's calibration error); "
+      "writes the plan with those readings");
+  cmd->footer(kTruthHelp);
+  cmd->add_option("PLAN", args->plan, "plan file (artcal-plan/1)")->required();
+  cmd->add_option("--truth", args->truth, "the true machine (see below)")->required();
+  cmd->add_option("--seed", args->seed, "random seed (same seed, same readings)")
+      ->capture_default_str();
+  cmd->add_option("-o,--output", args->output, "output plan with simulated readings ('-': stdout)")
+      ->required();
+  cmd->add_option("--noise-scale", args->noise_scale, "simulate K times the declared noise")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  cmd->add_flag("--no-artifact-errors", args->no_artifact_errors,
+                "do not draw the artifacts' systematic errors (c = 0)");
+  cmd->add_flag("--json", args->json, "print one JSON document instead of the summary line");
+  cmd->callback([&action, args] { action = [args] { return runSimulate(*args); }; });
+}
+
+// --------------------------------------------------------------------------------- calibrate
+
+struct CalibrateArguments {
+  std::string plan, write_machine;
+  bool json = false;
+  CalibrationOptions options;
+};
+
+int runCalibrate(const CalibrateArguments& args) {
+  std::string error;
+  checkOptions(args.options.isValid(&error), "calibrate", error);
+  const Plan plan = loadPlanReporting(args.plan);
+  const Calibration calibration = calibratePlan(plan, args.options);
+  if (!args.write_machine.empty()) {
+    writeJsonOutput(args.write_machine, machineToJson(plan.machine, calibration.parameters));
+  }
+  if (args.json) {
+    printJson(calibrationToJson(plan, plan.placements, calibration));
+  } else {
+    std::cout << calibrationTable(plan, plan.placements, calibration);
+  }
+  return calibration.summary.converged() ? 0 : 1;
+}
+
+void addCalibrateCommand(CLI::App& app, Action& action) {
+  auto args = std::make_shared<CalibrateArguments>();
+  CLI::App* cmd = app.add_subcommand(
+      "calibrate",
+      "estimates the parameters from the readings in PLAN (Levenberg-Marquardt on the "
+      "Schur-reduced block structure): estimates, u, u_posterior, chi2/dof, residuals (exit 0 "
+      "converged, 1 not)");
+  cmd->add_option("PLAN", args->plan, "plan file with the readings taken")->required();
+  cmd->add_flag("--json", args->json, "print one JSON document instead of the tables");
+  cmd->add_option("--write-machine", args->write_machine,
+                  "write the machine block with the estimated parameters (the next plan's "
+                  "machine) to this file");
+  cmd->add_option("--max-iterations", args->options.max_iterations, "iteration limit")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  cmd->add_option("--step-tol", args->options.step_tolerance,
+                  "converged when every step is below this many standard uncertainties")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  cmd->add_option("--flag-threshold", args->options.flag_threshold,
+                  "flag normalised residuals larger than this")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  cmd->callback([&action, args] { action = [args] { return runCalibrate(*args); }; });
+}
+
+// ----------------------------------------------------------------------------------- confirm
+
+struct ConfirmArguments {
+  std::string plan;
+  bool json = false;
+  bool quiet = false;
+  ConfirmationOptions options;
+};
+
+int runConfirm(ConfirmArguments args) {
+  std::string error;
+  checkOptions(args.options.isValid(&error), "confirm", error);
+  const Plan plan = loadPlanReporting(args.plan);
+  if (!args.quiet && isatty(STDERR_FILENO)) {
+    args.options.progress = [](int done, int total) {
+      if (done == total || done % 10 == 0) {
+        std::cerr << "\rtrials " << done << "/" << total << (done == total ? "\n" : "")
+                  << std::flush;
+      }
+    };
+  }
+  const Confirmation confirmation = confirmPlan(plan, args.options);
+  if (args.json) {
+    printJson(confirmationToJson(plan, args.options, confirmation));
+  } else {
+    std::cout << confirmationTable(plan, args.options, confirmation);
+  }
+  return confirmation.confirmed ? 0 : 1;
+}
+
+void addConfirmCommand(CLI::App& app, Action& action) {
+  auto args = std::make_shared<ConfirmArguments>();
+  CLI::App* cmd = app.add_subcommand(
+      "confirm",
+      "Monte-Carlo confirmation: T simulated calibrations of PLAN against the predicted "
+      "uncertainties; prints the band the trial count allows (exit 0 confirmed, 1 not)");
+  ConfirmationOptions& o = args->options;
+  cmd->add_option("PLAN", args->plan, "plan file (artcal-plan/1)")->required();
+  cmd->add_option("--trials", o.trials, "number of simulated calibrations")
+      ->check(CLI::Range(2, 10000000))
+      ->capture_default_str();
+  cmd->add_option("--seed", o.seed, "random seed (same seed, same result, any thread count)")
+      ->capture_default_str();
+  cmd->add_option("--threads", o.threads, "worker threads (0: all cores)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  cmd->add_option("--noise-scale", o.noise_scale,
+                  "simulate K times the declared noise (K = 2 must not confirm)")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  cmd->add_option("--perturbation", o.perturbation,
+                  "true parameters = nominal + this many predicted u times N(0, 1)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  cmd->add_option("--allowance", o.allowance, "relative non-linearity allowance of the band")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  cmd->add_option("--level", o.level, "family-wise false-alarm probability of the band")
+      ->check(CLI::Range(1e-12, 0.5))
+      ->capture_default_str();
+  cmd->add_flag("--quiet", args->quiet, "no progress on stderr");
+  cmd->add_flag("--json", args->json, "print one JSON document instead of the table");
+  cmd->callback([&action, args] { action = [args] { return runConfirm(*args); }; });
+}
+
+const Registrar simulate_registrar(40, addSimulateCommand);
+const Registrar calibrate_registrar(50, addCalibrateCommand);
+const Registrar confirm_registrar(60, addConfirmCommand);
+
+}  // namespace
+
+}  // namespace artcal::cli
