@@ -1,0 +1,610 @@
+// The HTML report and its SVG layer (issue 5): every SVG (and the page itself) is well-formed
+// XML, every number shown equals the one `artcal evaluate --json` prints, a 1000-placement plan
+// stays under 2 MB, and the page fetches nothing.
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <optional>
+#include <random>
+#include <regex>
+#include <set>
+#include <sstream>
+
+#include "artcal/artcal.hpp"
+
+namespace artcal {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+// ---------------------------------------------------------------------------------------------
+// A small, strict XML well-formedness checker: balanced and properly nested tags, one root
+// element, attributes quoted and not repeated, & only as a known entity, no raw < or > in text
+// or attribute values. Allows an XML declaration, a DOCTYPE and comments before the root.
+
+class XmlChecker {
+ public:
+  explicit XmlChecker(std::string_view text) : s_(text) {}
+
+  /// The first fault found, or std::nullopt when the document is well-formed.
+  std::optional<std::string> check() {
+    skipProlog();
+    if (fault_) return fault_;
+    int roots = 0;
+    while (pos_ < s_.size() && !fault_) {
+      if (s_[pos_] == '<') {
+        if (s_.compare(pos_, 4, "<!--") == 0) {
+          skipComment();
+        } else if (s_.compare(pos_, 2, "</") == 0) {
+          closeTag();
+        } else {
+          if (stack_.empty() && ++roots > 1) return fail("a second root element");
+          openTag();
+        }
+      } else {
+        text();
+      }
+    }
+    if (fault_) return fault_;
+    if (!stack_.empty()) return fail("unclosed <" + stack_.back() + ">");
+    if (roots == 0) return fail("no root element");
+    return std::nullopt;
+  }
+
+ private:
+  std::optional<std::string> fail(const std::string& what) {
+    if (!fault_) fault_ = what + " at offset " + std::to_string(pos_);
+    pos_ = s_.size();
+    return fault_;
+  }
+
+  static bool nameStart(char c) { return std::isalpha(static_cast<unsigned char>(c)) || c == '_'; }
+  static bool nameChar(char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.' ||
+           c == ':';
+  }
+
+  void skipSpace() {
+    while (pos_ < s_.size() && std::isspace(static_cast<unsigned char>(s_[pos_]))) ++pos_;
+  }
+
+  void skipProlog() {
+    for (;;) {
+      skipSpace();
+      if (s_.compare(pos_, 5, "<?xml") == 0) {
+        const auto end = s_.find("?>", pos_);
+        if (end == std::string_view::npos) return void(fail("unterminated XML declaration"));
+        pos_ = end + 2;
+      } else if (s_.compare(pos_, 9, "<!DOCTYPE") == 0) {
+        const auto end = s_.find('>', pos_);
+        if (end == std::string_view::npos) return void(fail("unterminated DOCTYPE"));
+        pos_ = end + 1;
+      } else if (s_.compare(pos_, 4, "<!--") == 0) {
+        skipComment();
+      } else {
+        return;
+      }
+    }
+  }
+
+  void skipComment() {
+    const auto end = s_.find("-->", pos_ + 4);
+    if (end == std::string_view::npos) return void(fail("unterminated comment"));
+    pos_ = end + 3;
+  }
+
+  std::string name() {
+    const std::size_t start = pos_;
+    if (pos_ >= s_.size() || !nameStart(s_[pos_])) {
+      fail("expected a name");
+      return {};
+    }
+    while (pos_ < s_.size() && nameChar(s_[pos_])) ++pos_;
+    return std::string(s_.substr(start, pos_ - start));
+  }
+
+  // An entity reference starting at s_[pos_] == '&'.
+  void entity() {
+    static const std::regex kEntity("&(amp|lt|gt|quot|apos|#[0-9]+|#x[0-9a-fA-F]+);");
+    const auto end = s_.find(';', pos_);
+    if (end == std::string_view::npos || end - pos_ > 12) return void(fail("a raw &"));
+    const std::string candidate(s_.substr(pos_, end - pos_ + 1));
+    if (!std::regex_match(candidate, kEntity)) return void(fail("unknown entity " + candidate));
+    pos_ = end + 1;
+  }
+
+  void text() {
+    while (pos_ < s_.size() && s_[pos_] != '<' && !fault_) {
+      if (s_[pos_] == '&') {
+        entity();
+      } else if (s_[pos_] == '>') {
+        fail("a raw > in text");
+      } else {
+        ++pos_;
+      }
+    }
+    if (stack_.empty() && !fault_) {
+      // Only white space may sit outside the root element (checked loosely by the caller).
+    }
+  }
+
+  void attributeValue() {
+    if (pos_ >= s_.size() || (s_[pos_] != '"' && s_[pos_] != '\'')) {
+      return void(fail("an unquoted attribute value"));
+    }
+    const char quote = s_[pos_++];
+    while (pos_ < s_.size() && s_[pos_] != quote && !fault_) {
+      if (s_[pos_] == '<' || s_[pos_] == '>') return void(fail("a raw < or > in an attribute"));
+      if (s_[pos_] == '&') {
+        entity();
+      } else {
+        ++pos_;
+      }
+    }
+    if (pos_ >= s_.size()) return void(fail("an unterminated attribute value"));
+    ++pos_;
+  }
+
+  void openTag() {
+    ++pos_;  // <
+    const std::string tag = name();
+    std::set<std::string> seen;
+    while (!fault_) {
+      const std::size_t before = pos_;
+      skipSpace();
+      if (pos_ >= s_.size()) return void(fail("an unterminated tag <" + tag + ">"));
+      if (s_.compare(pos_, 2, "/>") == 0) {
+        pos_ += 2;
+        return;
+      }
+      if (s_[pos_] == '>') {
+        ++pos_;
+        stack_.push_back(tag);
+        return;
+      }
+      if (pos_ == before) return void(fail("no space before an attribute of <" + tag + ">"));
+      const std::string attribute = name();
+      if (fault_) return;
+      if (!seen.insert(attribute).second) return void(fail("a repeated attribute " + attribute));
+      skipSpace();
+      if (pos_ >= s_.size() || s_[pos_] != '=') return void(fail("attribute without a value"));
+      ++pos_;
+      skipSpace();
+      attributeValue();
+    }
+  }
+
+  void closeTag() {
+    pos_ += 2;
+    const std::string tag = name();
+    skipSpace();
+    if (pos_ >= s_.size() || s_[pos_] != '>') return void(fail("an unterminated end tag"));
+    ++pos_;
+    if (stack_.empty() || stack_.back() != tag) {
+      return void(fail("</" + tag + "> does not close " +
+                       (stack_.empty() ? std::string("anything") : "<" + stack_.back() + ">")));
+    }
+    stack_.pop_back();
+  }
+
+  std::string_view s_;
+  std::size_t pos_ = 0;
+  std::vector<std::string> stack_;
+  std::optional<std::string> fault_;
+};
+
+std::optional<std::string> xmlFault(std::string_view text) {
+  return XmlChecker(text).check();
+}
+
+TEST(XmlChecker, AcceptsWellFormedDocuments) {
+  EXPECT_EQ(xmlFault("<a/>"), std::nullopt);
+  EXPECT_EQ(xmlFault("<?xml version=\"1.0\"?>\n<svg x='1' y=\"2\"><g><t>a &amp; b &#181;</t></g>"
+                     "<!-- note --></svg>\n"),
+            std::nullopt);
+  EXPECT_EQ(xmlFault("<!DOCTYPE html>\n<html><meta charset=\"utf-8\"/></html>"), std::nullopt);
+}
+
+TEST(XmlChecker, RejectsEachKindOfFault) {
+  EXPECT_NE(xmlFault("<a><b></a></b>"), std::nullopt);           // misnested
+  EXPECT_NE(xmlFault("<a><b></b>"), std::nullopt);               // unclosed
+  EXPECT_NE(xmlFault("<a></a><b></b>"), std::nullopt);           // two roots
+  EXPECT_NE(xmlFault("<a x=1></a>"), std::nullopt);              // unquoted attribute
+  EXPECT_NE(xmlFault("<a x=\"1\" x=\"2\"></a>"), std::nullopt);  // repeated attribute
+  EXPECT_NE(xmlFault("<a x=\"1\"y=\"2\"></a>"), std::nullopt);   // no space between
+  EXPECT_NE(xmlFault("<a>R&D</a>"), std::nullopt);               // raw &
+  EXPECT_NE(xmlFault("<a>1 < 2</a>"), std::nullopt);             // raw <
+  EXPECT_NE(xmlFault("<a>2 > 1</a>"), std::nullopt);             // raw >
+  EXPECT_NE(xmlFault("<a x=\"<\"></a>"), std::nullopt);          // < in attribute
+  EXPECT_NE(xmlFault("<a>&nbsp;</a>"), std::nullopt);            // not an XML entity
+  EXPECT_NE(xmlFault(""), std::nullopt);                         // no root
+}
+
+// ---------------------------------------------------------------------------------------------
+// The SVG layer
+
+TEST(Svg, EscapesEveryMarkupCharacter) {
+  EXPECT_EQ(svg::escape("a<b>&\"c'"), "a&lt;b&gt;&amp;&quot;c&#39;");
+  EXPECT_EQ(svg::escape("l1 + l2"), "l1 + l2");
+}
+
+TEST(Svg, TicksAreRoundStepsCoveringTheRange) {
+  EXPECT_EQ(svg::niceTicks(0.0, 10.0, 5), (std::vector<double>{0, 2, 4, 6, 8, 10}));
+  EXPECT_EQ(svg::niceTicks(-0.3, 0.3, 6),
+            (std::vector<double>{-0.3, -0.2, -0.1, 0, 0.1, 0.2, 0.3}));
+  const auto ticks = svg::niceTicks(37.0, 263.0, 6);
+  ASSERT_FALSE(ticks.empty());
+  EXPECT_DOUBLE_EQ(ticks.front(), 50.0);
+  EXPECT_DOUBLE_EQ(ticks.back(), 250.0);
+  EXPECT_DOUBLE_EQ(ticks[1] - ticks[0], 50.0);
+  EXPECT_TRUE(svg::niceTicks(1.0, 1.0).empty());
+  EXPECT_EQ(svg::tickLabel(0.5, 0.1), "0.5");
+  EXPECT_EQ(svg::tickLabel(-200.0, 100.0), "-200");
+  EXPECT_EQ(svg::tickLabel(2.25, 0.05), "2.25");
+  EXPECT_EQ(svg::tickLabel(-1e-17, 0.1), "0.0");
+}
+
+double luminance(const std::string& hex) {
+  const auto channel = [&](int i) { return std::stoi(hex.substr(1 + 2 * i, 2), nullptr, 16); };
+  return 0.2126 * channel(0) + 0.7152 * channel(1) + 0.0722 * channel(2);
+}
+
+TEST(Svg, SequentialMapSurvivesGreyscale) {
+  EXPECT_EQ(svg::viridis(0.0), "#440154");
+  EXPECT_EQ(svg::viridis(1.0), "#fde725");
+  EXPECT_EQ(svg::viridis(-3.0), svg::viridis(0.0));
+  double previous = -1.0;
+  for (int k = 0; k <= 100; ++k) {  // greyscale keeps the order: luminance strictly rises
+    const double l = luminance(svg::viridis(k / 100.0));
+    EXPECT_GT(l, previous) << k;
+    previous = l;
+  }
+}
+
+TEST(Svg, PlotWithHostileTextIsWellFormed) {
+  svg::Plot plot("p<1>", "S & \"friends\" <b>", "x < 1 / mm", "y > 0 / 'um'");
+  plot.polyline({{0, 0}, {1, 2}, {2, 1}}, {}, "a & b");
+  svg::Style dashed;
+  dashed.dash = svg::Dash::Dashed;
+  plot.polyline({{0, 1}, {2, 1}}, dashed, "</svg>");
+  plot.circle({1, 1}, 0.5, {}, "circle");
+  for (const auto shape : {svg::Shape::Circle, svg::Shape::Square, svg::Shape::Triangle,
+                           svg::Shape::Diamond, svg::Shape::Cross}) {
+    plot.marker({0.5, 0.5}, shape, 6, {}, "m", {{"data-field", "/a&b"}}, "<tip>");
+  }
+  plot.cell({0, 0}, {0.2, 0.2}, svg::viridis(0.3));
+  plot.label({1.5, 1.5}, "R&D <x>");
+  plot.setColourBar(0, 3, "S / um & more");
+  const std::string out = plot.render();
+  EXPECT_EQ(xmlFault(out), std::nullopt) << out;
+  EXPECT_NE(out.find("S &amp; &quot;friends&quot; &lt;b&gt;"), std::string::npos);
+  EXPECT_NE(out.find("stroke-dasharray"), std::string::npos);  // the dashed series differs
+  EXPECT_EQ(out.find("<script"), std::string::npos);
+}
+
+TEST(Svg, HeatMapCellsCarryTheirValues) {
+  Eigen::Matrix2d m;
+  m << 1.0, -0.25, -0.25, 1.0;
+  const std::string out = svg::matrixHeatMap("h", "corr", {"a<", "b&"}, m, -1, 1, "/correlation");
+  EXPECT_EQ(xmlFault(out), std::nullopt) << out;
+  EXPECT_NE(out.find("data-field=\"/correlation/0/1\" data-value=\"-0.25\""), std::string::npos);
+  EXPECT_NE(out.find(">-0.25<"), std::string::npos);
+}
+
+// ---------------------------------------------------------------------------------------------
+// The command line
+
+struct CliRun {
+  int status = -1;
+  std::string out, err;
+};
+
+std::string slurp(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+class ReportCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("artcal-test-report-" + std::to_string(::getpid()) + "-" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  CliRun run(const std::string& arguments) const {
+    const fs::path out = dir_ / "stdout.txt", err = dir_ / "stderr.txt";
+    const std::string command = std::string("\"") + ARTCAL_CLI + "\" " + arguments + " >\"" +
+                                out.string() + "\" 2>\"" + err.string() + "\"";
+    const int raw = std::system(command.c_str());
+    CliRun r;
+    r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+    r.out = slurp(out);
+    r.err = slurp(err);
+    return r;
+  }
+
+  static std::string data(const std::string& name) {
+    return std::string(ARTCAL_TEST_DATA) + "/" + name;
+  }
+
+  fs::path dir_;
+};
+
+/// Every <svg>...</svg> element of a page.
+std::vector<std::string> inlineSvgs(const std::string& html) {
+  std::vector<std::string> out;
+  for (std::size_t at = html.find("<svg"); at != std::string::npos; at = html.find("<svg", at)) {
+    const std::size_t end = html.find("</svg>", at);
+    if (end == std::string::npos) break;
+    out.push_back(html.substr(at, end + 6 - at));
+    at = end;
+  }
+  return out;
+}
+
+struct Shown {
+  std::string pointer, value, text;
+};
+
+/// Every element carrying data-field / data-value, with the text it shows (up to the next tag).
+std::vector<Shown> shownNumbers(const std::string& html) {
+  static const std::regex kField("data-field=\"([^\"]*)\" data-value=\"([^\"]*)\"[^>]*>([^<]*)");
+  std::vector<Shown> out;
+  for (auto it = std::sregex_iterator(html.begin(), html.end(), kField);
+       it != std::sregex_iterator(); ++it) {
+    out.push_back({(*it)[1], (*it)[2], (*it)[3]});
+  }
+  return out;
+}
+
+/// The report's numbers against `evaluate --json` for the same plan: every data-field exists in
+/// the evaluation and holds exactly the value shown.
+std::set<std::string> expectNumbersMatchEvaluate(const std::string& html, const json& evaluated) {
+  std::set<std::string> pointers;
+  for (const Shown& s : shownNumbers(html)) {
+    pointers.insert(s.pointer);
+    const json::json_pointer pointer(s.pointer);
+    if (!evaluated.contains(pointer)) {
+      ADD_FAILURE() << s.pointer << " is not in evaluate --json";
+      continue;
+    }
+    const json& expected = evaluated.at(pointer);
+    if (expected.is_number()) {
+      EXPECT_EQ(std::stod(s.value), expected.get<double>()) << s.pointer;
+    } else {
+      EXPECT_EQ(s.value, expected.dump()) << s.pointer;
+    }
+  }
+  return pointers;
+}
+
+void expectWellFormed(const std::string& html, std::size_t svg_count) {
+  EXPECT_EQ(xmlFault(html), std::nullopt);
+  const auto svgs = inlineSvgs(html);
+  EXPECT_EQ(svgs.size(), svg_count);
+  for (const std::string& s : svgs) EXPECT_EQ(xmlFault(s), std::nullopt) << s.substr(0, 200);
+}
+
+/// Self-contained: nothing that a browser would fetch or run.
+void expectSelfContained(const std::string& html) {
+  EXPECT_EQ(html.find("<script"), std::string::npos);
+  EXPECT_EQ(html.find("src="), std::string::npos);
+  EXPECT_EQ(html.find("href="), std::string::npos);
+  EXPECT_EQ(html.find("@import"), std::string::npos);
+  EXPECT_EQ(html.find("@font-face"), std::string::npos);
+  std::string rest = html;
+  for (std::size_t at; (at = rest.find("http://www.w3.org/2000/svg")) != std::string::npos;) {
+    rest.erase(at, 26);
+  }
+  EXPECT_EQ(rest.find("http"), std::string::npos);
+  EXPECT_EQ(rest.find("url("), rest.find("url(#"));  // only local references (clip paths)
+}
+
+TEST_F(ReportCli, Planar2RNumbersEqualEvaluateJson) {
+  const fs::path html_path = dir_ / "r.html", svg_dir = dir_ / "svg";
+  const CliRun r = run("report \"" + data("ref-2r-5bars.json") + "\" -o \"" + html_path.string() +
+                       "\" --svg \"" + svg_dir.string() + "\"");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const CliRun ev = run("evaluate --json \"" + data("ref-2r-5bars.json") + "\"");
+  ASSERT_EQ(ev.status, 0) << ev.err;
+  const json evaluated = json::parse(ev.out);
+  const std::string html = slurp(html_path);
+  expectWellFormed(html, 4);  // layout, profile, map, correlation
+  expectSelfContained(html);
+
+  const std::set<std::string> shown = expectNumbersMatchEvaluate(html, evaluated);
+  for (std::size_t k = 0; k < evaluated["parameters"].size(); ++k) {
+    EXPECT_TRUE(shown.count("/parameters/" + std::to_string(k) + "/u")) << k;
+    EXPECT_TRUE(shown.count("/parameters/" + std::to_string(k) + "/nominal")) << k;
+  }
+  for (const char* p :
+       {"/tip/worst/total", "/tip/worst/kinematic", "/tip/worst/encoder", "/tip/mean", "/tip/rms",
+        "/tip/worst/joints/1", "/correlation/0/2", "/counting/N_b", "/rank/deficiency"}) {
+    EXPECT_TRUE(shown.count(p)) << p;
+  }
+  ASSERT_EQ(evaluated["profile"].size(), 21u);
+  for (std::size_t k = 0; k < 21; ++k) {
+    for (const char* key : {"total", "kinematic", "encoder"}) {
+      EXPECT_TRUE(shown.count("/profile/" + std::to_string(k) + "/" + key)) << k << key;
+    }
+  }
+  // The text a reader sees is the JSON value in the unit of its column: u of l1 in um.
+  for (const Shown& s : shownNumbers(html)) {
+    if (s.pointer == "/parameters/0/u") {
+      EXPECT_NEAR(std::stod(s.text), evaluated["parameters"][0]["u"].get<double>() * 1e3, 5e-4);
+    }
+    if (s.pointer == "/tip/worst/total" && !s.text.empty()) {
+      EXPECT_NEAR(std::stod(s.text), evaluated["tip"]["worst"]["total"].get<double>() * 1e3, 5e-4);
+    }
+  }
+
+  // --svg: the same figures, one well-formed file each.
+  for (const char* name : {"layout", "tip-profile", "tip-map", "correlation"}) {
+    const fs::path file = svg_dir / (std::string(name) + ".svg");
+    ASSERT_TRUE(fs::exists(file)) << name;
+    const std::string text = slurp(file);
+    EXPECT_EQ(xmlFault(text), std::nullopt) << name;
+    EXPECT_NE(html.find(text.substr(text.find("<svg"))), std::string::npos) << name;
+  }
+}
+
+TEST_F(ReportCli, SpatialArmHasPlanAndSideViewsAndTheWorstPoint) {
+  const fs::path html_path = dir_ / "r.html";
+  const CliRun r = run("report \"" + data("ref-aacmm-3bars-3postures.json") + "\" -o \"" +
+                       html_path.string() + "\" --json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const json summary = json::parse(r.out);
+  std::vector<std::string> names;
+  for (const auto& f : summary["figures"]) names.push_back(f["name"]);
+  EXPECT_EQ(names, (std::vector<std::string>{"layout", "layout-side", "tip-map", "tip-map-side",
+                                             "correlation"}));
+  const CliRun ev = run("evaluate --json \"" + data("ref-aacmm-3bars-3postures.json") + "\"");
+  const json evaluated = json::parse(ev.out);
+  const std::string html = slurp(html_path);
+  EXPECT_EQ(summary["bytes"].get<std::size_t>(), html.size());
+  expectWellFormed(html, 5);
+  expectSelfContained(html);
+  const std::set<std::string> shown = expectNumbersMatchEvaluate(html, evaluated);
+  EXPECT_TRUE(shown.count("/correlation/20/20"));
+  EXPECT_TRUE(shown.count("/parameters/20/u"));
+  EXPECT_EQ(html.find("/profile/"), std::string::npos);  // no reach profile for a serial arm
+  // The worst point is marked in both views of the map.
+  std::size_t worst_marks = 0;
+  for (const Shown& s : shownNumbers(html)) worst_marks += s.pointer == "/tip/worst/total";
+  EXPECT_EQ(worst_marks, 3u);  // table cell + two map views
+}
+
+TEST_F(ReportCli, TheWorkspaceMapsWorstIsTheEvaluatorsWorst) {
+  // The map colours each configuration by S from TipEvaluator with the evaluator's V_p; its
+  // largest value must be the evaluator's worst.
+  const Plan plan = loadPlan(data("ref-aacmm-3bars-3postures.json"));
+  const Evaluation ev = evaluatePlan(plan);
+  ASSERT_TRUE(ev.identifiable());
+  const TipEvaluator tips(plan.machine, plan.noise, ev.workspace);
+  Eigen::VectorXd S_m2;
+  tips.kinematicVariance(ev.covariance->V, S_m2);
+  const Eigen::VectorXd S = (S_m2 + tips.encoderVariance()).cwiseSqrt();
+  Eigen::Index worst = 0;
+  S.maxCoeff(&worst);
+  EXPECT_EQ(worst, ev.tip->worst_index);
+  EXPECT_NEAR(S[worst], ev.tip->worst.total, 1e-12 * ev.tip->worst.total);
+}
+
+TEST_F(ReportCli, NotIdentifiablePlanStillGetsAReportSayingSo) {
+  const fs::path html_path = dir_ / "r.html";
+  const CliRun r = run("report \"" + data("ref-2r-ring-degenerate.json") + "\" -o \"" +
+                       html_path.string() + "\"");
+  EXPECT_EQ(r.status, 1) << r.err;
+  const CliRun ev = run("evaluate --json \"" + data("ref-2r-ring-degenerate.json") + "\"");
+  const json evaluated = json::parse(ev.out);
+  ASSERT_FALSE(evaluated["identifiable"].get<bool>());
+  const std::string html = slurp(html_path);
+  expectWellFormed(html, 1);  // the layout only
+  EXPECT_NE(html.find("NOT IDENTIFIABLE"), std::string::npos);
+  const std::set<std::string> shown = expectNumbersMatchEvaluate(html, evaluated);
+  EXPECT_TRUE(shown.count("/rank/deficiency"));
+  EXPECT_TRUE(shown.count("/parameters/0/u"));  // shown as a dash, value null
+  const auto& combinations = evaluated["rank"]["combinations"];
+  ASSERT_FALSE(combinations.empty());
+  for (const auto& name : combinations[0]["parameters"]) {
+    EXPECT_NE(html.find(name.get<std::string>() + " "), std::string::npos);
+  }
+  EXPECT_TRUE(shown.count("/rank/combinations/0/coefficients/0"));
+}
+
+TEST_F(ReportCli, OptimizedPlanShowsDesignAndPredictedBesideEvaluation) {
+  json plan = json::parse(std::ifstream(data("ref-2r-5bars.json")));
+  plan["design"] = {{"artifact", "bar80"},
+                    {"placements", 5},
+                    {"postures", 1},
+                    {"region", {{"reach", {55, 245}}}},
+                    {"criterion", "worst-tip"},
+                    {"seed", 7},
+                    {"starts", 16},
+                    {"time_limit", 60}};
+  plan["predicted"] = {{"tip", {{"worst", {{"total", 0.0123}}}}}, {"note", "from <optimize>"}};
+  const fs::path plan_path = dir_ / "optimized.json", html_path = dir_ / "r.html";
+  std::ofstream(plan_path) << plan.dump(1);
+  const CliRun r = run("report \"" + plan_path.string() + "\" -o \"" + html_path.string() + "\"");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const std::string html = slurp(html_path);
+  expectWellFormed(html, 4);
+  EXPECT_NE(html.find("<td>criterion</td><td>worst-tip</td>"), std::string::npos);
+  EXPECT_NE(html.find("<td>region/reach</td><td>[55,245]</td>"), std::string::npos);
+  EXPECT_NE(html.find("<td>tip/worst/total</td><td class=\"num\">0.0123</td>"), std::string::npos);
+  EXPECT_NE(html.find("from &lt;optimize&gt;"), std::string::npos);
+  const CliRun ev = run("evaluate --json \"" + plan_path.string() + "\"");
+  expectNumbersMatchEvaluate(html, json::parse(ev.out));
+}
+
+TEST_F(ReportCli, BadInputIsOneLineExitTwoAndNoFile) {
+  json plan = json::parse(std::ifstream(data("ref-2r-5bars.json")));
+  plan["placements"][1]["measurements"][0]["joints"] = {1.0, 2.0, 3.0};
+  const fs::path plan_path = dir_ / "bad.json", html_path = dir_ / "r.html";
+  std::ofstream(plan_path) << plan.dump(1);
+  const CliRun r = run("report \"" + plan_path.string() + "\" -o \"" + html_path.string() + "\"");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_EQ(r.err.rfind("error: ", 0), 0u) << r.err;
+  EXPECT_NE(r.err.find("/placements/1/measurements/0/joints"), std::string::npos) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1);
+  EXPECT_FALSE(fs::exists(html_path));
+}
+
+/// A planar 2R plan with `count` ball-bar placements spread over the reach annulus, readings by
+/// inverse kinematics (fixed seed).
+json largePlan(int count) {
+  json plan = json::parse(std::ifstream(std::string(ARTCAL_TEST_DATA) + "/ref-2r-5bars.json"));
+  Eigen::VectorXd p(3);
+  p << 150.0, 100.0, 0.0;
+  std::mt19937_64 rng(42);
+  std::uniform_real_distribution<double> radius(70.0, 230.0), angle(-M_PI, M_PI);
+  json placements = json::array();
+  while (static_cast<int>(placements.size()) < count) {
+    const double r = radius(rng), a = angle(rng), turn = angle(rng);
+    const Eigen::Vector2d first(r * std::cos(a), r * std::sin(a));
+    const Eigen::Vector2d second = first + 80.0 * Eigen::Vector2d(std::cos(turn), std::sin(turn));
+    const auto q0 = planar2rInverse(p, first), q1 = planar2rInverse(p, second);
+    if (q0.empty() || q1.empty()) continue;
+    const auto reading = [](int feature, const Eigen::VectorXd& q) {
+      return json{{"feature", feature}, {"joints", {radToDeg(q[0]), radToDeg(q[1])}}};
+    };
+    placements.push_back(
+        {{"artifact", "bar80"}, {"measurements", {reading(0, q0[0]), reading(1, q1[0])}}});
+  }
+  plan["placements"] = placements;
+  plan["workspace"] = {{"samples", 4096}, {"seed", 3}};
+  return plan;
+}
+
+TEST_F(ReportCli, ThousandPlacementReportStaysUnderTwoMegabytes) {
+  const fs::path plan_path = dir_ / "large.json", html_path = dir_ / "r.html";
+  std::ofstream(plan_path) << largePlan(1000).dump();
+  const CliRun r = run("report \"" + plan_path.string() + "\" -o \"" + html_path.string() + "\"");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const std::uintmax_t bytes = fs::file_size(html_path);
+  EXPECT_LT(bytes, 2u * 1024u * 1024u) << bytes;
+  const std::string html = slurp(html_path);
+  expectWellFormed(html, 4);
+  // Every placement is drawn: 2000 features, none sampled away.
+  std::size_t features = 0;
+  for (std::size_t at = 0; (at = html.find("<title>placement ", at)) != std::string::npos; ++at) {
+    ++features;
+  }
+  EXPECT_EQ(features, 2000u);
+}
+
+}  // namespace
+}  // namespace artcal

@@ -1,0 +1,107 @@
+// artcal report PLAN -o report.html [--svg DIR]: the self-contained HTML report (html_report.hpp).
+
+#include <filesystem>
+#include <iostream>
+
+#include "artcal/evaluator.hpp"
+#include "artcal/html_report.hpp"
+#include "artcal/plan_io.hpp"
+#include "artcal/report.hpp"
+#include "commands.hpp"
+
+namespace artcal::cli {
+
+namespace {
+
+struct ReportArguments {
+  std::string plan;
+  std::string output;
+  std::string svg_dir;
+  bool json = false;
+  double rank_tolerance = kDefaultRankTolerance;
+  int profile_steps = 21;
+};
+
+void writeSvgFiles(const std::string& dir, const std::vector<ReportFigure>& figures) {
+  std::filesystem::create_directories(dir);
+  for (const ReportFigure& figure : figures) {
+    writeFileAtomically((std::filesystem::path(dir) / (figure.name + ".svg")).string(),
+                        "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n" + figure.svg);
+  }
+}
+
+/// What was written: the JSON twin of the table printed.
+nlohmann::json summaryJson(const ReportArguments& args, const std::string& html,
+                           const std::vector<ReportFigure>& figures, bool identifiable) {
+  nlohmann::json out = {{"report", args.output},
+                        {"bytes", html.size()},
+                        {"identifiable", identifiable},
+                        {"figures", nlohmann::json::array()}};
+  for (const ReportFigure& f : figures) {
+    nlohmann::json figure = {{"name", f.name}, {"bytes", f.svg.size()}};
+    if (!args.svg_dir.empty()) {
+      figure["file"] = (std::filesystem::path(args.svg_dir) / (f.name + ".svg")).string();
+    }
+    out["figures"].push_back(figure);
+  }
+  return out;
+}
+
+void printSummary(const nlohmann::json& summary) {
+  std::cout << "Report " << summary["report"].get<std::string>() << " ("
+            << summary["bytes"].get<std::size_t>() << " bytes)"
+            << (summary["identifiable"].get<bool>() ? "" : "; the plan is NOT identifiable")
+            << "\n  figure                bytes  file\n";
+  for (const auto& f : summary["figures"]) {
+    std::printf("  %-18s %8zu  %s\n", f["name"].get<std::string>().c_str(),
+                f["bytes"].get<std::size_t>(),
+                f.contains("file") ? f["file"].get<std::string>().c_str() : "(inline only)");
+  }
+}
+
+void addReportCommand(CLI::App& app, Action& action) {
+  auto args = std::make_shared<ReportArguments>();
+  CLI::App* cmd = app.add_subcommand(
+      "report",
+      "writes a self-contained HTML report (layout, tip uncertainty, parameters, correlation, "
+      "identifiability) with the numbers of `evaluate --json` (exit 0; 1 when not identifiable)");
+  cmd->add_option("PLAN", args->plan, "plan file (artcal-plan/1)")->required();
+  cmd->add_option("-o,--output", args->output, "HTML file to write")->required();
+  cmd->add_option("--svg", args->svg_dir, "also write each figure as DIR/<name>.svg");
+  cmd->add_flag("--json", args->json, "print what was written as one JSON document");
+  cmd->add_option("--rank-tol", args->rank_tolerance,
+                  "relative eigenvalue tolerance of the rank test on the scaled N_red")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  cmd->add_option("--profile-steps", args->profile_steps,
+                  "rows of the planar2r tip-uncertainty profile against reach")
+      ->check(CLI::Range(2, 10000))
+      ->capture_default_str();
+  cmd->callback([&action, args] {
+    action = [args] {
+      const nlohmann::json document = readJsonFile(args->plan);
+      const Plan plan = parsePlan(document, args->plan);
+      for (const std::string& warning : plan.warnings) std::cerr << "warning: " << warning << "\n";
+      const Evaluation evaluation = evaluatePlan(plan, {args->rank_tolerance, args->profile_steps});
+      const nlohmann::json evaluation_json = evaluationToJson(plan, evaluation);
+      const ReportInput input{plan, document, evaluation, evaluation_json};
+      const std::vector<ReportFigure> figures = reportFigures(input);
+      const std::string html = htmlReport(input, figures);
+      writeFileAtomically(args->output, html);
+      if (!args->svg_dir.empty()) writeSvgFiles(args->svg_dir, figures);
+      const nlohmann::json summary = summaryJson(*args, html, figures, evaluation.identifiable());
+      if (args->json) {
+        printJson(summary);
+      } else {
+        printSummary(summary);
+      }
+      return evaluation.identifiable() ? 0 : 1;
+    };
+  });
+}
+
+const Registrar report_registrar(70, addReportCommand);
+
+}  // namespace
+
+}  // namespace artcal::cli
