@@ -2,6 +2,7 @@
 
 #include <Eigen/Cholesky>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 namespace artcal {
@@ -39,11 +40,24 @@ void applyJointLimits(const Machine& machine, Eigen::VectorXd& q) {
 
 namespace {
 
-// Joint values that only reach the limit by rounding are still inside.
-bool insideLimits(const Machine& machine, const Eigen::VectorXd& q) {
+// Each angle moved by whole turns to the representative nearest q0 inside the limits; false
+// when some angle has none.
+bool nearestRepresentativeWithinLimits(const Machine& machine, const Eigen::VectorXd& q0,
+                                       Eigen::VectorXd& q) {
+  constexpr double kTurn = 2 * std::numbers::pi;
   for (int i = 0; i < q.size(); ++i) {
     const auto [lo, hi] = machine.joint_limits[static_cast<std::size_t>(i)];
-    if (q[i] < lo - 1e-12 || q[i] > hi + 1e-12) return false;
+    const double nearest = q0[i] + std::remainder(q[i] - q0[i], kTurn);
+    double best = std::numeric_limits<double>::quiet_NaN();
+    for (int turns = -2; turns <= 2; ++turns) {
+      const double candidate = nearest + turns * kTurn;
+      if (candidate < lo - 1e-12 || candidate > hi + 1e-12) continue;
+      if (std::isnan(best) || std::abs(candidate - q0[i]) < std::abs(best - q0[i])) {
+        best = candidate;
+      }
+    }
+    if (std::isnan(best)) return false;
+    q[i] = std::clamp(best, lo, hi);
   }
   return true;
 }
@@ -54,9 +68,7 @@ std::optional<Eigen::VectorXd> planar2rNear(const Machine& machine, const Eigen:
   std::optional<Eigen::VectorXd> best;
   double best_distance = 0.0;
   for (Eigen::VectorXd q : planar2rInverse(p, target.head<2>())) {
-    // Choose the representative of each angle nearest q0, then check the limits.
-    for (int i = 0; i < 2; ++i) q[i] = q0[i] + std::remainder(q[i] - q0[i], 2 * std::numbers::pi);
-    if (!insideLimits(machine, q)) applyJointLimits(machine, q);
+    if (!nearestRepresentativeWithinLimits(machine, q0, q)) continue;
     Eigen::VectorXd x;
     machine.mechanism->forward(p, q, x);
     if ((x - target).norm() > 1e-6) continue;

@@ -1,0 +1,327 @@
+// The planner: design space, counting refusal, the search (reachable readings inside the region,
+// never worse than its start, deterministic per seed whatever the thread count) and the
+// `artcal optimize` command (plan written, evaluate reproduces `predicted`, refusals exit 2).
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <numbers>
+
+#include "artcal/artcal.hpp"
+#include "artcal/design_space.hpp"
+#include "artcal/inverse_kinematics.hpp"
+#include "artcal/optimizer.hpp"
+
+namespace artcal {
+namespace {
+
+// The seed's arm and bar (method.md section 8) with a design block; the workspace sweeps the
+// reach profile at t1 = 0.
+nlohmann::json seedSpec(int placements, const nlohmann::json& region) {
+  return {{"format", "artcal-plan/1"},
+          {"name", "seed-2r-test"},
+          {"machine",
+           {{"model", "planar2r"},
+            {"parameters", {{"l1", 150.0}, {"l2", 100.0}, {"dt2", 0.0}}},
+            {"calibrate", {"l1", "l2", "dt2"}},
+            {"joint_limits", {{-180, 180}, {-180, 180}}}}},
+          {"noise", {{"probe", 0.005}, {"encoder", 0.001}}},
+          {"artifacts", {{"bar80", {{"type", "ball_bar"}, {"length", 80.0}, {"u_length", 0.0}}}}},
+          {"workspace", {{"configurations", {{0, 24}, {0, 60}, {0, 100}, {0, 140}, {0, 169}}}}},
+          {"design",
+           {{"artifact", "bar80"},
+            {"placements", placements},
+            {"postures", 1},
+            {"region", region},
+            {"seed", 3},
+            {"starts", 4},
+            {"time_limit", 60}}}};
+}
+
+nlohmann::json aacmmSpec(int placements) {
+  nlohmann::json doc =
+      readJsonFile(std::string(ARTCAL_TEST_DATA) + "/ref-aacmm-3bars-3postures.json");
+  doc.erase("placements");
+  doc["workspace"] = {{"samples", 64}, {"seed", 2}};
+  doc["design"] = {{"artifact", "bar"}, {"placements", placements},
+                   {"postures", 3},     {"region", {{"reach", {400, 1100}}}},
+                   {"seed", 1},         {"starts", 2}};
+  return doc;
+}
+
+OptimizerOptions smallEffort(const Plan& plan, int threads) {
+  OptimizerOptions options = OptimizerOptions::fromDesign(*plan.design);
+  options.pool_size = 40;
+  options.refine_evaluations = 300;
+  options.threads = threads;
+  return options;
+}
+
+Eigen::VectorXd forward(const Machine& machine, const Eigen::VectorXd& q) {
+  Eigen::VectorXd x;
+  machine.mechanism->forward(machine.nominal, q, x);
+  return x;
+}
+
+// Every reading hits its feature at the placement's pose, within the limits and the region.
+void expectFeasible(const Plan& plan, const std::vector<Placement>& placements) {
+  const Region& region = plan.design->region;
+  for (const Placement& p : placements) {
+    ASSERT_TRUE(p.pose.has_value());
+    const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(p.artifact)];
+    const RigidTransform to_machine =
+        (plan.machine.dimension() == 2
+             ? placePlanar(p.pose->center.head<2>(), p.pose->angle)
+             : placeSpatial(p.pose->center.head<3>(), p.pose->direction, p.pose->roll))
+            .inverse();
+    for (const Measurement& m : p.measurements) {
+      const Eigen::VectorXd feature = to_machine.apply(artifact.features.col(m.feature));
+      EXPECT_TRUE(plan.machine.withinLimits(m.joints));
+      EXPECT_LT((forward(plan.machine, m.joints) - feature).norm(), 1e-9);
+      EXPECT_TRUE(region.contains(feature)) << feature.transpose();
+    }
+  }
+}
+
+TEST(DesignSpace, PlanarBarFeaturesFollowThePose) {
+  const Plan plan = parsePlan(seedSpec(5, {{"reach", {55, 245}}}), "spec", false);
+  const DesignSpace space(plan);
+  ASSERT_EQ(space.poseSize(), 3);
+  const Eigen::Vector3d v(100.0, 50.0, std::numbers::pi / 6);
+  const Eigen::MatrixXd x = space.featurePositions(v);
+  EXPECT_NEAR((x.col(0) - Eigen::Vector2d(100.0, 50.0)).norm(), 0.0, 1e-12);
+  const Eigen::Vector2d second =
+      Eigen::Vector2d(100.0, 50.0) + 80.0 * Eigen::Vector2d(std::sqrt(3.0) / 2, 0.5);
+  EXPECT_NEAR((x.col(1) - second).norm(), 0.0, 1e-12);
+  EXPECT_EQ(space.regionViolation(v), 0.0);
+  // Balls at 275 and 355 mm, 30 and 110 mm beyond the outer reach: the violation adds them.
+  const Eigen::Vector3d outside(275.0, 0.0, 0.0);
+  EXPECT_NEAR(space.regionViolation(outside), 30.0 + 110.0, 1e-9);
+}
+
+TEST(DesignSpace, RandomPlacementsAreFeasible) {
+  const Plan plan = parsePlan(aacmmSpec(2), "spec", false);
+  const DesignSpace space(plan);
+  std::mt19937_64 rng(4);
+  std::vector<Placement> placements;
+  for (int i = 0; i < 3; ++i) {
+    const auto drawn = space.randomPlacement(rng, 200);
+    ASSERT_TRUE(drawn.has_value());
+    EXPECT_EQ(drawn->second.measurements.size(), 2u * 3u);  // 2 balls x 3 postures
+    placements.push_back(drawn->second);
+  }
+  expectFeasible(plan, placements);
+}
+
+TEST(Optimizer, RefusesACountThatCannotBeIdentifiable) {
+  // Planar bar: 2 x 2 - 3 = 1 equation per placement, 3 parameters: 2 placements cannot do.
+  const Plan plan = parsePlan(seedSpec(2, {{"reach", {55, 245}}}), "spec.json", false);
+  try {
+    optimizePlan(plan, smallEffort(plan, 1));
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.pointer(), "/design/placements");
+    EXPECT_NE(std::string(e.what()).find("at least 3 placements"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Optimizer, RefusesAnUnreachableRegion) {
+  const Plan plan = parsePlan(seedSpec(5, {{"reach", {300, 400}}}), "spec.json", false);
+  try {
+    optimizePlan(plan, smallEffort(plan, 1));
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.pointer(), "/design/region");
+  }
+}
+
+TEST(Optimizer, PlanarResultIsFeasibleAndNeverWorseThanItsStart) {
+  const Plan plan = parsePlan(seedSpec(5, {{"reach", {55, 245}}}), "spec", false);
+  const OptimizerSummary summary = optimizePlan(plan, smallEffort(plan, 2));
+  ASSERT_EQ(summary.placements.size(), 5u);
+  expectFeasible(plan, summary.placements);
+  for (const StartResult& s : summary.starts) {
+    ASSERT_TRUE(s.done);
+    EXPECT_LE(s.exchanged, s.initial);
+    EXPECT_LE(s.refined, s.exchanged);
+  }
+  // The value is the evaluator's worst-case tip uncertainty of the written plan.
+  Plan result = plan;
+  result.placements = summary.placements;
+  const Evaluation evaluation = evaluatePlan(result);
+  ASSERT_TRUE(evaluation.tip.has_value());
+  EXPECT_NEAR(summary.value, evaluation.tip->worst.total, 1e-12);
+  // Far better than a typical random layout (median about 18 um, method.md section 8 scale).
+  EXPECT_LT(summary.value, 0.0125);
+}
+
+TEST(Optimizer, SameSeedSamePlanWhateverTheThreadCount) {
+  const Plan plan = parsePlan(seedSpec(4, {{"reach", {55, 245}}}), "spec", false);
+  const OptimizerSummary one = optimizePlan(plan, smallEffort(plan, 1));
+  const OptimizerSummary two = optimizePlan(plan, smallEffort(plan, 2));
+  ASSERT_EQ(one.placements.size(), two.placements.size());
+  EXPECT_EQ(one.value, two.value);
+  EXPECT_EQ(one.best_start, two.best_start);
+  for (std::size_t j = 0; j < one.placements.size(); ++j) {
+    ASSERT_EQ(one.placements[j].measurements.size(), two.placements[j].measurements.size());
+    for (std::size_t i = 0; i < one.placements[j].measurements.size(); ++i) {
+      EXPECT_EQ(one.placements[j].measurements[i].joints, two.placements[j].measurements[i].joints);
+    }
+  }
+  // Another seed, another search.
+  OptimizerOptions other = smallEffort(plan, 2);
+  other.seed = 99;
+  EXPECT_NE(optimizePlan(plan, other).value, one.value);
+}
+
+TEST(Optimizer, BoxRegionIsRespected) {
+  const nlohmann::json region = {{"reach", {55, 245}}, {"box", {{0, 0}, {250, 250}}}};
+  const Plan plan = parsePlan(seedSpec(5, region), "spec", false);
+  const OptimizerSummary summary = optimizePlan(plan, smallEffort(plan, 2));
+  expectFeasible(plan, summary.placements);
+}
+
+TEST(Optimizer, OtherCriteriaImproveOnTheirStart) {
+  for (const char* criterion : {"mean-tip", "D", "A", "E"}) {
+    nlohmann::json doc = seedSpec(5, {{"reach", {55, 245}}});
+    doc["design"]["criterion"] = criterion;
+    const Plan plan = parsePlan(doc, "spec", false);
+    const OptimizerSummary summary = optimizePlan(plan, smallEffort(plan, 2));
+    const StartResult& best = summary.starts[static_cast<std::size_t>(summary.best_start)];
+    EXPECT_TRUE(std::isfinite(summary.value)) << criterion;
+    EXPECT_LT(summary.value, best.initial) << criterion;
+    expectFeasible(plan, summary.placements);
+  }
+}
+
+TEST(DesignCriterion, AdditiveTermsGiveTheEvaluatorsInformation) {
+  // The exchange sums placements' terms: the sum must equal the evaluator's information.
+  const Plan spec = parsePlan(aacmmSpec(2), "spec", false);
+  const DesignSpace space(spec);
+  std::mt19937_64 rng(8);
+  Plan plan = spec;
+  DesignCriterion criterion(spec, Criterion::WorstTip);
+  Eigen::MatrixXd sum = Eigen::MatrixXd::Zero(criterion.globalSize(), criterion.globalSize());
+  for (int i = 0; i < 3; ++i) {
+    plan.placements.push_back(space.randomPlacement(rng, 200)->second);
+    sum += criterion.contribution(plan.placements.back());
+  }
+  const Evaluation evaluation = evaluatePlan(plan);
+  EXPECT_LT((sum - evaluation.information).norm(), 1e-9 * evaluation.information.norm());
+  ASSERT_TRUE(evaluation.tip.has_value());
+  PlanEvaluator evaluator(plan);
+  EXPECT_NEAR(criterion.value(sum), evaluator.tip(plan.placements)->worst.total, 1e-12);
+}
+
+TEST(Optimizer, SerialArmResultIsFeasible) {
+  const Plan plan = parsePlan(aacmmSpec(2), "spec", false);
+  OptimizerOptions options = smallEffort(plan, 2);
+  options.pool_size = 8;
+  options.refine_evaluations = 60;
+  const OptimizerSummary summary = optimizePlan(plan, options);
+  ASSERT_EQ(summary.placements.size(), 2u);
+  expectFeasible(plan, summary.placements);
+  const StartResult& best = summary.starts[static_cast<std::size_t>(summary.best_start)];
+  EXPECT_LE(summary.value, best.initial);
+}
+
+// ---------------------------------------------------------------------------------------------
+// The command line
+
+struct CliRun {
+  int status = -1;
+  std::string out;
+};
+
+CliRun runCli(const std::string& arguments) {
+  const std::string command = std::string(ARTCAL_CLI) + " " + arguments + " 2>&1";
+  CliRun run;
+  std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(command.c_str(), "r"), pclose);
+  std::array<char, 4096> buffer{};
+  while (fgets(buffer.data(), buffer.size(), pipe.get())) run.out += buffer.data();
+  const int raw = pclose(pipe.release());
+  run.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  return run;
+}
+
+class OptimizeCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = std::filesystem::temp_directory_path() /
+           ("artcal-optimize-" + std::to_string(::getpid()) + "-" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    std::filesystem::create_directories(dir_);
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+  std::string write(const std::string& name, const nlohmann::json& doc) {
+    const std::string path = (dir_ / name).string();
+    std::ofstream(path) << doc.dump(1);
+    return path;
+  }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  std::filesystem::path dir_;
+};
+
+constexpr const char* kSmall = " --pool 40 --evaluations 300 --quiet";
+
+TEST_F(OptimizeCli, WritesAPlanThatEvaluateReproduces) {
+  const std::string spec = write("spec.json", seedSpec(5, {{"reach", {55, 245}}}));
+  const CliRun run = runCli("optimize " + spec + " -o " + path("plan.json") + kSmall + " --json");
+  ASSERT_EQ(run.status, 0) << run.out;
+  const nlohmann::json plan = readJsonFile(path("plan.json"));
+  EXPECT_EQ(plan["placements"].size(), 5u);
+  EXPECT_TRUE(plan.contains("design"));
+  EXPECT_EQ(plan["workspace"], seedSpec(5, {{"reach", {55, 245}}})["workspace"]);
+  const nlohmann::json& predicted = plan["predicted"];
+  EXPECT_LE(predicted["optimization"]["value"].get<double>(),
+            predicted["optimization"]["best_start"]["initial"].get<double>());
+  const CliRun evaluate = runCli("evaluate --json " + path("plan.json"));
+  ASSERT_EQ(evaluate.status, 0) << evaluate.out;
+  const nlohmann::json ev = nlohmann::json::parse(evaluate.out);
+  EXPECT_NEAR(ev["tip"]["worst"]["total"].get<double>(),
+              predicted["tip"]["worst"]["total"].get<double>(), 1e-12);
+  EXPECT_NEAR(ev["tip"]["mean"].get<double>(), predicted["tip"]["mean"].get<double>(), 1e-12);
+  ASSERT_EQ(ev["parameters"].size(), predicted["parameters"].size());
+  for (std::size_t i = 0; i < ev["parameters"].size(); ++i) {
+    EXPECT_NEAR(ev["parameters"][i]["u"].get<double>(),
+                predicted["parameters"][i]["u"].get<double>(), 1e-12);
+  }
+  EXPECT_EQ(ev["identifiable"], predicted["identifiable"]);
+  EXPECT_NEAR(predicted["optimization"]["value"].get<double>(),
+              ev["tip"]["worst"]["total"].get<double>(), 1e-12);
+}
+
+TEST_F(OptimizeCli, SameSeedSameFileWhateverTheThreads) {
+  const std::string spec = write("spec.json", seedSpec(4, {{"reach", {55, 245}}}));
+  ASSERT_EQ(runCli("optimize " + spec + " -o " + path("a.json") + kSmall + " --threads 1").status,
+            0);
+  ASSERT_EQ(runCli("optimize " + spec + " -o " + path("b.json") + kSmall + " --threads 2").status,
+            0);
+  EXPECT_EQ(readJsonFile(path("a.json")), readJsonFile(path("b.json")));
+}
+
+TEST_F(OptimizeCli, RefusalsExitWithStatus2AndOneLine) {
+  const std::string too_few = write("few.json", seedSpec(2, {{"reach", {55, 245}}}));
+  CliRun run = runCli("optimize " + too_few + " -o " + path("x.json") + kSmall);
+  EXPECT_EQ(run.status, 2);
+  EXPECT_NE(run.out.find("few.json: /design/placements: cannot be identifiable"), std::string::npos)
+      << run.out;
+  const std::string far = write("far.json", seedSpec(5, {{"reach", {300, 400}}}));
+  run = runCli("optimize " + far + " -o " + path("x.json") + kSmall);
+  EXPECT_EQ(run.status, 2);
+  EXPECT_NE(run.out.find("far.json: /design/region: no placement"), std::string::npos) << run.out;
+  nlohmann::json no_design = seedSpec(5, {{"reach", {55, 245}}});
+  no_design.erase("design");
+  run = runCli("optimize " + write("none.json", no_design) + " -o " + path("x.json") + kSmall);
+  EXPECT_EQ(run.status, 2);
+  EXPECT_NE(run.out.find("none.json: /design: missing"), std::string::npos) << run.out;
+  EXPECT_FALSE(std::filesystem::exists(path("x.json")));
+}
+
+}  // namespace
+}  // namespace artcal

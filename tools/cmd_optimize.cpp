@@ -1,0 +1,186 @@
+// artcal optimize SPEC -o PLAN (plan-format.md, optimization spec; method.md section 7).
+
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+
+#include "artcal/error.hpp"
+#include "artcal/optimizer.hpp"
+#include "artcal/plan_io.hpp"
+#include "artcal/report.hpp"
+#include "commands.hpp"
+
+namespace artcal::cli {
+
+namespace {
+
+struct OptimizeArguments {
+  std::string spec;
+  std::string output;
+  bool json = false;
+  bool quiet = false;
+  int threads = 0;
+  int pool = 0;
+  int evaluations = 0;
+  std::string algorithm = "sbplx";
+  std::optional<int> starts;
+  std::optional<double> time_limit;
+  std::optional<long> seed;
+};
+
+double toMicrometres(double mm) {
+  return mm * 1000.0;
+}
+
+OptimizerOptions optionsFrom(const Plan& plan, const OptimizeArguments& args) {
+  OptimizerOptions options = OptimizerOptions::fromDesign(*plan.design);
+  if (args.starts) options.starts = *args.starts;
+  if (args.time_limit) options.time_limit = *args.time_limit;
+  if (args.seed) options.seed = static_cast<std::uint64_t>(*args.seed);
+  options.threads = args.threads;
+  options.pool_size = args.pool;
+  options.refine_evaluations = args.evaluations;
+  options.algorithm = *refineAlgorithmFromName(args.algorithm);
+  if (!args.quiet && isatty(STDERR_FILENO)) {
+    options.progress = [](const OptimizerProgress& p) {
+      std::fprintf(stderr, "\roptimize: %d/%d starts, best %.3f um, %.1f s   ", p.starts_done,
+                   p.starts, toMicrometres(p.best), p.elapsed);
+      std::fflush(stderr);
+    };
+  }
+  return options;
+}
+
+double median(std::vector<double> values) {
+  if (values.empty()) return NAN;
+  std::sort(values.begin(), values.end());
+  const std::size_t n = values.size();
+  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+// How the optimum compares with its starting designs (criterion values, mm).
+nlohmann::json optimizationToJson(const Plan& plan, const OptimizerOptions& options,
+                                  const OptimizerSummary& summary) {
+  std::vector<double> initial;
+  for (const StartResult& s : summary.starts) {
+    if (s.done) initial.push_back(s.initial);
+  }
+  const StartResult& best = summary.starts[static_cast<std::size_t>(summary.best_start)];
+  nlohmann::json out;
+  out["criterion"] = criterionName(plan.design->criterion);
+  out["value"] = finiteOrNull(summary.value);
+  out["unit"] = "mm";
+  out["seed"] = options.seed;
+  out["starts"] = options.starts;
+  out["starts_done"] = summary.startsDone();
+  out["pool"] = summary.pool_size;
+  out["algorithm"] = refineAlgorithmName(options.algorithm);
+  out["best_start"] = {{"index", summary.best_start},
+                       {"initial", finiteOrNull(best.initial)},
+                       {"exchanged", finiteOrNull(best.exchanged)},
+                       {"refined", finiteOrNull(best.refined)}};
+  out["random_initial"] = {
+      {"best",
+       finiteOrNull(initial.empty() ? NAN : *std::min_element(initial.begin(), initial.end()))},
+      {"median", finiteOrNull(median(initial))}};
+  out["termination"] =
+      summary.termination == OptimizerSummary::Termination::Completed ? "completed" : "time_limit";
+  return out;
+}
+
+std::string summaryTable(const Plan& plan, const OptimizerSummary& summary,
+                         const Evaluation& evaluation, const std::string& output) {
+  std::ostringstream out;
+  out << std::fixed << std::setprecision(3);
+  const StartResult& best = summary.starts[static_cast<std::size_t>(summary.best_start)];
+  out << "artcal optimize: " << plan.name << " -> " << output << "\n";
+  out << "criterion " << criterionName(plan.design->criterion) << ", " << plan.design->placements
+      << " placements x " << plan.design->postures << " posture(s)\n\n";
+  out << "  stage                    criterion (um)\n";
+  out << "  random initial design    " << std::setw(12) << toMicrometres(best.initial) << "\n";
+  out << "  after exchange           " << std::setw(12) << toMicrometres(best.exchanged) << "\n";
+  out << "  after refinement         " << std::setw(12) << toMicrometres(best.refined) << "\n\n";
+  if (evaluation.tip) {
+    out << "  tip worst " << toMicrometres(evaluation.tip->worst.total) << " um, mean "
+        << toMicrometres(evaluation.tip->mean) << " um\n";
+  }
+  out << "  " << summary.briefReport() << "\n";
+  return out.str();
+}
+
+int runOptimize(const OptimizeArguments& args) {
+  const nlohmann::json spec_document = readJsonFile(args.spec);
+  const Plan spec = parsePlan(spec_document, args.spec, /*require_placements=*/false);
+  for (const std::string& warning : spec.warnings) std::cerr << "warning: " << warning << "\n";
+  if (!spec.design) {
+    throw InputError(args.spec, "/design", "missing: an optimization spec needs a design block");
+  }
+  const OptimizerOptions options = optionsFrom(spec, args);
+  const OptimizerSummary summary = optimizePlan(spec, options);
+  if (options.progress) std::fprintf(stderr, "\n");
+  if (summary.best_start < 0) {
+    std::cerr << "error: " << args.spec << ": " << summary.message << std::endl;
+    return 1;
+  }
+  Plan plan = spec;
+  for (const Placement& p : summary.placements) plan.placements.push_back(p);
+  const Evaluation evaluation = evaluatePlan(plan);
+  nlohmann::json document = spec_document;
+  document["placements"] = placementsToJson(plan);
+  nlohmann::json predicted = evaluationToJson(plan, evaluation);
+  predicted.erase("plan");
+  predicted["optimization"] = optimizationToJson(spec, options, summary);
+  document["predicted"] = predicted;
+  writeFileAtomically(args.output, document.dump(1) + "\n");
+  if (args.json) {
+    nlohmann::json out = predicted;
+    out["plan"] = args.output;
+    out["seconds"] = summary.seconds;
+    printJson(out);
+  } else {
+    std::cout << summaryTable(spec, summary, evaluation, args.output);
+  }
+  return 0;
+}
+
+void addOptimizeCommand(CLI::App& app, Action& action) {
+  auto args = std::make_shared<OptimizeArguments>();
+  CLI::App* cmd = app.add_subcommand(
+      "optimize",
+      "searches placements and postures minimising the design criterion; writes the complete "
+      "plan with its predicted figures (exit 0)");
+  cmd->add_option("SPEC", args->spec, "optimization spec: a plan with a design block")->required();
+  cmd->add_option("-o,--output", args->output, "the plan to write")->required();
+  cmd->add_flag("--json", args->json, "print one JSON document instead of the table");
+  cmd->add_flag("--quiet", args->quiet, "no progress line on stderr");
+  cmd->add_option("--starts", args->starts, "starts (overrides design.starts)")
+      ->check(CLI::Range(1, 10000));
+  cmd->add_option("--seed", args->seed, "seed (overrides design.seed)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--time-limit", args->time_limit, "seconds (overrides design.time_limit)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--threads", args->threads, "worker threads; 0: all cores")
+      ->check(CLI::Range(0, 256))
+      ->capture_default_str();
+  cmd->add_option("--pool", args->pool, "candidate placements; 0: automatic")
+      ->check(CLI::Range(0, 100000))
+      ->capture_default_str();
+  cmd->add_option("--evaluations", args->evaluations,
+                  "refinement evaluations per start; 0: automatic")
+      ->check(CLI::Range(0, 10000000))
+      ->capture_default_str();
+  cmd->add_option("--algorithm", args->algorithm, "continuous refinement (NLopt)")
+      ->check(CLI::IsMember({"sbplx", "bobyqa", "neldermead", "cobyla", "none"}))
+      ->capture_default_str();
+  cmd->callback([&action, args] { action = [args] { return runOptimize(*args); }; });
+}
+
+const Registrar optimize_registrar(30, addOptimizeCommand);
+
+}  // namespace
+
+}  // namespace artcal::cli
