@@ -329,19 +329,77 @@ ReportFigure correlationFigure(const ReportInput& in) {
                              "/correlation")};
 }
 
+/// Flagged readings are labelled on the residual plot up to this many (then only tabled).
+constexpr int kLabelledOutliers = 8;
+/// Rows of the flagged-readings table.
+constexpr std::size_t kTabledOutliers = 50;
+
+ReportFigure residualFigure(const json& calibration, double threshold) {
+  svg::Plot plot("residuals", "Normalized residuals of the calibration", "reading (in plan order)",
+                 "normalized residual (standard deviations)", 640.0, 400.0);
+  const svg::Shape shapes[] = {svg::Shape::Circle, svg::Shape::Square, svg::Shape::Triangle};
+  const char* names[] = {"coordinate x", "coordinate y", "coordinate z"};
+  int reading = 0;
+  double largest = threshold;
+  const json& placements = calibration.at("residuals");
+  for (std::size_t j = 0; j < placements.size(); ++j) {
+    const json& measurements = placements[j].at("measurements");
+    for (std::size_t m = 0; m < measurements.size(); ++m) {
+      ++reading;
+      const json& entry = measurements[m];
+      const json& normalized = entry.at("normalized");
+      for (std::size_t c = 0; c < normalized.size() && c < 3; ++c) {
+        if (!normalized[c].is_number()) continue;
+        const double v = normalized[c].get<double>();
+        largest = std::max(largest, std::abs(v));
+        plot.marker({reading, v}, shapes[c], 6.0, filled("#000000", c == 0 ? "#ffffff" : "#999999"),
+                    normalized.size() == 1 ? "valued coordinate" : names[c]);
+      }
+      if (entry.at("flagged").get<bool>()) {
+        // The diamond sits on the coordinate that decided the flag (largest |normalized|).
+        double worst = 0.0;
+        for (const json& v : normalized) {
+          if (v.is_number() && std::abs(v.get<double>()) > std::abs(worst)) worst = v.get<double>();
+        }
+        const std::string field = format("/calibration/residuals/%zu/measurements/%zu/score", j, m);
+        const double score = entry.at("score").get<double>();
+        plot.marker({reading, worst}, svg::Shape::Diamond, 14.0, filled("#000000", "none", 2.0),
+                    "flagged outlier", {{"data-field", field}, {"data-value", exact(score)}},
+                    format("placement %zu, reading %zu: score %.2f", j + 1, m + 1, score));
+        if (calibration.at("flagged").get<int>() <= kLabelledOutliers) {
+          plot.label({reading, worst}, format("P%zu R%zu", j + 1, m + 1));
+        }
+      }
+    }
+  }
+  const double x_hi = std::max(reading, 1) + 0.5;
+  svg::Style limit = faint("#000000", 1.2, 1.0);
+  limit.dash = svg::Dash::Dashed;
+  const std::string legend = format("flag threshold +/-%.3g", threshold);
+  plot.polyline({{0.5, threshold}, {x_hi, threshold}}, limit, legend);
+  plot.polyline({{0.5, -threshold}, {x_hi, -threshold}}, limit, legend);
+  plot.setXRange(0.5, x_hi);
+  plot.setYRange(-1.15 * largest, 1.15 * largest);
+  return {"residuals",
+          "Each reading's residual in its valued artifact coordinates, divided by its standard "
+          "deviation under the noise model; readings beyond the threshold are flagged (diamond, "
+          "labelled placement and reading).",
+          plot.render()};
+}
+
 // ---------------------------------------------------------------------------------------------
 // HTML
 
 /// A table cell showing a number of `source` at `pointer`, scaled for display, with the exact
 /// JSON value in data-value.
 std::string numberCell(const json& source, const std::string& pointer, double scale,
-                       const char* fmt) {
+                       const char* fmt, const std::string& field_prefix = {}) {
   const json& value = source.at(json::json_pointer(pointer));
+  const std::string field = svg::escape(field_prefix + pointer);
   if (!value.is_number()) {
-    return "<td class=\"num\" data-field=\"" + svg::escape(pointer) +
-           "\" data-value=\"null\">&#8212;</td>";
+    return "<td class=\"num\" data-field=\"" + field + "\" data-value=\"null\">&#8212;</td>";
   }
-  return "<td class=\"num\" data-field=\"" + svg::escape(pointer) + "\" data-value=\"" +
+  return "<td class=\"num\" data-field=\"" + field + "\" data-value=\"" +
          exact(value.get<double>()) + "\">" +
          svg::escape(format(fmt, value.get<double>() * scale)) + "</td>";
 }
@@ -532,6 +590,79 @@ void writeDesign(std::ostream& out, const ReportInput& in) {
   out << "</table>\n";
 }
 
+/// The flagged readings, worst first (the first kTabledOutliers of them).
+void writeFlagged(std::ostream& out, const json& cal) {
+  struct Flag {
+    std::size_t placement, measurement;
+    double score;
+  };
+  std::vector<Flag> flags;
+  const json& residuals = cal.at("residuals");
+  for (std::size_t j = 0; j < residuals.size(); ++j) {
+    const json& measurements = residuals[j].at("measurements");
+    for (std::size_t m = 0; m < measurements.size(); ++m) {
+      if (measurements[m].at("flagged").get<bool>()) {
+        flags.push_back({j, m, measurements[m].at("score").get<double>()});
+      }
+    }
+  }
+  if (flags.empty()) {
+    out << "<p>No reading is flagged.</p>\n";
+    return;
+  }
+  std::stable_sort(flags.begin(), flags.end(),
+                   [](const Flag& a, const Flag& b) { return a.score > b.score; });
+  out << "<table>\n<tr><th>flagged reading</th><th>feature</th><th>score (largest |normalized "
+         "residual|)</th></tr>\n";
+  for (std::size_t k = 0; k < std::min(flags.size(), kTabledOutliers); ++k) {
+    const Flag& f = flags[k];
+    const std::string base = format("/residuals/%zu/measurements/%zu/", f.placement, f.measurement);
+    out << "<tr><td>placement " << f.placement + 1 << ", reading " << f.measurement + 1 << "</td>"
+        << numberCell(cal, base + "feature", 1, "%.0f", "/calibration")
+        << numberCell(cal, base + "score", 1, "%.2f", "/calibration") << "</tr>\n";
+  }
+  out << "</table>\n";
+  if (flags.size() > kTabledOutliers) {
+    out << "<p>and " << flags.size() - kTabledOutliers << " more flagged readings.</p>\n";
+  }
+}
+
+/// The calibration of the plan's readings (calibrate --json, pointers under /calibration).
+void writeCalibration(std::ostream& out, const ReportInput& in,
+                      const std::vector<ReportFigure>& figures) {
+  if (!in.calibration_json) return;
+  const json& cal = *in.calibration_json;
+  const std::string prefix = "/calibration";
+  const bool converged = cal.at("converged").get<bool>();
+  out << "<h2>Calibration of the readings</h2>\n<p class=\"verdict " << (converged ? "ok" : "bad")
+      << "\" data-field=\"/calibration/converged\" data-value=\"" << (converged ? "true" : "false")
+      << "\">" << (converged ? "CONVERGED" : "NOT CONVERGED") << ": "
+      << svg::escape(cal.value("message", "")) << "</p>\n<table>\n<tr><th>iterations</th>"
+      << "<th>chi2</th><th>dof</th><th>chi2 / dof</th><th>flagged readings</th></tr>\n<tr>"
+      << numberCell(cal, "/iterations", 1, "%.0f", prefix)
+      << numberCell(cal, "/chi2", 1, "%.4g", prefix) << numberCell(cal, "/dof", 1, "%.0f", prefix)
+      << numberCell(cal, "/chi2_per_dof", 1, "%.4g", prefix)
+      << numberCell(cal, "/flagged", 1, "%.0f", prefix) << "</tr>\n</table>\n";
+  out << "<table>\n<tr><th>parameter</th><th>nominal</th><th>estimate</th><th>unit</th>"
+      << "<th>u</th><th>u posterior</th><th>unit of u</th></tr>\n";
+  const json& parameters = cal.at("parameters");
+  for (std::size_t k = 0; k < parameters.size(); ++k) {
+    const json& p = parameters[k];
+    const bool angle = p.at("unit") == "deg";
+    const std::string base = format("/parameters/%zu/", k);
+    out << "<tr><td>" << svg::escape(p.at("name").get<std::string>()) << "</td>"
+        << numberCell(cal, base + "nominal", 1, "%.4f", prefix)
+        << numberCell(cal, base + "estimate", 1, "%.6f", prefix) << "<td>"
+        << svg::escape(p.at("unit").get<std::string>()) << "</td>"
+        << numberCell(cal, base + "u", angle ? 1.0 : 1e3, angle ? "%.6f" : "%.3f", prefix)
+        << numberCell(cal, base + "u_posterior", angle ? 1.0 : 1e3, angle ? "%.6f" : "%.3f", prefix)
+        << "<td>" << (angle ? "deg" : kMicro) << "</td></tr>\n";
+  }
+  out << "</table>\n";
+  writeFigures(out, figures, "residuals");
+  writeFlagged(out, cal);
+}
+
 }  // namespace
 
 std::vector<ReportFigure> reportFigures(const ReportInput& in) {
@@ -550,6 +681,8 @@ std::vector<ReportFigure> reportFigures(const ReportInput& in) {
     figures.push_back(
         {"layout-side", layout_caption, layoutPlot(in, features, View::Side).render()});
   }
+  if (in.calibration_json)
+    figures.push_back(residualFigure(*in.calibration_json, in.flag_threshold));
   if (!in.evaluation.identifiable() || !in.evaluation.tip) return figures;
   if (in.evaluation_json.contains("profile")) figures.push_back(profileFigure(in));
   const TipEvaluator tips(plan.machine, plan.noise, in.evaluation.workspace);
@@ -578,6 +711,7 @@ std::string htmlReport(const ReportInput& in, const std::vector<ReportFigure>& f
   writeTipSummary(out, in.plan, ev);
   writeFigures(out, figures, "tip");
   writeProfileTable(out, ev);
+  writeCalibration(out, in, figures);
   out << "</body>\n</html>\n";
   return out.str();
 }

@@ -371,17 +371,26 @@ std::vector<Shown> shownNumbers(const std::string& html) {
 }
 
 /// The report's numbers against `evaluate --json` for the same plan: every data-field exists in
-/// the evaluation and holds exactly the value shown.
-std::set<std::string> expectNumbersMatchEvaluate(const std::string& html, const json& evaluated) {
+/// the evaluation and holds exactly the value shown. Fields under /calibration are looked up in
+/// `calibrate --json` instead (when given).
+std::set<std::string> expectNumbersMatchEvaluate(const std::string& html, const json& evaluated,
+                                                 const json* calibrated = nullptr) {
   std::set<std::string> pointers;
+  const std::string prefix = "/calibration/";
   for (const Shown& s : shownNumbers(html)) {
     pointers.insert(s.pointer);
-    const json::json_pointer pointer(s.pointer);
-    if (!evaluated.contains(pointer)) {
-      ADD_FAILURE() << s.pointer << " is not in evaluate --json";
+    const bool calibration = s.pointer.rfind(prefix, 0) == 0;
+    if (calibration && !calibrated) {
+      ADD_FAILURE() << s.pointer << ": a calibration number in a report without calibration";
       continue;
     }
-    const json& expected = evaluated.at(pointer);
+    const json& source = calibration ? *calibrated : evaluated;
+    const json::json_pointer pointer(calibration ? s.pointer.substr(prefix.size() - 1) : s.pointer);
+    if (!source.contains(pointer)) {
+      ADD_FAILURE() << s.pointer << " is not in the command's --json";
+      continue;
+    }
+    const json& expected = source.at(pointer);
     if (expected.is_number()) {
       EXPECT_EQ(std::stod(s.value), expected.get<double>()) << s.pointer;
     } else {
@@ -561,6 +570,62 @@ TEST_F(ReportCli, BadInputIsOneLineExitTwoAndNoFile) {
   EXPECT_NE(r.err.find("/placements/1/measurements/0/joints"), std::string::npos) << r.err;
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1);
   EXPECT_FALSE(fs::exists(html_path));
+}
+
+TEST_F(ReportCli, CalibrationResultAndFlaggedOutliersEqualCalibrateJson) {
+  // One reading of ref-2r-calibrate spoilt by 0.1 deg on joint 2: the calibrator flags it.
+  json plan = json::parse(std::ifstream(data("ref-2r-calibrate.json")));
+  plan["placements"][3]["measurements"][1]["joints"][1] =
+      plan["placements"][3]["measurements"][1]["joints"][1].get<double>() + 0.1;
+  const fs::path plan_path = dir_ / "outlier.json", html_path = dir_ / "r.html";
+  std::ofstream(plan_path) << plan.dump(1);
+  const CliRun r =
+      run("report --calibrate \"" + plan_path.string() + "\" -o \"" + html_path.string() + "\"");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const CliRun cal = run("calibrate --json \"" + plan_path.string() + "\"");
+  const CliRun ev = run("evaluate --json \"" + plan_path.string() + "\"");
+  const json calibrated = json::parse(cal.out), evaluated = json::parse(ev.out);
+  const std::string html = slurp(html_path);
+  expectWellFormed(html, 5);  // layout, residuals, profile, map, correlation
+  const std::set<std::string> shown = expectNumbersMatchEvaluate(html, evaluated, &calibrated);
+  for (const char* p : {"/calibration/converged", "/calibration/chi2_per_dof", "/calibration/dof",
+                        "/calibration/flagged", "/calibration/parameters/0/estimate",
+                        "/calibration/parameters/2/u_posterior"}) {
+    EXPECT_TRUE(shown.count(p)) << p;
+  }
+  // Every reading calibrate flags is marked on the residual plot and tabled; no other one.
+  const int flagged = calibrated["flagged"].get<int>();
+  ASSERT_GE(flagged, 1);
+  int marked = 0;
+  for (std::size_t j = 0; j < calibrated["residuals"].size(); ++j) {
+    const auto& measurements = calibrated["residuals"][j]["measurements"];
+    for (std::size_t m = 0; m < measurements.size(); ++m) {
+      const std::string field = "/calibration/residuals/" + std::to_string(j) + "/measurements/" +
+                                std::to_string(m) + "/score";
+      const bool is_flagged = measurements[m]["flagged"].get<bool>();
+      EXPECT_EQ(shown.count(field) == 1, is_flagged) << field;
+      marked += is_flagged && html.find("<g data-field=\"" + field + "\"") != std::string::npos;
+    }
+  }
+  EXPECT_EQ(marked, flagged);
+  EXPECT_TRUE(calibrated["residuals"][3]["measurements"][1]["flagged"].get<bool>());
+}
+
+TEST_F(ReportCli, CalibrationOnlyWhenAskedOrSimulated) {
+  const fs::path html_path = dir_ / "r.html";
+  ASSERT_EQ(
+      run("report \"" + data("ref-2r-calibrate.json") + "\" -o \"" + html_path.string() + "\"")
+          .status,
+      0);
+  EXPECT_EQ(slurp(html_path).find("/calibration"), std::string::npos);
+  // A plan written by `artcal simulate` carries a simulation block: its readings are calibrated.
+  json plan = json::parse(std::ifstream(data("ref-2r-calibrate.json")));
+  plan["simulation"] = {{"seed", 5}};
+  const fs::path plan_path = dir_ / "simulated.json";
+  std::ofstream(plan_path) << plan.dump(1);
+  const CliRun r = run("report \"" + plan_path.string() + "\" -o \"" + html_path.string() + "\"");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(slurp(html_path).find("data-field=\"/calibration/converged\""), std::string::npos);
 }
 
 /// A planar 2R plan with `count` ball-bar placements spread over the reach annulus, readings by

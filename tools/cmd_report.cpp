@@ -2,7 +2,10 @@
 
 #include <filesystem>
 #include <iostream>
+#include <optional>
 
+#include "artcal/calibration_report.hpp"
+#include "artcal/calibrator.hpp"
 #include "artcal/evaluator.hpp"
 #include "artcal/html_report.hpp"
 #include "artcal/plan_io.hpp"
@@ -20,7 +23,15 @@ struct ReportArguments {
   bool json = false;
   double rank_tolerance = kDefaultRankTolerance;
   int profile_steps = 21;
+  bool calibrate = false;
+  double flag_threshold = CalibrationOptions{}.flag_threshold;
 };
+
+/// The readings are calibrated when asked, or when they were simulated (`artcal simulate`
+/// records a `simulation` block): nominal planning readings would only give zero residuals.
+bool wantsCalibration(const ReportArguments& args, const nlohmann::json& document) {
+  return args.calibrate || document.contains("simulation");
+}
 
 void writeSvgFiles(const std::string& dir, const std::vector<ReportFigure>& figures) {
   std::filesystem::create_directories(dir);
@@ -32,10 +43,12 @@ void writeSvgFiles(const std::string& dir, const std::vector<ReportFigure>& figu
 
 /// What was written: the JSON twin of the table printed.
 nlohmann::json summaryJson(const ReportArguments& args, const std::string& html,
-                           const std::vector<ReportFigure>& figures, bool identifiable) {
+                           const std::vector<ReportFigure>& figures, bool identifiable,
+                           const std::optional<bool>& converged) {
   nlohmann::json out = {{"report", args.output},
                         {"bytes", html.size()},
                         {"identifiable", identifiable},
+                        {"calibration_converged", converged ? nlohmann::json(*converged) : nullptr},
                         {"figures", nlohmann::json::array()}};
   for (const ReportFigure& f : figures) {
     nlohmann::json figure = {{"name", f.name}, {"bytes", f.svg.size()}};
@@ -51,6 +64,8 @@ void printSummary(const nlohmann::json& summary) {
   std::cout << "Report " << summary["report"].get<std::string>() << " ("
             << summary["bytes"].get<std::size_t>() << " bytes)"
             << (summary["identifiable"].get<bool>() ? "" : "; the plan is NOT identifiable")
+            << (summary["calibration_converged"] == false ? "; the calibration did NOT converge"
+                                                          : "")
             << "\n  figure                bytes  file\n";
   for (const auto& f : summary["figures"]) {
     std::printf("  %-18s %8zu  %s\n", f["name"].get<std::string>().c_str(),
@@ -64,7 +79,8 @@ void addReportCommand(CLI::App& app, Action& action) {
   CLI::App* cmd = app.add_subcommand(
       "report",
       "writes a self-contained HTML report (layout, tip uncertainty, parameters, correlation, "
-      "identifiability) with the numbers of `evaluate --json` (exit 0; 1 when not identifiable)");
+      "identifiability, calibration) with the numbers of `evaluate --json` (exit 0; 1 when not "
+      "identifiable or the calibration did not converge)");
   cmd->add_option("PLAN", args->plan, "plan file (artcal-plan/1)")->required();
   cmd->add_option("-o,--output", args->output, "HTML file to write")->required();
   cmd->add_option("--svg", args->svg_dir, "also write each figure as DIR/<name>.svg");
@@ -77,6 +93,13 @@ void addReportCommand(CLI::App& app, Action& action) {
                   "rows of the planar2r tip-uncertainty profile against reach")
       ->check(CLI::Range(2, 10000))
       ->capture_default_str();
+  cmd->add_flag("--calibrate", args->calibrate,
+                "also calibrate the plan's readings and show the result and the residuals "
+                "(automatic for a plan written by `artcal simulate`)");
+  cmd->add_option("--flag-threshold", args->flag_threshold,
+                  "normalized residual beyond which a reading is flagged (as calibrate)")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
   cmd->callback([&action, args] {
     action = [args] {
       const nlohmann::json document = readJsonFile(args->plan);
@@ -84,18 +107,33 @@ void addReportCommand(CLI::App& app, Action& action) {
       for (const std::string& warning : plan.warnings) std::cerr << "warning: " << warning << "\n";
       const Evaluation evaluation = evaluatePlan(plan, {args->rank_tolerance, args->profile_steps});
       const nlohmann::json evaluation_json = evaluationToJson(plan, evaluation);
-      const ReportInput input{plan, document, evaluation, evaluation_json};
+      std::optional<nlohmann::json> calibration_json;
+      std::optional<bool> converged;
+      if (wantsCalibration(*args, document)) {
+        CalibrationOptions options;
+        options.flag_threshold = args->flag_threshold;
+        const Calibration calibration = calibratePlan(plan, options);
+        calibration_json = calibrationToJson(plan, plan.placements, calibration);
+        converged = calibration.summary.converged();
+      }
+      const ReportInput input{plan,
+                              document,
+                              evaluation,
+                              evaluation_json,
+                              calibration_json ? &*calibration_json : nullptr,
+                              args->flag_threshold};
       const std::vector<ReportFigure> figures = reportFigures(input);
       const std::string html = htmlReport(input, figures);
       writeFileAtomically(args->output, html);
       if (!args->svg_dir.empty()) writeSvgFiles(args->svg_dir, figures);
-      const nlohmann::json summary = summaryJson(*args, html, figures, evaluation.identifiable());
+      const nlohmann::json summary =
+          summaryJson(*args, html, figures, evaluation.identifiable(), converged);
       if (args->json) {
         printJson(summary);
       } else {
         printSummary(summary);
       }
-      return evaluation.identifiable() ? 0 : 1;
+      return evaluation.identifiable() && converged.value_or(true) ? 0 : 1;
     };
   });
 }

@@ -10,7 +10,8 @@
 //
 // Figures: the layout (machine reach, artifact placements, postures; 3-D: plan XY and side XZ
 // views), tip uncertainty (planar2r: S_m, S_q, S against reach, seed Fig. 6; every model: a map
-// of S over the workspace with the worst point marked), the correlation matrix as a heat map.
+// of S over the workspace with the worst point marked), the correlation matrix as a heat map;
+// with a calibration, its normalized residuals with the flagged outliers.
 
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -36,6 +37,10 @@ struct ReportInput {
   const nlohmann::json& document;
   const Evaluation& evaluation;
   const nlohmann::json& evaluation_json;
+  /// calibrationToJson (calibration_report.hpp) of the plan's readings, when they are to be
+  /// shown; its numbers carry data-field pointers prefixed "/calibration".
+  const nlohmann::json* calibration_json = nullptr;
+  double flag_threshold = 3.0;  ///< the calibrator's, drawn on the residual plot
 };
 
 /// The report's figures, in the order the report shows them.
