@@ -102,12 +102,17 @@ std::pair<double, double> planarReach(const Machine& machine) {
   return {std::abs(l1 - l2), l1 + l2};
 }
 
+/// Marks shrink and arm links fade as placements crowd the layout (every one is still drawn).
+double crowding(const Plan& plan) {
+  return std::clamp(std::sqrt(40.0 / std::max<double>(plan.placements.size(), 1.0)), 0.35, 1.0);
+}
+
 void drawPlanarArm(svg::Plot& plot, const Machine& machine, const Eigen::VectorXd& q,
-                   const Eigen::VectorXd& tip) {
+                   const Eigen::VectorXd& tip, double density) {
   const double l1 = machine.nominal[machine.mechanism->parameterIndex("l1")];
   const Eigen::Vector2d elbow(l1 * std::cos(q[0]), l1 * std::sin(q[0]));
-  plot.polyline({Eigen::Vector2d::Zero(), elbow, tip.head<2>()}, faint("#555555", 1.0, 0.3),
-                "arm links per reading");
+  plot.polyline({Eigen::Vector2d::Zero(), elbow, tip.head<2>()},
+                faint("#555555", 1.0, 0.3 * density * density), "arm links per reading");
 }
 
 /// Cells of a regular grid over projected points: the largest value per cell (a map of the
@@ -159,29 +164,33 @@ std::vector<Eigen::Vector2d> projectedWorkspace(const Machine& machine,
 
 void drawArtifacts(svg::Plot& plot, const Plan& plan, const std::vector<Eigen::MatrixXd>& features,
                    View view, bool numbered) {
+  const double density = crowding(plan);
+  svg::Style bar = curveStyle(svg::Dash::Solid, "#000000");
+  bar.width = 2.0 * density;
   for (std::size_t j = 0; j < features.size(); ++j) {
     const Artifact& artifact =
         plan.artifacts[static_cast<std::size_t>(plan.placements[j].artifact)];
     const Eigen::MatrixXd& f = features[j];
     if (artifact.kind != ArtifactKind::BallPlate && f.cols() >= 2) {
-      plot.polyline({project(f.col(0), view), project(f.col(f.cols() - 1), view)},
-                    curveStyle(svg::Dash::Solid, "#000000"), "artifact");
+      plot.polyline({project(f.col(0), view), project(f.col(f.cols() - 1), view)}, bar, "artifact");
     }
     for (int i = 0; i < f.cols(); ++i) {
-      plot.marker(project(f.col(i), view), svg::Shape::Circle, 7.0, filled("#000000", "#ffffff"),
-                  "feature", {}, format("placement %zu, feature %d", j + 1, i));
+      plot.marker(project(f.col(i), view), svg::Shape::Circle, 7.0 * density,
+                  filled("#000000", "#ffffff", density), "feature", {},
+                  format("placement %zu, feature %d", j + 1, i));
     }
     if (numbered) plot.label(project(f.col(0), view), format("%zu", j + 1));
   }
 }
 
 void drawPostures(svg::Plot& plot, const Plan& plan, View view) {
+  const double density = crowding(plan);
   const Machine& machine = plan.machine;
   for (std::size_t j = 0; j < plan.placements.size(); ++j) {
     for (const Measurement& m : plan.placements[j].measurements) {
       const Eigen::VectorXd tip = probePosition(machine, m.joints);
-      if (isPlanar2R(machine)) drawPlanarArm(plot, machine, m.joints, tip);
-      plot.marker(project(tip, view), svg::Shape::Cross, 5.0, faint("#000000", 1.0, 1.0),
+      if (isPlanar2R(machine)) drawPlanarArm(plot, machine, m.joints, tip, density);
+      plot.marker(project(tip, view), svg::Shape::Cross, 5.0 * density, faint("#000000", 1.0, 1.0),
                   "probe position per reading");
     }
   }
@@ -554,8 +563,60 @@ std::string jsonText(const json& value) {
   return value.dump();
 }
 
-/// An optimized plan (plan-format.md, optimization spec): its design block, and its predicted
-/// block set beside the figures evaluated now (the same pointers of evaluate --json).
+/// The optimizer's search: its criterion from the random starting designs to the optimum
+/// (the `optimization` block `artcal optimize` writes into `predicted`).
+void writeOptimization(std::ostream& out, const json& optimization) {
+  const bool mm = optimization.value("unit", "") == "mm";
+  const auto row = [&](const char* what, const json::json_pointer& at) {
+    if (!optimization.contains(at) || !optimization.at(at).is_number()) return;
+    const double v = optimization.at(at).get<double>();
+    out << "<tr><td>" << what << "</td><td class=\"num\">"
+        << svg::escape(mm ? format("%.3f", v * 1e3) : format("%.6g", v)) << "</td></tr>\n";
+  };
+  out << "<p>The search (" << svg::escape(jsonText(optimization.value("algorithm", json("?"))))
+      << ", " << svg::escape(jsonText(optimization.value("starts_done", json("?")))) << " of "
+      << svg::escape(jsonText(optimization.value("starts", json("?")))) << " starts, "
+      << svg::escape(jsonText(optimization.value("termination", json("?")))) << "): the criterion "
+      << svg::escape(jsonText(optimization.value("criterion", json("?"))))
+      << " from the starting designs to the optimum.</p>\n<table>\n<tr><th>design</th><th>"
+      << (mm ? std::string("criterion (") + kMicro + ")" : std::string("criterion"))
+      << "</th></tr>\n";
+  row("random starting designs, median", "/random_initial/median"_json_pointer);
+  row("random starting designs, best", "/random_initial/best"_json_pointer);
+  row("best start as drawn", "/best_start/initial"_json_pointer);
+  row("best start after the exchange", "/best_start/exchanged"_json_pointer);
+  row("best start after refinement", "/best_start/refined"_json_pointer);
+  row("optimum written to the plan", "/value"_json_pointer);
+  out << "</table>\n";
+}
+
+/// The predicted numbers the optimizer wrote beside the same figures evaluated now (the same
+/// pointers of evaluate --json; the profile and correlation are shown in their figures).
+void writePredicted(std::ostream& out, const json& predicted, const json& evaluation) {
+  std::vector<std::pair<std::string, json>> rows;
+  flatten(predicted, "", rows);
+  out << "<table>\n<tr><th>predicted by the optimizer</th><th>in the plan file</th>"
+      << "<th>evaluated now</th></tr>\n";
+  for (const auto& [pointer, value] : rows) {
+    if (!value.is_number() || pointer.starts_with("/optimization") ||
+        pointer.starts_with("/profile") || pointer.starts_with("/correlation")) {
+      continue;
+    }
+    out << "<tr><td>" << svg::escape(pointer.substr(1)) << "</td><td class=\"num\">"
+        << svg::escape(jsonText(value)) << "</td>";
+    const json::json_pointer here(pointer);
+    if (value.is_number() && evaluation.contains(here) && evaluation.at(here).is_number()) {
+      out << numberCell(evaluation, pointer, 1, "%.6g");
+    } else {
+      out << "<td></td>";
+    }
+    out << "</tr>\n";
+  }
+  out << "</table>\n";
+}
+
+/// An optimized plan (plan-format.md, optimization spec): its design block, the search from the
+/// starting designs to the optimum, and its predicted block beside the evaluation now.
 void writeDesign(std::ostream& out, const ReportInput& in) {
   if (!in.document.contains("design") && !in.document.contains("predicted")) return;
   out << "<h2>Design</h2>\n";
@@ -569,25 +630,12 @@ void writeDesign(std::ostream& out, const ReportInput& in) {
     }
     out << "</table>\n";
   }
-  if (!in.document.contains("predicted")) return;
-  std::vector<std::pair<std::string, json>> rows;
-  flatten(in.document.at("predicted"), "", rows);
-  out << "<p>The optimizer's <code>predicted</code> block, beside the same figure evaluated now "
-         "(where the evaluation has it):</p>\n<table>\n<tr><th>predicted</th><th>in the plan "
-         "file</th><th>evaluated now</th></tr>\n";
-  for (const auto& [pointer, value] : rows) {
-    out << "<tr><td>" << svg::escape(pointer.substr(1)) << "</td><td class=\"num\">"
-        << svg::escape(jsonText(value)) << "</td>";
-    const json::json_pointer here(pointer);
-    if (value.is_number() && in.evaluation_json.contains(here) &&
-        in.evaluation_json.at(here).is_number()) {
-      out << numberCell(in.evaluation_json, pointer, 1, "%.6g");
-    } else {
-      out << "<td></td>";
-    }
-    out << "</tr>\n";
+  if (!in.document.contains("predicted") || !in.document.at("predicted").is_object()) return;
+  const json& predicted = in.document.at("predicted");
+  if (predicted.contains("optimization") && predicted.at("optimization").is_object()) {
+    writeOptimization(out, predicted.at("optimization"));
   }
-  out << "</table>\n";
+  writePredicted(out, predicted, in.evaluation_json);
 }
 
 /// The flagged readings, worst first (the first kTabledOutliers of them).

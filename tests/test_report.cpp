@@ -544,7 +544,15 @@ TEST_F(ReportCli, OptimizedPlanShowsDesignAndPredictedBesideEvaluation) {
                     {"seed", 7},
                     {"starts", 16},
                     {"time_limit", 60}};
-  plan["predicted"] = {{"tip", {{"worst", {{"total", 0.0123}}}}}, {"note", "from <optimize>"}};
+  plan["predicted"] = {
+      {"tip", {{"worst", {{"total", 0.0123}}}}},
+      {"optimization",
+       {{"algorithm", "sbplx<&>"},
+        {"criterion", "worst-tip"},
+        {"unit", "mm"},
+        {"random_initial", {{"median", 0.0208}, {"best", 0.0123}}},
+        {"best_start", {{"initial", 0.0187}, {"exchanged", 0.0115}, {"refined", 0.01125}}},
+        {"value", 0.01125}}}};
   const fs::path plan_path = dir_ / "optimized.json", html_path = dir_ / "r.html";
   std::ofstream(plan_path) << plan.dump(1);
   const CliRun r = run("report \"" + plan_path.string() + "\" -o \"" + html_path.string() + "\"");
@@ -554,7 +562,13 @@ TEST_F(ReportCli, OptimizedPlanShowsDesignAndPredictedBesideEvaluation) {
   EXPECT_NE(html.find("<td>criterion</td><td>worst-tip</td>"), std::string::npos);
   EXPECT_NE(html.find("<td>region/reach</td><td>[55,245]</td>"), std::string::npos);
   EXPECT_NE(html.find("<td>tip/worst/total</td><td class=\"num\">0.0123</td>"), std::string::npos);
-  EXPECT_NE(html.find("from &lt;optimize&gt;"), std::string::npos);
+  // The search from the starting designs to the optimum, criterion in um.
+  EXPECT_NE(html.find("sbplx&lt;&amp;&gt;"), std::string::npos);
+  EXPECT_NE(html.find("<td>random starting designs, median</td><td class=\"num\">20.800</td>"),
+            std::string::npos);
+  EXPECT_NE(html.find("<td>optimum written to the plan</td><td class=\"num\">11.250</td>"),
+            std::string::npos);
+  EXPECT_EQ(html.find("<td>optimization/"), std::string::npos);
   const CliRun ev = run("evaluate --json \"" + plan_path.string() + "\"");
   expectNumbersMatchEvaluate(html, json::parse(ev.out));
 }
