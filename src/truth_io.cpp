@@ -17,7 +17,7 @@ Eigen::VectorXd parseMachineBlock(const json& block, const std::string& source,
                                   const std::string& pointer, const Plan& plan) {
   const json wrapper = {{"format", "artcal-plan/1"},
                         {"machine", block},
-                        {"noise", {{"probe", 0.0}, {"encoder", 0.0}}},
+                        {"noise", {{"probe", 1.0}, {"encoder", 1.0}}},
                         {"artifacts", {{"a", {{"type", "ball_bar"}, {"length", 1.0}}}}}};
   Plan truth;
   try {

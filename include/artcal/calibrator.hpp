@@ -41,7 +41,8 @@ std::string terminationName(TerminationType type);
 struct CalibrationOptions {
   int max_iterations = 50;
   /// Converged when every |dg_i| sqrt(N_ii) < step_tolerance (the step is that small a fraction
-  /// of the parameter's conditional standard uncertainty) ...
+  /// of the parameter's conditional standard uncertainty) and the r_j steps are as small
+  /// (Linearization::rigid_reduction < step_tolerance^2) ...
   double step_tolerance = 1e-4;
   /// ... or when the predicted or actual cost change of a step is below function_tolerance *
   /// cost. The weights are re-evaluated at the estimate (they depend on p through J_q), so the
@@ -73,10 +74,13 @@ struct ResidualEntry {
   int placement = 0;
   int measurement = 0;
   int feature = 0;
-  Eigen::VectorXd residual;    ///< F - W*, mm
-  Eigen::VectorXd normalized;  ///< whitened: Sigma^-1/2 (F - W*), standard normal under the model
-  double score = 0.0;          ///< max |normalized|
-  bool flagged = false;        ///< score > flag_threshold
+  Eigen::VectorXd residual;  ///< F - W*, mm
+  /// Standardised: z_i / sqrt(1 - h_ii), z = Sigma^-1/2 (F - W*) whitened, h_ii the row's
+  /// leverage in the full fit (p, c and every r_j). Unit variance under the noise model, so a
+  /// gross error is not hidden by what the fit absorbs; 0 where h_ii = 1 (not testable).
+  Eigen::VectorXd normalized;
+  double score = 0.0;    ///< max |normalized|
+  bool flagged = false;  ///< score > flag_threshold
 };
 
 struct Calibration {
@@ -98,6 +102,27 @@ struct Calibration {
   Eigen::VectorXd posteriorU() const;
 };
 
+/// The unknowns of the calibration: p (full vector), c (GlobalLayout order) and every r_j.
+struct CalibrationState {
+  Eigen::VectorXd p;
+  Eigen::VectorXd c;
+  std::vector<RigidTransform> poses;
+};
+
+/// The problem linearised at a state, reduced over g = (p, c).
+struct Linearization {
+  double cost = 0.0;  ///< sum e^T Sigma^-1 e + c^T Sigma_c^-1 c
+  Eigen::MatrixXd N;  ///< reduced normal matrix with the prior
+  /// Reduced right-hand side with the prior: along (dg, dr_j = rigidStep(dg) - rigidStep(0)),
+  /// the cost changes at the rate -2 b^T dg.
+  Eigen::VectorXd b;
+  std::vector<PlacementElimination> eliminations;  ///< per placement, for back-substitution
+  /// sum_j g_r^T (A_r^T A_r)^+ g_r: what re-fitting every r_j alone (dg = 0) would gain. The
+  /// full model prediction is this plus 2 b^T dg - dg^T N dg.
+  double rigid_reduction = 0.0;
+  double predictedReduction(const Eigen::VectorXd& dg) const;
+};
+
 /// Prepared calibrations of one plan (model/data split): holds the builders and scratch space.
 /// Not thread-safe: one per thread.
 class Calibrator {
@@ -109,20 +134,17 @@ class Calibrator {
   /// Same, starting from the full parameter vector `start`.
   Calibration run(const std::vector<Placement>& placements, const Eigen::VectorXd& start);
 
+  /// The starting state: p = start, c = 0, each r_j fitted (Umeyama) at `start`.
+  CalibrationState initialState(const std::vector<Placement>& placements,
+                                const Eigen::VectorXd& start) const;
+  /// Linearises at `state` (weights evaluated there); false when anything is non-finite.
+  bool linearize(const std::vector<Placement>& placements, const CalibrationState& state,
+                 Linearization& out);
+  /// The state after the global step dg, each r_j back-substituted (method.md section 3).
+  void step(const CalibrationState& from, const Linearization& at, const Eigen::VectorXd& dg,
+            const std::vector<Placement>& placements, CalibrationState& to) const;
+
  private:
-  struct State {
-    Eigen::VectorXd p;  ///< full parameter vector
-    Eigen::VectorXd c;
-    std::vector<RigidTransform> poses;
-    double cost = 0.0;
-    Eigen::MatrixXd N;  ///< reduced normal matrix with the prior, over g
-    Eigen::VectorXd b;  ///< reduced -gradient / 2 with the prior
-    std::vector<PlacementElimination> eliminations;
-  };
-  /// Linearises the problem at state (p, c, poses): fills cost, N, b and eliminations.
-  bool linearize(const std::vector<Placement>& placements, State& state);
-  void candidate(const State& from, const Eigen::VectorXd& dg,
-                 const std::vector<Placement>& placements, State& to) const;
   void fillDetails(const std::vector<Placement>& placements, Calibration& out);
 
   const Plan* plan_;
@@ -132,7 +154,8 @@ class Calibrator {
   NormalMatrixReducer reducer_;
   ObservationBlock block_;
   LevenbergMarquardtStrategy strategy_;
-  State current_, trial_;
+  CalibrationState current_, trial_;
+  Linearization current_lin_, trial_lin_;
 };
 
 /// Convenience: Calibrator(plan, options).run(plan.placements).

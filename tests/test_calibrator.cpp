@@ -1,0 +1,394 @@
+// The calibrator (method.md section 6): reference estimates, its derivative against finite
+// differences, convergence from wrong nominal values, a mis-probed ball, non-convergence, and the
+// damping strategy on its own.
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Cholesky>
+#include <array>
+#include <cstdio>
+#include <fstream>
+#include <memory>
+
+#include "artcal/artcal.hpp"
+#include "artcal/calibration_report.hpp"
+#include "artcal/calibrator.hpp"
+#include "artcal/levenberg_marquardt.hpp"
+#include "artcal/simulation.hpp"
+#include "artcal/truth_io.hpp"
+
+namespace artcal {
+namespace {
+
+Plan testPlan(const std::string& name) {
+  return loadPlan(std::string(ARTCAL_TEST_DATA) + "/" + name + ".json");
+}
+
+struct CommandResult {
+  int status = -1;
+  std::string out;
+};
+
+CommandResult runCli(const std::string& arguments) {
+  const std::string command = std::string(ARTCAL_CLI) + " " + arguments + " 2>/dev/null";
+  CommandResult result;
+  FILE* pipe = popen(command.c_str(), "r");
+  std::array<char, 4096> buffer{};
+  while (std::fgets(buffer.data(), buffer.size(), pipe)) result.out += buffer.data();
+  const int status = pclose(pipe);
+  result.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return result;
+}
+
+std::string tempPath(const std::string& name) {
+  return ::testing::TempDir() + "/artcal-calibrator-" + name;
+}
+
+/// Lengths 1 % off, angles 1 deg off, over the calibrated parameters.
+Eigen::VectorXd wrongNominal(const Machine& machine) {
+  Eigen::VectorXd p = machine.nominal;
+  for (int k = 0; k < machine.calibratedCount(); ++k) {
+    const int i = machine.calibrated[static_cast<std::size_t>(k)];
+    if (machine.calibratedInfo(k).quantity == Quantity::Angle) {
+      p[i] += degToRad(1.0);
+    } else {
+      p[i] *= 1.01;
+    }
+  }
+  return p;
+}
+
+/// Readings of a machine with parameters `truth`, without any noise.
+std::vector<Placement> exactReadings(const Plan& plan, const Eigen::VectorXd& truth) {
+  SimulationOptions options;
+  options.noise_scale = 0.0;
+  NormalSource normal(1);
+  return Simulator(plan, options).simulate(truth, normal).placements;
+}
+
+// ------------------------------------------------------------------------------------------ LM
+
+TEST(LevenbergMarquardt, SmallDampingGivesTheGaussNewtonStep) {
+  Eigen::MatrixXd N(2, 2);
+  N << 4.0, 1.0, 1.0, 9.0;
+  const Eigen::VectorXd b = Eigen::Vector2d(1.0, -2.0);
+  DampingOptions options;
+  options.initial_mu = 1e-14;
+  LevenbergMarquardtStrategy strategy(options);
+  Eigen::VectorXd dg;
+  ASSERT_TRUE(strategy.computeStep(N, b, dg));
+  const Eigen::VectorXd exact = N.ldlt().solve(b);
+  EXPECT_NEAR((dg - exact).norm(), 0.0, 1e-12);
+  // The predicted reduction of the quadratic model at its minimum is b^T N^-1 b.
+  EXPECT_NEAR(LevenbergMarquardtStrategy::predictedReduction(N, b, dg), b.dot(exact), 1e-12);
+}
+
+TEST(LevenbergMarquardt, DampingShortensTheStepAlongTheScaledGradient) {
+  Eigen::MatrixXd N(2, 2);
+  N << 4.0, 1.0, 1.0, 9.0;
+  const Eigen::VectorXd b = Eigen::Vector2d(1.0, -2.0);
+  DampingOptions options;
+  options.initial_mu = 1e6;
+  LevenbergMarquardtStrategy strategy(options);
+  Eigen::VectorXd dg;
+  ASSERT_TRUE(strategy.computeStep(N, b, dg));
+  // (D N D + mu I) y = D b with mu huge: dg ~ D^2 b / mu.
+  const Eigen::VectorXd expected = N.diagonal().cwiseInverse().cwiseProduct(b) / 1e6;
+  EXPECT_NEAR((dg - expected).norm() / expected.norm(), 0.0, 1e-5);
+}
+
+TEST(LevenbergMarquardt, MuFollowsNielsensRule) {
+  DampingOptions options;
+  options.initial_mu = 1.0;
+  options.max_mu = 100.0;
+  LevenbergMarquardtStrategy strategy(options);
+  strategy.stepRejected();
+  EXPECT_DOUBLE_EQ(strategy.mu(), 2.0);
+  strategy.stepRejected();
+  EXPECT_DOUBLE_EQ(strategy.mu(), 8.0);
+  strategy.stepAccepted(1.0);  // a perfect model: mu / 3
+  EXPECT_DOUBLE_EQ(strategy.mu(), 8.0 / 3.0);
+  strategy.stepAccepted(0.5);  // 1 - 0^3 = 1: unchanged
+  EXPECT_DOUBLE_EQ(strategy.mu(), 8.0 / 3.0);
+  strategy.stepRejected();  // nu was reset to 2 by the accepted steps
+  EXPECT_DOUBLE_EQ(strategy.mu(), 16.0 / 3.0);
+  EXPECT_FALSE(strategy.exhausted());
+  for (int i = 0; i < 4; ++i) strategy.stepRejected();
+  EXPECT_TRUE(strategy.exhausted());
+}
+
+TEST(LevenbergMarquardt, OptionsAreValidated) {
+  std::string error;
+  DampingOptions bad;
+  bad.initial_mu = -1.0;
+  EXPECT_FALSE(bad.isValid(&error));
+  EXPECT_FALSE(error.empty());
+  EXPECT_TRUE(DampingOptions{}.isValid(&error));
+  CalibrationOptions options;
+  options.max_iterations = 0;
+  EXPECT_FALSE(options.isValid(&error));
+  EXPECT_THROW(Calibrator(testPlan("ref-2r-5bars"), options), std::invalid_argument);
+}
+
+// --------------------------------------------------------------------------------- reference
+
+TEST(Calibrator, MatchesTheReferenceCalibration) {
+  const Plan plan = testPlan("ref-2r-calibrate");
+  std::ifstream in(std::string(ARTCAL_TEST_DATA) + "/ref-2r-calibrate.expected.json");
+  const nlohmann::json expected = nlohmann::json::parse(in);
+  const Calibration calibration = calibratePlan(plan);
+  ASSERT_TRUE(calibration.summary.converged()) << calibration.summary.briefReport();
+  const nlohmann::json got = calibrationToJson(plan, plan.placements, calibration);
+  ASSERT_EQ(got["parameters"].size(), expected["parameters"].size());
+  for (std::size_t k = 0; k < expected["parameters"].size(); ++k) {
+    const auto& e = expected["parameters"][k];
+    const auto& g = got["parameters"][k];
+    EXPECT_EQ(g["name"], e["name"]);
+    const double u = e["u"].get<double>();
+    EXPECT_NEAR(g["estimate"].get<double>(), e["estimate"].get<double>(), 0.05 * u) << e["name"];
+    EXPECT_NEAR(g["u"].get<double>(), u, 0.05 * u) << e["name"];
+    EXPECT_NEAR(g["u_posterior"].get<double>(),
+                u * std::sqrt(expected["chi2_per_dof"].get<double>()), 0.05 * u);
+  }
+  EXPECT_NEAR(got["chi2_per_dof"].get<double>(), expected["chi2_per_dof"].get<double>(), 1e-3);
+  EXPECT_EQ(got["dof"], 7);  // 10 bars x 4 coordinates - 3 parameters - 10 x 3 rigid
+}
+
+// ------------------------------------------------------------------------- finite differences
+
+// Along (dg, dr_j = rigidStep(dg) - rigidStep(0)) the cost changes at the rate -2 b^T dg; a
+// central difference checks the reduced gradient, the prior term on c and the back-substitution.
+// The encoder noise is switched off: with it the weights depend on p (through J_q) and b is the
+// reweighted Gauss-Newton right-hand side, which leaves that dependence out by design.
+TEST(Calibrator, ReducedGradientMatchesFiniteDifferences) {
+  Plan plan = testPlan("cal-2r-5bars-ulength");
+  plan.noise.encoder.setZero();
+  NormalSource normal(11);
+  const std::vector<Placement> readings =
+      Simulator(plan).simulate(wrongNominal(plan.machine), normal).placements;
+  Calibrator calibrator(plan);
+  CalibrationState state = calibrator.initialState(readings, plan.machine.nominal);
+  state.c[0] = 0.003;
+  Linearization at;
+  ASSERT_TRUE(calibrator.linearize(readings, state, at));
+  ASSERT_EQ(at.b.size(), 4);
+  const Eigen::VectorXd directions[] = {
+      Eigen::Vector4d(1e-3, 0, 0, 0), Eigen::Vector4d(0, 1e-3, 0, 0),
+      Eigen::Vector4d(0, 0, 1e-5, 0), Eigen::Vector4d(0, 0, 0, 1e-3),
+      Eigen::Vector4d(2e-3, -1e-3, 3e-5, 1e-3)};
+  for (const Eigen::VectorXd& dg : directions) {
+    auto costAt = [&](double t) {
+      CalibrationState moved = state;
+      moved.p = plan.machine.withCalibrated(
+          state.p, plan.machine.calibratedValues(state.p) + t * dg.head(3));
+      moved.c = state.c + t * dg.tail(1);
+      for (std::size_t j = 0; j < readings.size(); ++j) {
+        const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(readings[j].artifact)];
+        const Eigen::VectorXd dr =
+            at.eliminations[j].rigidStep(dg) - at.eliminations[j].rigidStep(0.0 * dg);
+        moved.poses[j] = state.poses[j].perturbed(artifact.expandRigidStep(t * dr));
+      }
+      Linearization lin;
+      EXPECT_TRUE(calibrator.linearize(readings, moved, lin));
+      return lin.cost;
+    };
+    const double h = 1e-3;
+    const double numeric = (costAt(h) - costAt(-h)) / (2 * h);
+    const double analytic = -2.0 * at.b.dot(dg);
+    EXPECT_NEAR(numeric, analytic, 1e-5 * std::abs(analytic) + 1e-9) << dg.transpose();
+  }
+}
+
+// ------------------------------------------------------------------------------ convergence
+
+void expectConvergesFromWrongNominal(const Plan& plan) {
+  const Eigen::VectorXd truth = plan.machine.nominal;
+  const std::vector<Placement> readings = exactReadings(plan, truth);
+  Calibrator calibrator(plan);
+  const Calibration calibration = calibrator.run(readings, wrongNominal(plan.machine));
+  ASSERT_TRUE(calibration.summary.converged()) << calibration.summary.briefReport();
+  ASSERT_TRUE(calibration.covariance.has_value());
+  const Eigen::VectorXd error =
+      calibration.estimate(plan.machine) - plan.machine.calibratedValues(truth);
+  for (int k = 0; k < error.size(); ++k) {
+    EXPECT_LT(std::abs(error[k]), 1e-3 * calibration.covariance->u[k])
+        << plan.machine.calibratedInfo(k).name;
+  }
+  EXPECT_LT(calibration.chi2_per_dof, 1e-6);  // noise-free readings fit exactly
+}
+
+TEST(Calibrator, ConvergesFromWrongNominalPlanar2R) {
+  expectConvergesFromWrongNominal(testPlan("ref-2r-5bars"));
+}
+
+TEST(Calibrator, ConvergesFromWrongNominalSixAxisArm) {
+  expectConvergesFromWrongNominal(testPlan("ref-aacmm-3bars-3postures"));
+}
+
+TEST(Calibrator, ConvergesFromWrongNominalWithSystematicArtifactError) {
+  expectConvergesFromWrongNominal(testPlan("cal-2r-5bars-ulength"));
+}
+
+TEST(Calibrator, UncertaintyAtTheEstimateEqualsThePredictionAtTheTruth) {
+  // With exact readings the estimate is the truth, so V_p there is evaluatePlan's V_p.
+  const Plan plan = testPlan("ref-aacmm-3bars-3postures");
+  const Calibration calibration = Calibrator(plan).run(exactReadings(plan, plan.machine.nominal));
+  const Evaluation prediction = evaluatePlan(plan);
+  ASSERT_TRUE(calibration.covariance && prediction.covariance);
+  for (int k = 0; k < plan.machine.calibratedCount(); ++k) {
+    EXPECT_NEAR(calibration.covariance->u[k], prediction.covariance->u[k],
+                1e-6 * prediction.covariance->u[k]);
+  }
+}
+
+TEST(Calibrator, ReportsNonConvergenceWithFiniteNumbers) {
+  const Plan plan = testPlan("ref-2r-5bars");
+  CalibrationOptions options;
+  options.max_iterations = 1;
+  const Calibration calibration =
+      Calibrator(plan, options).run(exactReadings(plan, wrongNominal(plan.machine)));
+  EXPECT_FALSE(calibration.summary.converged());
+  EXPECT_EQ(calibration.summary.termination, TerminationType::NoConvergence);
+  EXPECT_EQ(calibration.summary.iterations, 1);
+  EXPECT_TRUE(calibration.parameters.allFinite());
+  EXPECT_TRUE(std::isfinite(calibration.chi2));
+  const std::string json = calibrationToJson(plan, plan.placements, calibration).dump();
+  EXPECT_EQ(json.find("NaN"), std::string::npos);
+  EXPECT_EQ(json.find("null"), std::string::npos);
+}
+
+// -------------------------------------------------------------------------------- residuals
+
+/// Moves reading `i` of placement `j` so that it probes a point `shift` (machine frame, mm) away
+/// from where it did: a mis-probed ball.
+void misprobe(Plan& plan, int j, int i, const Eigen::VectorXd& shift) {
+  Measurement& m =
+      plan.placements[static_cast<std::size_t>(j)].measurements[static_cast<std::size_t>(i)];
+  Eigen::VectorXd x;
+  plan.machine.mechanism->forward(plan.machine.nominal, m.joints, x);
+  const auto q = solveInverseKinematics(plan.machine, plan.machine.nominal, x + shift, m.joints);
+  ASSERT_TRUE(q.has_value());
+  m.joints = *q;
+}
+
+TEST(Calibrator, MisprobedBallStandsOutPlanar2R) {
+  Plan plan = testPlan("ref-2r-calibrate");
+  const Calibration clean = calibratePlan(plan);
+  ASSERT_GE(clean.largest_residual, 0);
+  EXPECT_LT(clean.residuals[static_cast<std::size_t>(clean.largest_residual)].score, 3.0);
+  // 50 um (10 s_p) along the bar: the bar's only redundant direction in the plane.
+  const RigidTransform pose = fitPlacements(plan, plan.placements, clean.parameters)[4];
+  misprobe(plan, 4, 1, 0.05 * pose.R.row(0).transpose());
+  const Calibration corrupted = calibratePlan(plan);
+  ASSERT_TRUE(corrupted.summary.converged());
+  const ResidualEntry& largest =
+      corrupted.residuals[static_cast<std::size_t>(corrupted.largest_residual)];
+  EXPECT_EQ(largest.placement, 4);  // a 2-D bar: both of its balls carry the same misfit
+  EXPECT_TRUE(largest.flagged);
+  // With 7 degrees of freedom the fit spreads part of the error over the other bars; the
+  // mis-probed bar still stands clearly above every other one.
+  double elsewhere = 0.0;
+  for (const ResidualEntry& entry : corrupted.residuals) {
+    if (entry.placement != 4) elsewhere = std::max(elsewhere, entry.score);
+  }
+  EXPECT_GT(largest.score, 1.5 * elsewhere);
+}
+
+// The 3-bar plan has 18 degrees of freedom for 54 coordinates: the fit absorbs much of any
+// single error, and some directions at some readings hardly show at all. A 0.2 mm (20 s_p)
+// mis-probe at two different readings must still be the largest, flagged residual.
+void expectMisprobeStandsOut(int placement, int measurement) {
+  Plan plan = testPlan("ref-aacmm-3bars-3postures");
+  NormalSource normal(5);
+  plan.placements = Simulator(plan).simulate(plan.machine.nominal, normal).placements;
+  const Calibration clean = calibratePlan(plan);
+  ASSERT_TRUE(clean.summary.converged());
+  EXPECT_LT(clean.residuals[static_cast<std::size_t>(clean.largest_residual)].score, 3.0);
+  misprobe(plan, placement, measurement, 0.2 * Eigen::Vector3d(1, -1, 1).normalized());
+  const Calibration corrupted = calibratePlan(plan);
+  ASSERT_TRUE(corrupted.summary.converged());
+  const ResidualEntry& largest =
+      corrupted.residuals[static_cast<std::size_t>(corrupted.largest_residual)];
+  EXPECT_EQ(largest.placement, placement);
+  EXPECT_EQ(largest.measurement, measurement);
+  EXPECT_TRUE(largest.flagged);
+  EXPECT_GT(corrupted.chi2_per_dof, 3.0 * clean.chi2_per_dof);
+}
+
+TEST(Calibrator, MisprobedBallStandsOutSixAxisArm) {
+  expectMisprobeStandsOut(0, 4);
+  expectMisprobeStandsOut(2, 0);
+}
+
+// The standardised residuals have unit variance under the noise model: over many simulated
+// calibrations their mean square is 1 (the whitened ones alone would average dof / rows).
+TEST(Calibrator, StandardisedResidualsHaveUnitVariance) {
+  const Plan plan = testPlan("ref-aacmm-3bars-3postures");
+  Calibrator calibrator(plan);
+  double sum = 0.0;
+  int count = 0;
+  for (int seed = 1; seed <= 200; ++seed) {
+    NormalSource normal(static_cast<std::uint64_t>(seed));
+    const Calibration c =
+        calibrator.run(Simulator(plan).simulate(plan.machine.nominal, normal).placements);
+    for (const ResidualEntry& entry : c.residuals) {
+      sum += entry.normalized.squaredNorm();
+      count += static_cast<int>(entry.normalized.size());
+    }
+  }
+  EXPECT_NEAR(sum / count, 1.0, 0.05);
+}
+
+// -------------------------------------------------------------------------------------- CLI
+
+TEST(CalibrateCommand, JsonCarriesThePromisedFields) {
+  const std::string plan = std::string(ARTCAL_TEST_DATA) + "/ref-2r-calibrate.json";
+  const std::string machine = tempPath("machine.json");
+  std::remove(machine.c_str());
+  const CommandResult result = runCli("calibrate " + plan + " --json --write-machine " + machine);
+  ASSERT_EQ(result.status, 0);
+  const nlohmann::json out = nlohmann::json::parse(result.out);
+  EXPECT_TRUE(out["converged"].get<bool>());
+  EXPECT_GT(out["iterations"].get<int>(), 0);
+  const double chi2_per_dof = out["chi2_per_dof"].get<double>();
+  for (const auto& p : out["parameters"]) {
+    EXPECT_NEAR(p["u_posterior"].get<double>(), p["u"].get<double>() * std::sqrt(chi2_per_dof),
+                1e-12);
+    EXPECT_TRUE(p.contains("unit"));
+  }
+  EXPECT_EQ(out["residuals"].size(), 10u);
+  EXPECT_EQ(out["flagged"], 0);
+  // The written machine block is the next plan's machine: its nominal values are the estimates.
+  std::ifstream in(machine);
+  const nlohmann::json block = nlohmann::json::parse(in);
+  const Plan original = loadPlan(plan);
+  const Eigen::VectorXd reread = parseTruth(block, machine, original);
+  for (int k = 0; k < 3; ++k) {
+    const ParameterInfo& info = original.machine.calibratedInfo(k);
+    EXPECT_NEAR(toFileUnit(info.quantity, reread[k]),
+                out["parameters"][static_cast<std::size_t>(k)]["estimate"].get<double>(), 1e-12);
+  }
+}
+
+TEST(CalibrateCommand, NonConvergenceExitsOneWithoutNaN) {
+  const std::string plan = std::string(ARTCAL_TEST_DATA) + "/ref-2r-calibrate.json";
+  const CommandResult result = runCli("calibrate " + plan + " --json --max-iterations 1");
+  EXPECT_EQ(result.status, 1);
+  const nlohmann::json out = nlohmann::json::parse(result.out);
+  EXPECT_FALSE(out["converged"].get<bool>());
+  EXPECT_EQ(result.out.find("NaN"), std::string::npos);
+  EXPECT_EQ(result.out.find("nan"), std::string::npos);
+  const CommandResult table = runCli("calibrate " + plan + " --max-iterations 1");
+  EXPECT_EQ(table.status, 1);
+  EXPECT_NE(table.out.find("NOT CONVERGED"), std::string::npos);
+}
+
+TEST(CalibrateCommand, BadOptionsExitTwo) {
+  const std::string plan = std::string(ARTCAL_TEST_DATA) + "/ref-2r-calibrate.json";
+  EXPECT_EQ(runCli("calibrate " + plan + " --max-iterations 0").status, 2);
+  EXPECT_EQ(runCli("calibrate " + plan + " --flag-threshold -1").status, 2);
+  EXPECT_EQ(runCli("calibrate /nonexistent/plan.json").status, 2);
+}
+
+}  // namespace
+}  // namespace artcal
