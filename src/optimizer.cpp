@@ -528,7 +528,7 @@ OptimizerSummary Search::run() {
   std::atomic<int> done{0};
   double best_so_far = kInfinity;
   parallelFor(options_.starts, threads_, [&](int start, int worker) {
-    if (remaining() <= 0.0) {
+    if (start > 0 && remaining() <= 0.0) {  // start 0 always runs: there is a result
       timed_out_ = true;
       return;
     }

@@ -179,6 +179,19 @@ TEST(Optimizer, SameSeedSamePlanWhateverTheThreadCount) {
   EXPECT_NE(optimizePlan(plan, other).value, one.value);
 }
 
+TEST(Optimizer, TimeLimitStopsTheSearchWithAUsableResult) {
+  const Plan plan = parsePlan(seedSpec(5, {{"reach", {55, 245}}}), "spec", false);
+  OptimizerOptions options = smallEffort(plan, 2);
+  options.starts = 64;
+  options.time_limit = 1e-9;
+  const OptimizerSummary summary = optimizePlan(plan, options);
+  EXPECT_EQ(summary.termination, OptimizerSummary::Termination::TimeLimit);
+  EXPECT_EQ(summary.startsDone(), 1);
+  ASSERT_EQ(summary.best_start, 0);
+  EXPECT_LE(summary.value, summary.starts[0].initial);
+  expectFeasible(plan, summary.placements);
+}
+
 TEST(Optimizer, BoxRegionIsRespected) {
   const nlohmann::json region = {{"reach", {55, 245}}, {"box", {{0, 0}, {250, 250}}}};
   const Plan plan = parsePlan(seedSpec(5, region), "spec", false);
@@ -228,6 +241,36 @@ TEST(Optimizer, SerialArmResultIsFeasible) {
   expectFeasible(plan, summary.placements);
   const StartResult& best = summary.starts[static_cast<std::size_t>(summary.best_start)];
   EXPECT_LE(summary.value, best.initial);
+}
+
+// ---------------------------------------------------------------------------------------------
+// The optimized plans in plans/ (written by `artcal optimize plans/NAME.spec.json`)
+
+TEST(OptimizedPlans, ReadingsFeasibleAndPredictedReproduced) {
+  for (const char* name : {"seed-2r-5bars", "seed-2r-20bars", "aacmm-4bars-3postures"}) {
+    SCOPED_TRACE(name);
+    const std::string path = std::string(ARTCAL_PLANS_DIR) + "/" + name + "-optimized.json";
+    const nlohmann::json document = readJsonFile(path);
+    const Plan plan = parsePlan(document, path);
+    ASSERT_TRUE(plan.design.has_value());
+    EXPECT_EQ(static_cast<int>(plan.placements.size()), plan.design->placements);
+    expectFeasible(plan, plan.placements);
+    const Evaluation evaluation = evaluatePlan(plan);
+    ASSERT_TRUE(evaluation.identifiable());
+    const nlohmann::json& predicted = document.at("predicted");
+    EXPECT_NEAR(evaluation.tip->worst.total, predicted["tip"]["worst"]["total"].get<double>(),
+                1e-9 * evaluation.tip->worst.total);
+    EXPECT_LE(predicted["optimization"]["value"].get<double>(),
+              predicted["optimization"]["best_start"]["initial"].get<double>());
+    // The spec is the plan without placements and predictions.
+    nlohmann::json spec = document;
+    spec.erase("placements");
+    spec.erase("predicted");
+    EXPECT_EQ(spec, readJsonFile(std::string(ARTCAL_PLANS_DIR) + "/" + name + ".spec.json"));
+  }
+  // Issue 3's target for the seed's arm, 5 bars: 11.6 um or less.
+  const Plan five = loadPlan(std::string(ARTCAL_PLANS_DIR) + "/seed-2r-5bars-optimized.json");
+  EXPECT_LE(evaluatePlan(five).tip->worst.total, 0.0116);
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -17,7 +17,8 @@
 //     criterion (worst-tip: the max itself, or a p-norm smooth max), readings re-solved by IK
 //     from the starting postures; an infeasible pose gets a penalty.
 // The best start wins (ties: the lower start index). A start's result is never worse than its
-// initial design. `time_limit` stops the search: then the result depends on the timing.
+// initial design. `time_limit` stops the search (start 0 always runs, cut short if need be):
+// then the result depends on the timing and is reported as such.
 
 #include <Eigen/Core>
 #include <cstdint>
