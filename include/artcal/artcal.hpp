@@ -3,6 +3,7 @@
 
 #include "artcal/artifact.hpp"
 #include "artcal/design_matrix.hpp"
+#include "artcal/design_space.hpp"
 #include "artcal/error.hpp"
 #include "artcal/evaluator.hpp"
 #include "artcal/html_report.hpp"
@@ -10,6 +11,7 @@
 #include "artcal/inverse_kinematics.hpp"
 #include "artcal/mechanism.hpp"
 #include "artcal/normal_matrix.hpp"
+#include "artcal/optimizer.hpp"
 #include "artcal/plan.hpp"
 #include "artcal/plan_io.hpp"
 #include "artcal/planar2r.hpp"
