@@ -192,6 +192,45 @@ TEST(Optimizer, TimeLimitStopsTheSearchWithAUsableResult) {
   expectFeasible(plan, summary.placements);
 }
 
+TEST(Optimizer, TwoPosturesUseBothElbowBranches) {
+  // 2 balls x 2 postures x 2 coordinates - 3 = 5 equations per bar: one bar suffices by count,
+  // two are asked.
+  nlohmann::json doc = seedSpec(2, {{"reach", {55, 245}}});
+  doc["design"]["postures"] = 2;
+  const Plan plan = parsePlan(doc, "spec", false);
+  const OptimizerSummary summary = optimizePlan(plan, smallEffort(plan, 2));
+  ASSERT_EQ(summary.placements.size(), 2u);
+  expectFeasible(plan, summary.placements);
+  for (const Placement& p : summary.placements) {
+    ASSERT_EQ(p.measurements.size(), 4u);
+    for (int feature = 0; feature < 2; ++feature) {
+      std::vector<double> elbows;
+      for (const Measurement& m : p.measurements) {
+        if (m.feature == feature) elbows.push_back(m.joints[1]);
+      }
+      ASSERT_EQ(elbows.size(), 2u);
+      EXPECT_LT(elbows[0] * elbows[1], 0.0);  // opposite branches (dt2 = 0)
+    }
+  }
+}
+
+TEST(Optimizer, FixedPlacementsCountAndStay) {
+  // One bar given in the spec: with it, 2 more bars meet the count that 2 alone cannot.
+  nlohmann::json doc = seedSpec(2, {{"reach", {55, 245}}});
+  const Plan bare = parsePlan(doc, "spec", false);
+  std::mt19937_64 rng(21);
+  const Placement fixed = DesignSpace(bare).randomPlacement(rng, 1000)->second;
+  Plan plan = bare;
+  plan.placements.push_back(fixed);
+  const OptimizerSummary summary = optimizePlan(plan, smallEffort(plan, 2));
+  ASSERT_EQ(summary.placements.size(), 2u);  // the designed ones only
+  Plan result = plan;
+  for (const Placement& p : summary.placements) result.placements.push_back(p);
+  const Evaluation evaluation = evaluatePlan(result);
+  ASSERT_TRUE(evaluation.identifiable());
+  EXPECT_NEAR(summary.value, evaluation.tip->worst.total, 1e-12);
+}
+
 TEST(Optimizer, BoxRegionIsRespected) {
   const nlohmann::json region = {{"reach", {55, 245}}, {"box", {{0, 0}, {250, 250}}}};
   const Plan plan = parsePlan(seedSpec(5, region), "spec", false);
