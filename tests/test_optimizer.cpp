@@ -378,6 +378,17 @@ TEST_F(OptimizeCli, WritesAPlanThatEvaluateReproduces) {
               ev["tip"]["worst"]["total"].get<double>(), 1e-12);
 }
 
+TEST_F(OptimizeCli, NoProgressLineWhenStderrIsNotATerminal) {
+  // stderr is merged into the captured pipe: without --quiet it must still hold nothing.
+  const std::string spec = write("spec.json", seedSpec(4, {{"reach", {55, 245}}}));
+  const CliRun run = runCli("optimize " + spec + " -o " + path("plan.json") +
+                            " --pool 40 --evaluations 100 --json");
+  ASSERT_EQ(run.status, 0) << run.out;
+  const nlohmann::json out = nlohmann::json::parse(run.out);
+  EXPECT_EQ(out["plan"], path("plan.json"));
+  EXPECT_EQ(out["optimization"]["starts_done"], 4);
+}
+
 TEST_F(OptimizeCli, SameSeedSameFileWhateverTheThreads) {
   const std::string spec = write("spec.json", seedSpec(4, {{"reach", {55, 245}}}));
   ASSERT_EQ(runCli("optimize " + spec + " -o " + path("a.json") + kSmall + " --threads 1").status,
