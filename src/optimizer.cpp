@@ -378,6 +378,53 @@ nlopt::algorithm nloptAlgorithm(RefineAlgorithm algorithm) {
   }
 }
 
+struct NloptProblem {
+  nlopt::algorithm algorithm = nlopt::LN_SBPLX;
+  std::vector<double> lower, upper, steps;
+  int evaluations = 1000;
+  double seconds = 1.0;
+};
+
+// Minimises f from x (overwritten with the best point found) with a derivative-free NLopt
+// algorithm. NLopt's C++ wrapper swallows exceptions thrown in the objective (style.md): the
+// first is kept, the run is stopped and the exception rethrown after. A roundoff-limited run
+// still leaves its best point in x: possibly usable, the caller judges it.
+void minimizeDerivativeFree(const NloptProblem& problem,
+                            const std::function<double(const double*)>& f, std::vector<double>& x) {
+  nlopt::opt opt(problem.algorithm, static_cast<unsigned>(x.size()));
+  opt.set_lower_bounds(problem.lower);
+  opt.set_upper_bounds(problem.upper);
+  opt.set_initial_step(problem.steps);
+  opt.set_maxeval(problem.evaluations);
+  opt.set_maxtime(problem.seconds);
+  opt.set_xtol_rel(1e-7);
+  opt.set_ftol_rel(1e-9);
+  struct Context {
+    const std::function<double(const double*)>* f;
+    nlopt::opt* opt;
+    std::exception_ptr failure;
+  } context{&f, &opt, nullptr};
+  opt.set_min_objective(
+      [](unsigned, const double* xs, double*, void* data) {
+        auto* c = static_cast<Context*>(data);
+        try {
+          return (*c->f)(xs);
+        } catch (...) {
+          if (!c->failure) c->failure = std::current_exception();
+          c->opt->force_stop();
+          return HUGE_VAL;
+        }
+      },
+      &context);
+  double minimum = 0.0;
+  try {
+    opt.optimize(x, minimum);
+  } catch (const nlopt::roundoff_limited&) {
+  } catch (const nlopt::forced_stop&) {
+  }
+  if (context.failure) std::rethrow_exception(context.failure);
+}
+
 double Search::refine(std::vector<Placement>& placements, std::vector<Eigen::VectorXd>& poses,
                       double value, DesignCriterion& criterion) {
   if (options_.algorithm == RefineAlgorithm::None || remaining() <= 0.0) return value;
@@ -418,63 +465,34 @@ double Search::refine(std::vector<Placement>& placements, std::vector<Eigen::Vec
     return violation;
   };
   const double penalty_base = 10.0 * value;
-  std::exception_ptr failure;
   Eigen::MatrixXd total;
-  struct Context {
-    std::function<double(const double*)> f;
-  } context{[&](const double* x) {
+  auto objective = [&](const double* x) {
     const double violation = informationAt(x, total);
     if (violation > 0.0) return penalty_base * (1.0 + violation);
     const double v = criterion.smoothValue(total);
     return std::isfinite(v) ? v : penalty_base;
-  }};
-  nlopt::opt opt(nloptAlgorithm(options_.algorithm), n);
-  std::vector<double> lower(n), upper(n), steps(n), x(n);
+  };
+  NloptProblem problem;
+  problem.algorithm = nloptAlgorithm(options_.algorithm);
+  for (int j = 0; j < m; ++j) {
+    for (int i = 0; i < k; ++i) {
+      problem.lower.push_back(space_.lowerBounds()[i]);
+      problem.upper.push_back(space_.upperBounds()[i]);
+      problem.steps.push_back(space_.initialSteps()[i] * 0.25);
+    }
+  }
+  std::vector<double> x(n);
   for (int j = 0; j < m; ++j) {
     for (int i = 0; i < k; ++i) {
       const auto at = static_cast<std::size_t>(j * k + i);
-      lower[at] = space_.lowerBounds()[i];
-      upper[at] = space_.upperBounds()[i];
-      steps[at] = space_.initialSteps()[i] * 0.25;
-      x[at] = std::clamp(poses[static_cast<std::size_t>(j)][i], lower[at], upper[at]);
+      x[at] =
+          std::clamp(poses[static_cast<std::size_t>(j)][i], problem.lower[at], problem.upper[at]);
     }
   }
-  opt.set_lower_bounds(lower);
-  opt.set_upper_bounds(upper);
-  opt.set_initial_step(steps);
-  const int evaluations = options_.refine_evaluations > 0
-                              ? options_.refine_evaluations
-                              : std::min(300 * static_cast<int>(n), 6000);
-  opt.set_maxeval(evaluations);
-  opt.set_maxtime(std::max(remaining(), 1e-3));
-  opt.set_xtol_rel(1e-7);
-  opt.set_ftol_rel(1e-9);
-  struct Trampoline {
-    Context* context;
-    std::exception_ptr* failure;
-    nlopt::opt* opt;
-  } trampoline{&context, &failure, &opt};
-  // NLopt's C++ wrapper swallows exceptions (style.md): keep the first, stop, rethrow after.
-  opt.set_min_objective(
-      [](unsigned, const double* xs, double*, void* data) {
-        auto* t = static_cast<Trampoline*>(data);
-        try {
-          return t->context->f(xs);
-        } catch (...) {
-          if (!*t->failure) *t->failure = std::current_exception();
-          t->opt->force_stop();
-          return HUGE_VAL;
-        }
-      },
-      &trampoline);
-  double smooth_minimum = 0.0;
-  try {
-    opt.optimize(x, smooth_minimum);
-  } catch (const nlopt::roundoff_limited&) {
-    // x holds the best point found: possibly usable, judged below like any other.
-  } catch (const nlopt::forced_stop&) {
-  }
-  if (failure) std::rethrow_exception(failure);
+  problem.evaluations = options_.refine_evaluations > 0 ? options_.refine_evaluations
+                                                        : std::min(300 * static_cast<int>(n), 6000);
+  problem.seconds = std::max(remaining(), 1e-3);
+  minimizeDerivativeFree(problem, objective, x);
   if (remaining() <= 0.0) timed_out_ = true;
   // Keep the refined design only when it is feasible and truly better (the max, not the proxy).
   if (informationAt(x.data(), total) > 0.0) return value;
