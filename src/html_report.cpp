@@ -361,7 +361,10 @@ ReportFigure residualFigure(const json& calibration, double threshold) {
         if (!normalized[c].is_number()) continue;
         const double v = normalized[c].get<double>();
         largest = std::max(largest, std::abs(v));
-        plot.marker({reading, v}, shapes[c], 6.0, filled("#000000", c == 0 ? "#ffffff" : "#999999"),
+        // Coordinates of one reading side by side, so that none hides another.
+        const double offset = 0.18 * (static_cast<double>(c) - 0.5 * (normalized.size() - 1.0));
+        plot.marker({reading + offset, v}, shapes[c], 6.0,
+                    filled("#000000", c == 0 ? "#ffffff" : "#999999"),
                     normalized.size() == 1 ? "valued coordinate" : names[c]);
       }
       if (entry.at("flagged").get<bool>()) {
