@@ -1,5 +1,6 @@
 #include "artcal/calibrator.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <utility>
@@ -129,6 +130,12 @@ void Calibrator::step(const CalibrationState& from, const Linearization& at,
   }
 }
 
+double Calibrator::negligible(double cost) const {
+  // A cost change of s^2 is what moving s standard deviations along the best direction gives.
+  return std::max(options_.function_tolerance * cost,
+                  options_.step_tolerance * options_.step_tolerance);
+}
+
 Calibration Calibrator::run(const std::vector<Placement>& placements) {
   return run(placements, plan_->machine.nominal);
 }
@@ -166,10 +173,9 @@ Calibration Calibrator::run(const std::vector<Placement>& placements,
     const double predicted = solved ? current_lin_.predictedReduction(dg) : 0.0;
     // The weights depend on p (method.md section 2), so the reweighted Gauss-Newton fixed point
     // is where the linear model promises nothing more, not where the cost stops falling exactly.
-    if (solved && strategy_.mu() <= 1.0 &&
-        predicted <= options_.function_tolerance * current_lin_.cost) {
+    if (solved && strategy_.mu() <= 1.0 && predicted <= negligible(current_lin_.cost)) {
       summary.termination = TerminationType::Converged;
-      summary.message = "predicted cost change below function_tolerance";
+      summary.message = "predicted cost change negligible";
       break;
     }
     bool accepted = false;
@@ -195,9 +201,9 @@ Calibration Calibrator::run(const std::vector<Placement>& placements,
     const double previous_cost = current_lin_.cost;
     std::swap(current_, trial_);
     std::swap(current_lin_, trial_lin_);
-    if (actual <= options_.function_tolerance * previous_cost) {
+    if (actual <= negligible(previous_cost)) {
       summary.termination = TerminationType::Converged;
-      summary.message = "cost change below function_tolerance";
+      summary.message = "cost change negligible";
       break;
     }
   }

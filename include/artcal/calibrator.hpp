@@ -43,11 +43,11 @@ struct CalibrationOptions {
   /// Converged when every |dg_i| sqrt(N_ii) < step_tolerance (the step is that small a fraction
   /// of the parameter's conditional standard uncertainty) and the r_j steps are as small
   /// (Linearization::rigid_reduction < step_tolerance^2) ...
-  double step_tolerance = 1e-4;
-  /// ... or when the predicted or actual cost change of a step is below function_tolerance *
-  /// cost. The weights are re-evaluated at the estimate (they depend on p through J_q), so the
-  /// iteration is a reweighted Gauss-Newton: its fixed point is reached when the linear model
-  /// promises no further reduction; the exact cost may then not fall by rounding-level steps.
+  double step_tolerance = 1e-3;
+  /// ... or when the predicted or actual cost change of a step is below
+  /// max(function_tolerance * cost, step_tolerance^2). The weights are re-evaluated at the
+  /// estimate (they depend on p through J_q), so the iteration is a reweighted Gauss-Newton:
+  /// near its fixed point the exact cost may not fall by the tiny amounts the model promises.
   double function_tolerance = 1e-10;
   DampingOptions damping;
   /// Normalised residuals larger than this (in absolute value) are flagged.
@@ -146,6 +146,8 @@ class Calibrator {
 
  private:
   void fillDetails(const std::vector<Placement>& placements, Calibration& out);
+  /// A cost change too small to matter (see CalibrationOptions).
+  double negligible(double cost) const;
 
   const Plan* plan_;
   CalibrationOptions options_;
