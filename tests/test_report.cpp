@@ -460,6 +460,20 @@ TEST_F(ReportCli, Planar2RNumbersEqualEvaluateJson) {
     }
   }
 
+  // Greyscale-safe curves: S solid, S_m dashed, S_q dotted (seed Fig. 6).
+  const std::string profile = slurp(svg_dir / "tip-profile.svg");
+  for (const char* dash : {"8 4", "1.5 3"}) {
+    const std::regex curve(std::string("<polyline[^>]*stroke-dasharray=\"") + dash + "\"");
+    EXPECT_EQ(std::distance(std::sregex_iterator(profile.begin(), profile.end(), curve),
+                            std::sregex_iterator()),
+              1)
+        << dash;
+  }
+  const std::regex any_curve("<polyline[^>]*/>");
+  EXPECT_EQ(std::distance(std::sregex_iterator(profile.begin(), profile.end(), any_curve),
+                          std::sregex_iterator()),
+            3);
+
   // --svg: the same figures, one well-formed file each.
   for (const char* name : {"layout", "tip-profile", "tip-map", "correlation"}) {
     const fs::path file = svg_dir / (std::string(name) + ".svg");
