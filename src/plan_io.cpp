@@ -121,7 +121,7 @@ class Node {
     }
     if (value_->is_number_unsigned() &&
         value_->get<std::uint64_t>() > static_cast<std::uint64_t>(max)) {
-      fail("expected at most " + std::to_string(max));
+      fail("must be at most " + std::to_string(max) + ", got " + value_->dump());
     }
     return checkRange(value_->get<long>(), min, max);
   }
@@ -142,7 +142,9 @@ class Node {
   /// Warns of members not in `known`: other tools may extend the format, a typo is more likely.
   void warnUnknown(std::initializer_list<const char*> known,
                    std::vector<std::string>& warnings) const {
-    for (const auto& [key, v] : object().items()) {
+    for (const auto& item : object().items()) {
+      // Not a structured binding: clang 14 (the fuzz build) cannot capture one in a lambda.
+      const std::string& key = item.key();
       if (std::none_of(known.begin(), known.end(), [&](const char* k) { return key == k; })) {
         warnings.push_back(*source_ + ": " + pointer_ + "/" + escapePointerToken(key) +
                            ": unknown field, ignored");
@@ -484,14 +486,52 @@ nlohmann::json readJsonFile(const std::string& path) {
   }
   std::ostringstream text;
   text << in.rdbuf();
+  return parseJsonText(text.str(), path);
+}
+
+/// InputError when arrays and objects nest deeper than kMaxJsonDepth in JSON text (strings
+/// skipped; malformed text is left to the parser). A scan before parsing, because nlohmann's
+/// callback parser is quadratic on long arrays of objects (3.11: end_object scans the parent).
+static void checkNestingDepth(const std::string& text, const std::string& source) {
+  int depth = 0;
+  bool in_string = false;
+  bool escaped = false;
+  for (const char c : text) {
+    if (in_string) {
+      if (escaped) {
+        escaped = false;
+      } else if (c == '\\') {
+        escaped = true;
+      } else if (c == '"') {
+        in_string = false;
+      }
+      continue;
+    }
+    if (c == '"') {
+      in_string = true;
+    } else if (c == '[' || c == '{') {
+      if (++depth > kMaxJsonDepth) {
+        throw InputError(source, "",
+                         "nested deeper than " + std::to_string(kMaxJsonDepth) + " levels");
+      }
+    } else if (c == ']' || c == '}') {
+      --depth;
+    }
+  }
+}
+
+nlohmann::json parseJsonText(const std::string& text, const std::string& source) {
+  checkNestingDepth(text, source);
   try {
-    return json::parse(text.str());
-  } catch (const json::parse_error& e) {
-    // e.what() reads "[json.exception.parse_error.101] parse error at line 3, column 5: ...".
-    std::string message = e.what();
-    const auto at = message.find("parse error");
-    throw InputError(path, "",
-                     "malformed JSON: " + (at == std::string::npos ? message : message.substr(at)));
+    return json::parse(text);
+  } catch (const json::exception& e) {
+    // parse_error, and out_of_range for a number beyond double ("1e999"). e.what() reads
+    // "[json.exception.parse_error.101] parse error at line 3, column 5: ...": drop the id.
+    const std::string message = e.what();
+    const auto at = message.find("] ");
+    throw InputError(
+        source, "",
+        "malformed JSON: " + (at == std::string::npos ? message : message.substr(at + 2)));
   }
 }
 

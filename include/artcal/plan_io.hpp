@@ -14,7 +14,16 @@ namespace artcal {
 /// Largest plan file read, bytes (a bound against unbounded allocation).
 inline constexpr std::size_t kMaxPlanFileBytes = 256u << 20;
 
-/// Reads and parses a JSON file; InputError when unreadable or malformed.
+/// Deepest nesting of arrays and objects accepted in an input document: a plan needs 6 levels;
+/// the bound keeps recursive consumers (dump, comparisons) far from the end of the stack.
+inline constexpr int kMaxJsonDepth = 64;
+
+/// Parses JSON text; InputError naming `source` when malformed or nested deeper than
+/// kMaxJsonDepth.
+nlohmann::json parseJsonText(const std::string& text, const std::string& source);
+
+/// Reads and parses a JSON file; InputError when unreadable, larger than kMaxPlanFileBytes,
+/// malformed or nested deeper than kMaxJsonDepth.
 nlohmann::json readJsonFile(const std::string& path);
 
 /// Validates a plan document and converts it to internal units. `source` names it in errors.

@@ -1,0 +1,101 @@
+#!/usr/bin/env bash
+# Bounded libFuzzer run of the plan and design-spec parsers and the evaluator behind them.
+#   tools/fuzz.sh [SECONDS]   (default 60: both harnesses run side by side for SECONDS each)
+# Builds with clang in build-fuzz/ (-DARTCAL_FUZZ=ON: -fsanitize=fuzzer,address,undefined).
+# The seed corpus is copied at run time from plans/, tests/data/ and tests/data/fuzz-regressions/
+# into a temporary folder. Exit status non-zero on any finding; the crashing input is kept in
+# build-fuzz/findings/ and belongs in tests/data/fuzz-regressions/ with a test in
+# tests/test_hardening.cpp.
+set -euo pipefail
+
+seconds=${1:-60}
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+build="$root/build-fuzz"
+targets=(fuzz_plan fuzz_spec)
+
+# clang and its libFuzzer runtime (Debian: clang, libclang-rt-14-dev), installed when missing.
+have_libfuzzer() {
+  local probe
+  probe=$(mktemp -d)
+  echo 'extern "C" int LLVMFuzzerTestOneInput(const unsigned char*, unsigned long) { return 0; }' \
+    >"$probe/p.cpp"
+  clang++ -fsanitize=fuzzer,address,undefined "$probe/p.cpp" -o "$probe/p" >/dev/null 2>&1
+  local status=$?
+  rm -rf "$probe"
+  return $status
+}
+if ! command -v clang++ >/dev/null 2>&1 || ! have_libfuzzer; then
+  echo "fuzz.sh: installing clang and libclang-rt-14-dev" >&2
+  apt_get=(apt-get)
+  [ "$(id -u)" -eq 0 ] || apt_get=(sudo apt-get)
+  DEBIAN_FRONTEND=noninteractive "${apt_get[@]}" install -y -qq clang libclang-rt-14-dev >/dev/null
+  have_libfuzzer || { echo "fuzz.sh: no working libFuzzer" >&2; exit 1; }
+fi
+
+cmake -S "$root" -B "$build" -G Ninja -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  -DARTCAL_FUZZ=ON -DARTCAL_BUILD_TESTS=OFF -DARTCAL_BUILD_BENCHMARKS=OFF >/dev/null
+cmake --build "$build" -j2 --target "${targets[@]}" >"$build/build.log" 2>&1 ||
+  { tail -30 "$build/build.log" >&2; exit 1; }
+
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+seeds=(plans tests/data tests/data/fuzz-regressions)
+for target in "${targets[@]}"; do
+  mkdir -p "$work/$target"
+  for dir in "${seeds[@]}"; do
+    if compgen -G "$root/$dir/*" >/dev/null; then
+      find "$root/$dir" -maxdepth 1 -type f -exec cp {} "$work/$target/" \;
+    fi
+  done
+done
+# Design specs (plan-format.md, optimize): a plan without placements plus a design block.
+cat >"$work/fuzz_spec/spec-2r.json" <<'JSON'
+{"format": "artcal-plan/1", "name": "spec-2r",
+ "machine": {"model": "planar2r", "parameters": {"l1": 150, "l2": 100, "dt2": 0},
+             "joint_limits": [[-180, 180], [-170, 170]]},
+ "noise": {"probe": 0.005, "encoder": 0.001},
+ "artifacts": {"bar80": {"type": "ball_bar", "length": 80}},
+ "workspace": {"samples": 16, "seed": 1},
+ "design": {"artifact": "bar80", "placements": 5, "postures": 1,
+            "region": {"reach": [55, 245]}, "criterion": "worst-tip", "seed": 1, "starts": 4,
+            "time_limit": 5}}
+JSON
+cat >"$work/fuzz_spec/spec-dh.json" <<'JSON'
+{"format": "artcal-plan/1", "name": "spec-dh",
+ "machine": {"model": "serial-dh",
+             "joints": [{"d": 200, "alpha": 90}, {"alpha": -90}, {"d": 600, "alpha": 90},
+                        {"type": "prismatic", "alpha": -90}],
+             "joint_limits": [[-180, 180], [-90, 90], [-180, 180], [0, 100]],
+             "probe": [0, 0, 100]},
+ "noise": {"probe": 0.005, "encoder": [0.001, 0.001, 0.001, 0.0005]},
+ "artifacts": {"plate": {"type": "ball_plate", "centers": [[0, 0, 0], [100, 0, 0], [0, 100, 0]]},
+               "gauge": {"type": "step_gauge", "positions": [0, 20, 40]}},
+ "placements": [{"artifact": "gauge", "pose": {"center": [300, 0, 100], "direction": [1, 0, 0]}}],
+ "workspace": {"grid": [2, 2, 2, 2]},
+ "design": {"artifact": "plate", "placements": 3, "postures": 2,
+            "region": {"box": [[200, -200, 0], [600, 200, 300]]}, "criterion": "D"}}
+JSON
+
+mkdir -p "$build/findings"
+pids=()
+for target in "${targets[@]}"; do
+  "$build/tests/fuzz/$target" "$work/$target" -dict="$root/tests/fuzz/plan.dict" \
+    -max_total_time="$seconds" -timeout=20 -rss_limit_mb=2048 -max_len=65536 \
+    -print_final_stats=1 -artifact_prefix="$build/findings/$target-" \
+    >"$build/$target.log" 2>&1 &
+  pids+=($!)
+done
+status=0
+for i in "${!targets[@]}"; do
+  target=${targets[$i]}
+  if wait "${pids[$i]}"; then
+    runs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$build/$target.log")
+    rate=$(sed -n 's/^stat::average_exec_per_sec: *//p' "$build/$target.log")
+    echo "fuzz.sh: $target: no finding in ${seconds} s, $runs executions ($rate/s)"
+  else
+    status=1
+    echo "fuzz.sh: $target: FINDING (log $build/$target.log, input in $build/findings/)" >&2
+    grep -E 'ERROR|fuzz finding|runtime error|==[0-9]+==' "$build/$target.log" | head -5 >&2 || true
+  fi
+done
+exit $status
