@@ -164,8 +164,8 @@ std::string calibrationTable(const Plan& plan, const std::vector<Placement>& pla
     }
   }
   if (!calibration.residuals.empty()) {
-    out << "\nresiduals (mm) and normalised residuals (z = Sigma^-1/2 e); |z| > threshold is "
-           "flagged <<\n";
+    out << "\nresiduals (mm) and standardised residuals z (whitened, divided by sqrt(1 - "
+           "leverage)); |z| > threshold is flagged <<\n";
     out << "placement  reading  feature  residual                      z\n";
     for (std::size_t r = 0; r < calibration.residuals.size(); ++r) {
       const ResidualEntry& e = calibration.residuals[r];
