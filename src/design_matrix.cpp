@@ -20,6 +20,23 @@ Eigen::MatrixXd DesignMatrixBuilder::probePositions(const std::vector<Measuremen
   return points;
 }
 
+namespace {
+
+// At most 3 valued coordinates per point: the small matrices live on the stack.
+using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, 3, 3>;
+
+// rows <- L^-1 rows for a lower-triangular L of order 1 to 3 (forward substitution).
+template <typename Rows>
+void whiten(const Small& L, Rows&& rows) {
+  const int k = static_cast<int>(L.rows());
+  for (int i = 0; i < k; ++i) {
+    for (int j = 0; j < i; ++j) rows.row(i) -= L(i, j) * rows.row(j);
+    rows.row(i) /= L(i, i);
+  }
+}
+
+}  // namespace
+
 void DesignMatrixBuilder::build(const Artifact& artifact,
                                 const std::vector<Measurement>& measurements,
                                 const Eigen::VectorXd& p, const RigidTransform& r,
@@ -35,8 +52,8 @@ void DesignMatrixBuilder::build(const Artifact& artifact,
   block.A_r.resize(rows, n_r);
   block.A_c.setZero(rows, n_c);
   if (with_residuals) block.e.resize(rows);
-  const Eigen::VectorXd sigma_q2 = noise_->encoder.array().square();
   const double sigma_p2 = noise_->probe * noise_->probe;
+  const auto sigma_q2 = noise_->encoder.array().square().matrix().asDiagonal();
   J_r_.resize(k, n_r);
   for (std::size_t i = 0; i < measurements.size(); ++i) {
     const Measurement& m = measurements[i];
@@ -46,12 +63,14 @@ void DesignMatrixBuilder::build(const Artifact& artifact,
     W_ += r.t;
     // dF/dp and dF/dq: the valued rows of R J (the rigid motion does not depend on p or q).
     const auto R_valued = r.R.topRows(k);
+    auto A_p = block.A_p.middleRows(row, k);
+    auto A_r = block.A_r.middleRows(row, k);
     for (int j = 0; j < n_p; ++j) {
-      block.A_p.block(row, j, k, 1).noalias() = R_valued * J_x_p_.col(machine.calibrated[j]);
+      A_p.col(j).noalias() = R_valued.lazyProduct(J_x_p_.col(machine.calibrated[j]));
     }
-    J_valued_q_.noalias() = R_valued * J_x_q_;
+    J_valued_q_.noalias() = R_valued.lazyProduct(J_x_q_);
     artifact.rigidJacobian(W_, J_r_);
-    block.A_r.middleRows(row, k) = J_r_;
+    A_r = J_r_;
     for (int s = 0; s < n_c; ++s) {
       const SystematicError& err = artifact.systematic[static_cast<std::size_t>(s)];
       if (err.feature == m.feature && err.coordinate < k) block.A_c(row + err.coordinate, s) = -1.0;
@@ -60,14 +79,14 @@ void DesignMatrixBuilder::build(const Artifact& artifact,
       block.e.segment(row, k) = W_.head(k) - artifact.feature(m.feature, c).head(k);
     }
     // Whitening (method.md section 2): Sigma = s_p^2 I + J_q Sigma_q J_q^T = L L^T; rows *= L^-1.
-    sigma_.noalias() = J_valued_q_ * sigma_q2.asDiagonal() * J_valued_q_.transpose();
-    sigma_.diagonal().array() += sigma_p2;
-    const Eigen::LLT<Eigen::MatrixXd> llt(sigma_);
-    const auto L = llt.matrixL();
-    L.solveInPlace(block.A_p.middleRows(row, k));
-    L.solveInPlace(block.A_r.middleRows(row, k));
-    if (n_c > 0) L.solveInPlace(block.A_c.middleRows(row, k));
-    if (with_residuals) L.solveInPlace(block.e.segment(row, k));
+    Small sigma = (J_valued_q_ * sigma_q2).lazyProduct(J_valued_q_.transpose());
+    sigma.diagonal().array() += sigma_p2;
+    const Eigen::LLT<Small> llt(sigma);
+    const Small L = llt.matrixL();
+    whiten(L, A_p);
+    whiten(L, A_r);
+    if (n_c > 0) whiten(L, block.A_c.middleRows(row, k));
+    if (with_residuals) whiten(L, block.e.segment(row, k));
   }
 }
 

@@ -36,20 +36,55 @@ Eigen::MatrixXd symmetricPseudoInverse(const Eigen::MatrixXd& M, double relative
 
 namespace {
 
-// (A_r^T A_r)^-1 by Cholesky when every pivot keeps a fair share of its diagonal, otherwise the
-// pseudo-inverse (a rigid direction that no valued coordinate sees).
-void invertRigidBlock(const Eigen::MatrixXd& M, Eigen::MatrixXd& inverse) {
-  const Eigen::LLT<Eigen::MatrixXd> llt(M);
-  bool well_posed = llt.info() == Eigen::Success;
-  if (well_posed) {
-    const Eigen::VectorXd pivots = llt.matrixLLT().diagonal().array().square();
-    well_posed = (pivots.array() > 1e-10 * M.diagonal().array()).all();
+// At most 6 rigid-motion unknowns per placement: the small matrices live on the stack.
+using RigidMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, 6, 6>;
+
+// A factor S of (A_r^T A_r)^+ = S^T S: L^-1 from the Cholesky factor when every pivot keeps a
+// fair share of its diagonal, otherwise D^+1/2 U^T from the eigen-decomposition (a rigid
+// direction that no valued coordinate sees is then not estimated).
+class RigidBlockRoot {
+ public:
+  explicit RigidBlockRoot(const Eigen::MatrixXd& M) : llt_(RigidMatrix(M)) {
+    well_posed_ = llt_.info() == Eigen::Success;
+    if (well_posed_) {
+      const auto pivots = llt_.matrixLLT().diagonal().array().square();
+      well_posed_ = (pivots > 1e-10 * M.diagonal().array()).all();
+    }
+    if (well_posed_) return;
+    const Eigen::SelfAdjointEigenSolver<RigidMatrix> eig{RigidMatrix(M)};
+    const auto& lambda = eig.eigenvalues();
+    const double cutoff = 1e-12 * std::max(lambda.cwiseAbs().maxCoeff(), 0.0);
+    root_ = eig.eigenvectors().transpose();
+    for (int i = 0; i < lambda.size(); ++i) {
+      root_.row(i) *= lambda[i] > cutoff && lambda[i] > 0.0 ? 1.0 / std::sqrt(lambda[i]) : 0.0;
+    }
   }
-  if (well_posed) {
-    inverse.setIdentity(M.rows(), M.cols());
-    llt.solveInPlace(inverse);
-  } else {
-    inverse = symmetricPseudoInverse(M);
+  /// X <- S X.
+  template <typename Matrix>
+  void apply(Matrix& X) const {
+    if (well_posed_) {
+      llt_.matrixL().solveInPlace(X);
+    } else {
+      X = (root_ * X).eval();
+    }
+  }
+  /// S^T S.
+  Eigen::MatrixXd pseudoInverse() const {
+    if (well_posed_) return llt_.solve(RigidMatrix::Identity(llt_.rows(), llt_.cols()));
+    return root_.transpose() * root_;
+  }
+
+ private:
+  Eigen::LLT<RigidMatrix> llt_;
+  bool well_posed_ = false;
+  RigidMatrix root_;
+};
+
+// The lower triangle of a symmetric block copied into its upper triangle.
+template <typename Block>
+void mirrorLower(Block&& N) {
+  for (int j = 1; j < N.cols(); ++j) {
+    for (int i = 0; i < j; ++i) N(i, j) = N(j, i);
   }
 }
 
@@ -65,44 +100,61 @@ void NormalMatrixReducer::reset() {
   chi2_ = 0.0;
 }
 
+// Schur complement of r_j (method.md section 3), as symmetric rank updates without forming it:
+//   N_red += A_g^T A_g - Y^T Y,   Y = S A_r^T A_g,   S^T S = (A_r^T A_r)^+.
+// The global columns are p (0..n_p) and the artifact's c (c_offset..): the c rows lie below p.
 void NormalMatrixReducer::add(const ObservationBlock& block, int artifact_index,
                               PlacementElimination* elimination) {
   const int n_p = layout_.parameters;
   const int n_c = static_cast<int>(block.A_c.cols());
   const int n_g = n_p + n_c;
   const int c_offset = layout_.artifact_offset[static_cast<std::size_t>(artifact_index)];
-  A_g_.resize(block.rows(), n_g);
-  A_g_.leftCols(n_p) = block.A_p;
-  if (n_c > 0) A_g_.rightCols(n_c) = block.A_c;
+  const auto& A_p = block.A_p;
+  const auto& A_c = block.A_c;
+  const auto& A_r = block.A_r;
 
-  M_rr_.noalias() = block.A_r.transpose() * block.A_r;
-  invertRigidBlock(M_rr_, M_rr_pinv_);
-  M_rg_.noalias() = block.A_r.transpose() * A_g_;
-  X_.noalias() = M_rr_pinv_ * M_rg_;
-  // Schur complement of r_j (method.md section 3).
-  Eigen::MatrixXd contribution = A_g_.transpose() * A_g_;
-  contribution.noalias() -= M_rg_.transpose() * X_;
+  M_rr_.noalias() = A_r.transpose().lazyProduct(A_r);
+  const RigidBlockRoot S(M_rr_);
+  M_rg_.resize(A_r.cols(), n_g);
+  M_rg_.leftCols(n_p).noalias() = A_r.transpose().lazyProduct(A_p);
+  if (n_c > 0) M_rg_.rightCols(n_c).noalias() = A_r.transpose() * A_c;
+  X_ = M_rg_;
+  S.apply(X_);  // Y
+  const auto Y_p = X_.leftCols(n_p);
+  auto N_pp = N_.topLeftCorner(n_p, n_p);
+  N_pp.noalias() += A_p.transpose().lazyProduct(A_p);
+  N_pp.noalias() -= Y_p.transpose().lazyProduct(Y_p);
+  if (n_c > 0) {
+    const auto Y_c = X_.rightCols(n_c);
+    auto N_cc = N_.block(c_offset, c_offset, n_c, n_c);
+    N_cc.selfadjointView<Eigen::Lower>().rankUpdate(A_c.transpose());
+    N_cc.selfadjointView<Eigen::Lower>().rankUpdate(Y_c.transpose(), -1.0);
+    mirrorLower(N_cc);
+    auto N_cp = N_.block(c_offset, 0, n_c, n_p);
+    N_cp.noalias() += A_c.transpose() * A_p;
+    N_cp.noalias() -= Y_c.transpose() * Y_p;
+    N_.block(0, c_offset, n_p, n_c) = N_cp.transpose();
+  }
 
   columns_.resize(static_cast<std::size_t>(n_g));
   for (int i = 0; i < n_p; ++i) columns_[static_cast<std::size_t>(i)] = i;
   for (int i = 0; i < n_c; ++i) columns_[static_cast<std::size_t>(n_p + i)] = c_offset + i;
-  if (n_c == 0) {
-    N_.topLeftCorner(n_p, n_p) += contribution;
-  } else {
-    for (int i = 0; i < n_g; ++i) {
-      for (int j = 0; j < n_g; ++j) N_(columns_[i], columns_[j]) += contribution(i, j);
-    }
-  }
-  if (block.e.size() == block.rows()) {
-    g_r_.noalias() = block.A_r.transpose() * block.e;
-    const Eigen::VectorXd reduced = A_g_.transpose() * block.e - X_.transpose() * g_r_;
-    for (int i = 0; i < n_g; ++i) b_[columns_[i]] -= reduced[i];
+  const bool with_residuals = block.e.size() == block.rows();
+  if (with_residuals) {
+    // b -= A_g^T e - Y^T S A_r^T e
+    g_r_.noalias() = A_r.transpose() * block.e;
+    Eigen::VectorXd s_g_r = g_r_;
+    S.apply(s_g_r);
+    Eigen::VectorXd reduced = X_.transpose() * s_g_r;
+    reduced.head(n_p).noalias() -= A_p.transpose() * block.e;
+    if (n_c > 0) reduced.tail(n_c).noalias() -= A_c.transpose() * block.e;
+    for (int i = 0; i < n_g; ++i) b_[columns_[static_cast<std::size_t>(i)]] += reduced[i];
     chi2_ += block.e.squaredNorm();
   }
   if (elimination) {
-    elimination->M_rr_pinv = M_rr_pinv_;
+    elimination->M_rr_pinv = S.pseudoInverse();
     elimination->M_rg = M_rg_;
-    elimination->g_r = block.e.size() == block.rows() ? g_r_ : Eigen::VectorXd::Zero(M_rr_.rows());
+    elimination->g_r = with_residuals ? g_r_ : Eigen::VectorXd::Zero(M_rr_.rows());
     elimination->columns = columns_;
   }
 }

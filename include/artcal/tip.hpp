@@ -1,8 +1,10 @@
 #pragma once
 // Tip uncertainty over the workspace (method.md section 4, seed eq. 10 and Fig. 6):
 //   S_m(q)^2 = tr(J_p V_p J_p^T),  S_q(q)^2 = tr(J_q Sigma_q J_q^T),  S = sqrt(S_m^2 + S_q^2).
-// The workspace's Jacobians are prepared once; each evaluation for a new V_p is then a single
-// product (J_p stacked over the workspace) * chol(V_p), whose row norms give S_m.
+// The workspace's Jacobians are prepared once. S_m^2 = tr(V_p J_p^T J_p) is then, for a new V_p,
+// one matrix-vector product with the prepared Gram matrices J_p^T J_p (their lower triangles,
+// N(p)(N(p)+1)/2 numbers per configuration); for many parameters, where those would take too
+// much memory, the product (J_p stacked) * chol(V_p), whose row norms give S_m.
 
 #include <Eigen/Core>
 #include <optional>
@@ -48,10 +50,13 @@ class TipEvaluator {
   TipPoint at(int configuration, const Eigen::MatrixXd& V_p) const;
 
  private:
+  void prepareGram(int n_p);
   int dimension_;
   std::vector<Eigen::VectorXd> configurations_;
   Eigen::MatrixXd J_p_;
+  Eigen::MatrixXd gram_;  ///< per configuration (column), vech of J_p^T J_p, off-diagonal doubled
   Eigen::VectorXd S_q2_;
+  mutable Eigen::VectorXd packed_V_;
   mutable Eigen::MatrixXd scratch_;
   mutable Eigen::VectorXd S_m2_;
 };

@@ -1,0 +1,116 @@
+#pragma once
+// Plans built in code for tests and benchmarks: the seed's planar 2R arm with random reachable
+// ball-bar placements, and the 6-axis arm of tests/data/ref-aacmm-3bars-3postures.json with ball
+// bars whose balls are each read in several postures (readings by inverse kinematics at nominal).
+
+#include <cmath>
+#include <numbers>
+#include <random>
+#include <string>
+
+#include "artcal/artcal.hpp"
+
+namespace artcal::testing {
+
+inline Plan loadTestPlan(const std::string& name) {
+  return loadPlan(std::string(ARTCAL_TEST_DATA) + "/" + name + ".json");
+}
+
+inline double uniform(std::mt19937_64& rng, double lo, double hi) {
+  return std::uniform_real_distribution<double>(lo, hi)(rng);
+}
+
+/// The seed's arm (l1 = 150, l2 = 100, dt2 = 0), an 80 mm bar (u_length given), s_p = 0.005 mm,
+/// s_q = 0.001 deg, limits [-180, 180] and [-170, 170], no placements yet.
+inline Plan seedPlanar2RPlan(double u_length = 0.0) {
+  const nlohmann::json doc = {
+      {"format", "artcal-plan/1"},
+      {"name", "seed-2r"},
+      {"machine",
+       {{"model", "planar2r"},
+        {"parameters", {{"l1", 150.0}, {"l2", 100.0}, {"dt2", 0.0}}},
+        {"joint_limits", {{-180, 180}, {-170, 170}}}}},
+      {"noise", {{"probe", 0.005}, {"encoder", 0.001}}},
+      {"artifacts", {{"bar80", {{"type", "ball_bar"}, {"length", 80.0}, {"u_length", u_length}}}}},
+      {"workspace", {{"samples", 120}, {"seed", 7}}}};
+  return parsePlan(doc, "seed-2r", false);
+}
+
+/// A placement of a planar ball bar at a random reachable pose: both balls between reach 60 and
+/// 240 mm, a random elbow branch for each reading. Artifact 0 of the plan.
+inline Placement randomPlanarBar(const Plan& plan, std::mt19937_64& rng) {
+  const Machine& machine = plan.machine;
+  const double length = plan.artifacts[0].features(0, 1);
+  for (;;) {
+    const double radius = uniform(rng, 60.0, 240.0);
+    const double bearing = uniform(rng, -std::numbers::pi, std::numbers::pi);
+    const double angle = uniform(rng, -std::numbers::pi, std::numbers::pi);
+    const Eigen::Vector2d center(radius * std::cos(bearing), radius * std::sin(bearing));
+    const Eigen::Vector2d other =
+        center + length * Eigen::Vector2d(std::cos(angle), std::sin(angle));
+    if (other.norm() < 60.0 || other.norm() > 240.0) continue;
+    Placement placement;
+    placement.artifact = 0;
+    placement.pose = Pose{center, angle};
+    bool reachable = true;
+    for (int feature = 0; feature < 2 && reachable; ++feature) {
+      const auto branches = planar2rInverse(machine.nominal, feature == 0 ? center : other);
+      const Eigen::VectorXd q =
+          branches[std::uniform_int_distribution<std::size_t>(0, branches.size() - 1)(rng)];
+      reachable = machine.withinLimits(q);
+      placement.measurements.push_back({feature, q});
+    }
+    if (reachable) return placement;
+  }
+}
+
+inline std::vector<Placement> randomPlanarBars(const Plan& plan, int count, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::vector<Placement> placements;
+  for (int j = 0; j < count; ++j) placements.push_back(randomPlanarBar(plan, rng));
+  return placements;
+}
+
+/// The 6-axis arm of the reference case (21 calibrated parameters, 300 mm bar, s_p = 0.01 mm,
+/// s_q = 0.0005 deg), placements removed, joint limits [-180, 180].
+inline Plan aacmmPlan() {
+  Plan plan = loadTestPlan("ref-aacmm-3bars-3postures");
+  plan.placements.clear();
+  return plan;
+}
+
+/// A 3-D ball bar at a random pose 450 to 900 mm from the shoulder, each ball read in `postures`
+/// different postures (diversePostures). Artifact 0 of the plan.
+inline Placement randomSpatialBar(const Plan& plan, int postures, std::mt19937_64& rng) {
+  const Machine& machine = plan.machine;
+  const Artifact& bar = plan.artifacts[0];
+  const Eigen::Vector3d shoulder(0.0, 0.0, machine.nominal[1]);
+  for (;;) {
+    Eigen::Vector3d direction(uniform(rng, -1, 1), uniform(rng, -1, 1), uniform(rng, -1, 1));
+    Eigen::Vector3d offset(uniform(rng, -1, 1), uniform(rng, -1, 1), uniform(rng, -1, 1));
+    if (direction.norm() < 0.1 || offset.norm() < 0.1) continue;
+    const Eigen::Vector3d center = shoulder + offset.normalized() * uniform(rng, 450.0, 900.0);
+    const RigidTransform toMachine = placeSpatial(center, direction, 0.0).inverse();
+    Placement placement;
+    placement.artifact = 0;
+    placement.pose = Pose{center, 0.0, direction.normalized(), 0.0};
+    bool reachable = true;
+    for (int feature = 0; feature < bar.featureCount() && reachable; ++feature) {
+      const Eigen::VectorXd target = toMachine.apply(bar.features.col(feature));
+      const auto qs = diversePostures(machine, machine.nominal, target, postures, rng);
+      reachable = static_cast<int>(qs.size()) == postures;
+      for (const Eigen::VectorXd& q : qs) placement.measurements.push_back({feature, q});
+    }
+    if (reachable) return placement;
+  }
+}
+
+inline std::vector<Placement> randomSpatialBars(const Plan& plan, int count, int postures,
+                                                std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::vector<Placement> placements;
+  for (int j = 0; j < count; ++j) placements.push_back(randomSpatialBar(plan, postures, rng));
+  return placements;
+}
+
+}  // namespace artcal::testing
