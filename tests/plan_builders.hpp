@@ -36,11 +36,11 @@ inline Plan seedPlanar2RPlan(double u_length = 0.0) {
   return parsePlan(doc, "seed-2r", false);
 }
 
-/// A placement of a planar ball bar at a random reachable pose: both balls between reach 60 and
-/// 240 mm, a random elbow branch for each reading. Artifact 0 of the plan.
-inline Placement randomPlanarBar(const Plan& plan, std::mt19937_64& rng) {
+/// A placement of a planar ball bar (artifact `artifact` of the plan) at a random reachable pose:
+/// both balls between reach 60 and 240 mm, a random elbow branch for each reading.
+inline Placement randomPlanarBar(const Plan& plan, std::mt19937_64& rng, int artifact = 0) {
   const Machine& machine = plan.machine;
-  const double length = plan.artifacts[0].features(0, 1);
+  const double length = plan.artifacts[static_cast<std::size_t>(artifact)].features(0, 1);
   for (;;) {
     const double radius = uniform(rng, 60.0, 240.0);
     const double bearing = uniform(rng, -std::numbers::pi, std::numbers::pi);
@@ -50,7 +50,7 @@ inline Placement randomPlanarBar(const Plan& plan, std::mt19937_64& rng) {
         center + length * Eigen::Vector2d(std::cos(angle), std::sin(angle));
     if (other.norm() < 60.0 || other.norm() > 240.0) continue;
     Placement placement;
-    placement.artifact = 0;
+    placement.artifact = artifact;
     placement.pose = Pose{center, angle};
     bool reachable = true;
     for (int feature = 0; feature < 2 && reachable; ++feature) {

@@ -1,0 +1,333 @@
+// The evaluator (method.md sections 2-4): invariance under rigid motions of the whole plan and
+// of an artifact's frame, the systematic length error, the Schur reduction against the dense
+// inverse of the full normal matrix, and the prepared evaluation against the plain one.
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Geometry>
+#include <fstream>
+#include <numbers>
+
+#include "artcal/artcal.hpp"
+#include "plan_builders.hpp"
+
+namespace artcal {
+namespace {
+
+using testing::aacmmPlan;
+using testing::loadTestPlan;
+using testing::randomPlanarBar;
+using testing::randomPlanarBars;
+using testing::randomSpatialBars;
+using testing::seedPlanar2RPlan;
+
+// Every result of two evaluations agrees to `tolerance` (relative).
+void expectSameEvaluation(const Evaluation& a, const Evaluation& b, double tolerance) {
+  ASSERT_EQ(a.identifiability.rank, b.identifiability.rank);
+  ASSERT_EQ(a.identifiability.deficiency, b.identifiability.deficiency);
+  ASSERT_TRUE(a.identifiable());
+  ASSERT_TRUE(b.identifiable());
+  const auto& ua = a.covariance->u;
+  const auto& ub = b.covariance->u;
+  for (int i = 0; i < ua.size(); ++i) EXPECT_NEAR(ua[i], ub[i], tolerance * ua[i]) << "u " << i;
+  EXPECT_LT((a.covariance->correlation - b.covariance->correlation).cwiseAbs().maxCoeff(),
+            tolerance);
+  ASSERT_TRUE(a.tip && b.tip);
+  EXPECT_EQ(a.tip->worst_index, b.tip->worst_index);
+  EXPECT_NEAR(a.tip->worst.total, b.tip->worst.total, tolerance * a.tip->worst.total);
+  EXPECT_NEAR(a.tip->worst.kinematic, b.tip->worst.kinematic, tolerance * a.tip->worst.kinematic);
+  EXPECT_NEAR(a.tip->worst.encoder, b.tip->worst.encoder, tolerance * a.tip->worst.encoder);
+  EXPECT_NEAR(a.tip->mean, b.tip->mean, tolerance * a.tip->mean);
+  EXPECT_NEAR(a.tip->rms, b.tip->rms, tolerance * a.tip->rms);
+}
+
+// The plan's workspace made explicit, so that it can be moved with the readings.
+void makeWorkspaceExplicit(Plan& plan, int samples) {
+  WorkspaceSpec spec;
+  spec.kind = WorkspaceSpec::Kind::Samples;
+  spec.samples = samples;
+  spec.seed = 3;
+  plan.workspace.configurations = workspaceConfigurations(plan.machine, spec);
+  plan.workspace.kind = WorkspaceSpec::Kind::Configurations;
+}
+
+// Turning the whole plan about the base axis: the same angle added to joint 1 of every reading
+// and every workspace configuration.
+Plan turnedAboutBase(Plan plan, double angle) {
+  for (Placement& placement : plan.placements) {
+    for (Measurement& m : placement.measurements) m.joints[0] += angle;
+  }
+  for (Eigen::VectorXd& q : plan.workspace.configurations) q[0] += angle;
+  return plan;
+}
+
+TEST(Evaluator, CalibrationReferenceUncertaintyAtNominalIsCloseToTheEstimate) {
+  const Plan plan = loadTestPlan("ref-2r-calibrate");
+  std::ifstream in(std::string(ARTCAL_TEST_DATA) + "/ref-2r-calibrate.expected.json");
+  const nlohmann::json expected = nlohmann::json::parse(in);
+  const Evaluation evaluation = evaluatePlan(plan);
+  const nlohmann::json got = evaluationToJson(plan, evaluation);
+  ASSERT_EQ(got["parameters"].size(), expected["parameters"].size());
+  for (std::size_t i = 0; i < expected["parameters"].size(); ++i) {
+    const double u_estimate = expected["parameters"][i]["u"].get<double>();
+    const double u_nominal = got["parameters"][i]["u"].get<double>();
+    EXPECT_EQ(got["parameters"][i]["name"], expected["parameters"][i]["name"]);
+    // The estimate is within tens of um and mdeg of nominal: V_p barely moves (a few %).
+    EXPECT_NEAR(u_nominal, u_estimate, 0.03 * u_estimate) << expected["parameters"][i]["name"];
+  }
+}
+
+TEST(Evaluator, Planar2RInvariantUnderTurningThePlanAboutTheBase) {
+  Plan plan = loadTestPlan("ref-2r-5bars");
+  const Evaluation reference = evaluatePlan(plan);
+  for (double degrees : {37.0, -121.0, 180.0}) {
+    SCOPED_TRACE(degrees);
+    expectSameEvaluation(reference, evaluatePlan(turnedAboutBase(plan, degToRad(degrees))), 1e-9);
+  }
+}
+
+TEST(Evaluator, SerialArmInvariantUnderTurningThePlanAboutJointOne) {
+  Plan plan = loadTestPlan("ref-aacmm-3bars-3postures");
+  makeWorkspaceExplicit(plan, 300);
+  const Evaluation reference = evaluatePlan(plan);
+  for (double degrees : {23.0, -95.0}) {
+    SCOPED_TRACE(degrees);
+    expectSameEvaluation(reference, evaluatePlan(turnedAboutBase(plan, degToRad(degrees))), 1e-8);
+  }
+}
+
+// A 2-D ball plate (with a systematic u per coordinate) placed three times on the seed's arm,
+// readings by inverse kinematics.
+Plan planarPlatePlan(const Eigen::MatrixXd& centers) {
+  Plan plan = seedPlanar2RPlan();
+  plan.artifacts = {Artifact::ballPlate("plate", centers, 0.002)};
+  const std::vector<RigidTransform> toMachine = {
+      placePlanar(Eigen::Vector2d(90.0, 60.0), 0.3).inverse(),
+      placePlanar(Eigen::Vector2d(-40.0, 150.0), -1.2).inverse(),
+      placePlanar(Eigen::Vector2d(20.0, -170.0), 2.0).inverse()};
+  for (const RigidTransform& T : toMachine) {
+    Placement placement;
+    for (int i = 0; i < centers.cols(); ++i) {
+      const Eigen::VectorXd x = T.apply(centers.col(i));
+      placement.measurements.push_back({i, planar2rInverse(plan.machine.nominal, x).front()});
+    }
+    plan.placements.push_back(placement);
+  }
+  makeWorkspaceExplicit(plan, 200);
+  return plan;
+}
+
+// Redefining the artifact's frame (every centre moved by one rigid motion, the physical plate
+// and so the readings unchanged) changes no result.
+TEST(Evaluator, InvariantUnderRedefiningAnArtifactFrame) {
+  Eigen::MatrixXd centers(2, 4);
+  centers << 0, 50, 0, 50,  //
+      0, 0, 30, 30;
+  const Plan plan = planarPlatePlan(centers);
+  const Evaluation reference = evaluatePlan(plan);
+  ASSERT_TRUE(reference.identifiable());
+  Plan moved = plan;
+  const Eigen::Matrix2d R = Eigen::Rotation2Dd(0.9).toRotationMatrix();
+  moved.artifacts[0].features = (R * centers).colwise() + Eigen::Vector2d(-12.0, 33.0);
+  expectSameEvaluation(reference, evaluatePlan(moved), 1e-9);
+}
+
+// The bar's length error c is systematic (method.md section 2). A length error is exactly a
+// change of scale of l1 and l2 (dt2 unchanged), so with it V_p = V_0 + s s^T u_L^2,
+// s = (l1, l2, 0) / L, whatever the number of placements: it never averages away.
+TEST(Evaluator, SystematicLengthErrorAddsAScaleTermThatDoesNotAverageAway) {
+  const double u_length = 0.002, L = 80.0;
+  const Plan exact = seedPlanar2RPlan(0.0);
+  const Plan uncertain = seedPlanar2RPlan(u_length);
+  const std::vector<Placement> five = randomPlanarBars(exact, 5, 21);
+  std::vector<Placement> many;
+  for (int r = 0; r < 64; ++r) many.insert(many.end(), five.begin(), five.end());
+  const Eigen::Vector3d s = Eigen::Vector3d(150.0, 100.0, 0.0) / L;
+  Eigen::VectorXd u0_five;
+  for (const std::vector<Placement>* placements :
+       {&five, static_cast<const std::vector<Placement>*>(&many)}) {
+    const auto V0 =
+        covarianceFromInformation(parameterInformation(exact, *placements, exact.machine.nominal));
+    const auto VL = covarianceFromInformation(
+        parameterInformation(uncertain, *placements, uncertain.machine.nominal));
+    ASSERT_TRUE(V0 && VL);
+    const Eigen::Matrix3d expected = V0->V + s * s.transpose() * u_length * u_length;
+    EXPECT_LT((VL->V - expected).cwiseAbs().maxCoeff(), 1e-6 * expected.cwiseAbs().maxCoeff());
+    EXPECT_GT(VL->u[0], V0->u[0]);
+    EXPECT_GT(VL->u[1], V0->u[1]);
+    // 64 times the placements: the random part shrinks by 8, the length term stays.
+    if (placements == &five) {
+      u0_five = V0->u;
+    } else {
+      for (int i = 0; i < 3; ++i) EXPECT_NEAR(V0->u[i], u0_five[i] / 8.0, 1e-9 * u0_five[i]);
+      EXPECT_GT(VL->u[0], 150.0 * u_length / L);
+      EXPECT_LT(VL->u[0], 1.01 * std::hypot(150.0 * u_length / L, V0->u[0]));
+    }
+  }
+}
+
+// The Schur-reduced information equals the p block of the inverse of the full normal matrix,
+// built densely here (A = [A_p | A_r1 ... A_rm | A_c] stacked, plus Sigma_c^-1), on a small
+// plan with two bars, both with a systematic length error.
+TEST(Evaluator, SchurReductionEqualsTheDenseFullInverse) {
+  Plan plan = seedPlanar2RPlan(0.003);
+  plan.artifacts.push_back(Artifact::ballBar("bar120", 2, 120.0, 0.001));
+  std::mt19937_64 rng(8);
+  std::vector<Placement> placements;
+  for (int j = 0; j < 6; ++j) placements.push_back(randomPlanarBar(plan, rng, j % 2));
+  const Eigen::VectorXd& p = plan.machine.nominal;
+  const auto poses = fitPlacements(plan, placements, p);
+
+  const GlobalLayout layout = GlobalLayout::of(plan);
+  DesignMatrixBuilder builder(plan.machine, plan.noise);
+  std::vector<ObservationBlock> blocks(placements.size());
+  int rows = 0, rigid = 0;
+  for (std::size_t j = 0; j < placements.size(); ++j) {
+    const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placements[j].artifact)];
+    builder.build(artifact, placements[j].measurements, p, poses[j], Eigen::VectorXd(), false,
+                  blocks[j]);
+    rows += blocks[j].rows();
+    rigid += static_cast<int>(blocks[j].A_r.cols());
+  }
+  const int n_p = layout.parameters, n_c = layout.systematicCount();
+  ASSERT_EQ(n_c, 2);
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(rows, n_p + rigid + n_c);
+  int row = 0, r_col = n_p;
+  for (std::size_t j = 0; j < placements.size(); ++j) {
+    const ObservationBlock& b = blocks[j];
+    const int c_col =
+        rigid + layout.artifact_offset[static_cast<std::size_t>(placements[j].artifact)];
+    A.block(row, 0, b.rows(), n_p) = b.A_p;
+    A.block(row, r_col, b.rows(), b.A_r.cols()) = b.A_r;
+    A.block(row, c_col, b.rows(), b.A_c.cols()) = b.A_c;
+    row += b.rows();
+    r_col += static_cast<int>(b.A_r.cols());
+  }
+  Eigen::MatrixXd N = A.transpose() * A;
+  for (int i = 0; i < n_c; ++i) {
+    N(n_p + rigid + i, n_p + rigid + i) += 1.0 / (layout.c_sigma[i] * layout.c_sigma[i]);
+  }
+  const Eigen::MatrixXd V_full = N.inverse();
+  const Eigen::MatrixXd V_dense = V_full.topLeftCorner(n_p, n_p);
+
+  NormalMatrixReducer reducer(layout);
+  for (std::size_t j = 0; j < placements.size(); ++j)
+    reducer.add(blocks[j], placements[j].artifact);
+  const auto reduced = covarianceFromInformation(reducer.parameterInformation());
+  ASSERT_TRUE(reduced);
+  for (int a = 0; a < n_p; ++a) {
+    for (int b = 0; b < n_p; ++b) {
+      EXPECT_NEAR(reduced->V(a, b), V_dense(a, b), 1e-8 * std::sqrt(V_dense(a, a) * V_dense(b, b)));
+    }
+  }
+  // The (p, c) block of the reduced normal matrix with its prior: the same marginal covariance.
+  const Eigen::MatrixXd V_pc = reducer.normalWithPrior().inverse();
+  EXPECT_NEAR(V_pc(n_p, n_p), V_full(n_p + rigid, n_p + rigid), 1e-8 * V_pc(n_p, n_p));
+  EXPECT_NEAR(V_pc(0, n_p + 1), V_full(0, n_p + rigid + 1),
+              1e-8 * std::sqrt(V_pc(0, 0) * V_pc(n_p + 1, n_p + 1)));
+  // And the same through the evaluator's own entry point.
+  const Eigen::MatrixXd info = parameterInformation(plan, placements, p);
+  EXPECT_LT((info - reducer.parameterInformation()).cwiseAbs().maxCoeff(),
+            1e-12 * info.cwiseAbs().maxCoeff());
+}
+
+// The back-substitution of the calibrator: r_j steps recovered from the reduced solution equal
+// the r_j part of the dense solution of the full normal equations.
+TEST(Evaluator, RigidStepBackSubstitutionMatchesTheDenseSolve) {
+  const Plan plan = seedPlanar2RPlan();
+  const std::vector<Placement> placements = randomPlanarBars(plan, 4, 5);
+  Eigen::VectorXd p = plan.machine.nominal;
+  p[0] += 0.05;  // residuals: the readings were planned for nominal
+  p[2] += 0.001;
+  const auto poses = fitPlacements(plan, placements, plan.machine.nominal);
+  DesignMatrixBuilder builder(plan.machine, plan.noise);
+  NormalMatrixReducer reducer(GlobalLayout::of(plan));
+  std::vector<ObservationBlock> blocks(placements.size());
+  std::vector<PlacementElimination> eliminations(placements.size());
+  for (std::size_t j = 0; j < placements.size(); ++j) {
+    builder.build(plan.artifacts[0], placements[j].measurements, p, poses[j], Eigen::VectorXd(),
+                  true, blocks[j]);
+    reducer.add(blocks[j], 0, &eliminations[j]);
+  }
+  const Eigen::VectorXd dp = reducer.normal().ldlt().solve(reducer.rhs());
+  // Dense: A = [A_p | A_r blocks], minimise |A d + e|^2.
+  const int m = static_cast<int>(placements.size());
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(4 * m, 3 + 3 * m);
+  Eigen::VectorXd e(4 * m);
+  for (int j = 0; j < m; ++j) {
+    A.block(4 * j, 0, 4, 3) = blocks[j].A_p;
+    A.block(4 * j, 3 + 3 * j, 4, 3) = blocks[j].A_r;
+    e.segment(4 * j, 4) = blocks[j].e;
+  }
+  const Eigen::VectorXd d = (A.transpose() * A).ldlt().solve(-A.transpose() * e);
+  EXPECT_LT((d.head(3) - dp).norm(), 1e-8 * d.head(3).norm());
+  for (int j = 0; j < m; ++j) {
+    const Eigen::VectorXd dr = eliminations[static_cast<std::size_t>(j)].rigidStep(dp);
+    EXPECT_LT((dr - d.segment(3 + 3 * j, 3)).norm(), 1e-8 * (1.0 + d.segment(3 + 3 * j, 3).norm()));
+  }
+  EXPECT_NEAR(reducer.chi2(), e.squaredNorm(), 1e-12 * e.squaredNorm());
+}
+
+TEST(Evaluator, PreparedEvaluationMatchesThePlainOne) {
+  Plan plan = aacmmPlan();
+  plan.placements = randomSpatialBars(plan, 4, 3, 17);
+  makeWorkspaceExplicit(plan, 500);
+  const Evaluation plain = evaluatePlan(plan);
+  ASSERT_TRUE(plain.identifiable());
+  PlanEvaluator prepared(plan);
+  const Eigen::MatrixXd& info = prepared.information(plan.placements);
+  EXPECT_LT((info - plain.information).cwiseAbs().maxCoeff(),
+            1e-10 * plain.information.cwiseAbs().maxCoeff());
+  const auto tip = prepared.tip(plan.placements);
+  ASSERT_TRUE(tip);
+  EXPECT_EQ(tip->worst_index, plain.tip->worst_index);
+  EXPECT_NEAR(tip->worst.total, plain.tip->worst.total, 1e-10 * plain.tip->worst.total);
+  EXPECT_NEAR(tip->mean, plain.tip->mean, 1e-10 * plain.tip->mean);
+  // A second call with the same evaluator (scratch reused) gives the same numbers.
+  const auto again = prepared.tip(plan.placements);
+  EXPECT_EQ(again->worst.total, tip->worst.total);
+}
+
+// S_m^2 over the workspace (Gram form up to 40 parameters, triangular product beyond) equals
+// tr(J_p V J_p^T) configuration by configuration.
+void expectKinematicVarianceMatchesDirectTrace(const Machine& machine, const Noise& noise) {
+  WorkspaceSpec spec;
+  spec.samples = 50;
+  TipEvaluator tip(machine, noise, workspaceConfigurations(machine, spec));
+  const int n = machine.calibratedCount();
+  Eigen::MatrixXd B = Eigen::MatrixXd::Random(n, n);
+  const Eigen::MatrixXd V = 1e-6 * (B * B.transpose() + Eigen::MatrixXd::Identity(n, n));
+  Eigen::VectorXd S_m2;
+  tip.kinematicVariance(V, S_m2);
+  ASSERT_EQ(S_m2.size(), 50);
+  for (int g = 0; g < 50; ++g) {
+    Eigen::VectorXd x;
+    Eigen::MatrixXd J_x_p;
+    machine.mechanism->forward(machine.nominal, tip.configurations()[static_cast<std::size_t>(g)],
+                               x, &J_x_p);
+    const Eigen::MatrixXd J = J_x_p(Eigen::all, machine.calibrated);
+    const double direct = (J * V * J.transpose()).trace();
+    EXPECT_NEAR(S_m2[g], direct, 1e-12 * direct) << g;
+    EXPECT_NEAR(tip.at(g, V).kinematic, std::sqrt(direct), 1e-12 * std::sqrt(direct));
+  }
+}
+
+TEST(TipEvaluator, KinematicVarianceMatchesTheDirectTrace) {
+  const Plan six = aacmmPlan();  // 21 parameters: Gram form
+  expectKinematicVarianceMatchesDirectTrace(six.machine, six.noise);
+  // 10 joints, all 43 parameters: the triangular product.
+  auto arm = std::make_shared<SerialDH>(std::vector<JointKind>(10, JointKind::Revolute));
+  Machine machine;
+  machine.mechanism = arm;
+  machine.nominal = Eigen::VectorXd::LinSpaced(43, 1.0, 43.0);
+  for (int i = 0; i < 43; ++i) machine.calibrated.push_back(i);
+  machine.joint_limits.assign(10, {-3.0, 3.0});
+  Noise noise;
+  noise.probe = 0.01;
+  noise.encoder = Eigen::VectorXd::Constant(10, 1e-5);
+  expectKinematicVarianceMatchesDirectTrace(machine, noise);
+}
+
+}  // namespace
+}  // namespace artcal
