@@ -284,9 +284,11 @@ void Calibrator::fillDetails(const std::vector<Placement>& placements, Calibrati
       const int row = k * static_cast<int>(i);
       entry.normalized.resize(k);
       for (int r = 0; r < k; ++r) {
-        // A row the fit absorbs entirely (h = 1) cannot be tested: it reports 0.
+        // A row the fit absorbs (almost) entirely, 1 - h < 1e-3, cannot be tested: it reports 0
+        // rather than a ratio of two rounding-level numbers.
+        constexpr double kTestable = 0.0316;
         const double s = spread[row + r];
-        entry.normalized[r] = s > 1e-6 ? blocks[j].e[row + r] / s : 0.0;
+        entry.normalized[r] = s > kTestable ? blocks[j].e[row + r] / s : 0.0;
       }
       entry.score = entry.normalized.cwiseAbs().maxCoeff();
       entry.flagged = entry.score > options_.flag_threshold;

@@ -2,6 +2,9 @@
 // Umbrella header: the whole public interface of the artcal library.
 
 #include "artcal/artifact.hpp"
+#include "artcal/calibration_report.hpp"
+#include "artcal/calibrator.hpp"
+#include "artcal/confirmation.hpp"
 #include "artcal/design_matrix.hpp"
 #include "artcal/design_space.hpp"
 #include "artcal/error.hpp"
@@ -9,6 +12,7 @@
 #include "artcal/html_report.hpp"
 #include "artcal/identifiability.hpp"
 #include "artcal/inverse_kinematics.hpp"
+#include "artcal/levenberg_marquardt.hpp"
 #include "artcal/mechanism.hpp"
 #include "artcal/normal_matrix.hpp"
 #include "artcal/optimizer.hpp"
@@ -18,6 +22,8 @@
 #include "artcal/report.hpp"
 #include "artcal/rigid_transform.hpp"
 #include "artcal/serial_dh.hpp"
+#include "artcal/simulation.hpp"
 #include "artcal/svg.hpp"
 #include "artcal/tip.hpp"
+#include "artcal/truth_io.hpp"
 #include "artcal/units.hpp"
