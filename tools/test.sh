@@ -9,3 +9,7 @@ install_missing_packages
 build_in build
 echo "==> ctest"
 ctest --test-dir build --output-on-failure -j 2
+echo "==> sanitizers (ASan + UBSan test suite, build-asan/)"
+bash tools/sanitize.sh
+echo "==> fuzz (plan and spec parsers, 60 s, build-fuzz/)"
+bash tools/fuzz.sh 60
