@@ -372,8 +372,12 @@ TEST(CalibrateCommand, JsonCarriesThePromisedFields) {
 
 TEST(CalibrateCommand, NonConvergenceExitsOneWithoutNaN) {
   const std::string plan = std::string(ARTCAL_TEST_DATA) + "/ref-2r-calibrate.json";
-  const CommandResult result = runCli("calibrate " + plan + " --json --max-iterations 1");
+  const std::string machine = tempPath("unconverged-machine.json");
+  std::remove(machine.c_str());
+  const CommandResult result =
+      runCli("calibrate " + plan + " --json --max-iterations 1 --write-machine " + machine);
   EXPECT_EQ(result.status, 1);
+  EXPECT_FALSE(std::ifstream(machine).good());  // an unconverged estimate is not written
   const nlohmann::json out = nlohmann::json::parse(result.out);
   EXPECT_FALSE(out["converged"].get<bool>());
   EXPECT_EQ(result.out.find("NaN"), std::string::npos);

@@ -105,7 +105,12 @@ int runCalibrate(const CalibrateArguments& args) {
   const Plan plan = loadPlanReporting(args.plan);
   const Calibration calibration = calibratePlan(plan, args.options);
   if (!args.write_machine.empty()) {
-    writeJsonOutput(args.write_machine, machineToJson(plan.machine, calibration.parameters));
+    // Only a converged estimate may become the next plan's machine.
+    if (calibration.summary.converged()) {
+      writeJsonOutput(args.write_machine, machineToJson(plan.machine, calibration.parameters));
+    } else {
+      std::cerr << "warning: not converged: " << args.write_machine << " not written\n";
+    }
   }
   if (args.json) {
     printJson(calibrationToJson(plan, plan.placements, calibration));
@@ -126,7 +131,7 @@ void addCalibrateCommand(CLI::App& app, Action& action) {
   cmd->add_flag("--json", args->json, "print one JSON document instead of the tables");
   cmd->add_option("--write-machine", args->write_machine,
                   "write the machine block with the estimated parameters (the next plan's "
-                  "machine) to this file");
+                  "machine) to this file, when converged");
   cmd->add_option("--max-iterations", args->options.max_iterations, "iteration limit")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
