@@ -8,6 +8,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <fcntl.h>
+
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -17,6 +19,7 @@
 #include <thread>
 
 #include "artcal/artcal.hpp"
+#include "artcal/calibrator.hpp"
 
 namespace artcal {
 namespace {
@@ -566,6 +569,89 @@ TEST(NothingLost, KilledWriterLeavesTheEarlierFileIntact) {
     for (const fs::path& t : temporaries) fs::remove(t);
   }
   EXPECT_GT(kills_mid_write, 0);  // the test did kill writers mid-write
+}
+
+/// Starts the CLI with `arguments` (a vector, no shell) and returns its process id.
+pid_t startCli(const std::vector<std::string>& arguments) {
+  const pid_t child = ::fork();
+  if (child == 0) {
+    std::vector<char*> argv{const_cast<char*>(ARTCAL_CLI)};
+    for (const std::string& a : arguments) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    const int null = ::open("/dev/null", O_WRONLY);
+    ::dup2(null, 1);
+    ::dup2(null, 2);
+    ::execv(ARTCAL_CLI, argv.data());
+    ::_exit(127);
+  }
+  return child;
+}
+
+/// The example plan's placements repeated to `count`: a simulation that runs for a while and
+/// writes a few MB.
+std::string largeSimulationPlan(int count) {
+  json plan = readJson(std::string(ARTCAL_PLANS_DIR) + "/paper-2r-5bars.json");
+  const json placements = plan["placements"];
+  plan["placements"] = json::array();
+  for (int i = 0; i < count; ++i) plan["placements"].push_back(placements[i % placements.size()]);
+  return plan.dump();
+}
+
+// `artcal simulate -o OUT` killed (SIGKILL) at several moments of its run: OUT is always the
+// earlier file, byte for byte, or a complete new plan, never a partial one.
+TEST(NothingLost, KilledCliLeavesTheEarlierOutputIntact) {
+  TempDir dir;
+  const std::string plan = dir.file("plan.json");
+  const std::string truth = dir.file("truth.json");
+  const std::string output = dir.file("out.json");
+  writeText(plan, largeSimulationPlan(5000));
+  writeText(truth, R"({"parameters": {"l1": 150.02}})");
+  const std::string earlier = "{\"earlier\": true}\n";
+  writeText(output, earlier);
+  int intact = 0;
+  int replaced = 0;
+  for (int delay_ms : {0, 50, 200, 500, 1000, 2000}) {
+    SCOPED_TRACE(delay_ms);
+    const pid_t child = startCli({"simulate", plan, "--truth", truth, "-o", output});
+    ASSERT_GT(child, 0);
+    std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms));
+    ::kill(child, SIGKILL);
+    int status = 0;
+    ::waitpid(child, &status, 0);
+    const std::string content = readText(output);
+    if (content == earlier) {
+      ++intact;
+    } else {
+      ++replaced;
+      const json written = json::parse(content);  // throws on a partial file
+      EXPECT_EQ(written["placements"].size(), 5000u);
+      writeText(output, earlier);
+    }
+    for (const fs::path& t : temporariesOf(dir, "out.json")) fs::remove(t);
+  }
+  EXPECT_GT(intact, 0);
+}
+
+// A calibration that diverges (started 1e5 mm from the truth on l1) stops and says so:
+// converged false, exit status 1, every number of its output finite.
+TEST(NumericalFaults, DivergingCalibrationStopsWithConvergedFalse) {
+  TempDir dir;
+  json plan = readJson(testData("ref-2r-calibrate.json"));
+  plan["machine"]["parameters"]["l1"] = 1e5;
+  const std::string path = dir.file("diverging.json");
+  writeText(path, plan.dump());
+  const CliResult r = runCli(dir, "calibrate --json '" + path + "'");
+  EXPECT_EQ(r.status, 1) << r.err;
+  const json out = json::parse(r.out);
+  EXPECT_FALSE(out["converged"].get<bool>());
+  expectAllFinite(out);
+  const CliResult table = runCli(dir, "calibrate '" + path + "'");
+  EXPECT_EQ(table.status, 1);
+  expectNoNonFinite(table.out);
+
+  const Calibration calibration = calibratePlan(parsePlan(plan, "diverging.json"));
+  EXPECT_FALSE(calibration.summary.converged());
+  EXPECT_TRUE(calibration.parameters.allFinite());
 }
 
 }  // namespace

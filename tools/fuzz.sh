@@ -28,7 +28,8 @@ if ! command -v clang++ >/dev/null 2>&1 || ! have_libfuzzer; then
   echo "fuzz.sh: installing clang and libclang-rt-14-dev" >&2
   apt_get=(apt-get)
   [ "$(id -u)" -eq 0 ] || apt_get=(sudo apt-get)
-  DEBIAN_FRONTEND=noninteractive "${apt_get[@]}" install -y -qq clang libclang-rt-14-dev >/dev/null
+  DEBIAN_FRONTEND=noninteractive "${apt_get[@]}" update -qq >/dev/null
+  DEBIAN_FRONTEND=noninteractive "${apt_get[@]}" install -y -qq clang libclang-rt-14-dev </dev/null >/dev/null
   have_libfuzzer || { echo "fuzz.sh: no working libFuzzer" >&2; exit 1; }
 fi
 
