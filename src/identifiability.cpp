@@ -27,6 +27,9 @@ CountingCondition countingCondition(const Plan& plan, const std::vector<Placemen
 
 namespace {
 
+// A diagonal of the information below this fraction of the largest is rounding, not information.
+constexpr double kUnobservedDiagonal = 1e-20;
+
 // Reduced row-echelon form of the rows of B (each row a null vector), pivots taken in parameter
 // order: a canonical, sparse basis of the null space.
 Eigen::MatrixXd reducedRowEchelon(Eigen::MatrixXd B, double tolerance) {
@@ -53,11 +56,16 @@ Identifiability analyseIdentifiability(const Plan& plan, const std::vector<Place
   result.counting = countingCondition(plan, placements);
   result.tolerance = tolerance;
   const int n = static_cast<int>(information.rows());
-  // Scale to unit diagonal; a parameter nothing observes keeps a zero row and column.
+  // Scale to unit diagonal; a parameter nothing observes keeps a zero row and column. "Nothing"
+  // includes rounding: a column that vanishes identically (a serial arm's last alpha with the
+  // probe on that joint's x axis) leaves a diagonal some 1e-30 of the others, which scaling
+  // would otherwise blow up to 1. Units (mm, rad) move diagonals by a few orders, never 1e20.
+  const double largest_diagonal = n > 0 ? information.diagonal().cwiseAbs().maxCoeff() : 0.0;
   Eigen::VectorXd scale(n);
   for (int i = 0; i < n; ++i) {
     const double d = information(i, i);
-    scale[i] = d > 0.0 && std::isfinite(d) ? 1.0 / std::sqrt(d) : 0.0;
+    const bool observed = d > kUnobservedDiagonal * largest_diagonal && std::isfinite(d);
+    scale[i] = observed ? 1.0 / std::sqrt(d) : 0.0;
   }
   const Eigen::MatrixXd scaled = scale.asDiagonal() * information * scale.asDiagonal();
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(scaled);

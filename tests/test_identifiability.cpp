@@ -1,0 +1,163 @@
+// Identifiability (method.md section 5): the counting condition, and the two known rank traps it
+// cannot see: the ring layout (deficiency 2) and a standard-DH serial arm with all 4n + 3
+// parameters calibrated (deficiency 6).
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include "artcal/artcal.hpp"
+#include "plan_builders.hpp"
+
+namespace artcal {
+namespace {
+
+using testing::aacmmPlan;
+using testing::loadTestPlan;
+using testing::randomPlanarBars;
+using testing::randomSpatialBars;
+using testing::seedPlanar2RPlan;
+
+Identifiability analyse(const Plan& plan) {
+  return analyseIdentifiability(plan, plan.placements,
+                                parameterInformation(plan, plan.placements, plan.machine.nominal));
+}
+
+bool startsWith(const std::string& s, const std::string& prefix) {
+  return s.rfind(prefix, 0) == 0;
+}
+
+TEST(Counting, SeedExamples) {
+  Plan plan = seedPlanar2RPlan();
+  plan.placements = randomPlanarBars(plan, 5, 1);
+  const CountingCondition count = countingCondition(plan, plan.placements);
+  EXPECT_EQ(count.N_p, 3);
+  EXPECT_EQ(count.N_b, 20);
+  EXPECT_EQ(count.N_r, 15);
+  EXPECT_TRUE(count.satisfied);
+  EXPECT_EQ(count.minimum_alike, 3);  // m >= 3 / (2 * 1 * 2 - 3)
+  // 6-axis arm, 21 parameters, each ball in 3 postures: m >= 21 / (2 * 3 * 3 - 5) = 2.
+  Plan arm = loadTestPlan("ref-aacmm-3bars-3postures");
+  const CountingCondition six = countingCondition(arm, arm.placements);
+  EXPECT_EQ(six.N_p, 21);
+  EXPECT_EQ(six.N_b, 54);
+  EXPECT_EQ(six.N_r, 15);
+  EXPECT_EQ(six.minimum_alike, 2);
+  // Two bars of the 2R arm are too few.
+  plan.placements.resize(2);
+  EXPECT_FALSE(countingCondition(plan, plan.placements).satisfied);
+  EXPECT_FALSE(analyse(plan).identifiable());
+}
+
+TEST(RankTrap, RingLayoutSatisfiesTheCountButLosesRankTwo) {
+  const Plan plan = loadTestPlan("ref-2r-ring-degenerate");
+  const Identifiability id = analyse(plan);
+  EXPECT_TRUE(id.counting.satisfied);
+  EXPECT_EQ(id.deficiency, 2);
+  EXPECT_EQ(id.rank, 1);
+  EXPECT_FALSE(id.identifiable());
+  EXPECT_EQ(id.unidentifiable.size(), 2u);
+  EXPECT_FALSE(std::isfinite(id.condition_number));
+  EXPECT_FALSE(evaluatePlan(plan).identifiable());
+}
+
+TEST(RankTrap, RandomBarsOfTheSeedArmAreIdentifiable) {
+  Plan plan = seedPlanar2RPlan();
+  plan.placements = randomPlanarBars(plan, 5, 2);
+  const Identifiability id = analyse(plan);
+  EXPECT_EQ(id.deficiency, 0);
+  EXPECT_EQ(id.rank, 3);
+  EXPECT_TRUE(std::isfinite(id.condition_number));
+  EXPECT_TRUE(id.unidentifiable.empty());
+}
+
+// The 6-axis arm with every one of its 4n + 3 = 27 parameters calibrated, 8 bars with each ball
+// read in 3 postures (count satisfied many times over).
+Plan fullArmPlan(const Eigen::Vector3d& probe = Eigen::Vector3d(150.0, 0.0, 0.0)) {
+  Plan plan = aacmmPlan();
+  plan.machine.nominal.tail(3) = probe;
+  plan.placements = randomSpatialBars(plan, 8, 3, 31);
+  plan.machine.calibrated.clear();
+  for (int i = 0; i < plan.machine.mechanism->parameterCount(); ++i) {
+    plan.machine.calibrated.push_back(i);
+  }
+  return plan;
+}
+
+// With the probe on the last joint's x axis (the reference arm) j6.alpha moves nothing at all
+// and is reported alone; with the probe off that axis it trades against the probe offset.
+void expectDeficiencySix(const Eigen::Vector3d& probe, bool alpha_alone) {
+  const Plan plan = fullArmPlan(probe);
+  ASSERT_EQ(plan.machine.calibratedCount(), 27);
+  const Identifiability id = analyse(plan);
+  EXPECT_TRUE(id.counting.satisfied);
+  EXPECT_EQ(id.deficiency, 6);
+  EXPECT_EQ(id.rank, 21);
+  ASSERT_EQ(id.unidentifiable.size(), 6u);
+  // j1.theta and j1.d move with the base frame, which the r_j absorb: each alone.
+  int alone_theta = 0, alone_d = 0, alone_alpha = 0;
+  for (const Combination& c : id.unidentifiable) {
+    ASSERT_FALSE(c.names.empty());
+    if (c.names == std::vector<std::string>{"j1.theta"}) {
+      ++alone_theta;
+    } else if (c.names == std::vector<std::string>{"j1.d"}) {
+      ++alone_d;
+    } else if (c.names == std::vector<std::string>{"j6.alpha"}) {
+      ++alone_alpha;
+    } else {
+      // Every other combination trades the last joint against the probe offset.
+      for (const std::string& name : c.names) {
+        EXPECT_TRUE(startsWith(name, "j6.") || startsWith(name, "probe.")) << name;
+      }
+      EXPECT_GE(c.names.size(), 2u);
+      EXPECT_TRUE(startsWith(c.names.front(), "j6."));
+    }
+    const double largest =
+        *std::max_element(c.coefficients.begin(), c.coefficients.end(),
+                          [](double a, double b) { return std::abs(a) < std::abs(b); });
+    EXPECT_NEAR(std::abs(largest), 1.0, 1e-12);
+  }
+  EXPECT_EQ(alone_theta, 1);
+  EXPECT_EQ(alone_d, 1);
+  EXPECT_EQ(alone_alpha, alpha_alone ? 1 : 0);
+}
+
+TEST(RankTrap, SerialArmWithAllParametersHasDeficiencySix) {
+  expectDeficiencySix(Eigen::Vector3d(150.0, 0.0, 0.0), true);
+  expectDeficiencySix(Eigen::Vector3d(150.0, 12.0, -25.0), false);
+}
+
+// Without j1.theta, j1.d and the last joint's four parameters: N(p) = 4n - 3 = 21, full rank.
+TEST(RankTrap, SerialArmWithoutTheSixIsIdentifiable) {
+  Plan plan = fullArmPlan();
+  const Mechanism& arm = *plan.machine.mechanism;
+  plan.machine.calibrated.clear();
+  for (int i = 0; i < arm.parameterCount(); ++i) {
+    const std::string& name = arm.parameters()[static_cast<std::size_t>(i)].name;
+    if (name == "j1.theta" || name == "j1.d" || startsWith(name, "j6.")) continue;
+    plan.machine.calibrated.push_back(i);
+  }
+  ASSERT_EQ(plan.machine.calibratedCount(), 4 * 6 - 3);
+  const Identifiability id = analyse(plan);
+  EXPECT_EQ(id.deficiency, 0);
+  EXPECT_EQ(id.rank, 21);
+  EXPECT_TRUE(id.identifiable());
+  EXPECT_TRUE(std::isfinite(id.condition_number));
+  EXPECT_GT(id.condition_number, 1.0);
+}
+
+TEST(RankTrap, ScalingAParameterDoesNotChangeTheRank) {
+  // The rank test runs on the column-scaled matrix: multiplying the information of one
+  // parameter by a unit change (deg <-> rad, mm <-> m) changes neither rank nor condition number.
+  const Plan plan = loadTestPlan("ref-2r-5bars");
+  const Eigen::MatrixXd info = parameterInformation(plan, plan.placements, plan.machine.nominal);
+  Eigen::Vector3d scale(1e3, 1.0, 180.0 / 3.141592653589793);
+  const Eigen::MatrixXd scaled = scale.asDiagonal() * info * scale.asDiagonal();
+  const Identifiability a = analyseIdentifiability(plan, plan.placements, info);
+  const Identifiability b = analyseIdentifiability(plan, plan.placements, scaled);
+  EXPECT_EQ(a.rank, b.rank);
+  EXPECT_NEAR(a.condition_number, b.condition_number, 1e-6 * a.condition_number);
+}
+
+}  // namespace
+}  // namespace artcal
