@@ -69,9 +69,8 @@ json calibrationToJson(const Plan& plan, const std::vector<Placement>& placement
     p["u"] = calibration.covariance
                  ? finiteOrNull(toFileUnit(info.quantity, calibration.covariance->u[k]))
                  : json(nullptr);
-    p["u_posterior"] = calibration.covariance
-                           ? finiteOrNull(toFileUnit(info.quantity, posterior[k]))
-                           : json(nullptr);
+    p["u_posterior"] = posterior.size() > 0 ? finiteOrNull(toFileUnit(info.quantity, posterior[k]))
+                                            : json(nullptr);
     parameters.push_back(p);
   }
   out["parameters"] = parameters;
@@ -142,7 +141,7 @@ std::string calibrationTable(const Plan& plan, const std::vector<Placement>& pla
     const int index = machine.calibrated[static_cast<std::size_t>(k)];
     const double u =
         calibration.covariance ? toFileUnit(info.quantity, calibration.covariance->u[k]) : NAN;
-    const double up = calibration.covariance ? toFileUnit(info.quantity, posterior[k]) : NAN;
+    const double up = posterior.size() > 0 ? toFileUnit(info.quantity, posterior[k]) : NAN;
     std::string name = info.name;
     name.resize(std::max<std::size_t>(name.size(), 10), ' ');
     out << name << padded(format("%.6f", toFileUnit(info.quantity, machine.nominal[index])), 13)

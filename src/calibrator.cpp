@@ -43,7 +43,7 @@ std::string CalibrationSummary::briefReport() const {
 }
 
 Eigen::VectorXd Calibration::posteriorU() const {
-  if (!covariance) return {};
+  if (!covariance || dof <= 0) return {};  // no redundancy: no a-posteriori scale
   return covariance->u * std::sqrt(chi2_per_dof);
 }
 

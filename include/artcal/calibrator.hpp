@@ -98,7 +98,7 @@ struct Calibration {
   Eigen::VectorXd estimate(const Machine& machine) const {
     return machine.calibratedValues(parameters);
   }
-  /// u * sqrt(chi2_per_dof), internal units; empty without covariance.
+  /// u * sqrt(chi2_per_dof), internal units; empty without covariance or when dof <= 0.
   Eigen::VectorXd posteriorU() const;
 };
 
