@@ -196,12 +196,13 @@ Calibration Calibrator::run(const std::vector<Placement>& placements,
       }
       continue;
     }
+    const bool undamped = strategy_.mu() <= 1.0;  // a heavily damped step proves nothing
     strategy_.stepAccepted(actual / predicted);
     ++summary.accepted_steps;
     const double previous_cost = current_lin_.cost;
     std::swap(current_, trial_);
     std::swap(current_lin_, trial_lin_);
-    if (actual <= negligible(previous_cost)) {
+    if (undamped && actual <= negligible(previous_cost)) {
       summary.termination = TerminationType::Converged;
       summary.message = "cost change negligible";
       break;
