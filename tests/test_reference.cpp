@@ -65,5 +65,21 @@ TEST(Reference, Aacmm3Bars3Postures) {
   expectMatchesReference("ref-aacmm-3bars-3postures");
 }
 
+// The calibration case gives u at the estimate; the evaluator's u at nominal (the readings are
+// the same, the estimate is within tens of um and mdeg of nominal) is within a few % of it.
+TEST(Reference, CalibrationCaseUncertaintyAtNominalIsCloseToTheEstimate) {
+  const Plan plan = readPlan("ref-2r-calibrate");
+  const nlohmann::json expected = readExpected("ref-2r-calibrate");
+  const Evaluation evaluation = evaluatePlan(plan);
+  ASSERT_TRUE(evaluation.identifiable());
+  const nlohmann::json got = evaluationToJson(plan, evaluation);
+  ASSERT_EQ(got["parameters"].size(), expected["parameters"].size());
+  for (std::size_t i = 0; i < expected["parameters"].size(); ++i) {
+    const auto& e = expected["parameters"][i];
+    EXPECT_EQ(got["parameters"][i]["name"], e["name"]);
+    expectRelative(got["parameters"][i]["u"].get<double>(), e["u"].get<double>(), 0.03, e["name"]);
+  }
+}
+
 }  // namespace
 }  // namespace artcal
