@@ -90,7 +90,8 @@ void Artifact::rigidJacobian(const Eigen::VectorXd& W, Eigen::Ref<Eigen::MatrixX
       axis[dir - 3] = 1.0;
       column = axis.cross(W.head<3>());
     }
-    J.col(static_cast<int>(c)) = column.head(k);
+    // Entry by entry: GCC 12 warns falsely (-Warray-bounds) on head(k) of a Vector3d under AVX.
+    for (int r = 0; r < k; ++r) J(r, static_cast<int>(c)) = column[r];
   }
 }
 

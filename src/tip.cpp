@@ -12,6 +12,9 @@ namespace {
 // Up to this many calibrated parameters the Gram matrices are prepared (21 parameters: 231
 // numbers per configuration, 18.5 MB for 10,000 configurations).
 constexpr int kGramMaxParameters = 40;
+// A Gram entry whose spread over the workspace is below this (relative to its columns' scale)
+// is a constant of the model: rounding, not geometry.
+constexpr double kConstantGram = 1e-13;
 
 // Uniform in [0, 1) from the top 53 bits: the same on every platform, unlike
 // std::uniform_real_distribution.
@@ -87,17 +90,35 @@ TipEvaluator::TipEvaluator(const Machine& machine, const Noise& noise,
   if (n_p <= kGramMaxParameters) prepareGram(n_p);
 }
 
-// gram_(:, g) = the lower triangle of J_g^T J_g column by column, off-diagonal entries doubled,
-// so that tr(V J_g^T J_g) = gram_(:, g) . (lower triangle of V).
+// Column g: the lower triangle of J_g^T J_g column by column, off-diagonal entries doubled, so
+// that tr(V J_g^T J_g) = column . (lower triangle of V). Entries equal over the whole workspace
+// (a serial arm's |z_i|^2 = 1, z_i . x_(i+1) = 0, the probe block R^T R = I: about a fifth of
+// them) are kept once, and the per-evaluation product runs over the others only.
 void TipEvaluator::prepareGram(int n_p) {
-  gram_.resize(n_p * (n_p + 1) / 2, size());
+  const int entries = n_p * (n_p + 1) / 2;
+  Eigen::MatrixXd full(entries, size());
   for (int g = 0; g < size(); ++g) {
     const auto J = J_p_.middleRows(g * dimension_, dimension_);
     int k = 0;
     for (int b = 0; b < n_p; ++b) {
-      for (int a = b; a < n_p; ++a) gram_(k++, g) = (a == b ? 1.0 : 2.0) * J.col(a).dot(J.col(b));
+      for (int a = b; a < n_p; ++a) full(k++, g) = (a == b ? 1.0 : 2.0) * J.col(a).dot(J.col(b));
     }
   }
+  gram_constant_.setZero(entries);
+  gram_rows_.clear();
+  const Eigen::VectorXd column_scale = J_p_.colwise().norm() / std::sqrt(std::max(size(), 1));
+  int k = 0;
+  for (int b = 0; b < n_p; ++b) {
+    for (int a = b; a < n_p; ++a, ++k) {
+      const double spread = full.row(k).maxCoeff() - full.row(k).minCoeff();
+      if (size() > 1 && spread <= kConstantGram * column_scale[a] * column_scale[b]) {
+        gram_constant_[k] = full.row(k).mean();
+      } else {
+        gram_rows_.push_back(k);
+      }
+    }
+  }
+  gram_ = full(gram_rows_, Eigen::all);
 }
 
 namespace {
@@ -116,15 +137,17 @@ Eigen::MatrixXd covarianceRoot(const Eigen::MatrixXd& V) {
 void TipEvaluator::kinematicVariance(const Eigen::MatrixXd& V_p, Eigen::VectorXd& S_m2) const {
   // S_m^2 = tr(J V J^T) = |J L|_F^2 with V = L L^T: one product over the whole workspace, with a
   // triangular L (half the work of a full one).
-  if (gram_.size() > 0) {
+  if (gram_constant_.size() > 0) {
     const int n_p = static_cast<int>(V_p.rows());
-    packed_V_.resize(gram_.rows());
+    packed_V_.resize(gram_constant_.size());
     int k = 0;
     for (int b = 0; b < n_p; ++b) {
       packed_V_.segment(k, n_p - b) = V_p.col(b).tail(n_p - b);
       k += n_p - b;
     }
-    S_m2.noalias() = gram_.transpose() * packed_V_;
+    packed_varying_ = packed_V_(gram_rows_);
+    S_m2.noalias() = gram_.transpose() * packed_varying_;
+    S_m2.array() += gram_constant_.dot(packed_V_);
     return;
   }
   const Eigen::LLT<Eigen::MatrixXd> llt(V_p);

@@ -54,9 +54,14 @@ class TipEvaluator {
   int dimension_;
   std::vector<Eigen::VectorXd> configurations_;
   Eigen::MatrixXd J_p_;
-  Eigen::MatrixXd gram_;  ///< per configuration (column), vech of J_p^T J_p, off-diagonal doubled
+  /// Per configuration (column): the entries of vech(J_p^T J_p) (off-diagonal doubled) that vary
+  /// over the workspace; `gram_rows_` says which, `gram_constant_` holds the others (0 where
+  /// varying).
+  Eigen::MatrixXd gram_;
+  std::vector<int> gram_rows_;
+  Eigen::VectorXd gram_constant_;
   Eigen::VectorXd S_q2_;
-  mutable Eigen::VectorXd packed_V_;
+  mutable Eigen::VectorXd packed_V_, packed_varying_;
   mutable Eigen::MatrixXd scratch_;
   mutable Eigen::VectorXd S_m2_;
 };
