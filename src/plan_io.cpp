@@ -175,9 +175,13 @@ MechanismPtr parsePlanar2R(const Node& machine, Eigen::VectorXd& nominal) {
   auto mechanism = std::make_shared<Planar2R>();
   const Node params = machine.at("parameters");
   params.object();
+  // Read before the comma initializer: an InputError thrown inside it would unwind through
+  // Eigen's CommaInitializer destructor, which asserts that every coefficient was given.
+  const double l1 = params.at("l1").positive();
+  const double l2 = params.at("l2").positive();
+  const double dt2 = degToRad(params.find("dt2") ? params.at("dt2").number() : 0.0);
   nominal.resize(3);
-  nominal << params.at("l1").positive(), params.at("l2").positive(),
-      degToRad(params.find("dt2") ? params.at("dt2").number() : 0.0);
+  nominal << l1, l2, dt2;
   for (const auto& [key, v] : params.object().items()) {
     if (mechanism->parameterIndex(key) < 0) {
       params.at(key).fail("unknown parameter of planar2r (expected l1, l2, dt2)");

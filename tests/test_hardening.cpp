@@ -139,6 +139,10 @@ std::vector<BadInput> badInputs() {
       {"wrong format", with([](json& p) { p["format"] = "artcal-plan/2"; }), "/format",
        "unsupported format"},
       {"missing field", with([](json& p) { p.erase("noise"); }), "/noise", "missing field"},
+      // Found by tools/sanitize.sh (asserts on): the InputError unwound through Eigen's comma
+      // initializer of the planar2r parameters, whose destructor asserts; abort instead of exit 2.
+      {"missing model parameter", with([](json& p) { p["machine"]["parameters"].erase("l2"); }),
+       "/machine/parameters/l2", "missing field"},
       {"wrong type", with([](json& p) { p["noise"]["probe"] = "0.005"; }), "/noise/probe",
        "expected a number, got a string"},
       {"negative noise", with([](json& p) { p["noise"]["probe"] = -1; }), "/noise/probe",
