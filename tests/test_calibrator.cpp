@@ -16,6 +16,7 @@
 #include "artcal/levenberg_marquardt.hpp"
 #include "artcal/simulation.hpp"
 #include "artcal/truth_io.hpp"
+#include "cli_runner.hpp"
 
 namespace artcal {
 namespace {
@@ -24,21 +25,8 @@ Plan testPlan(const std::string& name) {
   return loadPlan(std::string(ARTCAL_TEST_DATA) + "/" + name + ".json");
 }
 
-struct CommandResult {
-  int status = -1;
-  std::string out;
-};
-
-CommandResult runCli(const std::string& arguments) {
-  const std::string command = std::string(ARTCAL_CLI) + " " + arguments + " 2>/dev/null";
-  CommandResult result;
-  FILE* pipe = popen(command.c_str(), "r");
-  std::array<char, 4096> buffer{};
-  while (std::fgets(buffer.data(), buffer.size(), pipe)) result.out += buffer.data();
-  const int status = pclose(pipe);
-  result.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return result;
-}
+using test_support::CliRun;
+using test_support::runCli;
 
 std::string tempPath(const std::string& name) {
   return ::testing::TempDir() + "/artcal-calibrator-" + name;
@@ -345,7 +333,7 @@ TEST(CalibrateCommand, JsonCarriesThePromisedFields) {
   const std::string plan = std::string(ARTCAL_TEST_DATA) + "/ref-2r-calibrate.json";
   const std::string machine = tempPath("machine.json");
   std::remove(machine.c_str());
-  const CommandResult result = runCli("calibrate " + plan + " --json --write-machine " + machine);
+  const CliRun result = runCli("calibrate " + plan + " --json --write-machine " + machine);
   ASSERT_EQ(result.status, 0);
   const nlohmann::json out = nlohmann::json::parse(result.out);
   EXPECT_TRUE(out["converged"].get<bool>());
@@ -374,7 +362,7 @@ TEST(CalibrateCommand, NonConvergenceExitsOneWithoutNaN) {
   const std::string plan = std::string(ARTCAL_TEST_DATA) + "/ref-2r-calibrate.json";
   const std::string machine = tempPath("unconverged-machine.json");
   std::remove(machine.c_str());
-  const CommandResult result =
+  const CliRun result =
       runCli("calibrate " + plan + " --json --max-iterations 1 --write-machine " + machine);
   EXPECT_EQ(result.status, 1);
   EXPECT_FALSE(std::ifstream(machine).good());  // an unconverged estimate is not written
@@ -382,7 +370,7 @@ TEST(CalibrateCommand, NonConvergenceExitsOneWithoutNaN) {
   EXPECT_FALSE(out["converged"].get<bool>());
   EXPECT_EQ(result.out.find("NaN"), std::string::npos);
   EXPECT_EQ(result.out.find("nan"), std::string::npos);
-  const CommandResult table = runCli("calibrate " + plan + " --max-iterations 1");
+  const CliRun table = runCli("calibrate " + plan + " --max-iterations 1");
   EXPECT_EQ(table.status, 1);
   EXPECT_NE(table.out.find("NOT CONVERGED"), std::string::npos);
 }

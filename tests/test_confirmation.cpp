@@ -11,6 +11,7 @@
 #include "artcal/artcal.hpp"
 #include "artcal/calibration_report.hpp"
 #include "artcal/confirmation.hpp"
+#include "cli_runner.hpp"
 
 namespace artcal {
 namespace {
@@ -130,25 +131,12 @@ TEST(Confirmation, UnidentifiablePlanHasNothingToConfirm) {
 
 // -------------------------------------------------------------------------------------- CLI
 
-struct CommandResult {
-  int status = -1;
-  std::string out;
-};
-
-CommandResult runCli(const std::string& arguments) {
-  const std::string command = std::string(ARTCAL_CLI) + " " + arguments + " 2>/dev/null";
-  CommandResult result;
-  FILE* pipe = popen(command.c_str(), "r");
-  std::array<char, 4096> buffer{};
-  while (std::fgets(buffer.data(), buffer.size(), pipe)) result.out += buffer.data();
-  const int status = pclose(pipe);
-  result.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return result;
-}
+using test_support::CliRun;
+using test_support::runCli;
 
 TEST(ConfirmCommand, ExitStatusAndFields) {
   const std::string plan = std::string(ARTCAL_TEST_DATA) + "/ref-2r-5bars.json";
-  const CommandResult ok = runCli("confirm " + plan + " --trials 200 --seed 1 --json --quiet");
+  const CliRun ok = runCli("confirm " + plan + " --trials 200 --seed 1 --json --quiet");
   ASSERT_EQ(ok.status, 0);
   const nlohmann::json out = nlohmann::json::parse(ok.out);
   EXPECT_TRUE(out["confirmed"].get<bool>());
@@ -162,8 +150,7 @@ TEST(ConfirmCommand, ExitStatusAndFields) {
   }
   EXPECT_EQ(out["parameters"][0]["name"], "l1");
   EXPECT_NEAR(out["parameters"][0]["predicted_u"].get<double>(), 0.009196, 1e-5);  // evaluate's u
-  const CommandResult bad =
-      runCli("confirm " + plan + " --trials 200 --seed 1 --noise-scale 2 --quiet");
+  const CliRun bad = runCli("confirm " + plan + " --trials 200 --seed 1 --noise-scale 2 --quiet");
   EXPECT_EQ(bad.status, 1);
   EXPECT_NE(bad.out.find("NOT CONFIRMED"), std::string::npos);
   EXPECT_NE(bad.out.find("band"), std::string::npos);

@@ -16,6 +16,7 @@
 #include "artcal/design_space.hpp"
 #include "artcal/inverse_kinematics.hpp"
 #include "artcal/optimizer.hpp"
+#include "cli_runner.hpp"
 
 namespace artcal {
 namespace {
@@ -315,20 +316,10 @@ TEST(OptimizedPlans, ReadingsFeasibleAndPredictedReproduced) {
 // ---------------------------------------------------------------------------------------------
 // The command line
 
-struct CliRun {
-  int status = -1;
-  std::string out;
-};
+using test_support::CliRun;
 
 CliRun runCli(const std::string& arguments) {
-  const std::string command = std::string(ARTCAL_CLI) + " " + arguments + " 2>&1";
-  CliRun run;
-  std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(command.c_str(), "r"), pclose);
-  std::array<char, 4096> buffer{};
-  while (fgets(buffer.data(), buffer.size(), pipe.get())) run.out += buffer.data();
-  const int raw = pclose(pipe.release());
-  run.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-  return run;
+  return test_support::runCli(arguments, test_support::Stderr::Merge);
 }
 
 class OptimizeCli : public ::testing::Test {

@@ -13,6 +13,7 @@
 #include <sys/wait.h>
 
 #include "artcal/artcal.hpp"
+#include "cli_runner.hpp"
 
 namespace artcal {
 namespace {
@@ -37,17 +38,7 @@ std::string readme() {
   return readText(plansDir() + "/../README.md");
 }
 
-/// Runs the artcal binary; returns its exit status and stdout.
-std::pair<int, std::string> runCli(const std::string& arguments) {
-  const std::string command = std::string(ARTCAL_CLI) + " " + arguments + " 2>/dev/null";
-  std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(command.c_str(), "r"), pclose);
-  std::string out;
-  char buffer[4096];
-  std::size_t n = 0;
-  while ((n = fread(buffer, 1, sizeof buffer, pipe.get())) > 0) out.append(buffer, n);
-  const int status = pclose(pipe.release());
-  return {WEXITSTATUS(status), out};
-}
+using test_support::runCli;
 
 // A figure as README.md prints it: 8 significant digits, lengths in um, angles in deg.
 struct Figure {
@@ -170,7 +161,7 @@ TEST(Plans, ReadmeStatesEveryFigure) {
 TEST(Plans, CommandLineGivesTheSameFigures) {
   for (const ExamplePlan& example : examplePlans()) {
     SCOPED_TRACE(example.name);
-    EXPECT_EQ(runCli("check " + planPath(example.name)).first, 0);
+    EXPECT_EQ(runCli("check " + planPath(example.name)).status, 0);
     const auto [status, out] = runCli("evaluate --json " + planPath(example.name));
     ASSERT_EQ(status, 0);
     expectFigures(example, nlohmann::json::parse(out));
