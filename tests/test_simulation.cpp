@@ -11,6 +11,7 @@
 #include "artcal/artcal.hpp"
 #include "artcal/simulation.hpp"
 #include "artcal/truth_io.hpp"
+#include "cli_runner.hpp"
 
 namespace artcal {
 namespace {
@@ -32,14 +33,10 @@ struct CommandResult {
   std::string err;
 };
 
+// stderr through a pipe, not a shared file: ctest runs these tests in parallel.
 CommandResult runCli(const std::string& arguments) {
-  const std::string err = tempPath("stderr.txt");
-  const int status =
-      std::system((std::string(ARTCAL_CLI) + " " + arguments + " >/dev/null 2>" + err).c_str());
-  std::ifstream in(err);
-  std::stringstream text;
-  text << in.rdbuf();
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, text.str()};
+  const test_support::CliRun run = test_support::runCli(arguments, test_support::Stderr::Only);
+  return {run.status, run.out};
 }
 
 std::string readFile(const std::string& path) {
