@@ -22,12 +22,16 @@ std::optional<ParameterCovariance> covarianceFromInformation(const Eigen::Matrix
   return cov;
 }
 
-Eigen::MatrixXd parameterInformation(const Plan& plan, const std::vector<Placement>& placements,
-                                     const Eigen::VectorXd& p) {
-  const std::vector<RigidTransform> poses = fitPlacements(plan, placements, p);
-  DesignMatrixBuilder builder(plan.machine, plan.noise);
-  NormalMatrixReducer reducer(GlobalLayout::of(plan));
-  ObservationBlock block;
+namespace {
+
+// Every placement's observation block, its r_j eliminated as it arrives (method.md section 3):
+// the information of p. The one loop behind parameterInformation and PlanEvaluator.
+Eigen::MatrixXd reduceInformation(const Plan& plan, const std::vector<Placement>& placements,
+                                  const Eigen::VectorXd& p,
+                                  const std::vector<RigidTransform>& poses,
+                                  DesignMatrixBuilder& builder, NormalMatrixReducer& reducer,
+                                  ObservationBlock& block) {
+  reducer.reset();
   const Eigen::VectorXd no_c;
   for (std::size_t j = 0; j < placements.size(); ++j) {
     const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placements[j].artifact)];
@@ -35,6 +39,17 @@ Eigen::MatrixXd parameterInformation(const Plan& plan, const std::vector<Placeme
     reducer.add(block, placements[j].artifact);
   }
   return reducer.parameterInformation();
+}
+
+}  // namespace
+
+Eigen::MatrixXd parameterInformation(const Plan& plan, const std::vector<Placement>& placements,
+                                     const Eigen::VectorXd& p) {
+  DesignMatrixBuilder builder(plan.machine, plan.noise);
+  NormalMatrixReducer reducer(GlobalLayout::of(plan));
+  ObservationBlock block;
+  return reduceInformation(plan, placements, p, fitPlacements(plan, placements, p), builder,
+                           reducer, block);
 }
 
 PlanEvaluator::PlanEvaluator(const Plan& plan)
@@ -54,15 +69,8 @@ const Eigen::MatrixXd& PlanEvaluator::information(const std::vector<Placement>& 
     fitted = fitPlacements(plan, placements, plan.machine.nominal);
     poses = &fitted;
   }
-  reducer_.reset();
-  const Eigen::VectorXd no_c;
-  for (std::size_t j = 0; j < placements.size(); ++j) {
-    const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placements[j].artifact)];
-    builder_.build(artifact, placements[j].measurements, plan.machine.nominal, (*poses)[j], no_c,
-                   false, block_);
-    reducer_.add(block_, placements[j].artifact);
-  }
-  information_ = reducer_.parameterInformation();
+  information_ =
+      reduceInformation(plan, placements, plan.machine.nominal, *poses, builder_, reducer_, block_);
   return information_;
 }
 
