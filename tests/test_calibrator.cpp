@@ -11,11 +11,11 @@
 #include <memory>
 
 #include "artcal/artcal.hpp"
-#include "artcal/calibration_report.hpp"
-#include "artcal/calibrator.hpp"
-#include "artcal/levenberg_marquardt.hpp"
-#include "artcal/simulation.hpp"
-#include "artcal/truth_io.hpp"
+#include "artcal/calibration/calibrator.hpp"
+#include "artcal/calibration/levenberg_marquardt.hpp"
+#include "artcal/calibration/simulation.hpp"
+#include "artcal/io/truth_io.hpp"
+#include "artcal/report/calibration_report.hpp"
 #include "cli_runner.hpp"
 
 namespace artcal {

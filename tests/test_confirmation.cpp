@@ -9,8 +9,8 @@
 #include <filesystem>
 
 #include "artcal/artcal.hpp"
-#include "artcal/calibration_report.hpp"
-#include "artcal/confirmation.hpp"
+#include "artcal/calibration/confirmation.hpp"
+#include "artcal/report/calibration_report.hpp"
 #include "cli_runner.hpp"
 
 namespace artcal {

@@ -18,7 +18,7 @@
 #include <thread>
 
 #include "artcal/artcal.hpp"
-#include "artcal/calibrator.hpp"
+#include "artcal/calibration/calibrator.hpp"
 
 namespace artcal {
 namespace {

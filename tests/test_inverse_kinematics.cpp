@@ -7,8 +7,8 @@
 #include <random>
 
 #include "artcal/artcal.hpp"
-#include "artcal/design_space.hpp"
-#include "artcal/inverse_kinematics.hpp"
+#include "artcal/model/inverse_kinematics.hpp"
+#include "artcal/planning/design_space.hpp"
 
 namespace artcal {
 namespace {

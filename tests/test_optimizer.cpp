@@ -13,9 +13,9 @@
 #include <numbers>
 
 #include "artcal/artcal.hpp"
-#include "artcal/design_space.hpp"
-#include "artcal/inverse_kinematics.hpp"
-#include "artcal/optimizer.hpp"
+#include "artcal/model/inverse_kinematics.hpp"
+#include "artcal/planning/design_space.hpp"
+#include "artcal/planning/optimizer.hpp"
 #include "cli_runner.hpp"
 
 namespace artcal {

@@ -9,8 +9,8 @@
 #include <sstream>
 
 #include "artcal/artcal.hpp"
-#include "artcal/simulation.hpp"
-#include "artcal/truth_io.hpp"
+#include "artcal/calibration/simulation.hpp"
+#include "artcal/io/truth_io.hpp"
 #include "cli_runner.hpp"
 
 namespace artcal {

@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <iostream>
 
-#include "artcal/error.hpp"
-#include "artcal/plan_io.hpp"
+#include "artcal/core/error.hpp"
+#include "artcal/io/plan_io.hpp"
 #include "commands.hpp"
 
 namespace artcal::cli {

@@ -4,12 +4,12 @@
 
 #include <iostream>
 
-#include "artcal/calibration_report.hpp"
-#include "artcal/calibrator.hpp"
-#include "artcal/confirmation.hpp"
-#include "artcal/plan_io.hpp"
-#include "artcal/simulation.hpp"
-#include "artcal/truth_io.hpp"
+#include "artcal/calibration/calibrator.hpp"
+#include "artcal/calibration/confirmation.hpp"
+#include "artcal/calibration/simulation.hpp"
+#include "artcal/io/plan_io.hpp"
+#include "artcal/io/truth_io.hpp"
+#include "artcal/report/calibration_report.hpp"
 #include "commands.hpp"
 
 namespace artcal::cli {

@@ -2,8 +2,8 @@
 
 #include <iostream>
 
-#include "artcal/evaluator.hpp"
-#include "artcal/report.hpp"
+#include "artcal/estimation/evaluator.hpp"
+#include "artcal/report/report.hpp"
 #include "commands.hpp"
 
 namespace artcal::cli {

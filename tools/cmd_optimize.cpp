@@ -8,10 +8,10 @@
 #include <iostream>
 #include <sstream>
 
-#include "artcal/error.hpp"
-#include "artcal/optimizer.hpp"
-#include "artcal/plan_io.hpp"
-#include "artcal/report.hpp"
+#include "artcal/core/error.hpp"
+#include "artcal/io/plan_io.hpp"
+#include "artcal/planning/optimizer.hpp"
+#include "artcal/report/report.hpp"
 #include "commands.hpp"
 
 namespace artcal::cli {

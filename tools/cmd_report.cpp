@@ -4,12 +4,12 @@
 #include <iostream>
 #include <optional>
 
-#include "artcal/calibration_report.hpp"
-#include "artcal/calibrator.hpp"
-#include "artcal/evaluator.hpp"
-#include "artcal/html_report.hpp"
-#include "artcal/plan_io.hpp"
-#include "artcal/report.hpp"
+#include "artcal/calibration/calibrator.hpp"
+#include "artcal/estimation/evaluator.hpp"
+#include "artcal/io/plan_io.hpp"
+#include "artcal/report/calibration_report.hpp"
+#include "artcal/report/html_report.hpp"
+#include "artcal/report/report.hpp"
 #include "commands.hpp"
 
 namespace artcal::cli {

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "artcal/plan.hpp"
+#include "artcal/plan/plan.hpp"
 
 namespace artcal::cli {
 

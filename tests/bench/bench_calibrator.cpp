@@ -12,9 +12,9 @@
 #include <random>
 
 #include "artcal/artcal.hpp"
-#include "artcal/calibrator.hpp"
-#include "artcal/confirmation.hpp"
-#include "artcal/simulation.hpp"
+#include "artcal/calibration/calibrator.hpp"
+#include "artcal/calibration/confirmation.hpp"
+#include "artcal/calibration/simulation.hpp"
 
 namespace artcal {
 namespace {

@@ -5,7 +5,7 @@
 #include <benchmark/benchmark.h>
 
 #include "artcal/artcal.hpp"
-#include "artcal/optimizer.hpp"
+#include "artcal/planning/optimizer.hpp"
 
 #include <algorithm>
 #include <random>

@@ -1,0 +1,166 @@
+#pragma once
+// The calibrator (method.md section 6): from the readings of a plan, estimate the calibrated
+// parameters p, every placement's rigid transform r_j and the artifacts' systematic errors c by
+// minimising
+//
+//   sum_j e_j^T Sigma_j^-1 e_j + c^T Sigma_c^-1 c      (e = F(p, q, r_j) - W*(c), section 3)
+//
+// with Levenberg-Marquardt on the block structure: each placement's whitened observation block
+// (DesignMatrixBuilder, weights re-evaluated at the current estimate) is reduced by the Schur
+// complement of its r_j (NormalMatrixReducer), the damped step dg over g = (p, c) is solved
+// (LevenbergMarquardtStrategy), and each r_j follows by back-substitution
+// (PlacementElimination::rigidStep). Each r_j starts from a rigid (Umeyama) fit of the probed
+// points at the starting parameters. The cost is linear in the number of placements.
+//
+// The reported u is sqrt(diag V_p), V_p the inverse of the reduced information at the estimate
+// with the declared noise model (c eliminated with its prior); u_posterior = u sqrt(chi2/dof).
+// dof = (valued coordinates observed) - N(p) - sum_j N(r_j): each c has one prior
+// pseudo-observation and one unknown.
+
+#include <Eigen/Core>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "artcal/calibration/levenberg_marquardt.hpp"
+#include "artcal/estimation/design_matrix.hpp"
+#include "artcal/estimation/evaluator.hpp"
+#include "artcal/estimation/normal_matrix.hpp"
+#include "artcal/plan/plan.hpp"
+
+namespace artcal {
+
+enum class TerminationType {
+  Converged,      ///< the step or the cost change fell below its tolerance
+  NoConvergence,  ///< max_iterations reached
+  Failure,        ///< no descent step exists, or the problem became non-finite
+};
+
+std::string terminationName(TerminationType type);
+
+struct CalibrationOptions {
+  int max_iterations = 50;
+  /// Converged when every |dg_i| sqrt(N_ii) < step_tolerance (the step is that small a fraction
+  /// of the parameter's conditional standard uncertainty) and the r_j steps are as small
+  /// (Linearization::rigid_reduction < step_tolerance^2) ...
+  double step_tolerance = 1e-3;
+  /// ... or when the predicted or actual cost change of a step is below
+  /// max(function_tolerance * cost, step_tolerance^2). The weights are re-evaluated at the
+  /// estimate (they depend on p through J_q), so the iteration is a reweighted Gauss-Newton:
+  /// near its fixed point the exact cost may not fall by the tiny amounts the model promises.
+  double function_tolerance = 1e-10;
+  DampingOptions damping;
+  /// Normalised residuals larger than this (in absolute value) are flagged.
+  double flag_threshold = 3.0;
+  /// Residual table and V_p at the estimate (the Monte-Carlo confirmation skips them).
+  bool details = true;
+  bool isValid(std::string* error) const;
+};
+
+struct CalibrationSummary {
+  TerminationType termination = TerminationType::Failure;
+  std::string message;
+  int iterations = 0;  ///< linearisations whose step was tried
+  int accepted_steps = 0;
+  double initial_cost = 0.0;
+  double final_cost = 0.0;
+  bool converged() const { return termination == TerminationType::Converged; }
+  /// One line: termination, iterations, cost.
+  std::string briefReport() const;
+};
+
+/// One measured point's residual in its valued artifact coordinates.
+struct ResidualEntry {
+  int placement = 0;
+  int measurement = 0;
+  int feature = 0;
+  Eigen::VectorXd residual;  ///< F - W*, mm
+  /// Standardised: z_i / sqrt(1 - h_ii), z = Sigma^-1/2 (F - W*) whitened, h_ii the row's
+  /// leverage in the full fit (p, c and every r_j). Unit variance under the noise model, so a
+  /// gross error is not hidden by what the fit absorbs; 0 where 1 - h_ii < 1e-3 (not testable).
+  Eigen::VectorXd normalized;
+  double score = 0.0;    ///< max |normalized|
+  bool flagged = false;  ///< score > flag_threshold
+};
+
+struct Calibration {
+  CalibrationSummary summary;
+  Eigen::VectorXd parameters;  ///< full parameter vector, internal units
+  Eigen::VectorXd systematic;  ///< c over the GlobalLayout order, mm
+  std::vector<RigidTransform> poses;
+  double chi2 = 0.0;  ///< sum e^T Sigma^-1 e + c^T Sigma_c^-1 c at the estimate
+  int dof = 0;
+  double chi2_per_dof = 0.0;                      ///< 0 when dof <= 0
+  std::optional<ParameterCovariance> covariance;  ///< V_p at the estimate (details only)
+  std::vector<ResidualEntry> residuals;           ///< details only
+  int largest_residual = -1;                      ///< index into residuals, -1 when none
+
+  Eigen::VectorXd estimate(const Machine& machine) const {
+    return machine.calibratedValues(parameters);
+  }
+  /// u * sqrt(chi2_per_dof), internal units; empty without covariance or when dof <= 0.
+  Eigen::VectorXd posteriorU() const;
+};
+
+/// The unknowns of the calibration: p (full vector), c (GlobalLayout order) and every r_j.
+struct CalibrationState {
+  Eigen::VectorXd p;
+  Eigen::VectorXd c;
+  std::vector<RigidTransform> poses;
+};
+
+/// The problem linearised at a state, reduced over g = (p, c).
+struct Linearization {
+  double cost = 0.0;  ///< sum e^T Sigma^-1 e + c^T Sigma_c^-1 c
+  Eigen::MatrixXd N;  ///< reduced normal matrix with the prior
+  /// Reduced right-hand side with the prior: along (dg, dr_j = rigidStep(dg) - rigidStep(0)),
+  /// the cost changes at the rate -2 b^T dg.
+  Eigen::VectorXd b;
+  std::vector<PlacementElimination> eliminations;  ///< per placement, for back-substitution
+  /// sum_j g_r^T (A_r^T A_r)^+ g_r: what re-fitting every r_j alone (dg = 0) would gain. The
+  /// full model prediction is this plus 2 b^T dg - dg^T N dg.
+  double rigid_reduction = 0.0;
+  double predictedReduction(const Eigen::VectorXd& dg) const;
+};
+
+/// Prepared calibrations of one plan (model/data split): holds the builders and scratch space.
+/// Not thread-safe: one per thread.
+class Calibrator {
+ public:
+  explicit Calibrator(const Plan& plan, const CalibrationOptions& options = {});
+
+  /// Calibrates from `placements` (their readings), starting from the plan's nominal parameters.
+  Calibration run(const std::vector<Placement>& placements);
+  /// Same, starting from the full parameter vector `start`.
+  Calibration run(const std::vector<Placement>& placements, const Eigen::VectorXd& start);
+
+  /// The starting state: p = start, c = 0, each r_j fitted (Umeyama) at `start`.
+  CalibrationState initialState(const std::vector<Placement>& placements,
+                                const Eigen::VectorXd& start) const;
+  /// Linearises at `state` (weights evaluated there); false when anything is non-finite.
+  bool linearize(const std::vector<Placement>& placements, const CalibrationState& state,
+                 Linearization& out);
+  /// The state after the global step dg, each r_j back-substituted (method.md section 3).
+  void step(const CalibrationState& from, const Linearization& at, const Eigen::VectorXd& dg,
+            const std::vector<Placement>& placements, CalibrationState& to) const;
+
+ private:
+  void fillDetails(const std::vector<Placement>& placements, Calibration& out);
+  /// A cost change too small to matter (see CalibrationOptions).
+  double negligible(double cost) const;
+
+  const Plan* plan_;
+  CalibrationOptions options_;
+  GlobalLayout layout_;
+  DesignMatrixBuilder builder_;
+  NormalMatrixReducer reducer_;
+  ObservationBlock block_;
+  LevenbergMarquardtStrategy strategy_;
+  CalibrationState current_, trial_;
+  Linearization current_lin_, trial_lin_;
+};
+
+/// Convenience: Calibrator(plan, options).run(plan.placements).
+Calibration calibratePlan(const Plan& plan, const CalibrationOptions& options = {});
+
+}  // namespace artcal

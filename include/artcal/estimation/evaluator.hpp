@@ -1,0 +1,82 @@
+#pragma once
+// The evaluator: plan -> observation blocks -> reduced normal matrix -> V_p -> tip uncertainty
+// (method.md sections 3-5). It computes before any measurement: it needs the nominal parameters
+// and the planned readings only.
+//
+// Rank policy: when the information of p is singular (identifiability.hpp), V_p does not exist.
+// The evaluation then says so (identifiable() false) and carries no uncertainties, rather than
+// numbers from a pseudo-inverse that would look meaningful and are not.
+
+#include <Eigen/Core>
+#include <optional>
+#include <vector>
+
+#include "artcal/estimation/identifiability.hpp"
+#include "artcal/estimation/normal_matrix.hpp"
+#include "artcal/estimation/tip.hpp"
+#include "artcal/plan/plan.hpp"
+
+namespace artcal {
+
+/// V_p and what follows from it directly.
+struct ParameterCovariance {
+  Eigen::MatrixXd V;  ///< internal units
+  Eigen::VectorXd u;  ///< sqrt(diag V), internal units
+  Eigen::MatrixXd correlation;
+};
+
+/// Inverse of a (positive definite) information matrix; std::nullopt when it is not.
+std::optional<ParameterCovariance> covarianceFromInformation(const Eigen::MatrixXd& information);
+
+/// The information of p for a set of placements at parameters p (full vector), each r_j fitted.
+Eigen::MatrixXd parameterInformation(const Plan& plan, const std::vector<Placement>& placements,
+                                     const Eigen::VectorXd& p);
+
+struct Evaluation {
+  Identifiability identifiability;
+  Eigen::MatrixXd information;                    ///< of p, internal units
+  std::optional<ParameterCovariance> covariance;  ///< absent when not identifiable
+  std::optional<TipSummary> tip;
+  std::vector<ProfilePoint> profile;       ///< planar2r only
+  std::vector<Eigen::VectorXd> workspace;  ///< the configurations evaluated
+  bool identifiable() const { return identifiability.identifiable() && covariance.has_value(); }
+};
+
+struct EvaluateOptions {
+  double rank_tolerance = kDefaultRankTolerance;
+  int profile_steps = 21;
+};
+
+Evaluation evaluatePlan(const Plan& plan, const EvaluateOptions& options = {});
+
+/// Prepared, repeated evaluation (Pinocchio's model/data split): the plan is the immutable model;
+/// this object holds the workspace Jacobians, computed once, and the scratch space reused by
+/// every call. The optimizer re-evaluates candidate placements thousands of times through it.
+/// Not thread-safe: one per thread.
+class PlanEvaluator {
+ public:
+  /// Prepares the plan's own workspace (plan.workspace).
+  explicit PlanEvaluator(const Plan& plan);
+  PlanEvaluator(const Plan& plan, std::vector<Eigen::VectorXd> workspace);
+
+  const Plan& plan() const { return *plan_; }
+  const TipEvaluator& workspace() const { return tip_; }
+
+  /// The information of p for `placements` at the nominal parameters. `poses` gives each r_j;
+  /// when null every r_j is fitted to the probed points.
+  const Eigen::MatrixXd& information(const std::vector<Placement>& placements,
+                                     const std::vector<RigidTransform>* poses = nullptr);
+  /// V_p and the tip summary for `placements`; std::nullopt when V_p does not exist.
+  std::optional<TipSummary> tip(const std::vector<Placement>& placements,
+                                const std::vector<RigidTransform>* poses = nullptr);
+
+ private:
+  const Plan* plan_;
+  TipEvaluator tip_;
+  DesignMatrixBuilder builder_;
+  NormalMatrixReducer reducer_;
+  ObservationBlock block_;
+  Eigen::MatrixXd information_;
+};
+
+}  // namespace artcal

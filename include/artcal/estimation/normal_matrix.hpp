@@ -1,0 +1,76 @@
+#pragma once
+// The reduced normal matrix (method.md section 3). The global unknowns are g = (p, c): the
+// calibrated parameters and the artifacts' systematic errors. Each placement's rigid transform
+// r_j is eliminated by its Schur complement as the block arrives,
+//
+//   N_red += A_g^T A_g - A_g^T A_r (A_r^T A_r)^+ A_r^T A_g,
+//
+// so the cost is linear in the number of placements and the full normal matrix is never formed.
+// (A_r^T A_r)^+ is a pseudo-inverse: a direction of r_j that moves no valued coordinate to first
+// order (a step gauge's tilt with every face probed on its axis) is simply not estimated.
+//
+// The systematic errors c carry a prior (Sigma_c^-1 added to their block); eliminating them too
+// leaves the information of p alone, whose inverse is V_p (seed eq. 9).
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "artcal/estimation/design_matrix.hpp"
+#include "artcal/plan/plan.hpp"
+
+namespace artcal {
+
+/// Where each artifact's systematic errors sit in g = (p, c).
+struct GlobalLayout {
+  int parameters = 0;                ///< N(p)
+  std::vector<int> artifact_offset;  ///< per artifact: first index of its c in g
+  Eigen::VectorXd c_sigma;           ///< prior standard deviation of every c, in g order
+  int size() const { return parameters + static_cast<int>(c_sigma.size()); }
+  int systematicCount() const { return static_cast<int>(c_sigma.size()); }
+  static GlobalLayout of(const Plan& plan);
+};
+
+/// What eliminating r_j leaves to recover it after the global step (calibrator).
+struct PlacementElimination {
+  Eigen::MatrixXd M_rr_pinv;  ///< (A_r^T A_r)^+
+  Eigen::MatrixXd M_rg;       ///< A_r^T A_g over the placement's global columns
+  Eigen::VectorXd g_r;        ///< A_r^T e
+  std::vector<int> columns;   ///< the global columns A_g covers
+  /// r_j step for a global step dg: dr = -(A_r^T A_r)^+ (A_r^T e + M_rg dg[columns]).
+  Eigen::VectorXd rigidStep(const Eigen::VectorXd& dg) const;
+};
+
+/// Accumulates N_red (and, with residuals, the reduced right-hand side b = -A^T e reduced).
+class NormalMatrixReducer {
+ public:
+  explicit NormalMatrixReducer(const GlobalLayout& layout);
+  void reset();
+  /// Adds one placement of artifact `artifact_index`. When `elimination` is given it receives
+  /// what back-substitution needs.
+  void add(const ObservationBlock& block, int artifact_index,
+           PlacementElimination* elimination = nullptr);
+
+  const Eigen::MatrixXd& normal() const { return N_; }  ///< N_red over g, no prior yet
+  const Eigen::VectorXd& rhs() const { return b_; }     ///< -reduced A^T e
+  double chi2() const { return chi2_; }                 ///< sum of e^T e added
+
+  /// N_red with the prior Sigma_c^-1 on the c block.
+  Eigen::MatrixXd normalWithPrior() const;
+  /// The information of p alone: c eliminated (with its prior) by its Schur complement.
+  Eigen::MatrixXd parameterInformation() const;
+
+ private:
+  GlobalLayout layout_;
+  Eigen::MatrixXd N_;
+  Eigen::VectorXd b_;
+  double chi2_ = 0.0;
+  std::vector<int> columns_;
+  Eigen::MatrixXd A_g_, M_rr_, M_rr_pinv_, M_rg_, X_;
+  Eigen::VectorXd g_r_;
+};
+
+/// Pseudo-inverse of a small symmetric positive semi-definite matrix: eigenvalues below
+/// `relative_tolerance` times the largest count as zero.
+Eigen::MatrixXd symmetricPseudoInverse(const Eigen::MatrixXd& M, double relative_tolerance = 1e-12);
+
+}  // namespace artcal

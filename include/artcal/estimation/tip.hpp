@@ -1,0 +1,85 @@
+#pragma once
+// Tip uncertainty over the workspace (method.md section 4, seed eq. 10 and Fig. 6):
+//   S_m(q)^2 = tr(J_p V_p J_p^T),  S_q(q)^2 = tr(J_q Sigma_q J_q^T),  S = sqrt(S_m^2 + S_q^2).
+// The workspace's Jacobians are prepared once. S_m^2 = tr(V_p J_p^T J_p) is then, for a new V_p,
+// one matrix-vector product with the prepared Gram matrices J_p^T J_p (their lower triangles,
+// N(p)(N(p)+1)/2 numbers per configuration); for many parameters, where those would take too
+// much memory, the product (J_p stacked) * chol(V_p), whose row norms give S_m.
+
+#include <Eigen/Core>
+#include <optional>
+#include <vector>
+
+#include "artcal/plan/plan.hpp"
+
+namespace artcal {
+
+/// The joint configurations of a workspace spec (internal units). Samples are uniform within
+/// the joint limits from a fixed generator (std::mt19937_64), identical on every platform.
+std::vector<Eigen::VectorXd> workspaceConfigurations(const Machine& machine,
+                                                     const WorkspaceSpec& spec);
+
+struct TipPoint {
+  double total = 0.0;      ///< S
+  double kinematic = 0.0;  ///< S_m
+  double encoder = 0.0;    ///< S_q
+};
+
+struct TipSummary {
+  TipPoint worst;
+  int worst_index = -1;  ///< into the workspace configurations
+  double mean = 0.0;     ///< mean of S over the workspace
+  double rms = 0.0;      ///< sqrt(mean of S^2): the I criterion's root
+};
+
+class TipEvaluator {
+ public:
+  TipEvaluator(const Machine& machine, const Noise& noise,
+               std::vector<Eigen::VectorXd> configurations);
+
+  int size() const { return static_cast<int>(configurations_.size()); }
+  const std::vector<Eigen::VectorXd>& configurations() const { return configurations_; }
+  /// J_p stacked: (dimension * size) x N(p), configuration g in rows [g*dim, (g+1)*dim).
+  const Eigen::MatrixXd& stackedJacobian() const { return J_p_; }
+  /// S_q^2 per configuration.
+  const Eigen::VectorXd& encoderVariance() const { return S_q2_; }
+
+  /// S_m^2 per configuration for a parameter covariance V_p (N(p) x N(p)).
+  void kinematicVariance(const Eigen::MatrixXd& V_p, Eigen::VectorXd& S_m2) const;
+  TipSummary summarize(const Eigen::MatrixXd& V_p) const;
+  TipPoint at(int configuration, const Eigen::MatrixXd& V_p) const;
+
+ private:
+  void prepareGram(int n_p);
+  int dimension_;
+  std::vector<Eigen::VectorXd> configurations_;
+  Eigen::MatrixXd J_p_;
+  /// Per configuration (column): the entries of vech(J_p^T J_p) (off-diagonal doubled) that vary
+  /// over the workspace; `gram_rows_` says which, `gram_constant_` holds the others (0 where
+  /// varying).
+  Eigen::MatrixXd gram_;
+  std::vector<int> gram_rows_;
+  Eigen::VectorXd gram_constant_;
+  Eigen::VectorXd S_q2_;
+  mutable Eigen::VectorXd packed_V_, packed_varying_;
+  mutable Eigen::MatrixXd scratch_;
+  mutable Eigen::VectorXd S_m2_;
+};
+
+/// Tip uncertainty of a point at one configuration (no preparation).
+TipPoint tipUncertainty(const Machine& machine, const Noise& noise, const Eigen::VectorXd& q,
+                        const Eigen::MatrixXd& V_p);
+
+/// One row of the planar 2R profile: the worst elbow branch at distance `reach` from the base.
+struct ProfilePoint {
+  double reach = 0.0;
+  TipPoint tip;
+};
+
+/// S_m, S_q and S against reach for `planar2r` (seed Fig. 6), `steps` rows from the inner to the
+/// outer reach; both elbow branches within the joint limits, the larger value kept. Empty for
+/// other models.
+std::vector<ProfilePoint> reachProfile(const Machine& machine, const Noise& noise,
+                                       const Eigen::MatrixXd& V_p, int steps = 21);
+
+}  // namespace artcal

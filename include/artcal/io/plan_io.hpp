@@ -1,0 +1,45 @@
+#pragma once
+// Reading and writing plan files (plan-format.md). Every fault in the input raises InputError
+// with the file and the JSON pointer of the offending value; outputs are written to a temporary
+// file in the same folder and renamed, so that a reader never sees a half-written file.
+
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "artcal/core/error.hpp"
+#include "artcal/plan/plan.hpp"
+
+namespace artcal {
+
+/// Largest plan file read, bytes (a bound against unbounded allocation).
+inline constexpr std::size_t kMaxPlanFileBytes = 256u << 20;
+
+/// Deepest nesting of arrays and objects accepted in an input document: a plan needs 6 levels;
+/// the bound keeps recursive consumers (dump, comparisons) far from the end of the stack.
+inline constexpr int kMaxJsonDepth = 64;
+
+/// Parses JSON text; InputError naming `source` when malformed or nested deeper than
+/// kMaxJsonDepth.
+nlohmann::json parseJsonText(const std::string& text, const std::string& source);
+
+/// Reads and parses a JSON file; InputError when unreadable, larger than kMaxPlanFileBytes,
+/// malformed or nested deeper than kMaxJsonDepth.
+nlohmann::json readJsonFile(const std::string& path);
+
+/// Validates a plan document and converts it to internal units. `source` names it in errors.
+/// `require_placements`: a plan for check/evaluate needs at least one; a design spec may have none.
+Plan parsePlan(const nlohmann::json& document, const std::string& source,
+               bool require_placements = true);
+
+/// readJsonFile + parsePlan.
+Plan loadPlan(const std::string& path, bool require_placements = true);
+
+/// The placements of a plan as plan-file JSON (file units), e.g. for a plan the tool writes.
+nlohmann::json placementsToJson(const Plan& plan);
+/// The machine block with the given full parameter vector as nominal values (file units).
+nlohmann::json machineToJson(const Machine& machine, const Eigen::VectorXd& parameters);
+
+/// Writes `content` to `path` through a temporary file and a rename; std::runtime_error on failure.
+void writeFileAtomically(const std::string& path, const std::string& content);
+
+}  // namespace artcal

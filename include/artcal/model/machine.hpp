@@ -1,0 +1,33 @@
+#pragma once
+// A mechanism with its nominal parameters, the calibrated subset and its joint limits: the
+// immutable model every numerical module reads (internal units: mm, rad).
+
+#include <Eigen/Core>
+#include <array>
+#include <vector>
+
+#include "artcal/model/mechanism.hpp"
+
+namespace artcal {
+
+/// A mechanism with its nominal parameters, the calibrated subset and its joint limits.
+struct Machine {
+  MechanismPtr mechanism;
+  Eigen::VectorXd nominal;      ///< every parameter of the model, internal units
+  std::vector<int> calibrated;  ///< indices into nominal, in the plan's order
+  std::vector<std::array<double, 2>> joint_limits;  ///< per joint, internal units
+
+  int dimension() const { return mechanism->dimension(); }
+  int jointCount() const { return mechanism->jointCount(); }
+  int calibratedCount() const { return static_cast<int>(calibrated.size()); }
+  const ParameterInfo& calibratedInfo(int k) const {
+    return mechanism->parameters()[calibrated[k]];
+  }
+  /// The calibrated subset of a full parameter vector.
+  Eigen::VectorXd calibratedValues(const Eigen::VectorXd& full) const;
+  /// `full` with the calibrated subset replaced by `values`.
+  Eigen::VectorXd withCalibrated(const Eigen::VectorXd& full, const Eigen::VectorXd& values) const;
+  bool withinLimits(const Eigen::VectorXd& q) const;
+};
+
+}  // namespace artcal

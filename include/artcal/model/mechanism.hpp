@@ -1,0 +1,53 @@
+#pragma once
+// Mechanism models: forward kinematics x = f(p, q) with exact Jacobians (method.md section 1).
+//
+// A Mechanism is immutable. Parameters p are the model's full parameter vector in internal units
+// (mm, rad); which of them are calibrated is the Machine's business, not the model's.
+
+#include <Eigen/Core>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "artcal/core/units.hpp"
+
+namespace artcal {
+
+enum class JointKind { Revolute, Prismatic };
+
+inline Quantity jointQuantity(JointKind kind) {
+  return kind == JointKind::Revolute ? Quantity::Angle : Quantity::Length;
+}
+
+struct ParameterInfo {
+  std::string name;
+  Quantity quantity;
+};
+
+class Mechanism {
+ public:
+  virtual ~Mechanism() = default;
+
+  /// The model's name in plan files ("planar2r", "serial-dh").
+  virtual std::string modelName() const = 0;
+  /// Dimension of the probe position x: 2 or 3.
+  virtual int dimension() const = 0;
+  virtual int jointCount() const = 0;
+  virtual JointKind jointKind(int joint) const = 0;
+  /// Every parameter of the model, in the order of p.
+  virtual const std::vector<ParameterInfo>& parameters() const = 0;
+
+  /// x = f(p, q). J_x_p (dimension x parameters) and J_x_q (dimension x joints) are filled when
+  /// not null; they are resized as needed (no allocation when already the right size).
+  virtual void forward(const Eigen::VectorXd& p, const Eigen::VectorXd& q, Eigen::VectorXd& x,
+                       Eigen::MatrixXd* J_x_p = nullptr,
+                       Eigen::MatrixXd* J_x_q = nullptr) const = 0;
+
+  int parameterCount() const { return static_cast<int>(parameters().size()); }
+  /// Index of a parameter by name, or -1.
+  int parameterIndex(const std::string& name) const;
+};
+
+using MechanismPtr = std::shared_ptr<const Mechanism>;
+
+}  // namespace artcal

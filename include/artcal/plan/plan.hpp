@@ -1,0 +1,92 @@
+#pragma once
+// The typed, validated content of a plan file (plan-format.md). Everything here is in internal
+// units (mm, rad); conversion happens only in plan_io. A Plan does not change during a run.
+
+#include <Eigen/Core>
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "artcal/artifact/artifact.hpp"
+#include "artcal/model/machine.hpp"
+
+namespace artcal {
+
+/// Random errors (method.md section 2): probing per coordinate (mm), encoders per joint (rad or
+/// mm).
+struct Noise {
+  double probe = 0.0;
+  Eigen::VectorXd encoder;
+};
+
+/// One reading: a feature probed with the given joint values (internal units).
+struct Measurement {
+  int feature = 0;
+  Eigen::VectorXd joints;
+};
+
+/// Where an artifact is put. 2-D: center and angle; 3-D: center, direction and roll.
+struct Pose {
+  Eigen::VectorXd center;
+  double angle = 0.0;                                    ///< 2-D, rad
+  Eigen::Vector3d direction = Eigen::Vector3d::UnitX();  ///< 3-D
+  double roll = 0.0;                                     ///< 3-D, rad
+};
+
+struct Placement {
+  int artifact = 0;  ///< index into Plan::artifacts
+  std::optional<Pose> pose;
+  std::vector<Measurement> measurements;
+};
+
+/// The joint configurations tip uncertainty is evaluated over (method.md section 4).
+struct WorkspaceSpec {
+  enum class Kind { Configurations, Samples, Grid };
+  Kind kind = Kind::Samples;
+  std::vector<Eigen::VectorXd> configurations;  ///< Kind::Configurations, internal units
+  int samples = 4096;                           ///< Kind::Samples
+  std::uint64_t seed = 1;                       ///< Kind::Samples
+  std::vector<int> grid;                        ///< Kind::Grid, points per joint
+};
+
+enum class Criterion { WorstTip, MeanTip, D, A, E };
+
+/// Where an artifact's features may lie when planning.
+struct Region {
+  std::optional<std::array<double, 2>> reach;         ///< distance from the machine origin, mm
+  std::optional<std::array<Eigen::VectorXd, 2>> box;  ///< opposite corners, mm
+  bool contains(const Eigen::VectorXd& x) const;
+};
+
+/// The `design` block of an optimization spec.
+struct DesignSpec {
+  int artifact = 0;
+  int placements = 1;
+  int postures = 1;
+  Region region;
+  Criterion criterion = Criterion::WorstTip;
+  std::uint64_t seed = 1;
+  int starts = 16;
+  double time_limit = 60.0;  ///< s
+};
+
+struct Plan {
+  std::string source;  ///< the file it came from, for messages
+  std::string name;
+  std::string description;
+  Machine machine;
+  Noise noise;
+  std::vector<Artifact> artifacts;
+  std::vector<Placement> placements;
+  WorkspaceSpec workspace;
+  std::optional<DesignSpec> design;
+  std::vector<std::string> warnings;  ///< e.g. unknown fields ignored
+
+  int artifactIndex(const std::string& id) const;
+};
+
+std::string criterionName(Criterion criterion);
+
+}  // namespace artcal

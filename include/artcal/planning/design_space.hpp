@@ -1,0 +1,76 @@
+#pragma once
+// The design space of the planner (method.md section 7): where one placement of the design's
+// artifact may go and in which postures its features are probed.
+//
+// A placement is described by a short pose vector v:
+//   2-D: (center x, center y, angle)                       angle in rad
+//   3-D: (center x, y, z, azimuth, elevation[, roll])      direction from the two angles; roll
+//                                                          only for ball plates (a bar's roll
+//                                                          about its axis is invisible)
+// The center is the artifact frame's origin (feature 0 of a ball bar). A placement is feasible
+// when every feature lies inside the design region and each planned reading reaches its feature
+// within the joint limits. Postures: planar2r has two (the elbow branches); its branch per
+// reading is a discrete design choice drawn at random for a candidate. Serial arms get
+// `diversePostures` (spread in joint space); moving a pose re-solves each reading from its
+// previous joints, so a posture keeps its identity while the optimizer refines the pose.
+
+#include <Eigen/Core>
+#include <optional>
+#include <random>
+#include <utility>
+#include <vector>
+
+#include "artcal/artifact/rigid_transform.hpp"
+#include "artcal/plan/plan.hpp"
+
+namespace artcal {
+
+class DesignSpace {
+ public:
+  /// `plan.design` must be set; InputError when the design does not fit the plan.
+  explicit DesignSpace(const Plan& plan);
+
+  const Plan& plan() const { return *plan_; }
+  const DesignSpec& design() const { return *plan_->design; }
+  const Artifact& artifact() const;
+  int dimension() const { return plan_->machine.dimension(); }
+  /// Numbers in one placement's pose vector.
+  int poseSize() const;
+  /// Box bounds of a pose vector (the centre within the region's extent, angles free).
+  Eigen::VectorXd lowerBounds() const { return lower_; }
+  Eigen::VectorXd upperBounds() const { return upper_; }
+  /// Typical step of each pose coordinate, for the start of a derivative-free search.
+  Eigen::VectorXd initialSteps() const;
+
+  RigidTransform transformOf(const Eigen::VectorXd& v) const;
+  Pose poseOf(const Eigen::VectorXd& v) const;
+  /// The artifact's features in the machine frame (dimension x features) for pose vector v.
+  Eigen::MatrixXd featurePositions(const Eigen::VectorXd& v) const;
+  /// How far (mm, summed) the features of pose v lie outside the region; 0 inside.
+  double regionViolation(const Eigen::VectorXd& v) const;
+
+  /// A random pose with every feature inside the region (not yet checked for reach).
+  Eigen::VectorXd randomPose(std::mt19937_64& rng) const;
+  /// A feasible placement at pose v with fresh postures (random elbow branches / diverse IK);
+  /// std::nullopt when some feature is outside the region or cannot get its postures.
+  std::optional<Placement> placeWithNewPostures(const Eigen::VectorXd& v,
+                                                std::mt19937_64& rng) const;
+  /// The placement at pose v whose readings continue those of `previous` (same features, same
+  /// order, each re-solved from its old joints); std::nullopt when one fails.
+  std::optional<Placement> movePlacement(const Placement& previous, const Eigen::VectorXd& v) const;
+  /// A random feasible placement and its pose vector: up to `attempts` random poses;
+  /// std::nullopt when none works.
+  std::optional<std::pair<Eigen::VectorXd, Placement>> randomPlacement(std::mt19937_64& rng,
+                                                                       int attempts) const;
+
+ private:
+  const Plan* plan_;
+  Eigen::VectorXd lower_, upper_;
+  bool has_roll_ = false;
+};
+
+/// Uniform number in [0, 1) from the generator (same on every platform, unlike the std
+/// distributions).
+double uniform01(std::mt19937_64& rng);
+
+}  // namespace artcal

@@ -1,0 +1,122 @@
+#pragma once
+// The planner (method.md section 7): places `design.placements` copies of the design's artifact
+// (each feature probed in `design.postures` postures) so that the criterion is as small as it can
+// be. Every criterion is a length in mm, smaller is better:
+//   worst-tip  G = max_q S(q) over the plan's workspace (minimax, G-optimality)
+//   mean-tip   sqrt(mean_q S(q)^2)  (the root of the I criterion)
+//   D          det(V_s)^(1/(2 N_p)),  A  sqrt(tr V_s / N_p),  E  sqrt(lambda_max(V_s))
+// where V_s is V_p with every angle parameter scaled by the machine's reach (mm per rad), so
+// that all parameters share a unit.
+//
+// Search, per start (seeded by (seed, start index) alone, so that the plan does not depend on
+// the thread count):
+//  1. a random initial design drawn from a candidate pool (feasible placements, seeded);
+//  2. Fedorov exchange: each placement adds an independent term to the reduced information
+//     (method.md section 3), so the pool's terms are computed once and a swap is a sum;
+//  3. continuous refinement of all poses with a derivative-free NLopt algorithm on the
+//     criterion (worst-tip: the max itself, or a p-norm smooth max), readings re-solved by IK
+//     from the starting postures; an infeasible pose gets a penalty.
+// The best start wins (ties: the lower start index). A start's result is never worse than its
+// initial design. `time_limit` stops the search (start 0 always runs, cut short if need be):
+// then the result depends on the timing and is reported as such.
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "artcal/estimation/evaluator.hpp"
+#include "artcal/plan/plan.hpp"
+#include "artcal/planning/design_space.hpp"
+
+namespace artcal {
+
+enum class RefineAlgorithm { None, Subplex, Bobyqa, NelderMead, Cobyla };
+std::string refineAlgorithmName(RefineAlgorithm algorithm);
+std::optional<RefineAlgorithm> refineAlgorithmFromName(const std::string& name);
+
+struct OptimizerProgress {
+  int starts_done = 0;
+  int starts = 0;
+  double best = 0.0;     ///< criterion value of the best plan so far, mm
+  double elapsed = 0.0;  ///< s
+};
+
+struct OptimizerOptions {
+  Criterion criterion = Criterion::WorstTip;
+  std::uint64_t seed = 1;
+  int starts = 16;
+  double time_limit = 60.0;  ///< s, whole search
+  int pool_size = 0;         ///< candidate placements; 0: automatic
+  int exchange_passes = 12;  ///< at most, per start
+  RefineAlgorithm algorithm = RefineAlgorithm::Subplex;
+  int refine_evaluations = 0;  ///< per start; 0: automatic (by the number of pose variables)
+  double smooth_power = 0.0;   ///< worst-tip refinement: 0 the max itself, p > 0 a p-norm
+  int threads = 0;             ///< 0: the hardware's
+  std::function<void(const OptimizerProgress&)> progress;  ///< called after each start
+
+  /// The spec's design block (criterion, seed, starts, time_limit) over the defaults.
+  static OptimizerOptions fromDesign(const DesignSpec& design);
+  bool isValid(std::string* why) const;
+};
+
+struct StartResult {
+  double initial = 0.0;    ///< the random initial design
+  double exchanged = 0.0;  ///< after the exchange
+  double refined = 0.0;    ///< after the continuous refinement (the start's result)
+  bool done = false;
+};
+
+struct OptimizerSummary {
+  enum class Termination { Completed, TimeLimit };
+  Termination termination = Termination::Completed;
+  std::vector<Placement> placements;  ///< the designed placements (the spec's fixed ones apart)
+  double value = 0.0;                 ///< criterion of the best plan, mm
+  int best_start = -1;
+  std::vector<StartResult> starts;
+  int pool_size = 0;
+  double seconds = 0.0;
+  std::string message;
+  int startsDone() const;
+  std::string briefReport() const;
+};
+
+/// Evaluates the criterion of designs from their placements' additive information terms.
+/// Holds prepared workspace Jacobians and scratch: one per thread.
+class DesignCriterion {
+ public:
+  DesignCriterion(const Plan& plan, Criterion criterion, double smooth_power = 0.0);
+
+  /// One placement's information term over g = (p, c), r_j fitted at the nominal parameters.
+  Eigen::MatrixXd contribution(const Placement& placement);
+  /// The criterion (mm) of the design whose information terms sum to `information_g`;
+  /// +infinity when V_p does not exist.
+  double value(const Eigen::MatrixXd& information_g);
+  /// The same with the worst-tip max replaced by the smooth p-norm when smooth_power > 0.
+  double smoothValue(const Eigen::MatrixXd& information_g);
+  int globalSize() const { return layout_.size(); }
+
+ private:
+  double evaluate(const Eigen::MatrixXd& information_g, double power);
+  const Plan* plan_;
+  Criterion criterion_;
+  double smooth_power_;
+  GlobalLayout layout_;
+  PlanEvaluator evaluator_;
+  DesignMatrixBuilder builder_;
+  NormalMatrixReducer reducer_;
+  ObservationBlock block_;
+  Eigen::VectorXd scale_, S_m2_;
+};
+
+/// Refuses a design that cannot be identifiable by counting (method.md section 5): InputError
+/// at /design/placements.
+void checkDesignCount(const Plan& plan);
+
+/// Runs the search for `plan.design`; the plan's own placements stay fixed and count.
+/// InputError when the region holds no feasible placement or the count cannot suffice.
+OptimizerSummary optimizePlan(const Plan& plan, const OptimizerOptions& options);
+
+}  // namespace artcal

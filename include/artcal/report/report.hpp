@@ -1,0 +1,29 @@
+#pragma once
+// Results as JSON (file units: mm, deg; the fields plan-format.md promises) and as human tables.
+// Every result has both: the table for a person, the JSON twin for a script.
+
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "artcal/estimation/evaluator.hpp"
+#include "artcal/estimation/identifiability.hpp"
+#include "artcal/plan/plan.hpp"
+
+namespace artcal {
+
+/// A number for JSON: non-finite values become null (JSON has no NaN or infinity).
+nlohmann::json finiteOrNull(double value);
+
+/// Joint values in file units (deg or mm).
+std::vector<double> jointsToFile(const Machine& machine, const Eigen::VectorXd& q);
+
+nlohmann::json countingToJson(const CountingCondition& counting);
+nlohmann::json identifiabilityToJson(const Identifiability& identifiability);
+nlohmann::json tipToJson(const Machine& machine, const TipSummary& tip,
+                         const std::vector<Eigen::VectorXd>& workspace);
+nlohmann::json evaluationToJson(const Plan& plan, const Evaluation& evaluation);
+
+std::string identifiabilityTable(const Plan& plan, const Identifiability& identifiability);
+std::string evaluationTable(const Plan& plan, const Evaluation& evaluation);
+
+}  // namespace artcal

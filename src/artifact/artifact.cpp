@@ -1,0 +1,114 @@
+#include "artcal/artifact/artifact.hpp"
+
+#include <Eigen/Geometry>
+#include <stdexcept>
+
+namespace artcal {
+
+std::string artifactKindName(ArtifactKind kind) {
+  switch (kind) {
+    case ArtifactKind::BallBar:
+      return "ball_bar";
+    case ArtifactKind::BallPlate:
+      return "ball_plate";
+    case ArtifactKind::StepGauge:
+      return "step_gauge";
+  }
+  throw std::logic_error("unknown artifact kind");
+}
+
+Artifact Artifact::ballBar(std::string id, int dimension, double length, double u_length) {
+  Artifact a;
+  a.id = std::move(id);
+  a.kind = ArtifactKind::BallBar;
+  a.dimension = dimension;
+  a.features = Eigen::MatrixXd::Zero(dimension, 2);
+  a.features(0, 1) = length;
+  // The length error moves the second ball along X (method.md section 2).
+  if (u_length > 0.0) a.systematic.push_back({1, 0, u_length});
+  return a;
+}
+
+Artifact Artifact::ballPlate(std::string id, const Eigen::MatrixXd& centers, double u) {
+  Artifact a;
+  a.id = std::move(id);
+  a.kind = ArtifactKind::BallPlate;
+  a.dimension = static_cast<int>(centers.rows());
+  a.features = centers;
+  if (u > 0.0) {
+    for (int i = 0; i < centers.cols(); ++i) {
+      for (int k = 0; k < a.dimension; ++k) a.systematic.push_back({i, k, u});
+    }
+  }
+  return a;
+}
+
+Artifact Artifact::stepGauge(std::string id, int dimension, const std::vector<double>& positions,
+                             double u) {
+  Artifact a;
+  a.id = std::move(id);
+  a.kind = ArtifactKind::StepGauge;
+  a.dimension = dimension;
+  a.features = Eigen::MatrixXd::Zero(dimension, static_cast<int>(positions.size()));
+  for (std::size_t i = 0; i < positions.size(); ++i) {
+    a.features(0, static_cast<int>(i)) = positions[i];
+    if (u > 0.0) a.systematic.push_back({static_cast<int>(i), 0, u});
+  }
+  return a;
+}
+
+// Full rigid motion = (translation, rotation): 2-D (tx, ty, rz), 3-D (tx, ty, tz, wx, wy, wz).
+// A ball bar in 3-D does not see its roll about X; a step gauge sees only motions that change X.
+const std::vector<int>& Artifact::rigidDirections() const {
+  static const std::vector<int> all2{0, 1, 2}, gauge2{0, 2};
+  static const std::vector<int> all3{0, 1, 2, 3, 4, 5}, bar3{0, 1, 2, 4, 5}, gauge3{0, 4, 5};
+  if (dimension == 2) return kind == ArtifactKind::StepGauge ? gauge2 : all2;
+  switch (kind) {
+    case ArtifactKind::BallBar:
+      return bar3;
+    case ArtifactKind::StepGauge:
+      return gauge3;
+    case ArtifactKind::BallPlate:
+      break;
+  }
+  return all3;
+}
+
+// W' = exp(delta) W: dW/dt = I, dW/dw = -[W]x (3-D) or (-W_y, W_x) (2-D).
+void Artifact::rigidJacobian(const Eigen::VectorXd& W, Eigen::Ref<Eigen::MatrixXd> J) const {
+  const auto& directions = rigidDirections();
+  const int k = valuedPerFeature();
+  for (std::size_t c = 0; c < directions.size(); ++c) {
+    Eigen::Vector3d column = Eigen::Vector3d::Zero();
+    const int dir = directions[c];
+    if (dir < dimension) {
+      column[dir] = 1.0;
+    } else if (dimension == 2) {
+      column.head<2>() << -W[1], W[0];
+    } else {
+      Eigen::Vector3d axis = Eigen::Vector3d::Zero();
+      axis[dir - 3] = 1.0;
+      column = axis.cross(W.head<3>());
+    }
+    // Entry by entry: GCC 12 warns falsely (-Warray-bounds) on head(k) of a Vector3d under AVX.
+    for (int r = 0; r < k; ++r) J(r, static_cast<int>(c)) = column[r];
+  }
+}
+
+Eigen::VectorXd Artifact::expandRigidStep(const Eigen::VectorXd& step) const {
+  const auto& directions = rigidDirections();
+  Eigen::VectorXd full = Eigen::VectorXd::Zero(dimension == 2 ? 3 : 6);
+  for (std::size_t c = 0; c < directions.size(); ++c)
+    full[directions[c]] = step[static_cast<int>(c)];
+  return full;
+}
+
+Eigen::VectorXd Artifact::feature(int i, const Eigen::VectorXd& c) const {
+  Eigen::VectorXd W = features.col(i);
+  for (int s = 0; s < c.size(); ++s) {
+    if (systematic[s].feature == i) W[systematic[s].coordinate] += c[s];
+  }
+  return W;
+}
+
+}  // namespace artcal

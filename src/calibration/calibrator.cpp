@@ -1,0 +1,309 @@
+#include "artcal/calibration/calibrator.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <utility>
+
+namespace artcal {
+
+std::string terminationName(TerminationType type) {
+  switch (type) {
+    case TerminationType::Converged:
+      return "converged";
+    case TerminationType::NoConvergence:
+      return "no_convergence";
+    case TerminationType::Failure:
+      return "failure";
+  }
+  return "failure";
+}
+
+bool CalibrationOptions::isValid(std::string* error) const {
+  auto fail = [error](const char* message) {
+    if (error) *error = message;
+    return false;
+  };
+  if (max_iterations < 1) return fail("max_iterations must be at least 1");
+  if (!(step_tolerance > 0.0) || !std::isfinite(step_tolerance))
+    return fail("step_tolerance must be > 0");
+  if (!(function_tolerance >= 0.0) || !std::isfinite(function_tolerance))
+    return fail("function_tolerance must be >= 0");
+  if (!(flag_threshold > 0.0) || !std::isfinite(flag_threshold))
+    return fail("flag_threshold must be > 0");
+  return damping.isValid(error);
+}
+
+std::string CalibrationSummary::briefReport() const {
+  std::ostringstream out;
+  out << terminationName(termination) << " after " << iterations << " iterations ("
+      << accepted_steps << " steps accepted), cost " << initial_cost << " -> " << final_cost;
+  if (!message.empty()) out << ": " << message;
+  return out.str();
+}
+
+Eigen::VectorXd Calibration::posteriorU() const {
+  if (!covariance || dof <= 0) return {};  // no redundancy: no a-posteriori scale
+  return covariance->u * std::sqrt(chi2_per_dof);
+}
+
+Calibrator::Calibrator(const Plan& plan, const CalibrationOptions& options)
+    : plan_(&plan),
+      options_(options),
+      layout_(GlobalLayout::of(plan)),
+      builder_(plan.machine, plan.noise),
+      reducer_(layout_),
+      strategy_(options.damping) {
+  std::string error;
+  if (!options_.isValid(&error)) throw std::invalid_argument("calibration options: " + error);
+}
+
+namespace {
+
+const Artifact& artifactOf(const Plan& plan, const Placement& placement) {
+  return plan.artifacts[static_cast<std::size_t>(placement.artifact)];
+}
+
+/// The systematic errors of one artifact, taken from c (GlobalLayout order).
+Eigen::VectorXd artifactErrors(const GlobalLayout& layout, const Artifact& artifact,
+                               int artifact_index, const Eigen::VectorXd& c) {
+  const int offset =
+      layout.artifact_offset[static_cast<std::size_t>(artifact_index)] - layout.parameters;
+  return c.segment(offset, artifact.systematicCount());
+}
+
+}  // namespace
+
+double Linearization::predictedReduction(const Eigen::VectorXd& dg) const {
+  // Minimising the linearised cost over every r_j for a given dg (method.md section 3) gains
+  // the rigid part plus the reduced quadratic model in dg.
+  return rigid_reduction + LevenbergMarquardtStrategy::predictedReduction(N, b, dg);
+}
+
+CalibrationState Calibrator::initialState(const std::vector<Placement>& placements,
+                                          const Eigen::VectorXd& start) const {
+  CalibrationState state;
+  state.p = start;
+  state.c = Eigen::VectorXd::Zero(layout_.systematicCount());
+  state.poses = fitPlacements(*plan_, placements, start);
+  return state;
+}
+
+bool Calibrator::linearize(const std::vector<Placement>& placements, const CalibrationState& state,
+                           Linearization& out) {
+  const Plan& plan = *plan_;
+  reducer_.reset();
+  out.eliminations.resize(placements.size());
+  for (std::size_t j = 0; j < placements.size(); ++j) {
+    const Artifact& artifact = artifactOf(plan, placements[j]);
+    const Eigen::VectorXd c_j = artifactErrors(layout_, artifact, placements[j].artifact, state.c);
+    builder_.build(artifact, placements[j].measurements, state.p, state.poses[j], c_j, true,
+                   block_);
+    reducer_.add(block_, placements[j].artifact, &out.eliminations[j]);
+  }
+  // The prior on c (method.md section 2): cost c^T Sigma_c^-1 c, gradient and curvature added.
+  const Eigen::VectorXd prior = layout_.c_sigma.array().square().inverse();
+  out.cost = reducer_.chi2() + state.c.dot(prior.asDiagonal() * state.c);
+  out.N = reducer_.normalWithPrior();
+  out.b = reducer_.rhs();
+  out.b.tail(layout_.systematicCount()) -= prior.asDiagonal() * state.c;
+  out.rigid_reduction = 0.0;
+  for (const PlacementElimination& e : out.eliminations) {
+    out.rigid_reduction += e.g_r.dot(e.M_rr_pinv * e.g_r);
+  }
+  return std::isfinite(out.cost) && out.N.allFinite() && out.b.allFinite();
+}
+
+void Calibrator::step(const CalibrationState& from, const Linearization& at,
+                      const Eigen::VectorXd& dg, const std::vector<Placement>& placements,
+                      CalibrationState& to) const {
+  const Machine& machine = plan_->machine;
+  const int n_p = layout_.parameters;
+  to.p = machine.withCalibrated(from.p, machine.calibratedValues(from.p) + dg.head(n_p));
+  to.c = from.c + dg.tail(layout_.systematicCount());
+  to.poses.resize(from.poses.size());
+  for (std::size_t j = 0; j < placements.size(); ++j) {
+    // Back-substitution of r_j for the global step (method.md section 3).
+    const Artifact& artifact = artifactOf(*plan_, placements[j]);
+    const Eigen::VectorXd dr = at.eliminations[j].rigidStep(dg);
+    to.poses[j] = from.poses[j].perturbed(artifact.expandRigidStep(dr));
+  }
+}
+
+double Calibrator::negligible(double cost) const {
+  // A cost change of s^2 is what moving s standard deviations along the best direction gives.
+  return std::max(options_.function_tolerance * cost,
+                  options_.step_tolerance * options_.step_tolerance);
+}
+
+Calibration Calibrator::run(const std::vector<Placement>& placements) {
+  return run(placements, plan_->machine.nominal);
+}
+
+Calibration Calibrator::run(const std::vector<Placement>& placements,
+                            const Eigen::VectorXd& start) {
+  Calibration out;
+  CalibrationSummary& summary = out.summary;
+  current_ = initialState(placements, start);
+  strategy_.reset();
+  bool finite = linearize(placements, current_, current_lin_);
+  summary.initial_cost = current_lin_.cost;
+  if (!finite) {
+    summary.termination = TerminationType::Failure;
+    summary.message = "the problem is not finite at the starting values";
+  } else {
+    summary.termination = TerminationType::NoConvergence;
+    summary.message = "max_iterations reached";
+  }
+  Eigen::VectorXd dg;
+  for (int it = 1; finite && it <= options_.max_iterations; ++it) {
+    summary.iterations = it;
+    const bool solved = strategy_.computeStep(current_lin_.N, current_lin_.b, dg);
+    const double scaled_step =
+        solved ? (dg.array() * current_lin_.N.diagonal().array().max(0.0).sqrt()).abs().maxCoeff()
+               : 0.0;
+    // A tiny step only means convergence when the damping is not what made it tiny.
+    if (solved && scaled_step < options_.step_tolerance &&
+        current_lin_.rigid_reduction < options_.step_tolerance * options_.step_tolerance &&
+        strategy_.mu() <= 1.0) {
+      summary.termination = TerminationType::Converged;
+      summary.message = "step below step_tolerance";
+      break;
+    }
+    const double predicted = solved ? current_lin_.predictedReduction(dg) : 0.0;
+    // The weights depend on p (method.md section 2), so the reweighted Gauss-Newton fixed point
+    // is where the linear model promises nothing more, not where the cost stops falling exactly.
+    if (solved && strategy_.mu() <= 1.0 && predicted <= negligible(current_lin_.cost)) {
+      summary.termination = TerminationType::Converged;
+      summary.message = "predicted cost change negligible";
+      break;
+    }
+    bool accepted = false;
+    double actual = 0.0;
+    if (solved && predicted > 0.0) {
+      step(current_, current_lin_, dg, placements, trial_);
+      if (linearize(placements, trial_, trial_lin_)) {
+        actual = current_lin_.cost - trial_lin_.cost;
+        accepted = actual > 0.0;
+      }
+    }
+    if (!accepted) {
+      strategy_.stepRejected();
+      if (strategy_.exhausted()) {
+        summary.termination = TerminationType::Failure;
+        summary.message = "no step reduces the cost (damping exhausted)";
+        break;
+      }
+      continue;
+    }
+    const bool undamped = strategy_.mu() <= 1.0;  // a heavily damped step proves nothing
+    strategy_.stepAccepted(actual / predicted);
+    ++summary.accepted_steps;
+    const double previous_cost = current_lin_.cost;
+    std::swap(current_, trial_);
+    std::swap(current_lin_, trial_lin_);
+    if (undamped && actual <= negligible(previous_cost)) {
+      summary.termination = TerminationType::Converged;
+      summary.message = "cost change negligible";
+      break;
+    }
+  }
+  summary.final_cost = current_lin_.cost;
+  out.parameters = current_.p;
+  out.systematic = current_.c;
+  out.poses = current_.poses;
+  out.chi2 = current_lin_.cost;
+  int rows = 0;
+  for (const Placement& placement : placements) {
+    const Artifact& artifact = artifactOf(*plan_, placement);
+    rows += artifact.valuedPerFeature() * static_cast<int>(placement.measurements.size());
+    out.dof -= artifact.rigidDof();
+  }
+  out.dof += rows - layout_.parameters;
+  out.chi2_per_dof = out.dof > 0 && std::isfinite(out.chi2) ? out.chi2 / out.dof : 0.0;
+  if (options_.details && finite) fillDetails(placements, out);
+  return out;
+}
+
+namespace {
+
+/// Leverages h_ii of a placement's rows in the full problem (g and every r_j), from the
+/// covariance V of g (with the prior) and the placement's elimination: with
+/// X = (A_r^T A_r)^+ A_r^T A_g, the row's leverage is
+///   h = (a_g - a_r X) V (a_g - a_r X)^T + a_r (A_r^T A_r)^+ a_r^T.
+Eigen::VectorXd leverages(const ObservationBlock& block, const PlacementElimination& elimination,
+                          const Eigen::MatrixXd& V) {
+  const int n_p = static_cast<int>(block.A_p.cols());
+  const int n_g = static_cast<int>(elimination.columns.size());
+  Eigen::MatrixXd A_g(block.rows(), n_g);
+  A_g.leftCols(n_p) = block.A_p;
+  A_g.rightCols(n_g - n_p) = block.A_c;
+  Eigen::MatrixXd V_local(n_g, n_g);
+  for (int a = 0; a < n_g; ++a) {
+    for (int b = 0; b < n_g; ++b) V_local(a, b) = V(elimination.columns[a], elimination.columns[b]);
+  }
+  const Eigen::MatrixXd reduced = A_g - block.A_r * (elimination.M_rr_pinv * elimination.M_rg);
+  return ((reduced * V_local).cwiseProduct(reduced).rowwise().sum() +
+          (block.A_r * elimination.M_rr_pinv).cwiseProduct(block.A_r).rowwise().sum());
+}
+
+}  // namespace
+
+void Calibrator::fillDetails(const std::vector<Placement>& placements, Calibration& out) {
+  const Plan& plan = *plan_;
+  reducer_.reset();
+  out.residuals.clear();
+  std::vector<ObservationBlock> blocks(placements.size());
+  std::vector<PlacementElimination> eliminations(placements.size());
+  std::vector<Eigen::VectorXd> c(placements.size());
+  for (std::size_t j = 0; j < placements.size(); ++j) {
+    const Artifact& artifact = artifactOf(plan, placements[j]);
+    c[j] = artifactErrors(layout_, artifact, placements[j].artifact, out.systematic);
+    builder_.build(artifact, placements[j].measurements, out.parameters, out.poses[j], c[j], true,
+                   blocks[j]);
+    reducer_.add(blocks[j], placements[j].artifact, &eliminations[j]);
+  }
+  out.covariance = covarianceFromInformation(reducer_.parameterInformation());
+  const auto global = covarianceFromInformation(reducer_.normalWithPrior());
+  Eigen::VectorXd x;
+  for (std::size_t j = 0; j < placements.size(); ++j) {
+    const Placement& placement = placements[j];
+    const Artifact& artifact = artifactOf(plan, placement);
+    const int k = artifact.valuedPerFeature();
+    // Standardised residuals z / sqrt(1 - h): each has unit variance under the noise model.
+    Eigen::VectorXd spread = Eigen::VectorXd::Ones(blocks[j].rows());
+    if (global)
+      spread = (1.0 - leverages(blocks[j], eliminations[j], global->V).array()).max(0.0).sqrt();
+    for (std::size_t i = 0; i < placement.measurements.size(); ++i) {
+      const Measurement& m = placement.measurements[i];
+      plan.machine.mechanism->forward(out.parameters, m.joints, x);
+      ResidualEntry entry;
+      entry.placement = static_cast<int>(j);
+      entry.measurement = static_cast<int>(i);
+      entry.feature = m.feature;
+      entry.residual = (out.poses[j].apply(x) - artifact.feature(m.feature, c[j])).head(k);
+      const int row = k * static_cast<int>(i);
+      entry.normalized.resize(k);
+      for (int r = 0; r < k; ++r) {
+        // A row the fit absorbs (almost) entirely, 1 - h < 1e-3, cannot be tested: it reports 0
+        // rather than a ratio of two rounding-level numbers.
+        constexpr double kTestable = 0.0316;
+        const double s = spread[row + r];
+        entry.normalized[r] = s > kTestable ? blocks[j].e[row + r] / s : 0.0;
+      }
+      entry.score = entry.normalized.cwiseAbs().maxCoeff();
+      entry.flagged = entry.score > options_.flag_threshold;
+      if (out.largest_residual < 0 || entry.score > out.residuals[out.largest_residual].score) {
+        out.largest_residual = static_cast<int>(out.residuals.size());
+      }
+      out.residuals.push_back(std::move(entry));
+    }
+  }
+}
+
+Calibration calibratePlan(const Plan& plan, const CalibrationOptions& options) {
+  Calibrator calibrator(plan, options);
+  return calibrator.run(plan.placements);
+}
+
+}  // namespace artcal

@@ -1,0 +1,163 @@
+#include "artcal/calibration/confirmation.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <mutex>
+#include <thread>
+
+#include "artcal/core/error.hpp"
+#include "artcal/estimation/evaluator.hpp"
+
+namespace artcal {
+
+bool ConfirmationOptions::isValid(std::string* error) const {
+  auto fail = [error](const char* message) {
+    if (error) *error = message;
+    return false;
+  };
+  if (trials < 2) return fail("trials must be at least 2");
+  if (threads < 0) return fail("threads must be >= 0");
+  if (!(noise_scale > 0.0) || !std::isfinite(noise_scale)) return fail("noise_scale must be > 0");
+  if (!(perturbation >= 0.0) || !std::isfinite(perturbation))
+    return fail("perturbation must be >= 0");
+  if (!(level > 0.0 && level < 1.0)) return fail("level must be in (0, 1)");
+  if (!(allowance >= 0.0) || !std::isfinite(allowance)) return fail("allowance must be >= 0");
+  return calibration.isValid(error);
+}
+
+double bonferroniFactor(double level, int n) {
+  // Solve erfc(k / sqrt 2) = level / n (two-sided tail) by bisection: monotone, exact enough.
+  const double tail = level / std::max(n, 1);
+  double lo = 0.0, hi = 40.0;
+  for (int i = 0; i < 200; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (std::erfc(mid / std::sqrt(2.0)) > tail ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+Band confirmationBand(int trials, int n, double level, double allowance) {
+  Band band;
+  band.coverage_factor = bonferroniFactor(level, n);
+  band.sampling = 1.0 / std::sqrt(2.0 * (trials - 1));
+  band.allowance = allowance;
+  const double half = band.coverage_factor * band.sampling + allowance;
+  band.low = std::max(0.0, 1.0 - half);
+  band.high = 1.0 + half;
+  return band;
+}
+
+namespace {
+
+struct TrialResult {
+  bool converged = false;
+  Eigen::VectorXd error;  ///< estimate - true over the calibrated parameters
+  double chi2_per_dof = 0.0;
+};
+
+/// One trial: its own generator, its own truth, simulated readings, calibration.
+TrialResult runTrial(const Plan& plan, const Simulator& simulator, Calibrator& calibrator,
+                     const Eigen::VectorXd& predicted_u, const ConfirmationOptions& options,
+                     int trial) {
+  const Machine& machine = plan.machine;
+  NormalSource normal(trialSeed(options.seed, static_cast<std::uint64_t>(trial)));
+  Eigen::VectorXd shift(machine.calibratedCount());
+  for (int k = 0; k < shift.size(); ++k)
+    shift[k] = options.perturbation * predicted_u[k] * normal();
+  const Eigen::VectorXd p_true =
+      machine.withCalibrated(machine.nominal, machine.calibratedValues(machine.nominal) + shift);
+  TrialResult result;
+  const SimulatedRun run = simulator.simulate(p_true, normal);
+  const Calibration calibration = calibrator.run(run.placements);
+  result.converged = calibration.summary.converged();
+  result.error = calibration.estimate(machine) - machine.calibratedValues(p_true);
+  result.chi2_per_dof = calibration.chi2_per_dof;
+  return result;
+}
+
+}  // namespace
+
+Confirmation confirmPlan(const Plan& plan, const ConfirmationOptions& options) {
+  std::string error;
+  if (!options.isValid(&error)) throw std::invalid_argument("confirmation options: " + error);
+  const Evaluation prediction = evaluatePlan(plan);
+  if (!prediction.identifiable()) {
+    throw InputError(plan.source, "/placements",
+                     "the plan does not identify every calibrated parameter (see artcal check): "
+                     "there is no prediction to confirm");
+  }
+  const Eigen::VectorXd predicted_u = prediction.covariance->u;
+  SimulationOptions simulation;
+  simulation.noise_scale = options.noise_scale;
+  const Simulator simulator(plan, simulation);
+  CalibrationOptions calibration = options.calibration;
+  calibration.details = false;
+
+  std::vector<TrialResult> results(static_cast<std::size_t>(options.trials));
+  std::atomic<int> next{0}, done{0};
+  std::atomic<bool> stop{false};
+  std::mutex progress_mutex;
+  std::exception_ptr failure;
+  auto worker = [&] {
+    Calibrator calibrator(plan, calibration);
+    try {
+      for (int i = next++; i < options.trials && !stop; i = next++) {
+        results[static_cast<std::size_t>(i)] =
+            runTrial(plan, simulator, calibrator, predicted_u, options, i);
+        const int finished = ++done;
+        if (options.progress) {
+          const std::lock_guard lock(progress_mutex);
+          options.progress(finished, options.trials);
+        }
+      }
+    } catch (...) {
+      const std::lock_guard lock(progress_mutex);
+      if (!failure) failure = std::current_exception();
+      stop = true;
+    }
+  };
+  int threads =
+      options.threads > 0 ? options.threads : static_cast<int>(std::thread::hardware_concurrency());
+  threads = std::clamp(threads, 1, options.trials);
+  std::vector<std::thread> pool;
+  for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
+  worker();
+  for (std::thread& thread : pool) thread.join();
+  if (failure) std::rethrow_exception(failure);
+
+  // Statistics in trial order (identical for any thread count).
+  const int n = plan.machine.calibratedCount();
+  Confirmation out;
+  out.trials = options.trials;
+  Eigen::VectorXd sum = Eigen::VectorXd::Zero(n), sum2 = Eigen::VectorXd::Zero(n);
+  double chi2 = 0.0;
+  for (const TrialResult& r : results) {
+    if (!r.converged || !r.error.allFinite()) continue;
+    ++out.converged_trials;
+    sum += r.error;
+    chi2 += r.chi2_per_dof;
+  }
+  const int m = out.converged_trials;
+  const Eigen::VectorXd mean = m > 0 ? Eigen::VectorXd(sum / m) : Eigen::VectorXd::Zero(n);
+  for (const TrialResult& r : results) {
+    if (r.converged && r.error.allFinite()) sum2 += (r.error - mean).array().square().matrix();
+  }
+  out.mean_chi2_per_dof = m > 0 ? chi2 / m : 0.0;
+  out.band = confirmationBand(std::max(m, 2), n, options.level, options.allowance);
+  out.confirmed = m == options.trials;
+  for (int k = 0; k < n; ++k) {
+    ConfirmedParameter parameter;
+    parameter.name = plan.machine.calibratedInfo(k).name;
+    parameter.predicted_u = predicted_u[k];
+    parameter.empirical_u = m > 1 ? std::sqrt(sum2[k] / (m - 1)) : 0.0;
+    parameter.bias = mean[k];
+    parameter.ratio = parameter.empirical_u / parameter.predicted_u;
+    parameter.inside = parameter.ratio >= out.band.low && parameter.ratio <= out.band.high;
+    out.confirmed = out.confirmed && parameter.inside;
+    out.parameters.push_back(parameter);
+  }
+  return out;
+}
+
+}  // namespace artcal

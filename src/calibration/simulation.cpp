@@ -1,0 +1,101 @@
+#include "artcal/calibration/simulation.hpp"
+
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+
+#include "artcal/core/error.hpp"
+#include "artcal/estimation/design_matrix.hpp"
+
+namespace artcal {
+
+double NormalSource::uniform() {
+  // 53 random bits -> (0, 1]: never zero, so the logarithm below is finite.
+  return (static_cast<double>(engine_() >> 11) + 1.0) * 0x1.0p-53;
+}
+
+double NormalSource::operator()() {
+  if (has_spare_) {
+    has_spare_ = false;
+    return spare_;
+  }
+  const double radius = std::sqrt(-2.0 * std::log(uniform()));
+  const double angle = 2.0 * std::numbers::pi * uniform();
+  spare_ = radius * std::sin(angle);
+  has_spare_ = true;
+  return radius * std::cos(angle);
+}
+
+namespace {
+std::uint64_t splitMix64(std::uint64_t x) {
+  x += 0x9e3779b97f4a7c15ull;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
+  return x ^ (x >> 31);
+}
+}  // namespace
+
+std::uint64_t trialSeed(std::uint64_t seed, std::uint64_t trial) {
+  return splitMix64(splitMix64(seed) ^ splitMix64(trial + 0x632be59bd9b4e019ull));
+}
+
+bool SimulationOptions::isValid(std::string* error) const {
+  if (!(noise_scale >= 0.0) || !std::isfinite(noise_scale)) {
+    if (error) *error = "noise_scale must be a finite number >= 0";
+    return false;
+  }
+  return true;
+}
+
+Simulator::Simulator(const Plan& plan, const SimulationOptions& options)
+    : plan_(&plan), options_(options) {
+  std::string error;
+  if (!options_.isValid(&error)) throw std::invalid_argument("simulation options: " + error);
+  poses_ = fitPlacements(plan, plan.placements, plan.machine.nominal);
+  for (const RigidTransform& pose : poses_) inverse_poses_.push_back(pose.inverse());
+}
+
+SimulatedRun Simulator::simulate(const Eigen::VectorXd& p_true, NormalSource& normal) const {
+  const Plan& plan = *plan_;
+  const Machine& machine = plan.machine;
+  const double scale = options_.noise_scale;
+  SimulatedRun run;
+  // One draw per physical artifact's systematic error (method.md section 2).
+  std::vector<Eigen::VectorXd> artifact_c;
+  std::vector<double> drawn;
+  for (const Artifact& artifact : plan.artifacts) {
+    Eigen::VectorXd c = Eigen::VectorXd::Zero(artifact.systematicCount());
+    for (int s = 0; s < c.size(); ++s) {
+      if (options_.artifact_errors)
+        c[s] = scale * artifact.systematic[static_cast<std::size_t>(s)].sigma * normal();
+      drawn.push_back(c[s]);
+    }
+    artifact_c.push_back(c);
+  }
+  run.systematic = Eigen::Map<Eigen::VectorXd>(drawn.data(), static_cast<int>(drawn.size()));
+  run.placements = plan.placements;
+  const int d = machine.dimension();
+  Eigen::VectorXd target(d);
+  for (std::size_t j = 0; j < run.placements.size(); ++j) {
+    Placement& placement = run.placements[j];
+    const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
+    const Eigen::VectorXd& c = artifact_c[static_cast<std::size_t>(placement.artifact)];
+    for (std::size_t i = 0; i < placement.measurements.size(); ++i) {
+      Measurement& m = placement.measurements[i];
+      target = inverse_poses_[j].apply(artifact.feature(m.feature, c));
+      for (int k = 0; k < d; ++k) target[k] += scale * plan.noise.probe * normal();
+      auto q = solveInverseKinematics(machine, p_true, target, m.joints, options_.ik);
+      if (!q) {
+        throw InputError(plan.source,
+                         "/placements/" + std::to_string(j) + "/measurements/" + std::to_string(i),
+                         "the true machine cannot reach this point (inverse kinematics failed)");
+      }
+      for (int k = 0; k < q->size(); ++k) (*q)[k] += scale * plan.noise.encoder[k] * normal();
+      m.joints = *q;
+    }
+  }
+  return run;
+}
+
+}  // namespace artcal

@@ -1,0 +1,121 @@
+#include "artcal/estimation/design_matrix.hpp"
+
+#include <Eigen/Cholesky>
+#include <set>
+
+namespace artcal {
+
+DesignMatrixBuilder::DesignMatrixBuilder(const Machine& machine, const Noise& noise)
+    : machine_(&machine), noise_(&noise) {}
+
+Eigen::MatrixXd DesignMatrixBuilder::probePositions(const std::vector<Measurement>& measurements,
+                                                    const Eigen::VectorXd& p) const {
+  const int d = machine_->dimension();
+  Eigen::MatrixXd points(d, static_cast<int>(measurements.size()));
+  Eigen::VectorXd x(d);
+  for (std::size_t i = 0; i < measurements.size(); ++i) {
+    machine_->mechanism->forward(p, measurements[i].joints, x);
+    points.col(static_cast<int>(i)) = x;
+  }
+  return points;
+}
+
+namespace {
+
+// At most 3 valued coordinates per point: the small matrices live on the stack.
+using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, 3, 3>;
+
+// rows <- L^-1 rows for a lower-triangular L of order 1 to 3 (forward substitution).
+template <typename Rows>
+void whiten(const Small& L, Rows&& rows) {
+  const int k = static_cast<int>(L.rows());
+  for (int i = 0; i < k; ++i) {
+    for (int j = 0; j < i; ++j) rows.row(i) -= L(i, j) * rows.row(j);
+    rows.row(i) /= L(i, i);
+  }
+}
+
+}  // namespace
+
+void DesignMatrixBuilder::build(const Artifact& artifact,
+                                const std::vector<Measurement>& measurements,
+                                const Eigen::VectorXd& p, const RigidTransform& r,
+                                const Eigen::VectorXd& c, bool with_residuals,
+                                ObservationBlock& block) {
+  const Machine& machine = *machine_;
+  const int k = artifact.valuedPerFeature();
+  const int rows = k * static_cast<int>(measurements.size());
+  const int n_p = machine.calibratedCount();
+  const int n_r = artifact.rigidDof();
+  const int n_c = artifact.systematicCount();
+  block.A_p.resize(rows, n_p);
+  block.A_r.resize(rows, n_r);
+  block.A_c.setZero(rows, n_c);
+  if (with_residuals) block.e.resize(rows);
+  const double sigma_p2 = noise_->probe * noise_->probe;
+  const auto sigma_q2 = noise_->encoder.array().square().matrix().asDiagonal();
+  J_r_.resize(k, n_r);
+  for (std::size_t i = 0; i < measurements.size(); ++i) {
+    const Measurement& m = measurements[i];
+    const int row = k * static_cast<int>(i);
+    machine.mechanism->forward(p, m.joints, x_, &J_x_p_, &J_x_q_);
+    W_.noalias() = r.R * x_;
+    W_ += r.t;
+    // dF/dp and dF/dq: the valued rows of R J (the rigid motion does not depend on p or q).
+    const auto R_valued = r.R.topRows(k);
+    auto A_p = block.A_p.middleRows(row, k);
+    auto A_r = block.A_r.middleRows(row, k);
+    for (int j = 0; j < n_p; ++j) {
+      A_p.col(j).noalias() = R_valued.lazyProduct(J_x_p_.col(machine.calibrated[j]));
+    }
+    J_valued_q_.noalias() = R_valued.lazyProduct(J_x_q_);
+    artifact.rigidJacobian(W_, J_r_);
+    A_r = J_r_;
+    for (int s = 0; s < n_c; ++s) {
+      const SystematicError& err = artifact.systematic[static_cast<std::size_t>(s)];
+      if (err.feature == m.feature && err.coordinate < k) block.A_c(row + err.coordinate, s) = -1.0;
+    }
+    if (with_residuals) {
+      block.e.segment(row, k) = W_.head(k) - artifact.feature(m.feature, c).head(k);
+    }
+    // Whitening (method.md section 2): Sigma = s_p^2 I + J_q Sigma_q J_q^T = L L^T; rows *= L^-1.
+    Small sigma = (J_valued_q_ * sigma_q2).lazyProduct(J_valued_q_.transpose());
+    sigma.diagonal().array() += sigma_p2;
+    const Eigen::LLT<Small> llt(sigma);
+    const Small L = llt.matrixL();
+    whiten(L, A_p);
+    whiten(L, A_r);
+    if (n_c > 0) whiten(L, block.A_c.middleRows(row, k));
+    if (with_residuals) whiten(L, block.e.segment(row, k));
+  }
+}
+
+std::vector<RigidTransform> fitPlacements(const Plan& plan,
+                                          const std::vector<Placement>& placements,
+                                          const Eigen::VectorXd& p) {
+  DesignMatrixBuilder builder(plan.machine, plan.noise);
+  std::vector<RigidTransform> poses;
+  poses.reserve(placements.size());
+  for (const Placement& placement : placements) {
+    const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
+    std::set<int> distinct;
+    for (const Measurement& m : placement.measurements) distinct.insert(m.feature);
+    if (distinct.size() < 2 && placement.pose) {
+      const Pose& pose = *placement.pose;
+      poses.push_back(plan.machine.dimension() == 2
+                          ? placePlanar(pose.center.head<2>(), pose.angle)
+                          : placeSpatial(pose.center.head<3>(), pose.direction, pose.roll));
+      continue;
+    }
+    const Eigen::MatrixXd machine_points = builder.probePositions(placement.measurements, p);
+    Eigen::MatrixXd artifact_points(artifact.dimension, machine_points.cols());
+    for (std::size_t i = 0; i < placement.measurements.size(); ++i) {
+      artifact_points.col(static_cast<int>(i)) =
+          artifact.features.col(placement.measurements[i].feature);
+    }
+    poses.push_back(fitRigid(machine_points, artifact_points));
+  }
+  return poses;
+}
+
+}  // namespace artcal

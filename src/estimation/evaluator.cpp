@@ -1,0 +1,100 @@
+#include "artcal/estimation/evaluator.hpp"
+
+#include <Eigen/Cholesky>
+
+namespace artcal {
+
+std::optional<ParameterCovariance> covarianceFromInformation(const Eigen::MatrixXd& information) {
+  const int n = static_cast<int>(information.rows());
+  // Invert in scaled form (unit diagonal): parameters in mm and rad differ by orders of magnitude.
+  const Eigen::VectorXd diagonal = information.diagonal();
+  if (!(diagonal.array() > 0.0).all() || !diagonal.allFinite()) return std::nullopt;
+  const Eigen::VectorXd scale = diagonal.cwiseSqrt().cwiseInverse();
+  const Eigen::MatrixXd scaled = scale.asDiagonal() * information * scale.asDiagonal();
+  const Eigen::LLT<Eigen::MatrixXd> llt(scaled);
+  if (llt.info() != Eigen::Success) return std::nullopt;
+  const Eigen::MatrixXd scaled_inverse = llt.solve(Eigen::MatrixXd::Identity(n, n));
+  ParameterCovariance cov;
+  cov.V = scale.asDiagonal() * scaled_inverse * scale.asDiagonal();
+  if (!cov.V.allFinite() || !(cov.V.diagonal().array() > 0.0).all()) return std::nullopt;
+  cov.u = cov.V.diagonal().cwiseSqrt();
+  cov.correlation = cov.u.cwiseInverse().asDiagonal() * cov.V * cov.u.cwiseInverse().asDiagonal();
+  return cov;
+}
+
+namespace {
+
+// Every placement's observation block, its r_j eliminated as it arrives (method.md section 3):
+// the information of p. The one loop behind parameterInformation and PlanEvaluator.
+Eigen::MatrixXd reduceInformation(const Plan& plan, const std::vector<Placement>& placements,
+                                  const Eigen::VectorXd& p,
+                                  const std::vector<RigidTransform>& poses,
+                                  DesignMatrixBuilder& builder, NormalMatrixReducer& reducer,
+                                  ObservationBlock& block) {
+  reducer.reset();
+  const Eigen::VectorXd no_c;
+  for (std::size_t j = 0; j < placements.size(); ++j) {
+    const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placements[j].artifact)];
+    builder.build(artifact, placements[j].measurements, p, poses[j], no_c, false, block);
+    reducer.add(block, placements[j].artifact);
+  }
+  return reducer.parameterInformation();
+}
+
+}  // namespace
+
+Eigen::MatrixXd parameterInformation(const Plan& plan, const std::vector<Placement>& placements,
+                                     const Eigen::VectorXd& p) {
+  DesignMatrixBuilder builder(plan.machine, plan.noise);
+  NormalMatrixReducer reducer(GlobalLayout::of(plan));
+  ObservationBlock block;
+  return reduceInformation(plan, placements, p, fitPlacements(plan, placements, p), builder,
+                           reducer, block);
+}
+
+PlanEvaluator::PlanEvaluator(const Plan& plan)
+    : PlanEvaluator(plan, workspaceConfigurations(plan.machine, plan.workspace)) {}
+
+PlanEvaluator::PlanEvaluator(const Plan& plan, std::vector<Eigen::VectorXd> workspace)
+    : plan_(&plan),
+      tip_(plan.machine, plan.noise, std::move(workspace)),
+      builder_(plan.machine, plan.noise),
+      reducer_(GlobalLayout::of(plan)) {}
+
+const Eigen::MatrixXd& PlanEvaluator::information(const std::vector<Placement>& placements,
+                                                  const std::vector<RigidTransform>* poses) {
+  const Plan& plan = *plan_;
+  std::vector<RigidTransform> fitted;
+  if (!poses) {
+    fitted = fitPlacements(plan, placements, plan.machine.nominal);
+    poses = &fitted;
+  }
+  information_ =
+      reduceInformation(plan, placements, plan.machine.nominal, *poses, builder_, reducer_, block_);
+  return information_;
+}
+
+std::optional<TipSummary> PlanEvaluator::tip(const std::vector<Placement>& placements,
+                                             const std::vector<RigidTransform>* poses) {
+  const auto covariance = covarianceFromInformation(information(placements, poses));
+  if (!covariance) return std::nullopt;
+  return tip_.summarize(covariance->V);
+}
+
+Evaluation evaluatePlan(const Plan& plan, const EvaluateOptions& options) {
+  Evaluation evaluation;
+  evaluation.information = parameterInformation(plan, plan.placements, plan.machine.nominal);
+  evaluation.identifiability =
+      analyseIdentifiability(plan, plan.placements, evaluation.information, options.rank_tolerance);
+  if (evaluation.identifiability.deficiency > 0) return evaluation;
+  evaluation.covariance = covarianceFromInformation(evaluation.information);
+  if (!evaluation.covariance) return evaluation;
+  evaluation.workspace = workspaceConfigurations(plan.machine, plan.workspace);
+  const TipEvaluator tip(plan.machine, plan.noise, evaluation.workspace);
+  evaluation.tip = tip.summarize(evaluation.covariance->V);
+  evaluation.profile =
+      reachProfile(plan.machine, plan.noise, evaluation.covariance->V, options.profile_steps);
+  return evaluation;
+}
+
+}  // namespace artcal

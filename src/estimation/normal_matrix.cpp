@@ -1,0 +1,181 @@
+#include "artcal/estimation/normal_matrix.hpp"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+
+namespace artcal {
+
+GlobalLayout GlobalLayout::of(const Plan& plan) {
+  GlobalLayout layout;
+  layout.parameters = plan.machine.calibratedCount();
+  std::vector<double> sigmas;
+  for (const Artifact& artifact : plan.artifacts) {
+    layout.artifact_offset.push_back(layout.parameters + static_cast<int>(sigmas.size()));
+    for (const SystematicError& err : artifact.systematic) sigmas.push_back(err.sigma);
+  }
+  layout.c_sigma = Eigen::Map<Eigen::VectorXd>(sigmas.data(), static_cast<int>(sigmas.size()));
+  return layout;
+}
+
+Eigen::VectorXd PlacementElimination::rigidStep(const Eigen::VectorXd& dg) const {
+  Eigen::VectorXd local(static_cast<int>(columns.size()));
+  for (std::size_t i = 0; i < columns.size(); ++i) local[static_cast<int>(i)] = dg[columns[i]];
+  return -(M_rr_pinv * (g_r + M_rg * local));
+}
+
+Eigen::MatrixXd symmetricPseudoInverse(const Eigen::MatrixXd& M, double relative_tolerance) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(M);
+  const Eigen::VectorXd& lambda = eig.eigenvalues();
+  const double cutoff = relative_tolerance * std::max(lambda.cwiseAbs().maxCoeff(), 0.0);
+  Eigen::VectorXd inverse = Eigen::VectorXd::Zero(lambda.size());
+  for (int i = 0; i < lambda.size(); ++i) {
+    if (lambda[i] > cutoff && lambda[i] > 0.0) inverse[i] = 1.0 / lambda[i];
+  }
+  return eig.eigenvectors() * inverse.asDiagonal() * eig.eigenvectors().transpose();
+}
+
+namespace {
+
+// At most 6 rigid-motion unknowns per placement: the small matrices live on the stack.
+using RigidMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, 6, 6>;
+
+// A factor S of (A_r^T A_r)^+ = S^T S: L^-1 from the Cholesky factor when every pivot keeps a
+// fair share of its diagonal, otherwise D^+1/2 U^T from the eigen-decomposition (a rigid
+// direction that no valued coordinate sees is then not estimated).
+class RigidBlockRoot {
+ public:
+  explicit RigidBlockRoot(const Eigen::MatrixXd& M) : llt_(RigidMatrix(M)) {
+    well_posed_ = llt_.info() == Eigen::Success;
+    if (well_posed_) {
+      const auto pivots = llt_.matrixLLT().diagonal().array().square();
+      well_posed_ = (pivots > 1e-10 * M.diagonal().array()).all();
+    }
+    if (well_posed_) return;
+    const Eigen::SelfAdjointEigenSolver<RigidMatrix> eig{RigidMatrix(M)};
+    const auto& lambda = eig.eigenvalues();
+    const double cutoff = 1e-12 * std::max(lambda.cwiseAbs().maxCoeff(), 0.0);
+    root_ = eig.eigenvectors().transpose();
+    for (int i = 0; i < lambda.size(); ++i) {
+      root_.row(i) *= lambda[i] > cutoff && lambda[i] > 0.0 ? 1.0 / std::sqrt(lambda[i]) : 0.0;
+    }
+  }
+  /// X <- S X.
+  template <typename Matrix>
+  void apply(Matrix& X) const {
+    if (well_posed_) {
+      llt_.matrixL().solveInPlace(X);
+    } else {
+      X = (root_ * X).eval();
+    }
+  }
+  /// S^T S.
+  Eigen::MatrixXd pseudoInverse() const {
+    if (well_posed_) return llt_.solve(RigidMatrix::Identity(llt_.rows(), llt_.cols()));
+    return root_.transpose() * root_;
+  }
+
+ private:
+  Eigen::LLT<RigidMatrix> llt_;
+  bool well_posed_ = false;
+  RigidMatrix root_;
+};
+
+// The lower triangle of a symmetric block copied into its upper triangle.
+template <typename Block>
+void mirrorLower(Block&& N) {
+  for (int j = 1; j < N.cols(); ++j) {
+    for (int i = 0; i < j; ++i) N(i, j) = N(j, i);
+  }
+}
+
+}  // namespace
+
+NormalMatrixReducer::NormalMatrixReducer(const GlobalLayout& layout) : layout_(layout) {
+  reset();
+}
+
+void NormalMatrixReducer::reset() {
+  N_.setZero(layout_.size(), layout_.size());
+  b_.setZero(layout_.size());
+  chi2_ = 0.0;
+}
+
+// Schur complement of r_j (method.md section 3), as symmetric rank updates without forming it:
+//   N_red += A_g^T A_g - Y^T Y,   Y = S A_r^T A_g,   S^T S = (A_r^T A_r)^+.
+// The global columns are p (0..n_p) and the artifact's c (c_offset..): the c rows lie below p.
+void NormalMatrixReducer::add(const ObservationBlock& block, int artifact_index,
+                              PlacementElimination* elimination) {
+  const int n_p = layout_.parameters;
+  const int n_c = static_cast<int>(block.A_c.cols());
+  const int n_g = n_p + n_c;
+  const int c_offset = layout_.artifact_offset[static_cast<std::size_t>(artifact_index)];
+  const auto& A_p = block.A_p;
+  const auto& A_c = block.A_c;
+  const auto& A_r = block.A_r;
+
+  M_rr_.noalias() = A_r.transpose().lazyProduct(A_r);
+  const RigidBlockRoot S(M_rr_);
+  M_rg_.resize(A_r.cols(), n_g);
+  M_rg_.leftCols(n_p).noalias() = A_r.transpose().lazyProduct(A_p);
+  if (n_c > 0) M_rg_.rightCols(n_c).noalias() = A_r.transpose() * A_c;
+  X_ = M_rg_;
+  S.apply(X_);  // Y
+  const auto Y_p = X_.leftCols(n_p);
+  auto N_pp = N_.topLeftCorner(n_p, n_p);
+  N_pp.noalias() += A_p.transpose().lazyProduct(A_p);
+  N_pp.noalias() -= Y_p.transpose().lazyProduct(Y_p);
+  if (n_c > 0) {
+    const auto Y_c = X_.rightCols(n_c);
+    auto N_cc = N_.block(c_offset, c_offset, n_c, n_c);
+    N_cc.selfadjointView<Eigen::Lower>().rankUpdate(A_c.transpose());
+    N_cc.selfadjointView<Eigen::Lower>().rankUpdate(Y_c.transpose(), -1.0);
+    mirrorLower(N_cc);
+    auto N_cp = N_.block(c_offset, 0, n_c, n_p);
+    N_cp.noalias() += A_c.transpose() * A_p;
+    N_cp.noalias() -= Y_c.transpose() * Y_p;
+    N_.block(0, c_offset, n_p, n_c) = N_cp.transpose();
+  }
+
+  columns_.resize(static_cast<std::size_t>(n_g));
+  for (int i = 0; i < n_p; ++i) columns_[static_cast<std::size_t>(i)] = i;
+  for (int i = 0; i < n_c; ++i) columns_[static_cast<std::size_t>(n_p + i)] = c_offset + i;
+  const bool with_residuals = block.e.size() == block.rows();
+  if (with_residuals) {
+    // b -= A_g^T e - Y^T S A_r^T e
+    g_r_.noalias() = A_r.transpose() * block.e;
+    Eigen::VectorXd s_g_r = g_r_;
+    S.apply(s_g_r);
+    Eigen::VectorXd reduced = X_.transpose() * s_g_r;
+    reduced.head(n_p).noalias() -= A_p.transpose() * block.e;
+    if (n_c > 0) reduced.tail(n_c).noalias() -= A_c.transpose() * block.e;
+    for (int i = 0; i < n_g; ++i) b_[columns_[static_cast<std::size_t>(i)]] += reduced[i];
+    chi2_ += block.e.squaredNorm();
+  }
+  if (elimination) {
+    elimination->M_rr_pinv = S.pseudoInverse();
+    elimination->M_rg = M_rg_;
+    elimination->g_r = with_residuals ? g_r_ : Eigen::VectorXd::Zero(M_rr_.rows());
+    elimination->columns = columns_;
+  }
+}
+
+Eigen::MatrixXd NormalMatrixReducer::normalWithPrior() const {
+  Eigen::MatrixXd N = N_;
+  const int n_p = layout_.parameters;
+  for (int i = 0; i < layout_.systematicCount(); ++i) {
+    N(n_p + i, n_p + i) += 1.0 / (layout_.c_sigma[i] * layout_.c_sigma[i]);
+  }
+  return N;
+}
+
+Eigen::MatrixXd NormalMatrixReducer::parameterInformation() const {
+  const int n_p = layout_.parameters;
+  const int n_c = layout_.systematicCount();
+  if (n_c == 0) return N_;
+  const Eigen::MatrixXd N = normalWithPrior();
+  const Eigen::LLT<Eigen::MatrixXd> llt(N.bottomRightCorner(n_c, n_c));
+  return N.topLeftCorner(n_p, n_p) -
+         N.topRightCorner(n_p, n_c) * llt.solve(N.bottomLeftCorner(n_c, n_p));
+}
+
+}  // namespace artcal

@@ -1,0 +1,223 @@
+#include "artcal/estimation/tip.hpp"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <cmath>
+#include <random>
+
+namespace artcal {
+
+namespace {
+
+// Up to this many calibrated parameters the Gram matrices are prepared (21 parameters: 231
+// numbers per configuration, 18.5 MB for 10,000 configurations).
+constexpr int kGramMaxParameters = 40;
+// A Gram entry whose spread over the workspace is below this (relative to its columns' scale)
+// is a constant of the model: rounding, not geometry.
+constexpr double kConstantGram = 1e-13;
+
+// Uniform in [0, 1) from the top 53 bits: the same on every platform, unlike
+// std::uniform_real_distribution.
+double unitUniform(std::mt19937_64& rng) {
+  return static_cast<double>(rng() >> 11) * 0x1.0p-53;
+}
+
+}  // namespace
+
+std::vector<Eigen::VectorXd> workspaceConfigurations(const Machine& machine,
+                                                     const WorkspaceSpec& spec) {
+  const int n = machine.jointCount();
+  std::vector<Eigen::VectorXd> out;
+  switch (spec.kind) {
+    case WorkspaceSpec::Kind::Configurations:
+      return spec.configurations;
+    case WorkspaceSpec::Kind::Samples: {
+      std::mt19937_64 rng(spec.seed);
+      out.reserve(static_cast<std::size_t>(spec.samples));
+      for (int s = 0; s < spec.samples; ++s) {
+        Eigen::VectorXd q(n);
+        for (int i = 0; i < n; ++i) {
+          const auto& [lo, hi] = machine.joint_limits[static_cast<std::size_t>(i)];
+          q[i] = lo + (hi - lo) * unitUniform(rng);
+        }
+        out.push_back(q);
+      }
+      return out;
+    }
+    case WorkspaceSpec::Kind::Grid: {
+      std::vector<int> index(static_cast<std::size_t>(n), 0);
+      while (true) {
+        Eigen::VectorXd q(n);
+        for (int i = 0; i < n; ++i) {
+          const auto& [lo, hi] = machine.joint_limits[static_cast<std::size_t>(i)];
+          const int steps = spec.grid[static_cast<std::size_t>(i)];
+          q[i] = steps == 1 ? 0.5 * (lo + hi)
+                            : lo + (hi - lo) * index[static_cast<std::size_t>(i)] / (steps - 1);
+        }
+        out.push_back(q);
+        int i = n - 1;  // odometer, last joint fastest
+        while (i >= 0 &&
+               ++index[static_cast<std::size_t>(i)] == spec.grid[static_cast<std::size_t>(i)]) {
+          index[static_cast<std::size_t>(i)] = 0;
+          --i;
+        }
+        if (i < 0) return out;
+      }
+    }
+  }
+  return out;
+}
+
+TipEvaluator::TipEvaluator(const Machine& machine, const Noise& noise,
+                           std::vector<Eigen::VectorXd> configurations)
+    : dimension_(machine.dimension()), configurations_(std::move(configurations)) {
+  const int n_p = machine.calibratedCount();
+  const int count = size();
+  J_p_.resize(dimension_ * count, n_p);
+  S_q2_.resize(count);
+  Eigen::VectorXd x;
+  Eigen::MatrixXd J_x_p, J_x_q;
+  const Eigen::VectorXd sigma_q2 = noise.encoder.array().square();
+  for (int g = 0; g < count; ++g) {
+    machine.mechanism->forward(machine.nominal, configurations_[static_cast<std::size_t>(g)], x,
+                               &J_x_p, &J_x_q);
+    for (int j = 0; j < n_p; ++j) {
+      J_p_.block(g * dimension_, j, dimension_, 1) = J_x_p.col(machine.calibrated[j]);
+    }
+    // tr(J_q Sigma_q J_q^T) = sum_j s_q,j^2 |J_q column j|^2
+    S_q2_[g] = (J_x_q.colwise().squaredNorm().transpose().array() * sigma_q2.array()).sum();
+  }
+  if (n_p <= kGramMaxParameters) prepareGram(n_p);
+}
+
+// Column g: the lower triangle of J_g^T J_g column by column, off-diagonal entries doubled, so
+// that tr(V J_g^T J_g) = column . (lower triangle of V). Entries equal over the whole workspace
+// (a serial arm's |z_i|^2 = 1, z_i . x_(i+1) = 0, the probe block R^T R = I: about a fifth of
+// them) are kept once, and the per-evaluation product runs over the others only.
+void TipEvaluator::prepareGram(int n_p) {
+  const int entries = n_p * (n_p + 1) / 2;
+  Eigen::MatrixXd full(entries, size());
+  for (int g = 0; g < size(); ++g) {
+    const auto J = J_p_.middleRows(g * dimension_, dimension_);
+    int k = 0;
+    for (int b = 0; b < n_p; ++b) {
+      for (int a = b; a < n_p; ++a) full(k++, g) = (a == b ? 1.0 : 2.0) * J.col(a).dot(J.col(b));
+    }
+  }
+  gram_constant_.setZero(entries);
+  gram_rows_.clear();
+  const Eigen::VectorXd column_scale = J_p_.colwise().norm() / std::sqrt(std::max(size(), 1));
+  int k = 0;
+  for (int b = 0; b < n_p; ++b) {
+    for (int a = b; a < n_p; ++a, ++k) {
+      const double spread = full.row(k).maxCoeff() - full.row(k).minCoeff();
+      if (size() > 1 && spread <= kConstantGram * column_scale[a] * column_scale[b]) {
+        gram_constant_[k] = full.row(k).mean();
+      } else {
+        gram_rows_.push_back(k);
+      }
+    }
+  }
+  gram_ = full(gram_rows_, Eigen::all);
+}
+
+namespace {
+
+// A square root L of a covariance (V = L L^T): Cholesky, or the symmetric root when V is only
+// semi-definite.
+Eigen::MatrixXd covarianceRoot(const Eigen::MatrixXd& V) {
+  const Eigen::LLT<Eigen::MatrixXd> llt(V);
+  if (llt.info() == Eigen::Success) return llt.matrixL();
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(V);
+  return eig.eigenvectors() * eig.eigenvalues().cwiseMax(0.0).cwiseSqrt().asDiagonal();
+}
+
+}  // namespace
+
+void TipEvaluator::kinematicVariance(const Eigen::MatrixXd& V_p, Eigen::VectorXd& S_m2) const {
+  // S_m^2 = tr(J V J^T) = |J L|_F^2 with V = L L^T: one product over the whole workspace, with a
+  // triangular L (half the work of a full one).
+  if (gram_constant_.size() > 0) {
+    const int n_p = static_cast<int>(V_p.rows());
+    packed_V_.resize(gram_constant_.size());
+    int k = 0;
+    for (int b = 0; b < n_p; ++b) {
+      packed_V_.segment(k, n_p - b) = V_p.col(b).tail(n_p - b);
+      k += n_p - b;
+    }
+    packed_varying_ = packed_V_(gram_rows_);
+    S_m2.noalias() = gram_.transpose() * packed_varying_;
+    S_m2.array() += gram_constant_.dot(packed_V_);
+    return;
+  }
+  const Eigen::LLT<Eigen::MatrixXd> llt(V_p);
+  if (llt.info() == Eigen::Success) {
+    scratch_.noalias() = J_p_ * llt.matrixL();
+  } else {
+    scratch_.noalias() = J_p_ * covarianceRoot(V_p);
+  }
+  S_m2.setZero(size());
+  for (int r = 0; r < dimension_; ++r) {
+    S_m2 += scratch_(Eigen::seqN(r, size(), dimension_), Eigen::all).rowwise().squaredNorm();
+  }
+}
+
+TipSummary TipEvaluator::summarize(const Eigen::MatrixXd& V_p) const {
+  kinematicVariance(V_p, S_m2_);
+  TipSummary summary;
+  double sum = 0.0, sum2 = 0.0, worst = -1.0;
+  for (int g = 0; g < size(); ++g) {
+    const double total2 = S_m2_[g] + S_q2_[g];
+    sum += std::sqrt(total2);
+    sum2 += total2;
+    if (total2 > worst) {
+      worst = total2;
+      summary.worst_index = g;
+    }
+  }
+  if (size() > 0) {
+    const int w = summary.worst_index;
+    summary.worst = {std::sqrt(worst), std::sqrt(S_m2_[w]), std::sqrt(S_q2_[w])};
+    summary.mean = sum / size();
+    summary.rms = std::sqrt(sum2 / size());
+  }
+  return summary;
+}
+
+TipPoint TipEvaluator::at(int configuration, const Eigen::MatrixXd& V_p) const {
+  const auto J = J_p_.middleRows(configuration * dimension_, dimension_);
+  const double S_m2 = (J * V_p * J.transpose()).trace();
+  const double S_q2 = S_q2_[configuration];
+  return {std::sqrt(S_m2 + S_q2), std::sqrt(S_m2), std::sqrt(S_q2)};
+}
+
+TipPoint tipUncertainty(const Machine& machine, const Noise& noise, const Eigen::VectorXd& q,
+                        const Eigen::MatrixXd& V_p) {
+  return TipEvaluator(machine, noise, {q}).at(0, V_p);
+}
+
+std::vector<ProfilePoint> reachProfile(const Machine& machine, const Noise& noise,
+                                       const Eigen::MatrixXd& V_p, int steps) {
+  std::vector<ProfilePoint> profile;
+  if (machine.mechanism->modelName() != "planar2r" || steps < 2) return profile;
+  const double l1 = machine.nominal[0], l2 = machine.nominal[1], dt2 = machine.nominal[2];
+  const double inner = std::abs(l1 - l2), outer = l1 + l2;
+  const auto& limits = machine.joint_limits;
+  const double t1 = std::clamp(0.0, limits[0][0], limits[0][1]);
+  for (int s = 0; s < steps; ++s) {
+    const double reach = inner + (outer - inner) * s / (steps - 1);
+    const double cosine =
+        std::clamp((reach * reach - l1 * l1 - l2 * l2) / (2 * l1 * l2), -1.0, 1.0);
+    std::optional<TipPoint> worst;
+    for (double sign : {1.0, -1.0}) {  // both elbow branches
+      const double t2 = sign * std::acos(cosine) - dt2;
+      if (t2 < limits[1][0] || t2 > limits[1][1]) continue;
+      const TipPoint tip = tipUncertainty(machine, noise, Eigen::Vector2d(t1, t2), V_p);
+      if (!worst || tip.total > worst->total) worst = tip;
+    }
+    if (worst) profile.push_back({reach, *worst});
+  }
+  return profile;
+}
+
+}  // namespace artcal

@@ -1,0 +1,685 @@
+#include "artcal/io/plan_io.hpp"
+
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <Eigen/SVD>
+#include <algorithm>
+#include <limits>
+#include <numbers>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "artcal/model/planar2r.hpp"
+#include "artcal/model/serial_dh.hpp"
+
+namespace artcal {
+
+namespace {
+
+using nlohmann::json;
+
+constexpr std::size_t kMaxPlacements = 1'000'000;
+constexpr std::size_t kMaxMeasurements = 10'000;
+constexpr std::size_t kMaxJoints = 32;
+constexpr std::size_t kMaxFeatures = 10'000;
+constexpr long kMaxWorkspace = 10'000'000;
+
+std::string escapePointerToken(const std::string& token) {
+  std::string out;
+  for (char c : token) {
+    if (c == '~') {
+      out += "~0";
+    } else if (c == '/') {
+      out += "~1";
+    } else {
+      out += c;
+    }
+  }
+  return out;
+}
+
+std::string jsonTypeName(const json& v) {
+  if (v.is_number()) return "a number";
+  if (v.is_string()) return "a string";
+  if (v.is_boolean()) return "a boolean";
+  if (v.is_null()) return "null";
+  if (v.is_array()) return "an array";
+  return "an object";
+}
+
+// A value of the document with its JSON pointer: every check names the exact place of a fault.
+class Node {
+ public:
+  Node(const json& value, std::string pointer, const std::string& source)
+      : value_(&value), pointer_(std::move(pointer)), source_(&source) {}
+
+  [[noreturn]] void fail(const std::string& message) const {
+    throw InputError(*source_, pointer_.empty() ? "/" : pointer_, message);
+  }
+  const json& value() const { return *value_; }
+  const std::string& pointer() const { return pointer_; }
+
+  const json& object() const {
+    if (!value_->is_object()) fail("expected an object, got " + jsonTypeName(*value_));
+    return *value_;
+  }
+  bool has(const std::string& key) const { return object().contains(key); }
+  Node at(const std::string& key) const {
+    const auto& obj = object();
+    const auto it = obj.find(key);
+    if (it == obj.end()) {
+      throw InputError(*source_, pointer_ + "/" + escapePointerToken(key), "missing field");
+    }
+    return {*it, pointer_ + "/" + escapePointerToken(key), *source_};
+  }
+  std::optional<Node> find(const std::string& key) const {
+    if (!has(key)) return std::nullopt;
+    return at(key);
+  }
+  std::size_t arraySize(std::size_t min, std::size_t max) const {
+    if (!value_->is_array()) fail("expected an array, got " + jsonTypeName(*value_));
+    const std::size_t n = value_->size();
+    if (n < min)
+      fail("expected at least " + std::to_string(min) + " entries, got " + std::to_string(n));
+    if (n > max)
+      fail("expected at most " + std::to_string(max) + " entries, got " + std::to_string(n));
+    return n;
+  }
+  Node operator[](std::size_t i) const {
+    return {(*value_)[i], pointer_ + "/" + std::to_string(i), *source_};
+  }
+  double number() const {
+    if (!value_->is_number()) fail("expected a number, got " + jsonTypeName(*value_));
+    const double v = value_->get<double>();
+    if (!std::isfinite(v)) fail("expected a finite number");
+    return v;
+  }
+  double nonNegative() const {
+    const double v = number();
+    if (v < 0.0) fail("must not be negative, got " + json(v).dump());
+    return v;
+  }
+  double positive() const {
+    const double v = number();
+    if (v <= 0.0) fail("must be positive, got " + json(v).dump());
+    return v;
+  }
+  long integer(long min, long max) const {
+    if (!value_->is_number_integer() && !value_->is_number_unsigned()) {
+      if (value_->is_number_float()) {
+        const double d = value_->get<double>();
+        if (std::isfinite(d) && d == std::floor(d) && std::abs(d) < 9e15)
+          return checkRange(static_cast<long>(d), min, max);
+      }
+      fail("expected a whole number, got " + jsonTypeName(*value_));
+    }
+    if (value_->is_number_unsigned() &&
+        value_->get<std::uint64_t>() > static_cast<std::uint64_t>(max)) {
+      fail("must be at most " + std::to_string(max) + ", got " + value_->dump());
+    }
+    return checkRange(value_->get<long>(), min, max);
+  }
+  std::string string() const {
+    if (!value_->is_string()) fail("expected a string, got " + jsonTypeName(*value_));
+    return value_->get<std::string>();
+  }
+  /// An array of exactly `count` finite numbers.
+  Eigen::VectorXd numbers(std::size_t count) const {
+    if (!value_->is_array() || value_->size() != count ||
+        !std::all_of(value_->begin(), value_->end(), [](const json& v) { return v.is_number(); })) {
+      fail("expected " + std::to_string(count) + " numbers, got " + describeArray());
+    }
+    Eigen::VectorXd v(count);
+    for (std::size_t i = 0; i < count; ++i) v[static_cast<int>(i)] = (*this)[i].number();
+    return v;
+  }
+  /// Warns of members not in `known`: other tools may extend the format, a typo is more likely.
+  void warnUnknown(std::initializer_list<const char*> known,
+                   std::vector<std::string>& warnings) const {
+    for (const auto& item : object().items()) {
+      // Not a structured binding: clang 14 (the fuzz build) cannot capture one in a lambda.
+      const std::string& key = item.key();
+      if (std::none_of(known.begin(), known.end(), [&](const char* k) { return key == k; })) {
+        warnings.push_back(*source_ + ": " + pointer_ + "/" + escapePointerToken(key) +
+                           ": unknown field, ignored");
+      }
+    }
+  }
+
+ private:
+  long checkRange(long v, long min, long max) const {
+    if (v < min) fail("must be at least " + std::to_string(min) + ", got " + std::to_string(v));
+    if (v > max) fail("must be at most " + std::to_string(max) + ", got " + std::to_string(v));
+    return v;
+  }
+  std::string describeArray() const {
+    if (!value_->is_array()) return jsonTypeName(*value_);
+    for (const auto& v : *value_) {
+      if (!v.is_number()) return "an array holding " + jsonTypeName(v);
+    }
+    return std::to_string(value_->size());
+  }
+
+  const json* value_;
+  std::string pointer_;
+  const std::string* source_;
+};
+
+MechanismPtr parsePlanar2R(const Node& machine, Eigen::VectorXd& nominal) {
+  auto mechanism = std::make_shared<Planar2R>();
+  const Node params = machine.at("parameters");
+  params.object();
+  // Read before the comma initializer: an InputError thrown inside it would unwind through
+  // Eigen's CommaInitializer destructor, which asserts that every coefficient was given.
+  const double l1 = params.at("l1").positive();
+  const double l2 = params.at("l2").positive();
+  const double dt2 = degToRad(params.find("dt2") ? params.at("dt2").number() : 0.0);
+  nominal.resize(3);
+  nominal << l1, l2, dt2;
+  for (const auto& [key, v] : params.object().items()) {
+    if (mechanism->parameterIndex(key) < 0) {
+      params.at(key).fail("unknown parameter of planar2r (expected l1, l2, dt2)");
+    }
+  }
+  return mechanism;
+}
+
+MechanismPtr parseSerialDH(const Node& machine, Eigen::VectorXd& nominal,
+                           std::vector<std::string>& warnings) {
+  const Node joints = machine.at("joints");
+  const std::size_t n = joints.arraySize(1, kMaxJoints);
+  std::vector<JointKind> kinds;
+  std::vector<double> values;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Node joint = joints[i];
+    joint.object();
+    joint.warnUnknown({"type", "theta", "d", "a", "alpha"}, warnings);
+    JointKind kind = JointKind::Revolute;
+    if (const auto type = joint.find("type")) {
+      const std::string t = type->string();
+      if (t == "prismatic") {
+        kind = JointKind::Prismatic;
+      } else if (t != "revolute") {
+        type->fail("unknown joint type \"" + t + "\" (expected revolute or prismatic)");
+      }
+    }
+    kinds.push_back(kind);
+    auto value = [&](const char* key) { return joint.find(key) ? joint.at(key).number() : 0.0; };
+    values.insert(values.end(),
+                  {degToRad(value("theta")), value("d"), value("a"), degToRad(value("alpha"))});
+  }
+  const Eigen::VectorXd probe = machine.at("probe").numbers(3);
+  values.insert(values.end(), probe.data(), probe.data() + 3);
+  nominal = Eigen::Map<Eigen::VectorXd>(values.data(), static_cast<int>(values.size()));
+  return std::make_shared<SerialDH>(std::move(kinds));
+}
+
+Machine parseMachine(const Node& node, std::vector<std::string>& warnings) {
+  node.object();
+  Machine machine;
+  const Node model = node.at("model");
+  const std::string name = model.string();
+  if (name == "planar2r") {
+    node.warnUnknown({"model", "parameters", "calibrate", "joint_limits"}, warnings);
+    machine.mechanism = parsePlanar2R(node, machine.nominal);
+  } else if (name == "serial-dh") {
+    node.warnUnknown({"model", "joints", "probe", "calibrate", "joint_limits"}, warnings);
+    machine.mechanism = parseSerialDH(node, machine.nominal, warnings);
+  } else {
+    model.fail("unknown model \"" + name + "\" (expected planar2r or serial-dh)");
+  }
+  const Mechanism& mech = *machine.mechanism;
+  if (const auto calibrate = node.find("calibrate")) {
+    const std::size_t n = calibrate->arraySize(1, mech.parameters().size());
+    std::set<int> seen;
+    for (std::size_t i = 0; i < n; ++i) {
+      const Node entry = (*calibrate)[i];
+      const std::string pname = entry.string();
+      const int index = mech.parameterIndex(pname);
+      if (index < 0) entry.fail("unknown parameter \"" + pname + "\" of " + mech.modelName());
+      if (!seen.insert(index).second) entry.fail("parameter \"" + pname + "\" named twice");
+      machine.calibrated.push_back(index);
+    }
+  } else {
+    for (int i = 0; i < mech.parameterCount(); ++i) machine.calibrated.push_back(i);
+  }
+  const int joints = mech.jointCount();
+  if (const auto limits = node.find("joint_limits")) {
+    limits->arraySize(static_cast<std::size_t>(joints), static_cast<std::size_t>(joints));
+    for (int i = 0; i < joints; ++i) {
+      const Node pair = (*limits)[static_cast<std::size_t>(i)];
+      const Eigen::VectorXd lh = pair.numbers(2);
+      if (!(lh[0] < lh[1])) pair.fail("expected [lower, upper] with lower < upper");
+      const Quantity q = jointQuantity(mech.jointKind(i));
+      machine.joint_limits.push_back({fromFileUnit(q, lh[0]), fromFileUnit(q, lh[1])});
+    }
+  } else {
+    for (int i = 0; i < joints; ++i) {
+      if (mech.jointKind(i) == JointKind::Prismatic) {
+        node.fail("joint_limits are required when a joint is prismatic");
+      }
+      machine.joint_limits.push_back({-std::numbers::pi, std::numbers::pi});
+    }
+  }
+  return machine;
+}
+
+Noise parseNoise(const Node& node, const Machine& machine, std::vector<std::string>& warnings) {
+  node.object();
+  node.warnUnknown({"probe", "encoder"}, warnings);
+  Noise noise;
+  noise.probe = node.at("probe").positive();
+  const Node encoder = node.at("encoder");
+  const int joints = machine.jointCount();
+  noise.encoder.resize(joints);
+  if (encoder.value().is_array()) {
+    const Eigen::VectorXd values = encoder.numbers(static_cast<std::size_t>(joints));
+    for (int i = 0; i < joints; ++i) {
+      const double v = encoder[static_cast<std::size_t>(i)].nonNegative();
+      noise.encoder[i] = fromFileUnit(jointQuantity(machine.mechanism->jointKind(i)), v);
+      (void)values;
+    }
+  } else {
+    const double v = encoder.nonNegative();
+    for (int i = 0; i < joints; ++i) {
+      noise.encoder[i] = fromFileUnit(jointQuantity(machine.mechanism->jointKind(i)), v);
+    }
+  }
+  return noise;
+}
+
+double optionalNonNegative(const Node& node, const char* key) {
+  return node.find(key) ? node.at(key).nonNegative() : 0.0;
+}
+
+Artifact parseArtifact(const std::string& id, const Node& node, int dimension,
+                       std::vector<std::string>& warnings) {
+  node.object();
+  const Node typeNode = node.at("type");
+  const std::string type = typeNode.string();
+  if (type == "ball_bar") {
+    node.warnUnknown({"type", "length", "u_length"}, warnings);
+    return Artifact::ballBar(id, dimension, node.at("length").positive(),
+                             optionalNonNegative(node, "u_length"));
+  }
+  if (type == "ball_plate") {
+    node.warnUnknown({"type", "centers", "u"}, warnings);
+    const Node centers = node.at("centers");
+    const std::size_t n = centers.arraySize(2, kMaxFeatures);
+    Eigen::MatrixXd points(dimension, static_cast<int>(n));
+    for (std::size_t i = 0; i < n; ++i) {
+      points.col(static_cast<int>(i)) = centers[i].numbers(static_cast<std::size_t>(dimension));
+    }
+    // Every pair of centres must be distinct; in 3-D the centres must not all lie on one line
+    // (N(r) = 6 needs it: a collinear plate is a ball bar).
+    Eigen::MatrixXd centred = points.colwise() - points.rowwise().mean();
+    Eigen::JacobiSVD<Eigen::MatrixXd> svd(centred);
+    const Eigen::VectorXd sv = svd.singularValues();
+    if (sv[0] <= 0.0) centers.fail("centers must not coincide");
+    if (dimension == 3 && (sv.size() < 2 || sv[1] <= 1e-9 * sv[0])) {
+      centers.fail("centers of a 3-D ball plate must not be collinear");
+    }
+    return Artifact::ballPlate(id, points, optionalNonNegative(node, "u"));
+  }
+  if (type == "step_gauge") {
+    node.warnUnknown({"type", "positions", "u"}, warnings);
+    const Node positions = node.at("positions");
+    const std::size_t n = positions.arraySize(2, kMaxFeatures);
+    std::vector<double> values;
+    for (std::size_t i = 0; i < n; ++i) values.push_back(positions[i].number());
+    if (std::set<double>(values.begin(), values.end()).size() != values.size()) {
+      positions.fail("positions must be distinct");
+    }
+    return Artifact::stepGauge(id, dimension, values, optionalNonNegative(node, "u"));
+  }
+  typeNode.fail("unknown artifact type \"" + type +
+                "\" (expected ball_bar, ball_plate or step_gauge)");
+}
+
+Pose parsePose(const Node& node, int dimension, std::vector<std::string>& warnings) {
+  node.object();
+  Pose pose;
+  pose.center = node.at("center").numbers(static_cast<std::size_t>(dimension));
+  if (dimension == 2) {
+    node.warnUnknown({"center", "angle"}, warnings);
+    pose.angle = degToRad(node.find("angle") ? node.at("angle").number() : 0.0);
+  } else {
+    node.warnUnknown({"center", "direction", "roll"}, warnings);
+    const Node direction = node.at("direction");
+    pose.direction = direction.numbers(3);
+    if (pose.direction.norm() <= 0.0) direction.fail("direction must not be zero");
+    pose.direction.normalize();
+    pose.roll = degToRad(node.find("roll") ? node.at("roll").number() : 0.0);
+  }
+  return pose;
+}
+
+Eigen::VectorXd jointsFromFile(const Mechanism& mech, const Eigen::VectorXd& values) {
+  Eigen::VectorXd q(values.size());
+  for (int i = 0; i < values.size(); ++i)
+    q[i] = fromFileUnit(jointQuantity(mech.jointKind(i)), values[i]);
+  return q;
+}
+
+Placement parsePlacement(const Node& node, const Plan& plan, bool require_measurements,
+                         std::vector<std::string>& warnings) {
+  node.object();
+  node.warnUnknown({"artifact", "pose", "measurements"}, warnings);
+  Placement placement;
+  const Node artifact = node.at("artifact");
+  const std::string id = artifact.string();
+  placement.artifact = plan.artifactIndex(id);
+  if (placement.artifact < 0) artifact.fail("unknown artifact \"" + id + "\"");
+  const int dimension = plan.machine.dimension();
+  if (const auto pose = node.find("pose")) placement.pose = parsePose(*pose, dimension, warnings);
+  const auto measurements = node.find("measurements");
+  if (!measurements) {
+    if (require_measurements || !placement.pose) node.at("measurements");  // raises "missing"
+    return placement;
+  }
+  const std::size_t n = measurements->arraySize(1, kMaxMeasurements);
+  const Artifact& art = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
+  const Mechanism& mech = *plan.machine.mechanism;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Node m = (*measurements)[i];
+    m.object();
+    m.warnUnknown({"feature", "joints"}, warnings);
+    Measurement measurement;
+    measurement.feature = static_cast<int>(m.at("feature").integer(0, art.featureCount() - 1));
+    measurement.joints =
+        jointsFromFile(mech, m.at("joints").numbers(static_cast<std::size_t>(mech.jointCount())));
+    placement.measurements.push_back(std::move(measurement));
+  }
+  return placement;
+}
+
+WorkspaceSpec parseWorkspace(const Node& node, const Machine& machine,
+                             std::vector<std::string>& warnings) {
+  node.object();
+  node.warnUnknown({"configurations", "samples", "seed", "grid"}, warnings);
+  WorkspaceSpec spec;
+  const int kinds = node.has("configurations") + node.has("samples") + node.has("grid");
+  if (kinds != 1) node.fail("expected exactly one of configurations, samples or grid");
+  const auto joints = static_cast<std::size_t>(machine.jointCount());
+  if (const auto configurations = node.find("configurations")) {
+    spec.kind = WorkspaceSpec::Kind::Configurations;
+    const std::size_t n = configurations->arraySize(1, kMaxWorkspace);
+    for (std::size_t i = 0; i < n; ++i) {
+      spec.configurations.push_back(
+          jointsFromFile(*machine.mechanism, (*configurations)[i].numbers(joints)));
+    }
+  } else if (const auto samples = node.find("samples")) {
+    spec.kind = WorkspaceSpec::Kind::Samples;
+    spec.samples = static_cast<int>(samples->integer(1, kMaxWorkspace));
+    if (const auto seed = node.find("seed"))
+      spec.seed = static_cast<std::uint64_t>(seed->integer(0, std::numeric_limits<long>::max()));
+  } else {
+    spec.kind = WorkspaceSpec::Kind::Grid;
+    const Node grid = node.at("grid");
+    grid.arraySize(joints, joints);
+    long total = 1;
+    for (std::size_t i = 0; i < joints; ++i) {
+      const long n = grid[i].integer(1, kMaxWorkspace);
+      total *= n;
+      if (total > kMaxWorkspace)
+        grid.fail("more than " + std::to_string(kMaxWorkspace) + " configurations");
+      spec.grid.push_back(static_cast<int>(n));
+    }
+  }
+  return spec;
+}
+
+Criterion parseCriterion(const Node& node) {
+  const std::string name = node.string();
+  for (Criterion c :
+       {Criterion::WorstTip, Criterion::MeanTip, Criterion::D, Criterion::A, Criterion::E}) {
+    if (criterionName(c) == name) return c;
+  }
+  node.fail("unknown criterion \"" + name + "\" (expected worst-tip, mean-tip, D, A or E)");
+}
+
+DesignSpec parseDesign(const Node& node, const Plan& plan, std::vector<std::string>& warnings) {
+  node.object();
+  node.warnUnknown(
+      {"artifact", "placements", "postures", "region", "criterion", "seed", "starts", "time_limit"},
+      warnings);
+  DesignSpec design;
+  const Node artifact = node.at("artifact");
+  design.artifact = plan.artifactIndex(artifact.string());
+  if (design.artifact < 0) artifact.fail("unknown artifact \"" + artifact.string() + "\"");
+  design.placements = static_cast<int>(node.at("placements").integer(1, 100'000));
+  if (const auto v = node.find("postures")) design.postures = static_cast<int>(v->integer(1, 100));
+  const Node region = node.at("region");
+  region.object();
+  region.warnUnknown({"reach", "box"}, warnings);
+  if (!region.has("reach") && !region.has("box")) region.fail("expected reach and/or box");
+  if (const auto reach = region.find("reach")) {
+    const Eigen::VectorXd r = reach->numbers(2);
+    if (!(r[0] >= 0.0 && r[0] < r[1])) reach->fail("expected [min, max] with 0 <= min < max");
+    design.region.reach = std::array<double, 2>{r[0], r[1]};
+  }
+  if (const auto box = region.find("box")) {
+    box->arraySize(2, 2);
+    const auto d = static_cast<std::size_t>(plan.machine.dimension());
+    design.region.box = std::array<Eigen::VectorXd, 2>{(*box)[0].numbers(d), (*box)[1].numbers(d)};
+  }
+  if (const auto v = node.find("criterion")) design.criterion = parseCriterion(*v);
+  if (const auto v = node.find("seed"))
+    design.seed = static_cast<std::uint64_t>(v->integer(0, std::numeric_limits<long>::max()));
+  if (const auto v = node.find("starts")) design.starts = static_cast<int>(v->integer(1, 10'000));
+  if (const auto v = node.find("time_limit")) design.time_limit = v->positive();
+  return design;
+}
+
+}  // namespace
+
+nlohmann::json readJsonFile(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw InputError(path, "", "is a directory");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path, "", "cannot be read");
+  const auto size = std::filesystem::file_size(path, ec);
+  if (!ec && size > kMaxPlanFileBytes) {
+    throw InputError(path, "", "larger than " + std::to_string(kMaxPlanFileBytes >> 20) + " MiB");
+  }
+  std::ostringstream text;
+  text << in.rdbuf();
+  return parseJsonText(text.str(), path);
+}
+
+/// InputError when arrays and objects nest deeper than kMaxJsonDepth in JSON text (strings
+/// skipped; malformed text is left to the parser). A scan before parsing, because nlohmann's
+/// callback parser is quadratic on long arrays of objects (3.11: end_object scans the parent).
+static void checkNestingDepth(const std::string& text, const std::string& source) {
+  int depth = 0;
+  bool in_string = false;
+  bool escaped = false;
+  for (const char c : text) {
+    if (in_string) {
+      if (escaped) {
+        escaped = false;
+      } else if (c == '\\') {
+        escaped = true;
+      } else if (c == '"') {
+        in_string = false;
+      }
+      continue;
+    }
+    if (c == '"') {
+      in_string = true;
+    } else if (c == '[' || c == '{') {
+      if (++depth > kMaxJsonDepth) {
+        throw InputError(source, "",
+                         "nested deeper than " + std::to_string(kMaxJsonDepth) + " levels");
+      }
+    } else if (c == ']' || c == '}') {
+      --depth;
+    }
+  }
+}
+
+nlohmann::json parseJsonText(const std::string& text, const std::string& source) {
+  checkNestingDepth(text, source);
+  try {
+    return json::parse(text);
+  } catch (const json::exception& e) {
+    // parse_error, and out_of_range for a number beyond double ("1e999"). e.what() reads
+    // "[json.exception.parse_error.101] parse error at line 3, column 5: ...": drop the id.
+    const std::string message = e.what();
+    const auto at = message.find("] ");
+    throw InputError(
+        source, "",
+        "malformed JSON: " + (at == std::string::npos ? message : message.substr(at + 2)));
+  }
+}
+
+Plan parsePlan(const nlohmann::json& document, const std::string& source, bool require_placements) {
+  Plan plan;
+  plan.source = source;
+  const Node root(document, "", source);
+  root.object();
+  root.warnUnknown(
+      {"format", "name", "description", "machine", "noise", "artifacts", "placements", "workspace",
+       "design", "predicted", "readings", "calibration", "truth", "simulation"},
+      plan.warnings);
+  const Node format = root.at("format");
+  if (format.string() != "artcal-plan/1") {
+    format.fail("unsupported format \"" + format.string() + "\" (expected artcal-plan/1)");
+  }
+  if (const auto name = root.find("name")) plan.name = name->string();
+  if (const auto description = root.find("description")) plan.description = description->string();
+  plan.machine = parseMachine(root.at("machine"), plan.warnings);
+  plan.noise = parseNoise(root.at("noise"), plan.machine, plan.warnings);
+  const Node artifacts = root.at("artifacts");
+  if (artifacts.object().empty()) artifacts.fail("expected at least one artifact");
+  for (const auto& [id, value] : artifacts.object().items()) {
+    plan.artifacts.push_back(
+        parseArtifact(id, artifacts.at(id), plan.machine.dimension(), plan.warnings));
+  }
+  if (const auto placements = root.find("placements")) {
+    const std::size_t n = placements->arraySize(require_placements ? 1 : 0, kMaxPlacements);
+    plan.placements.reserve(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      plan.placements.push_back(
+          parsePlacement((*placements)[i], plan, require_placements, plan.warnings));
+    }
+  } else if (require_placements) {
+    root.at("placements");
+  }
+  if (const auto workspace = root.find("workspace")) {
+    plan.workspace = parseWorkspace(*workspace, plan.machine, plan.warnings);
+  }
+  if (const auto design = root.find("design"))
+    plan.design = parseDesign(*design, plan, plan.warnings);
+  return plan;
+}
+
+Plan loadPlan(const std::string& path, bool require_placements) {
+  return parsePlan(readJsonFile(path), path, require_placements);
+}
+
+nlohmann::json placementsToJson(const Plan& plan) {
+  json out = json::array();
+  const Mechanism& mech = *plan.machine.mechanism;
+  for (const Placement& placement : plan.placements) {
+    json p;
+    p["artifact"] = plan.artifacts[static_cast<std::size_t>(placement.artifact)].id;
+    if (placement.pose) {
+      const Pose& pose = *placement.pose;
+      p["pose"]["center"] =
+          std::vector<double>(pose.center.data(), pose.center.data() + pose.center.size());
+      if (plan.machine.dimension() == 2) {
+        p["pose"]["angle"] = radToDeg(pose.angle);
+      } else {
+        p["pose"]["direction"] = {pose.direction[0], pose.direction[1], pose.direction[2]};
+        p["pose"]["roll"] = radToDeg(pose.roll);
+      }
+    }
+    json measurements = json::array();
+    for (const Measurement& m : placement.measurements) {
+      std::vector<double> joints;
+      for (int i = 0; i < m.joints.size(); ++i) {
+        joints.push_back(toFileUnit(jointQuantity(mech.jointKind(i)), m.joints[i]));
+      }
+      measurements.push_back({{"feature", m.feature}, {"joints", joints}});
+    }
+    p["measurements"] = measurements;
+    out.push_back(p);
+  }
+  return out;
+}
+
+nlohmann::json machineToJson(const Machine& machine, const Eigen::VectorXd& parameters) {
+  const Mechanism& mech = *machine.mechanism;
+  json out;
+  out["model"] = mech.modelName();
+  auto fileValue = [&](int i) { return toFileUnit(mech.parameters()[i].quantity, parameters[i]); };
+  if (mech.modelName() == "serial-dh") {
+    json joints = json::array();
+    for (int j = 0; j < mech.jointCount(); ++j) {
+      const int k = SerialDH::jointParameterOffset(j);
+      joints.push_back(
+          {{"type", mech.jointKind(j) == JointKind::Revolute ? "revolute" : "prismatic"},
+           {"theta", fileValue(k)},
+           {"d", fileValue(k + 1)},
+           {"a", fileValue(k + 2)},
+           {"alpha", fileValue(k + 3)}});
+    }
+    out["joints"] = joints;
+    const int k = 4 * mech.jointCount();
+    out["probe"] = {fileValue(k), fileValue(k + 1), fileValue(k + 2)};
+  } else {
+    for (int i = 0; i < mech.parameterCount(); ++i)
+      out["parameters"][mech.parameters()[i].name] = fileValue(i);
+  }
+  json calibrate = json::array();
+  for (int k : machine.calibrated) calibrate.push_back(mech.parameters()[k].name);
+  out["calibrate"] = calibrate;
+  json limits = json::array();
+  for (int j = 0; j < mech.jointCount(); ++j) {
+    const Quantity q = jointQuantity(mech.jointKind(j));
+    limits.push_back(
+        {toFileUnit(q, machine.joint_limits[j][0]), toFileUnit(q, machine.joint_limits[j][1])});
+  }
+  out["joint_limits"] = limits;
+  return out;
+}
+
+void writeFileAtomically(const std::string& path, const std::string& content) {
+  namespace fs = std::filesystem;
+  const fs::path target(path);
+  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  std::string name = target.filename().string();
+  name.insert(name.begin(), '.');
+  name.append(".XXXXXX");
+  std::string pattern = (dir / name).string();
+  const int fd = ::mkstemp(pattern.data());
+  if (fd < 0) throw std::runtime_error(path + ": cannot create a temporary file beside it");
+  const char* data = content.data();
+  std::size_t left = content.size();
+  bool ok = true;
+  while (left > 0) {
+    const ssize_t written = ::write(fd, data, left);
+    if (written <= 0) {
+      ok = false;
+      break;
+    }
+    data += written;
+    left -= static_cast<std::size_t>(written);
+  }
+  ok = ok && ::fsync(fd) == 0;
+  ok = (::close(fd) == 0) && ok;
+  if (ok) ::chmod(pattern.c_str(), 0644);
+  if (!ok || std::rename(pattern.c_str(), path.c_str()) != 0) {
+    std::remove(pattern.c_str());
+    throw std::runtime_error(path + ": cannot be written");
+  }
+}
+
+}  // namespace artcal

@@ -1,0 +1,208 @@
+#include "artcal/planning/design_space.hpp"
+
+#include <cmath>
+#include <numbers>
+
+#include "artcal/core/error.hpp"
+#include "artcal/model/inverse_kinematics.hpp"
+
+namespace artcal {
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kAngleBound = 4 * kPi;  // angles are free; the bound only serves BOBYQA
+
+bool isPlanar2r(const Machine& machine) {
+  return machine.mechanism->modelName() == "planar2r";
+}
+
+// The centre may go wherever a feature may: the region's bounding box.
+std::array<Eigen::VectorXd, 2> regionExtent(const Region& region, int dimension) {
+  Eigen::VectorXd lo = Eigen::VectorXd::Constant(dimension, -1e300);
+  Eigen::VectorXd hi = Eigen::VectorXd::Constant(dimension, 1e300);
+  if (region.reach) {
+    lo.setConstant(-(*region.reach)[1]);
+    hi.setConstant((*region.reach)[1]);
+  }
+  if (region.box) {
+    lo = lo.cwiseMax((*region.box)[0].cwiseMin((*region.box)[1]));
+    hi = hi.cwiseMin((*region.box)[0].cwiseMax((*region.box)[1]));
+  }
+  return {lo, hi};
+}
+
+}  // namespace
+
+double uniform01(std::mt19937_64& rng) {
+  return static_cast<double>(rng() >> 11) * 0x1.0p-53;
+}
+
+DesignSpace::DesignSpace(const Plan& plan) : plan_(&plan) {
+  if (!plan.design) throw InputError(plan.source, "/design", "the spec has no design block");
+  const DesignSpec& spec = *plan.design;
+  if (artifact().dimension != dimension()) {
+    throw InputError(plan.source, "/design/artifact",
+                     "the artifact's dimension does not match the machine's");
+  }
+  if (!spec.region.reach && !spec.region.box) {
+    throw InputError(plan.source, "/design/region", "expected \"reach\" and/or \"box\"");
+  }
+  if (isPlanar2r(plan.machine) && spec.postures > 2) {
+    throw InputError(plan.source, "/design/postures",
+                     "planar2r has two postures per point (the elbow branches), got " +
+                         std::to_string(spec.postures));
+  }
+  has_roll_ = dimension() == 3 && artifact().kind == ArtifactKind::BallPlate;
+  const auto [lo, hi] = regionExtent(spec.region, dimension());
+  if ((lo.array() > hi.array()).any()) {
+    throw InputError(plan.source, "/design/region", "the region is empty");
+  }
+  lower_ = Eigen::VectorXd::Constant(poseSize(), -kAngleBound);
+  upper_ = Eigen::VectorXd::Constant(poseSize(), kAngleBound);
+  lower_.head(dimension()) = lo;
+  upper_.head(dimension()) = hi;
+}
+
+const Artifact& DesignSpace::artifact() const {
+  return plan_->artifacts[static_cast<std::size_t>(design().artifact)];
+}
+
+int DesignSpace::poseSize() const {
+  return dimension() == 2 ? 3 : (has_roll_ ? 6 : 5);
+}
+
+Eigen::VectorXd DesignSpace::initialSteps() const {
+  // A tenth of the region's extent for the centre, 0.2 rad for angles.
+  Eigen::VectorXd steps = Eigen::VectorXd::Constant(poseSize(), 0.2);
+  steps.head(dimension()) =
+      (0.1 * (upper_ - lower_).head(dimension())).cwiseMin(50.0).cwiseMax(1.0);
+  return steps;
+}
+
+namespace {
+
+Eigen::Vector3d directionOf(double azimuth, double elevation) {
+  return {std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth),
+          std::sin(elevation)};
+}
+
+}  // namespace
+
+RigidTransform DesignSpace::transformOf(const Eigen::VectorXd& v) const {
+  if (dimension() == 2) return placePlanar(v.head<2>(), v[2]);
+  return placeSpatial(v.head<3>(), directionOf(v[3], v[4]), has_roll_ ? v[5] : 0.0);
+}
+
+Pose DesignSpace::poseOf(const Eigen::VectorXd& v) const {
+  Pose pose;
+  pose.center = v.head(dimension());
+  if (dimension() == 2) {
+    pose.angle = std::remainder(v[2], 2 * kPi);
+  } else {
+    pose.direction = directionOf(v[3], v[4]);
+    pose.roll = has_roll_ ? std::remainder(v[5], 2 * kPi) : 0.0;
+  }
+  return pose;
+}
+
+Eigen::MatrixXd DesignSpace::featurePositions(const Eigen::VectorXd& v) const {
+  // The transform maps machine -> artifact (W = R x + t); features go the other way.
+  const RigidTransform artifact_to_machine = transformOf(v).inverse();
+  const Eigen::MatrixXd& W = artifact().features;
+  Eigen::MatrixXd x(W.rows(), W.cols());
+  for (int i = 0; i < W.cols(); ++i) x.col(i) = artifact_to_machine.apply(W.col(i));
+  return x;
+}
+
+double DesignSpace::regionViolation(const Eigen::VectorXd& v) const {
+  const Region& region = design().region;
+  const Eigen::MatrixXd x = featurePositions(v);
+  double violation = 0.0;
+  for (int i = 0; i < x.cols(); ++i) {
+    if (region.reach) {
+      const double r = x.col(i).norm();
+      violation += std::max(0.0, (*region.reach)[0] - r) + std::max(0.0, r - (*region.reach)[1]);
+    }
+    if (region.box) {
+      const Eigen::VectorXd lo = (*region.box)[0].cwiseMin((*region.box)[1]);
+      const Eigen::VectorXd hi = (*region.box)[0].cwiseMax((*region.box)[1]);
+      violation += (lo - x.col(i)).cwiseMax(0.0).sum() + (x.col(i) - hi).cwiseMax(0.0).sum();
+    }
+  }
+  return violation;
+}
+
+Eigen::VectorXd DesignSpace::randomPose(std::mt19937_64& rng) const {
+  Eigen::VectorXd v(poseSize());
+  for (int i = 0; i < dimension(); ++i) v[i] = lower_[i] + (upper_[i] - lower_[i]) * uniform01(rng);
+  if (dimension() == 2) {
+    v[2] = kPi * (2 * uniform01(rng) - 1);
+  } else {
+    v[3] = kPi * (2 * uniform01(rng) - 1);
+    v[4] = std::asin(2 * uniform01(rng) - 1);  // uniform directions on the sphere
+    if (has_roll_) v[5] = kPi * (2 * uniform01(rng) - 1);
+  }
+  return v;
+}
+
+namespace {
+
+// Postures of one point: planar2r the elbow branches (one drawn at random when one is asked),
+// other models spread IK solutions.
+std::vector<Eigen::VectorXd> posturesFor(const Machine& machine, const Eigen::VectorXd& target,
+                                         int count, std::mt19937_64& rng) {
+  if (!isPlanar2r(machine)) return diversePostures(machine, machine.nominal, target, count, rng);
+  std::vector<Eigen::VectorXd> out;
+  for (const Eigen::VectorXd& branch : planar2rInverse(machine.nominal, target.head<2>())) {
+    if (auto q = solveInverseKinematics(machine, machine.nominal, target, branch)) {
+      out.push_back(*q);
+    }
+  }
+  if (count == 1 && out.size() == 2) out.erase(out.begin() + static_cast<long>(rng() % 2));
+  return out;
+}
+
+}  // namespace
+
+std::optional<Placement> DesignSpace::placeWithNewPostures(const Eigen::VectorXd& v,
+                                                           std::mt19937_64& rng) const {
+  if (regionViolation(v) > 0.0) return std::nullopt;
+  const Eigen::MatrixXd x = featurePositions(v);
+  Placement placement;
+  placement.artifact = design().artifact;
+  placement.pose = poseOf(v);
+  for (int i = 0; i < x.cols(); ++i) {
+    const auto postures = posturesFor(plan_->machine, x.col(i), design().postures, rng);
+    if (static_cast<int>(postures.size()) < design().postures) return std::nullopt;
+    for (const Eigen::VectorXd& q : postures) placement.measurements.push_back({i, q});
+  }
+  return placement;
+}
+
+std::optional<Placement> DesignSpace::movePlacement(const Placement& previous,
+                                                    const Eigen::VectorXd& v) const {
+  if (regionViolation(v) > 0.0) return std::nullopt;
+  const Eigen::MatrixXd x = featurePositions(v);
+  Placement placement;
+  placement.artifact = previous.artifact;
+  placement.pose = poseOf(v);
+  for (const Measurement& m : previous.measurements) {
+    auto q =
+        solveInverseKinematics(plan_->machine, plan_->machine.nominal, x.col(m.feature), m.joints);
+    if (!q) return std::nullopt;
+    placement.measurements.push_back({m.feature, *q});
+  }
+  return placement;
+}
+
+std::optional<std::pair<Eigen::VectorXd, Placement>> DesignSpace::randomPlacement(
+    std::mt19937_64& rng, int attempts) const {
+  for (int a = 0; a < attempts; ++a) {
+    Eigen::VectorXd v = randomPose(rng);
+    if (auto placement = placeWithNewPostures(v, rng)) return std::pair{std::move(v), *placement};
+  }
+  return std::nullopt;
+}
+
+}  // namespace artcal

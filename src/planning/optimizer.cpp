@@ -1,0 +1,594 @@
+#include "artcal/planning/optimizer.hpp"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <deque>
+#include <exception>
+#include <limits>
+#include <mutex>
+#include <nlopt.hpp>
+#include <numeric>
+#include <sstream>
+#include <thread>
+
+#include "artcal/core/error.hpp"
+#include "artcal/estimation/identifiability.hpp"
+
+namespace artcal {
+
+namespace {
+
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// A generator for stream `stream`, item `index`: independent of which thread draws it.
+std::mt19937_64 seededGenerator(std::uint64_t seed, std::uint64_t stream, std::uint64_t index) {
+  std::seed_seq sequence{static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32),
+                         static_cast<std::uint32_t>(stream), static_cast<std::uint32_t>(index),
+                         static_cast<std::uint32_t>(index >> 32)};
+  return std::mt19937_64(sequence);
+}
+
+// The machine's reach (largest probe distance over the workspace): mm per rad for D, A, E.
+double machineReach(const Machine& machine, const std::vector<Eigen::VectorXd>& workspace) {
+  double reach = 0.0;
+  Eigen::VectorXd x;
+  for (const Eigen::VectorXd& q : workspace) {
+    machine.mechanism->forward(machine.nominal, q, x);
+    reach = std::max(reach, x.norm());
+  }
+  return reach > 0.0 ? reach : 1.0;
+}
+
+// The information of p: c eliminated with its prior (method.md section 3).
+Eigen::MatrixXd parameterPart(const Eigen::MatrixXd& information_g, const GlobalLayout& layout) {
+  const int n = layout.parameters;
+  const int c = layout.systematicCount();
+  if (c == 0) return information_g;
+  Eigen::MatrixXd N_cc = information_g.bottomRightCorner(c, c);
+  N_cc.diagonal() += layout.c_sigma.array().square().inverse().matrix();
+  const Eigen::MatrixXd N_cp = information_g.bottomLeftCorner(c, n);
+  return information_g.topLeftCorner(n, n) - N_cp.transpose() * N_cc.ldlt().solve(N_cp);
+}
+
+}  // namespace
+
+std::string refineAlgorithmName(RefineAlgorithm algorithm) {
+  switch (algorithm) {
+    case RefineAlgorithm::None:
+      return "none";
+    case RefineAlgorithm::Subplex:
+      return "sbplx";
+    case RefineAlgorithm::Bobyqa:
+      return "bobyqa";
+    case RefineAlgorithm::NelderMead:
+      return "neldermead";
+    case RefineAlgorithm::Cobyla:
+      return "cobyla";
+  }
+  return "none";
+}
+
+std::optional<RefineAlgorithm> refineAlgorithmFromName(const std::string& name) {
+  for (RefineAlgorithm a :
+       {RefineAlgorithm::None, RefineAlgorithm::Subplex, RefineAlgorithm::Bobyqa,
+        RefineAlgorithm::NelderMead, RefineAlgorithm::Cobyla}) {
+    if (refineAlgorithmName(a) == name) return a;
+  }
+  return std::nullopt;
+}
+
+OptimizerOptions OptimizerOptions::fromDesign(const DesignSpec& design) {
+  OptimizerOptions options;
+  options.criterion = design.criterion;
+  options.seed = design.seed;
+  options.starts = design.starts;
+  options.time_limit = design.time_limit;
+  return options;
+}
+
+bool OptimizerOptions::isValid(std::string* why) const {
+  auto fail = [why](const std::string& message) {
+    if (why) *why = message;
+    return false;
+  };
+  if (starts < 1) return fail("starts must be at least 1");
+  if (!(time_limit > 0.0)) return fail("time_limit must be positive");
+  if (pool_size < 0) return fail("pool_size must not be negative");
+  if (exchange_passes < 0) return fail("exchange_passes must not be negative");
+  if (refine_evaluations < 0) return fail("refine_evaluations must not be negative");
+  if (!(smooth_power >= 0.0) || !std::isfinite(smooth_power)) {
+    return fail("smooth_power must be finite and not negative");
+  }
+  if (threads < 0) return fail("threads must not be negative");
+  return true;
+}
+
+int OptimizerSummary::startsDone() const {
+  return static_cast<int>(
+      std::count_if(starts.begin(), starts.end(), [](const StartResult& s) { return s.done; }));
+}
+
+std::string OptimizerSummary::briefReport() const {
+  std::ostringstream out;
+  out << (termination == Termination::Completed ? "completed" : "time limit reached") << ": "
+      << startsDone() << "/" << starts.size() << " starts, best " << value * 1000.0 << " um (start "
+      << best_start << "), pool " << pool_size << ", " << seconds << " s";
+  return out.str();
+}
+
+// ---------------------------------------------------------------------------------------------
+// DesignCriterion
+
+DesignCriterion::DesignCriterion(const Plan& plan, Criterion criterion, double smooth_power)
+    : plan_(&plan),
+      criterion_(criterion),
+      smooth_power_(smooth_power),
+      layout_(GlobalLayout::of(plan)),
+      evaluator_(plan),
+      builder_(plan.machine, plan.noise),
+      reducer_(layout_) {
+  const Machine& machine = plan.machine;
+  const double reach = machineReach(machine, evaluator_.workspace().configurations());
+  scale_.resize(machine.calibratedCount());
+  for (int k = 0; k < machine.calibratedCount(); ++k) {
+    scale_[k] = machine.calibratedInfo(k).quantity == Quantity::Angle ? reach : 1.0;
+  }
+}
+
+Eigen::MatrixXd DesignCriterion::contribution(const Placement& placement) {
+  const std::vector<Placement> one{placement};
+  const RigidTransform pose = fitPlacements(*plan_, one, plan_->machine.nominal).front();
+  const Artifact& artifact = plan_->artifacts[static_cast<std::size_t>(placement.artifact)];
+  builder_.build(artifact, placement.measurements, plan_->machine.nominal, pose, Eigen::VectorXd(),
+                 false, block_);
+  reducer_.reset();
+  reducer_.add(block_, placement.artifact);
+  return reducer_.normal();
+}
+
+double DesignCriterion::value(const Eigen::MatrixXd& information_g) {
+  return evaluate(information_g, 0.0);
+}
+
+double DesignCriterion::smoothValue(const Eigen::MatrixXd& information_g) {
+  return evaluate(information_g, smooth_power_);
+}
+
+double DesignCriterion::evaluate(const Eigen::MatrixXd& information_g, double power) {
+  const auto covariance = covarianceFromInformation(parameterPart(information_g, layout_));
+  if (!covariance) return kInfinity;
+  const Eigen::MatrixXd& V = covariance->V;
+  const TipEvaluator& tip = evaluator_.workspace();
+  switch (criterion_) {
+    case Criterion::WorstTip:
+    case Criterion::MeanTip: {
+      tip.kinematicVariance(V, S_m2_);
+      const Eigen::ArrayXd S2 = S_m2_.array() + tip.encoderVariance().array();
+      if (criterion_ == Criterion::MeanTip) return std::sqrt(S2.mean());
+      const double worst2 = S2.maxCoeff();
+      if (power <= 0.0) return std::sqrt(worst2);
+      // p-norm of S relative to the worst: smooth, at most the max, near it for large p.
+      return std::sqrt(worst2) * std::pow((S2 / worst2).pow(0.5 * power).mean(), 1.0 / power);
+    }
+    case Criterion::D:
+    case Criterion::A:
+    case Criterion::E: {
+      const Eigen::MatrixXd Vs = scale_.asDiagonal() * V * scale_.asDiagonal();
+      const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(Vs, Eigen::EigenvaluesOnly);
+      const Eigen::VectorXd lambda = eigen.eigenvalues().cwiseMax(0.0);
+      const double n = static_cast<double>(lambda.size());
+      if (criterion_ == Criterion::A) return std::sqrt(lambda.sum() / n);
+      if (criterion_ == Criterion::E) return std::sqrt(lambda.maxCoeff());
+      return std::exp(lambda.array().log().sum() / (2.0 * n));
+    }
+  }
+  return kInfinity;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Counting condition
+
+void checkDesignCount(const Plan& plan) {
+  const DesignSpec& design = *plan.design;
+  const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(design.artifact)];
+  const CountingCondition fixed = countingCondition(plan, plan.placements);
+  const int per_placement =
+      artifact.featureCount() * design.postures * artifact.valuedPerFeature() - artifact.rigidDof();
+  const int equations = fixed.N_b - fixed.N_r + design.placements * per_placement;
+  const int N_p = plan.machine.calibratedCount();
+  if (equations >= N_p) return;
+  std::ostringstream message;
+  message << "cannot be identifiable: " << design.placements << " placement(s) of \"" << artifact.id
+          << "\" with " << design.postures << " posture(s) give " << design.placements << " x ("
+          << artifact.featureCount() << " features x " << design.postures << " postures x "
+          << artifact.valuedPerFeature() << " coordinates - " << artifact.rigidDof()
+          << " rigid unknowns)";
+  if (!plan.placements.empty()) message << " + " << fixed.N_b - fixed.N_r << " (fixed placements)";
+  message << " = " << equations << " equations for " << N_p
+          << " parameters (counting condition, method.md section 5)";
+  if (per_placement > 0) {
+    const int needed = (N_p - (fixed.N_b - fixed.N_r) + per_placement - 1) / per_placement;
+    message << "; at least " << needed << " placements are needed";
+  }
+  throw InputError(plan.source, "/design/placements", message.str());
+}
+
+// ---------------------------------------------------------------------------------------------
+// The search
+
+namespace {
+
+struct Candidate {
+  Eigen::VectorXd pose;  ///< pose vector (design_space.hpp)
+  Placement placement;
+  Eigen::MatrixXd information;  ///< its additive term over g
+};
+
+/// Runs `work(i, worker)` for i in [0, count) on `threads` workers; each worker index owns its
+/// scratch. The first exception is rethrown after all workers stop.
+template <typename Work>
+void parallelFor(int count, int threads, Work work) {
+  std::atomic<int> next{0};
+  std::exception_ptr failure;
+  std::mutex failure_mutex;
+  auto run = [&](int worker) {
+    try {
+      for (int i = next++; i < count; i = next++) work(i, worker);
+    } catch (...) {
+      const std::lock_guard lock(failure_mutex);
+      if (!failure) failure = std::current_exception();
+      next = count;
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int w = 1; w < threads; ++w) pool.emplace_back(run, w);
+  run(0);
+  for (std::thread& t : pool) t.join();
+  if (failure) std::rethrow_exception(failure);
+}
+
+class Search {
+ public:
+  Search(const Plan& plan, const OptimizerOptions& options)
+      : plan_(plan), options_(options), space_(plan), start_time_(Clock::now()) {
+    const int hardware = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    threads_ = options.threads > 0 ? options.threads : hardware;
+    for (int t = 0; t < threads_; ++t) {
+      criteria_.emplace_back(plan, options.criterion, options.smooth_power);
+    }
+  }
+
+  OptimizerSummary run();
+
+ private:
+  double remaining() const { return options_.time_limit - secondsSince(start_time_); }
+  void buildPool();
+  void runStart(int start, DesignCriterion& criterion);
+  double exchange(std::vector<int>& chosen, Eigen::MatrixXd& total, double value,
+                  DesignCriterion& criterion);
+  double refine(std::vector<Placement>& placements, std::vector<Eigen::VectorXd>& poses,
+                double value, DesignCriterion& criterion);
+  Eigen::MatrixXd fixedInformation(DesignCriterion& criterion) const;
+
+  const Plan& plan_;
+  const OptimizerOptions& options_;
+  DesignSpace space_;
+  Clock::time_point start_time_;
+  int threads_ = 1;
+  std::deque<DesignCriterion> criteria_;
+  Eigen::MatrixXd fixed_;
+  std::vector<Candidate> pool_;
+  std::vector<StartResult> results_;
+  std::vector<std::vector<Placement>> designs_;
+  std::atomic<bool> timed_out_{false};
+  std::mutex progress_mutex_;
+};
+
+Eigen::MatrixXd Search::fixedInformation(DesignCriterion& criterion) const {
+  Eigen::MatrixXd sum = Eigen::MatrixXd::Zero(criterion.globalSize(), criterion.globalSize());
+  for (const Placement& p : plan_.placements) sum += criterion.contribution(p);
+  return sum;
+}
+
+void Search::buildPool() {
+  const DesignSpec& design = *plan_.design;
+  const int size =
+      options_.pool_size > 0 ? options_.pool_size : std::clamp(30 * design.placements, 120, 600);
+  // The first candidate alone tells whether the region holds any feasible placement at all.
+  constexpr int kProbeAttempts = 400;
+  constexpr int kAttempts = 4000;
+  std::vector<std::optional<Candidate>> found(static_cast<std::size_t>(size));
+  auto make = [&](int i, int worker) {
+    std::mt19937_64 rng = seededGenerator(options_.seed, 1, static_cast<std::uint64_t>(i));
+    auto drawn = space_.randomPlacement(rng, i == 0 ? kProbeAttempts : kAttempts);
+    if (!drawn) return;
+    Eigen::MatrixXd information =
+        criteria_[static_cast<std::size_t>(worker)].contribution(drawn->second);
+    found[static_cast<std::size_t>(i)] =
+        Candidate{std::move(drawn->first), std::move(drawn->second), std::move(information)};
+  };
+  make(0, 0);
+  if (!found[0]) {
+    throw InputError(plan_.source, "/design/region",
+                     "no placement of \"" + space_.artifact().id +
+                         "\" found with every feature inside the region and reachable within "
+                         "the joint limits (" +
+                         std::to_string(kProbeAttempts) + " random poses tried)");
+  }
+  parallelFor(size - 1, threads_, [&](int i, int worker) { make(i + 1, worker); });
+  for (auto& candidate : found) {
+    if (candidate) pool_.push_back(std::move(*candidate));
+  }
+}
+
+double Search::exchange(std::vector<int>& chosen, Eigen::MatrixXd& total, double value,
+                        DesignCriterion& criterion) {
+  // Fedorov exchange: the best single swap of each slot in turn, until a pass improves nothing.
+  for (int pass = 0; pass < options_.exchange_passes; ++pass) {
+    bool improved = false;
+    for (std::size_t slot = 0; slot < chosen.size(); ++slot) {
+      if (remaining() <= 0.0) {
+        timed_out_ = true;
+        return value;
+      }
+      const Eigen::MatrixXd without =
+          total - pool_[static_cast<std::size_t>(chosen[slot])].information;
+      int best = -1;
+      double best_value = value * (1.0 - 1e-9);
+      for (std::size_t c = 0; c < pool_.size(); ++c) {
+        if (std::find(chosen.begin(), chosen.end(), static_cast<int>(c)) != chosen.end()) continue;
+        const double v = criterion.value(without + pool_[c].information);
+        if (v < best_value) {
+          best_value = v;
+          best = static_cast<int>(c);
+        }
+      }
+      if (best >= 0) {
+        chosen[slot] = best;
+        total = without + pool_[static_cast<std::size_t>(best)].information;
+        value = best_value;
+        improved = true;
+      }
+    }
+    if (!improved) break;
+  }
+  return value;
+}
+
+nlopt::algorithm nloptAlgorithm(RefineAlgorithm algorithm) {
+  switch (algorithm) {
+    case RefineAlgorithm::Bobyqa:
+      return nlopt::LN_BOBYQA;
+    case RefineAlgorithm::NelderMead:
+      return nlopt::LN_NELDERMEAD;
+    case RefineAlgorithm::Cobyla:
+      return nlopt::LN_COBYLA;
+    default:
+      return nlopt::LN_SBPLX;
+  }
+}
+
+struct NloptProblem {
+  nlopt::algorithm algorithm = nlopt::LN_SBPLX;
+  std::vector<double> lower, upper, steps;
+  int evaluations = 1000;
+  double seconds = 1.0;
+};
+
+// Minimises f from x (overwritten with the best point found) with a derivative-free NLopt
+// algorithm. NLopt's C++ wrapper swallows exceptions thrown in the objective (style.md): the
+// first is kept, the run is stopped and the exception rethrown after. A roundoff-limited run
+// still leaves its best point in x: possibly usable, the caller judges it.
+void minimizeDerivativeFree(const NloptProblem& problem,
+                            const std::function<double(const double*)>& f, std::vector<double>& x) {
+  nlopt::opt opt(problem.algorithm, static_cast<unsigned>(x.size()));
+  opt.set_lower_bounds(problem.lower);
+  opt.set_upper_bounds(problem.upper);
+  opt.set_initial_step(problem.steps);
+  opt.set_maxeval(problem.evaluations);
+  opt.set_maxtime(problem.seconds);
+  opt.set_xtol_rel(1e-7);
+  opt.set_ftol_rel(1e-9);
+  struct Context {
+    const std::function<double(const double*)>* f;
+    nlopt::opt* opt;
+    std::exception_ptr failure;
+  } context{&f, &opt, nullptr};
+  opt.set_min_objective(
+      [](unsigned, const double* xs, double*, void* data) {
+        auto* c = static_cast<Context*>(data);
+        try {
+          return (*c->f)(xs);
+        } catch (...) {
+          if (!c->failure) c->failure = std::current_exception();
+          c->opt->force_stop();
+          return HUGE_VAL;
+        }
+      },
+      &context);
+  double minimum = 0.0;
+  try {
+    opt.optimize(x, minimum);
+  } catch (const nlopt::roundoff_limited&) {
+  } catch (const nlopt::forced_stop&) {
+  }
+  if (context.failure) std::rethrow_exception(context.failure);
+}
+
+double Search::refine(std::vector<Placement>& placements, std::vector<Eigen::VectorXd>& poses,
+                      double value, DesignCriterion& criterion) {
+  if (options_.algorithm == RefineAlgorithm::None || remaining() <= 0.0) return value;
+  const int m = static_cast<int>(placements.size());
+  const int k = space_.poseSize();
+  const unsigned n = static_cast<unsigned>(m * k);
+  const std::vector<Placement> base = placements;
+  // One slot per placement: its last pose, the placement there (readings continued from the
+  // starting postures) and its information term. Subplex moves a few coordinates at a time, so
+  // most slots are reused.
+  struct Slot {
+    Eigen::VectorXd pose;
+    std::optional<Placement> placement;
+    double violation = 0.0;
+    Eigen::MatrixXd term;
+  };
+  std::vector<Slot> slots(static_cast<std::size_t>(m));
+  auto slotAt = [&](const double* x, int j) -> Slot& {
+    Slot& slot = slots[static_cast<std::size_t>(j)];
+    const Eigen::Map<const Eigen::VectorXd> v(x + j * k, k);
+    if (slot.pose.size() == k && slot.pose == v) return slot;
+    slot.pose = v;
+    slot.violation = space_.regionViolation(v);
+    slot.placement = space_.movePlacement(base[static_cast<std::size_t>(j)], v);
+    if (slot.placement) slot.term = criterion.contribution(*slot.placement);
+    return slot;
+  };
+  // The information at x, or the penalty measure of an infeasible x (how far its features leave
+  // the region, plus one per placement without readings).
+  auto informationAt = [&](const double* x, Eigen::MatrixXd& total) {
+    total = fixed_;
+    double violation = 0.0;
+    for (int j = 0; j < m; ++j) {
+      const Slot& slot = slotAt(x, j);
+      violation += slot.violation + (slot.placement ? 0.0 : 1.0);
+      if (slot.placement) total += slot.term;
+    }
+    return violation;
+  };
+  const double penalty_base = 10.0 * value;
+  Eigen::MatrixXd total;
+  auto objective = [&](const double* x) {
+    const double violation = informationAt(x, total);
+    if (violation > 0.0) return penalty_base * (1.0 + violation);
+    const double v = criterion.smoothValue(total);
+    return std::isfinite(v) ? v : penalty_base;
+  };
+  NloptProblem problem;
+  problem.algorithm = nloptAlgorithm(options_.algorithm);
+  for (int j = 0; j < m; ++j) {
+    for (int i = 0; i < k; ++i) {
+      problem.lower.push_back(space_.lowerBounds()[i]);
+      problem.upper.push_back(space_.upperBounds()[i]);
+      problem.steps.push_back(space_.initialSteps()[i] * 0.25);
+    }
+  }
+  std::vector<double> x(n);
+  for (int j = 0; j < m; ++j) {
+    for (int i = 0; i < k; ++i) {
+      const auto at = static_cast<std::size_t>(j * k + i);
+      x[at] =
+          std::clamp(poses[static_cast<std::size_t>(j)][i], problem.lower[at], problem.upper[at]);
+    }
+  }
+  problem.evaluations = options_.refine_evaluations > 0 ? options_.refine_evaluations
+                                                        : std::min(300 * static_cast<int>(n), 6000);
+  problem.seconds = std::max(remaining(), 1e-3);
+  minimizeDerivativeFree(problem, objective, x);
+  if (remaining() <= 0.0) timed_out_ = true;
+  // Keep the refined design only when it is feasible and truly better (the max, not the proxy).
+  if (informationAt(x.data(), total) > 0.0) return value;
+  const double refined = criterion.value(total);
+  if (!(refined < value)) return value;
+  for (int j = 0; j < m; ++j) {
+    const Slot& slot = slotAt(x.data(), j);
+    placements[static_cast<std::size_t>(j)] = *slot.placement;
+    poses[static_cast<std::size_t>(j)] = slot.pose;
+  }
+  return refined;
+}
+
+void Search::runStart(int start, DesignCriterion& criterion) {
+  const int m = plan_.design->placements;
+  std::mt19937_64 rng = seededGenerator(options_.seed, 2, static_cast<std::uint64_t>(start));
+  // A random initial design: m distinct candidates when the pool has them.
+  std::vector<int> order(pool_.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::vector<int> chosen;
+  for (int j = 0; j < m; ++j) {
+    const std::size_t left = order.size() - std::min(static_cast<std::size_t>(j), order.size() - 1);
+    const std::size_t pick = static_cast<std::size_t>(rng() % left);
+    chosen.push_back(order[pick]);
+    std::swap(order[pick], order[left - 1]);
+  }
+  Eigen::MatrixXd total = fixed_;
+  for (int c : chosen) total += pool_[static_cast<std::size_t>(c)].information;
+  StartResult& result = results_[static_cast<std::size_t>(start)];
+  result.initial = criterion.value(total);
+  result.exchanged = exchange(chosen, total, result.initial, criterion);
+  std::vector<Placement> placements;
+  std::vector<Eigen::VectorXd> poses;
+  for (int c : chosen) {
+    placements.push_back(pool_[static_cast<std::size_t>(c)].placement);
+    poses.push_back(pool_[static_cast<std::size_t>(c)].pose);
+  }
+  result.refined = std::isfinite(result.exchanged)
+                       ? refine(placements, poses, result.exchanged, criterion)
+                       : result.exchanged;
+  designs_[static_cast<std::size_t>(start)] = std::move(placements);
+  result.done = true;
+}
+
+OptimizerSummary Search::run() {
+  checkDesignCount(plan_);
+  buildPool();
+  fixed_ = fixedInformation(criteria_.front());
+  results_.assign(static_cast<std::size_t>(options_.starts), StartResult{});
+  designs_.assign(static_cast<std::size_t>(options_.starts), {});
+  std::atomic<int> done{0};
+  double best_so_far = kInfinity;
+  parallelFor(options_.starts, threads_, [&](int start, int worker) {
+    if (start > 0 && remaining() <= 0.0) {  // start 0 always runs: there is a result
+      timed_out_ = true;
+      return;
+    }
+    runStart(start, criteria_[static_cast<std::size_t>(worker)]);
+    const std::lock_guard lock(progress_mutex_);
+    best_so_far = std::min(best_so_far, results_[static_cast<std::size_t>(start)].refined);
+    ++done;
+    if (options_.progress) {
+      options_.progress({done.load(), options_.starts, best_so_far, secondsSince(start_time_)});
+    }
+  });
+  OptimizerSummary summary;
+  summary.starts = results_;
+  summary.pool_size = static_cast<int>(pool_.size());
+  summary.value = kInfinity;
+  for (int s = 0; s < options_.starts; ++s) {
+    const StartResult& r = results_[static_cast<std::size_t>(s)];
+    if (r.done && r.refined < summary.value) {
+      summary.value = r.refined;
+      summary.best_start = s;
+    }
+  }
+  summary.termination = timed_out_ ? OptimizerSummary::Termination::TimeLimit
+                                   : OptimizerSummary::Termination::Completed;
+  summary.seconds = secondsSince(start_time_);
+  if (summary.best_start < 0) {
+    summary.message = "no start produced an identifiable design";
+    return summary;
+  }
+  summary.placements = designs_[static_cast<std::size_t>(summary.best_start)];
+  summary.message = summary.briefReport();
+  return summary;
+}
+
+}  // namespace
+
+OptimizerSummary optimizePlan(const Plan& plan, const OptimizerOptions& options) {
+  std::string why;
+  if (!options.isValid(&why)) throw std::invalid_argument("optimizer options: " + why);
+  if (!plan.design) throw InputError(plan.source, "/design", "the spec has no design block");
+  Search search(plan, options);
+  return search.run();
+}
+
+}  // namespace artcal

@@ -1,0 +1,250 @@
+#include "artcal/report/calibration_report.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include "artcal/report/report.hpp"
+
+namespace artcal {
+
+using nlohmann::json;
+
+namespace {
+
+std::string format(const char* pattern, double value) {
+  if (!std::isfinite(value)) return "-";
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, pattern, value);
+  return buffer;
+}
+
+std::string padded(const std::string& text, int width) {
+  std::string out = text;
+  if (static_cast<int>(out.size()) < width) out.insert(0, width - out.size(), ' ');
+  return out;
+}
+
+json vectorToJson(const Eigen::VectorXd& v) {
+  json out = json::array();
+  for (int i = 0; i < v.size(); ++i) out.push_back(finiteOrNull(v[i]));
+  return out;
+}
+
+/// Where each artifact's systematic errors start in c (GlobalLayout order, without p).
+std::vector<int> systematicOffsets(const Plan& plan) {
+  std::vector<int> offsets;
+  int offset = 0;
+  for (const Artifact& artifact : plan.artifacts) {
+    offsets.push_back(offset);
+    offset += artifact.systematicCount();
+  }
+  return offsets;
+}
+
+}  // namespace
+
+json calibrationToJson(const Plan& plan, const std::vector<Placement>& placements,
+                       const Calibration& calibration) {
+  const Machine& machine = plan.machine;
+  json out;
+  out["plan"] = plan.name;
+  out["converged"] = calibration.summary.converged();
+  out["termination"] = terminationName(calibration.summary.termination);
+  out["message"] = calibration.summary.message;
+  out["iterations"] = calibration.summary.iterations;
+  out["chi2"] = finiteOrNull(calibration.chi2);
+  out["dof"] = calibration.dof;
+  out["chi2_per_dof"] = finiteOrNull(calibration.chi2_per_dof);
+  out["birge_ratio"] = finiteOrNull(std::sqrt(calibration.chi2_per_dof));
+  const Eigen::VectorXd posterior = calibration.posteriorU();
+  json parameters = json::array();
+  for (int k = 0; k < machine.calibratedCount(); ++k) {
+    const ParameterInfo& info = machine.calibratedInfo(k);
+    const int index = machine.calibrated[static_cast<std::size_t>(k)];
+    json p{{"name", info.name},
+           {"nominal", finiteOrNull(toFileUnit(info.quantity, machine.nominal[index]))},
+           {"estimate", finiteOrNull(toFileUnit(info.quantity, calibration.parameters[index]))},
+           {"unit", std::string(unitName(info.quantity))}};
+    p["u"] = calibration.covariance
+                 ? finiteOrNull(toFileUnit(info.quantity, calibration.covariance->u[k]))
+                 : json(nullptr);
+    p["u_posterior"] = posterior.size() > 0 ? finiteOrNull(toFileUnit(info.quantity, posterior[k]))
+                                            : json(nullptr);
+    parameters.push_back(p);
+  }
+  out["parameters"] = parameters;
+  json systematic = json::array();
+  const std::vector<int> offsets = systematicOffsets(plan);
+  for (std::size_t a = 0; a < plan.artifacts.size(); ++a) {
+    const Artifact& artifact = plan.artifacts[a];
+    for (int s = 0; s < artifact.systematicCount(); ++s) {
+      const SystematicError& err = artifact.systematic[static_cast<std::size_t>(s)];
+      systematic.push_back({{"artifact", artifact.id},
+                            {"feature", err.feature},
+                            {"coordinate", err.coordinate},
+                            {"estimate", finiteOrNull(calibration.systematic[offsets[a] + s])},
+                            {"prior_u", err.sigma},
+                            {"unit", "mm"}});
+    }
+  }
+  out["systematic"] = systematic;
+  json residuals = json::array();
+  int flagged = 0;
+  for (const ResidualEntry& entry : calibration.residuals) {
+    const Placement& placement = placements[static_cast<std::size_t>(entry.placement)];
+    if (entry.measurement == 0) {
+      residuals.push_back(
+          {{"placement", entry.placement},
+           {"artifact", plan.artifacts[static_cast<std::size_t>(placement.artifact)].id},
+           {"measurements", json::array()}});
+    }
+    flagged += entry.flagged ? 1 : 0;
+    residuals.back()["measurements"].push_back({{"measurement", entry.measurement},
+                                                {"feature", entry.feature},
+                                                {"residual", vectorToJson(entry.residual)},
+                                                {"normalized", vectorToJson(entry.normalized)},
+                                                {"score", finiteOrNull(entry.score)},
+                                                {"flagged", entry.flagged}});
+  }
+  out["residuals"] = residuals;
+  out["flagged"] = flagged;
+  if (calibration.largest_residual >= 0) {
+    const ResidualEntry& largest =
+        calibration.residuals[static_cast<std::size_t>(calibration.largest_residual)];
+    out["largest_residual"] = {{"placement", largest.placement},
+                               {"measurement", largest.measurement},
+                               {"feature", largest.feature},
+                               {"score", finiteOrNull(largest.score)},
+                               {"flagged", largest.flagged}};
+  } else {
+    out["largest_residual"] = nullptr;
+  }
+  return out;
+}
+
+std::string calibrationTable(const Plan& plan, const std::vector<Placement>& placements,
+                             const Calibration& calibration) {
+  const Machine& machine = plan.machine;
+  std::ostringstream out;
+  const CalibrationSummary& s = calibration.summary;
+  out << "calibration of " << (plan.name.empty() ? plan.source : plan.name) << ": "
+      << (s.converged() ? "converged" : "NOT CONVERGED") << " (" << s.message << ") after "
+      << s.iterations << " iterations\n";
+  out << "chi2 = " << format("%.4g", calibration.chi2) << " on " << calibration.dof
+      << " degrees of freedom, chi2/dof = " << format("%.4f", calibration.chi2_per_dof)
+      << " (Birge ratio " << format("%.3f", std::sqrt(calibration.chi2_per_dof)) << ")\n\n";
+  out << "parameter      nominal        estimate             u    u_posterior  unit\n";
+  const Eigen::VectorXd posterior = calibration.posteriorU();
+  for (int k = 0; k < machine.calibratedCount(); ++k) {
+    const ParameterInfo& info = machine.calibratedInfo(k);
+    const int index = machine.calibrated[static_cast<std::size_t>(k)];
+    const double u =
+        calibration.covariance ? toFileUnit(info.quantity, calibration.covariance->u[k]) : NAN;
+    const double up = posterior.size() > 0 ? toFileUnit(info.quantity, posterior[k]) : NAN;
+    std::string name = info.name;
+    name.resize(std::max<std::size_t>(name.size(), 10), ' ');
+    out << name << padded(format("%.6f", toFileUnit(info.quantity, machine.nominal[index])), 13)
+        << padded(format("%.6f", toFileUnit(info.quantity, calibration.parameters[index])), 16)
+        << padded(format("%.3g", u), 14) << padded(format("%.3g", up), 15) << "  "
+        << unitName(info.quantity) << "\n";
+  }
+  if (calibration.systematic.size() > 0) {
+    out << "\nartifact systematic errors (estimate, prior u, mm):\n";
+    const std::vector<int> offsets = systematicOffsets(plan);
+    for (std::size_t a = 0; a < plan.artifacts.size(); ++a) {
+      const Artifact& artifact = plan.artifacts[a];
+      for (int i = 0; i < artifact.systematicCount(); ++i) {
+        const SystematicError& err = artifact.systematic[static_cast<std::size_t>(i)];
+        out << "  " << artifact.id << " feature " << err.feature << " coordinate " << err.coordinate
+            << ": " << format("%.6f", calibration.systematic[offsets[a] + i]) << "  ("
+            << format("%.3g", err.sigma) << ")\n";
+      }
+    }
+  }
+  if (!calibration.residuals.empty()) {
+    out << "\nresiduals (mm) and standardised residuals z (whitened, divided by sqrt(1 - "
+           "leverage)); |z| > threshold is flagged <<\n";
+    out << "placement  reading  feature  residual                      z\n";
+    for (std::size_t r = 0; r < calibration.residuals.size(); ++r) {
+      const ResidualEntry& e = calibration.residuals[r];
+      std::ostringstream residual, z;
+      for (int k = 0; k < e.residual.size(); ++k) residual << format("%+.5f", e.residual[k]) << " ";
+      for (int k = 0; k < e.normalized.size(); ++k) z << format("%+.2f", e.normalized[k]) << " ";
+      std::string residual_text = residual.str();
+      residual_text.resize(std::max<std::size_t>(residual_text.size(), 30), ' ');
+      out << padded(std::to_string(e.placement), 9) << padded(std::to_string(e.measurement), 9)
+          << padded(std::to_string(e.feature), 9) << "  " << residual_text << z.str();
+      if (e.flagged) out << " <<";
+      if (static_cast<int>(r) == calibration.largest_residual) out << " (largest)";
+      out << "\n";
+    }
+  }
+  (void)placements;
+  return out.str();
+}
+
+json confirmationToJson(const Plan& plan, const ConfirmationOptions& options,
+                        const Confirmation& confirmation) {
+  json out;
+  out["plan"] = plan.name;
+  out["confirmed"] = confirmation.confirmed;
+  out["trials"] = confirmation.trials;
+  out["converged_trials"] = confirmation.converged_trials;
+  out["seed"] = options.seed;
+  out["noise_scale"] = options.noise_scale;
+  out["perturbation"] = options.perturbation;
+  out["mean_chi2_per_dof"] = finiteOrNull(confirmation.mean_chi2_per_dof);
+  const Band& band = confirmation.band;
+  out["band"] = {{"low", band.low},
+                 {"high", band.high},
+                 {"coverage_factor", band.coverage_factor},
+                 {"sampling", band.sampling},
+                 {"allowance", band.allowance},
+                 {"level", options.level}};
+  json parameters = json::array();
+  for (int k = 0; k < plan.machine.calibratedCount(); ++k) {
+    const ParameterInfo& info = plan.machine.calibratedInfo(k);
+    const ConfirmedParameter& p = confirmation.parameters[static_cast<std::size_t>(k)];
+    parameters.push_back({{"name", p.name},
+                          {"predicted_u", finiteOrNull(toFileUnit(info.quantity, p.predicted_u))},
+                          {"empirical_u", finiteOrNull(toFileUnit(info.quantity, p.empirical_u))},
+                          {"bias", finiteOrNull(toFileUnit(info.quantity, p.bias))},
+                          {"ratio", finiteOrNull(p.ratio)},
+                          {"inside", p.inside},
+                          {"unit", std::string(unitName(info.quantity))}});
+  }
+  out["parameters"] = parameters;
+  return out;
+}
+
+std::string confirmationTable(const Plan& plan, const ConfirmationOptions& options,
+                              const Confirmation& confirmation) {
+  std::ostringstream out;
+  const Band& band = confirmation.band;
+  out << "confirmation of " << (plan.name.empty() ? plan.source : plan.name) << ": "
+      << (confirmation.confirmed ? "CONFIRMED" : "NOT CONFIRMED") << "\n";
+  out << confirmation.trials << " simulated calibrations (seed " << options.seed << ", noise x "
+      << options.noise_scale << ", true parameters nominal + " << options.perturbation
+      << " u N(0,1)), " << confirmation.converged_trials << " converged; mean chi2/dof "
+      << format("%.3f", confirmation.mean_chi2_per_dof) << "\n";
+  out << "band for empirical/predicted: [" << format("%.3f", band.low) << ", "
+      << format("%.3f", band.high) << "] = 1 +- (" << format("%.2f", band.coverage_factor) << " x "
+      << format("%.4f", band.sampling) << " sampling + " << format("%.3f", band.allowance)
+      << " non-linearity allowance)\n\n";
+  out << "parameter     predicted_u    empirical_u          bias   ratio  unit\n";
+  for (int k = 0; k < plan.machine.calibratedCount(); ++k) {
+    const ParameterInfo& info = plan.machine.calibratedInfo(k);
+    const ConfirmedParameter& p = confirmation.parameters[static_cast<std::size_t>(k)];
+    std::string name = p.name;
+    name.resize(std::max<std::size_t>(name.size(), 10), ' ');
+    out << name << padded(format("%.4g", toFileUnit(info.quantity, p.predicted_u)), 14)
+        << padded(format("%.4g", toFileUnit(info.quantity, p.empirical_u)), 15)
+        << padded(format("%+.3g", toFileUnit(info.quantity, p.bias)), 14)
+        << padded(format("%.3f", p.ratio), 8) << "  " << unitName(info.quantity)
+        << (p.inside ? "" : "  << outside the band") << "\n";
+  }
+  return out.str();
+}
+
+}  // namespace artcal

@@ -1,0 +1,770 @@
+#include "artcal/report/html_report.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <sstream>
+
+#include "artcal/artifact/rigid_transform.hpp"
+#include "artcal/estimation/design_matrix.hpp"
+#include "artcal/estimation/tip.hpp"
+#include "artcal/report/report.hpp"
+#include "artcal/report/svg.hpp"
+
+namespace artcal {
+
+using nlohmann::json;
+
+namespace {
+
+std::string format(const char* fmt, auto... args) {
+  char buffer[512];
+  std::snprintf(buffer, sizeof buffer, fmt, args...);
+  return buffer;
+}
+
+std::string exact(double value) {
+  return format("%.17g", value);
+}
+
+constexpr const char* kMicro = "\xC2\xB5m";  // µm
+
+// Line styles of the three tip-uncertainty curves, as in the seed's Fig. 6.
+svg::Style curveStyle(svg::Dash dash, const std::string& colour) {
+  svg::Style style;
+  style.stroke = colour;
+  style.dash = dash;
+  style.width = 2.0;
+  return style;
+}
+
+svg::Style faint(const std::string& colour, double width, double opacity) {
+  svg::Style style;
+  style.stroke = colour;
+  style.width = width;
+  style.opacity = opacity;
+  return style;
+}
+
+svg::Style filled(const std::string& stroke, const std::string& fill, double width = 1.0) {
+  svg::Style style;
+  style.stroke = stroke;
+  style.fill = fill;
+  style.width = width;
+  return style;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Geometry in the machine frame
+
+/// Projection of a machine point onto one view: (x, y) or, for the side view, (x, z).
+enum class View { Plan, Side };
+
+Eigen::Vector2d project(const Eigen::VectorXd& x, View view) {
+  if (x.size() < 3 || view == View::Plan) return {x[0], x[1]};
+  return {x[0], x[2]};
+}
+
+Eigen::VectorXd probePosition(const Machine& machine, const Eigen::VectorXd& q) {
+  Eigen::VectorXd x;
+  machine.mechanism->forward(machine.nominal, q, x);
+  return x;
+}
+
+/// Each feature of each placement in the machine frame: x = R^T (W - t), the placement's rigid
+/// transform fitted to its nominal readings (or its pose), as the evaluator does.
+std::vector<Eigen::MatrixXd> placedFeatures(const Plan& plan) {
+  const std::vector<RigidTransform> poses =
+      fitPlacements(plan, plan.placements, plan.machine.nominal);
+  std::vector<Eigen::MatrixXd> out;
+  for (std::size_t j = 0; j < plan.placements.size(); ++j) {
+    const Artifact& artifact =
+        plan.artifacts[static_cast<std::size_t>(plan.placements[j].artifact)];
+    const RigidTransform machine_from_artifact = poses[j].inverse();
+    Eigen::MatrixXd features(artifact.dimension, artifact.featureCount());
+    for (int i = 0; i < artifact.featureCount(); ++i) {
+      features.col(i) = machine_from_artifact.apply(artifact.features.col(i));
+    }
+    out.push_back(features);
+  }
+  return out;
+}
+
+bool isPlanar2R(const Machine& machine) {
+  return machine.mechanism->modelName() == "planar2r";
+}
+
+/// Inner and outer reach of the planar 2R arm, |l1 - l2| and l1 + l2.
+std::pair<double, double> planarReach(const Machine& machine) {
+  const double l1 = machine.nominal[machine.mechanism->parameterIndex("l1")];
+  const double l2 = machine.nominal[machine.mechanism->parameterIndex("l2")];
+  return {std::abs(l1 - l2), l1 + l2};
+}
+
+/// Marks shrink and arm links fade as placements crowd the layout (every one is still drawn).
+double crowding(const Plan& plan) {
+  return std::clamp(std::sqrt(40.0 / std::max<double>(plan.placements.size(), 1.0)), 0.35, 1.0);
+}
+
+void drawPlanarArm(svg::Plot& plot, const Machine& machine, const Eigen::VectorXd& q,
+                   const Eigen::VectorXd& tip, double density) {
+  const double l1 = machine.nominal[machine.mechanism->parameterIndex("l1")];
+  const Eigen::Vector2d elbow(l1 * std::cos(q[0]), l1 * std::sin(q[0]));
+  plot.polyline({Eigen::Vector2d::Zero(), elbow, tip.head<2>()},
+                faint("#555555", 1.0, 0.3 * density * density), "arm links per reading");
+}
+
+/// Cells of a regular grid over projected points: the largest value per cell (a map of the
+/// worst case in each column of the workspace). Bounded size whatever the number of points.
+struct GridMap {
+  Eigen::Vector2d origin;
+  double cell = 1.0;
+  int columns = 0, rows = 0;
+  std::map<std::pair<int, int>, double> largest;
+};
+
+GridMap binLargest(const std::vector<Eigen::Vector2d>& points, const std::vector<double>& values,
+                   int cells_across) {
+  GridMap grid;
+  if (points.empty()) return grid;
+  Eigen::Vector2d lo = points.front(), hi = points.front();
+  for (const auto& p : points) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  grid.cell = std::max((hi - lo).maxCoeff() / cells_across, 1e-9);
+  grid.origin = lo;
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    const Eigen::Vector2d rel = (points[k] - lo) / grid.cell;
+    const std::pair<int, int> key{std::min(static_cast<int>(rel.x()), cells_across - 1),
+                                  std::min(static_cast<int>(rel.y()), cells_across - 1)};
+    auto [it, inserted] = grid.largest.emplace(key, values[k]);
+    if (!inserted) it->second = std::max(it->second, values[k]);
+  }
+  return grid;
+}
+
+void drawGrid(svg::Plot& plot, const GridMap& grid, double lo, double hi, bool coloured) {
+  for (const auto& [key, value] : grid.largest) {
+    const Eigen::Vector2d a = grid.origin + grid.cell * Eigen::Vector2d(key.first, key.second);
+    const double t = hi > lo ? (value - lo) / (hi - lo) : 0.5;
+    plot.cell(a, a + Eigen::Vector2d::Constant(grid.cell), coloured ? svg::viridis(t) : "#e4e4e4");
+  }
+}
+
+std::vector<Eigen::Vector2d> projectedWorkspace(const Machine& machine,
+                                                const std::vector<Eigen::VectorXd>& workspace,
+                                                View view) {
+  std::vector<Eigen::Vector2d> points;
+  points.reserve(workspace.size());
+  for (const auto& q : workspace) points.push_back(project(probePosition(machine, q), view));
+  return points;
+}
+
+void drawArtifacts(svg::Plot& plot, const Plan& plan, const std::vector<Eigen::MatrixXd>& features,
+                   View view, bool numbered) {
+  const double density = crowding(plan);
+  svg::Style bar = curveStyle(svg::Dash::Solid, "#000000");
+  bar.width = 2.0 * density;
+  for (std::size_t j = 0; j < features.size(); ++j) {
+    const Artifact& artifact =
+        plan.artifacts[static_cast<std::size_t>(plan.placements[j].artifact)];
+    const Eigen::MatrixXd& f = features[j];
+    if (artifact.kind != ArtifactKind::BallPlate && f.cols() >= 2) {
+      plot.polyline({project(f.col(0), view), project(f.col(f.cols() - 1), view)}, bar, "artifact");
+    }
+    for (int i = 0; i < f.cols(); ++i) {
+      plot.marker(project(f.col(i), view), svg::Shape::Circle, 7.0 * density,
+                  filled("#000000", "#ffffff", density), "feature", {},
+                  format("placement %zu, feature %d", j + 1, i));
+    }
+    if (numbered) plot.label(project(f.col(0), view), format("%zu", j + 1));
+  }
+}
+
+void drawPostures(svg::Plot& plot, const Plan& plan, View view) {
+  const double density = crowding(plan);
+  const Machine& machine = plan.machine;
+  for (std::size_t j = 0; j < plan.placements.size(); ++j) {
+    for (const Measurement& m : plan.placements[j].measurements) {
+      const Eigen::VectorXd tip = probePosition(machine, m.joints);
+      if (isPlanar2R(machine)) drawPlanarArm(plot, machine, m.joints, tip, density);
+      plot.marker(project(tip, view), svg::Shape::Cross, 5.0 * density, faint("#000000", 1.0, 1.0),
+                  "probe position per reading");
+    }
+  }
+}
+
+svg::Plot layoutPlot(const ReportInput& in, const std::vector<Eigen::MatrixXd>& features,
+                     View view) {
+  const Plan& plan = in.plan;
+  const bool side = view == View::Side;
+  const std::string id = side ? "layout-side" : "layout";
+  svg::Plot plot(id,
+                 plan.machine.dimension() == 2 ? "Layout in the machine frame"
+                 : side                        ? "Layout, side view (XZ)"
+                                               : "Layout, plan view (XY)",
+                 "x / mm", side ? "z / mm" : "y / mm");
+  plot.setEqualAspect(true);
+  if (isPlanar2R(plan.machine)) {
+    const auto [inner, outer] = planarReach(plan.machine);
+    svg::Style reach = faint("#000000", 1.2, 1.0);
+    plot.circle(Eigen::Vector2d::Zero(), outer, reach, "outer reach l1 + l2");
+    reach.dash = svg::Dash::Dashed;
+    if (inner > 0) plot.circle(Eigen::Vector2d::Zero(), inner, reach, "inner reach |l1 - l2|");
+  } else {
+    // The reach of a general arm: where its workspace samples project (grey cells).
+    const auto points = projectedWorkspace(plan.machine, in.evaluation.workspace, view);
+    drawGrid(plot, binLargest(points, std::vector<double>(points.size(), 0.0), 48), 0, 1, false);
+  }
+  plot.marker(Eigen::Vector2d::Zero(), svg::Shape::Square, 9.0, filled("#000000", "#000000"),
+              "machine origin");
+  drawPostures(plot, plan, view);
+  drawArtifacts(plot, plan, features, view, plan.placements.size() <= 40);
+  return plot;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Tip uncertainty figures
+
+ReportFigure profileFigure(const ReportInput& in) {
+  const json& profile = in.evaluation_json.at("profile");
+  svg::Plot plot("tip-profile", "Tip uncertainty against reach (worse elbow branch)", "reach / mm",
+                 std::string("standard uncertainty / ") + kMicro);
+  struct Curve {
+    const char* key;
+    const char* legend;
+    svg::Dash dash;
+    svg::Shape shape;
+  };
+  const Curve curves[] = {{"total", "S (total)", svg::Dash::Solid, svg::Shape::Circle},
+                          {"kinematic", "S_m (parameters)", svg::Dash::Dashed, svg::Shape::Square},
+                          {"encoder", "S_q (encoders)", svg::Dash::Dotted, svg::Shape::Triangle}};
+  double top = 0.0;
+  for (const Curve& c : curves) {
+    std::vector<Eigen::Vector2d> points;
+    for (std::size_t k = 0; k < profile.size(); ++k) {
+      const double value = profile[k].at(c.key).get<double>();
+      points.emplace_back(profile[k].at("reach").get<double>(), value * 1e3);
+      top = std::max(top, value * 1e3);
+    }
+    plot.polyline(points, curveStyle(c.dash, "#000000"), c.legend);
+    for (std::size_t k = 0; k < profile.size(); ++k) {
+      const std::string field = format("/profile/%zu/%s", k, c.key);
+      plot.marker(points[k], c.shape, 5.0, filled("#000000", "#ffffff"), {},
+                  {{"data-field", field}, {"data-value", exact(profile[k].at(c.key))}},
+                  format("%s at %.1f mm: %.3f um", c.legend, points[k].x(), points[k].y()));
+    }
+  }
+  plot.setYRange(0.0, top * 1.08 + 1e-12);
+  return {"tip-profile",
+          "S_m, S_q and S against the distance from the machine origin (seed Fig. 6).",
+          plot.render()};
+}
+
+/// S per workspace configuration, from the evaluator's V_p through TipEvaluator.
+std::vector<double> workspaceTotals(const ReportInput& in, const TipEvaluator& tips) {
+  Eigen::VectorXd S_m2;
+  tips.kinematicVariance(in.evaluation.covariance->V, S_m2);
+  std::vector<double> totals(static_cast<std::size_t>(tips.size()));
+  for (int g = 0; g < tips.size(); ++g) {
+    totals[static_cast<std::size_t>(g)] = std::sqrt(S_m2[g] + tips.encoderVariance()[g]);
+  }
+  return totals;
+}
+
+/// Up to this many workspace configurations are drawn one by one; more are binned into cells.
+constexpr std::size_t kFewPoints = 400;
+
+ReportFigure tipMapFigure(const ReportInput& in, const std::vector<double>& totals_um,
+                          const std::vector<Eigen::MatrixXd>& features, View view) {
+  const Plan& plan = in.plan;
+  const bool side = view == View::Side;
+  const std::string name = side ? "tip-map-side" : "tip-map";
+  svg::Plot plot(name,
+                 plan.machine.dimension() == 2 ? "Tip uncertainty S over the workspace"
+                 : side                        ? "Tip uncertainty S, side view (XZ)"
+                                               : "Tip uncertainty S, plan view (XY)",
+                 "x / mm", side ? "z / mm" : "y / mm", 640.0, 460.0);
+  plot.setEqualAspect(true);
+  const auto [lo, hi] = std::minmax_element(totals_um.begin(), totals_um.end());
+  plot.setColourBar(*lo, *hi, std::string("largest S in the cell / ") + kMicro);
+  const auto points = projectedWorkspace(plan.machine, in.evaluation.workspace, view);
+  if (points.size() > kFewPoints) {
+    drawGrid(plot, binLargest(points, totals_um, 48), *lo, *hi, true);
+  } else {
+    for (std::size_t g = 0; g < points.size(); ++g) {
+      const double t = *hi > *lo ? (totals_um[g] - *lo) / (*hi - *lo) : 0.5;
+      plot.marker(points[g], svg::Shape::Square, 9.0, filled("#000000", svg::viridis(t), 0.5));
+    }
+  }
+  for (std::size_t j = 0; j < features.size(); ++j) {
+    for (int i = 0; i < features[j].cols(); ++i) {
+      plot.marker(project(features[j].col(i), view), svg::Shape::Circle, 6.0,
+                  filled("#000000", "#ffffff"), "artifact feature");
+    }
+  }
+  const json& worst = in.evaluation_json.at("/tip/worst"_json_pointer);
+  const int index = worst.at("index").get<int>();
+  const Eigen::Vector2d at = points[static_cast<std::size_t>(index)];
+  plot.marker(at, svg::Shape::Diamond, 14.0, filled("#000000", "#ffffff", 2.5), "worst point",
+              {{"data-field", "/tip/worst/total"}, {"data-value", exact(worst.at("total"))}},
+              format("worst S = %.3f um", worst.at("total").get<double>() * 1e3));
+  plot.label(at, format("worst S = %.2f %s", worst.at("total").get<double>() * 1e3, kMicro));
+  return {name,
+          std::string("Tip uncertainty S over the ") + std::to_string(points.size()) +
+              " workspace configurations" + (side ? " seen from the side" : "") +
+              (points.size() > kFewPoints
+                   ? ": each cell shows the largest S of the points projecting into it; the "
+                     "diamond marks the worst configuration."
+                   : ", each a square coloured by S; the diamond marks the worst one."),
+          plot.render()};
+}
+
+ReportFigure correlationFigure(const ReportInput& in) {
+  const json& corr = in.evaluation_json.at("correlation");
+  const int n = static_cast<int>(corr.size());
+  Eigen::MatrixXd values(n, n);
+  std::vector<std::string> labels;
+  for (int i = 0; i < n; ++i) {
+    labels.push_back(in.evaluation_json.at("parameters")[static_cast<std::size_t>(i)].at("name"));
+    for (int j = 0; j < n; ++j)
+      values(i, j) = corr[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)];
+  }
+  return {"correlation",
+          "Correlation of the calibrated parameters predicted by the plan (dark: -1, light: +1).",
+          svg::matrixHeatMap("correlation", "Parameter correlation", labels, values, -1.0, 1.0,
+                             "/correlation")};
+}
+
+/// Flagged readings are labelled on the residual plot up to this many (then only tabled).
+constexpr int kLabelledOutliers = 8;
+/// Rows of the flagged-readings table.
+constexpr std::size_t kTabledOutliers = 50;
+
+ReportFigure residualFigure(const json& calibration, double threshold) {
+  svg::Plot plot("residuals", "Normalized residuals of the calibration", "reading (in plan order)",
+                 "normalized residual (standard deviations)", 640.0, 400.0);
+  const svg::Shape shapes[] = {svg::Shape::Circle, svg::Shape::Square, svg::Shape::Triangle};
+  const char* names[] = {"coordinate x", "coordinate y", "coordinate z"};
+  int reading = 0;
+  double largest = threshold;
+  const json& placements = calibration.at("residuals");
+  for (std::size_t j = 0; j < placements.size(); ++j) {
+    const json& measurements = placements[j].at("measurements");
+    for (std::size_t m = 0; m < measurements.size(); ++m) {
+      ++reading;
+      const json& entry = measurements[m];
+      const json& normalized = entry.at("normalized");
+      for (std::size_t c = 0; c < normalized.size() && c < 3; ++c) {
+        if (!normalized[c].is_number()) continue;
+        const double v = normalized[c].get<double>();
+        largest = std::max(largest, std::abs(v));
+        // Coordinates of one reading side by side, so that none hides another.
+        const double offset = 0.18 * (static_cast<double>(c) - 0.5 * (normalized.size() - 1.0));
+        plot.marker({reading + offset, v}, shapes[c], 6.0,
+                    filled("#000000", c == 0 ? "#ffffff" : "#999999"),
+                    normalized.size() == 1 ? "valued coordinate" : names[c]);
+      }
+      if (entry.at("flagged").get<bool>()) {
+        // The diamond sits on the coordinate that decided the flag (largest |normalized|).
+        double worst = 0.0;
+        for (const json& v : normalized) {
+          if (v.is_number() && std::abs(v.get<double>()) > std::abs(worst)) worst = v.get<double>();
+        }
+        const std::string field = format("/calibration/residuals/%zu/measurements/%zu/score", j, m);
+        const double score = entry.at("score").get<double>();
+        plot.marker({reading, worst}, svg::Shape::Diamond, 14.0, filled("#000000", "none", 2.0),
+                    "flagged outlier", {{"data-field", field}, {"data-value", exact(score)}},
+                    format("placement %zu, reading %zu: score %.2f", j + 1, m + 1, score));
+        if (calibration.at("flagged").get<int>() <= kLabelledOutliers) {
+          plot.label({reading, worst}, format("P%zu R%zu", j + 1, m + 1));
+        }
+      }
+    }
+  }
+  const double x_hi = std::max(reading, 1) + 0.5;
+  svg::Style limit = faint("#000000", 1.2, 1.0);
+  limit.dash = svg::Dash::Dashed;
+  const std::string legend = format("flag threshold +/-%.3g", threshold);
+  plot.polyline({{0.5, threshold}, {x_hi, threshold}}, limit, legend);
+  plot.polyline({{0.5, -threshold}, {x_hi, -threshold}}, limit, legend);
+  plot.setXRange(0.5, x_hi);
+  plot.setYRange(-1.15 * largest, 1.15 * largest);
+  return {"residuals",
+          "Each reading's residual in its valued artifact coordinates, divided by its standard "
+          "deviation under the noise model; readings beyond the threshold are flagged (diamond, "
+          "labelled placement and reading).",
+          plot.render()};
+}
+
+// ---------------------------------------------------------------------------------------------
+// HTML
+
+/// A table cell showing a number of `source` at `pointer`, scaled for display, with the exact
+/// JSON value in data-value.
+std::string numberCell(const json& source, const std::string& pointer, double scale,
+                       const char* fmt, const std::string& field_prefix = {}) {
+  const json& value = source.at(json::json_pointer(pointer));
+  const std::string field = svg::escape(field_prefix + pointer);
+  if (!value.is_number()) {
+    return "<td class=\"num\" data-field=\"" + field + "\" data-value=\"null\">&#8212;</td>";
+  }
+  return "<td class=\"num\" data-field=\"" + field + "\" data-value=\"" +
+         exact(value.get<double>()) + "\">" +
+         svg::escape(format(fmt, value.get<double>() * scale)) + "</td>";
+}
+
+const char* kStyle = R"(
+body { font-family: sans-serif; font-size: 10.5pt; color: #000; max-width: 190mm; margin: 0 auto;
+       padding: 8mm 6mm; line-height: 1.35; }
+h1 { font-size: 17pt; margin: 0 0 2mm 0; }
+h2 { font-size: 13pt; margin: 7mm 0 2mm 0; border-bottom: 1px solid #000; }
+table { border-collapse: collapse; margin: 2mm 0; }
+th, td { border: 1px solid #999; padding: 1px 6px; text-align: left; }
+th { background: #eee; }
+td.num { text-align: right; font-variant-numeric: tabular-nums; }
+figure { margin: 3mm 0; break-inside: avoid; page-break-inside: avoid; }
+figure svg { max-width: 100%; height: auto; display: block; }
+figcaption { font-size: 9pt; color: #333; }
+.verdict { font-weight: bold; padding: 2mm 3mm; border: 2px solid #000; display: inline-block; }
+.verdict.bad { border-style: dashed; }
+.muted { color: #444; font-size: 9pt; }
+code { font-size: 9pt; }
+@page { size: A4; margin: 14mm; }
+@media print { body { max-width: none; padding: 0; } h2 { break-after: avoid; } }
+)";
+
+void writeHead(std::ostream& out, const Plan& plan) {
+  const std::string title = plan.name.empty() ? plan.source : plan.name;
+  out << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\"/>\n"
+      << "<meta name=\"generator\" content=\"artcal report\"/>\n<title>artcal report: "
+      << svg::escape(title) << "</title>\n<style>" << kStyle << "</style>\n</head>\n<body>\n";
+  out << "<h1>Calibration plan " << svg::escape(title) << "</h1>\n";
+  if (!plan.description.empty()) out << "<p>" << svg::escape(plan.description) << "</p>\n";
+  out << "<p class=\"muted\">Plan file <code>" << svg::escape(plan.source) << "</code>; model "
+      << svg::escape(plan.machine.mechanism->modelName()) << ", " << plan.placements.size()
+      << " placements. Units: mm and degrees; uncertainties are standard uncertainties (k = 1). "
+      << "Every number below is the one <code>artcal evaluate --json</code> prints.</p>\n";
+}
+
+void writeVerdict(std::ostream& out, const json& ev) {
+  const bool ok = ev.at("identifiable").get<bool>();
+  out << "<h2>Identifiability</h2>\n<p class=\"verdict " << (ok ? "ok" : "bad")
+      << "\" data-field=\"/identifiable\" data-value=\"" << (ok ? "true" : "false") << "\">"
+      << (ok ? "IDENTIFIABLE: the plan separates every calibrated parameter."
+             : "NOT IDENTIFIABLE: the plan cannot separate every calibrated parameter; no "
+               "uncertainties exist for it.")
+      << "</p>\n<table>\n<tr><th>counting condition</th><th>N(b)</th><th>N(r)</th><th>N(p)</th>"
+      << "<th>satisfied</th><th>rank</th><th>deficiency</th><th>condition number</th></tr>\n<tr>"
+      << "<td>N(b) - N(r) &#8805; N(p)</td>" << numberCell(ev, "/counting/N_b", 1, "%.0f")
+      << numberCell(ev, "/counting/N_r", 1, "%.0f") << numberCell(ev, "/counting/N_p", 1, "%.0f")
+      << "<td>" << (ev.at("/counting/satisfied"_json_pointer).get<bool>() ? "yes" : "NO") << "</td>"
+      << numberCell(ev, "/rank/rank", 1, "%.0f") << numberCell(ev, "/rank/deficiency", 1, "%.0f")
+      << numberCell(ev, "/rank/condition_number", 1, "%.3g") << "</tr>\n</table>\n";
+  const json& combinations = ev.at("/rank/combinations"_json_pointer);
+  if (combinations.empty()) return;
+  out << "<p>Parameter combinations the plan cannot separate (coefficients of the scaled "
+         "parameters, largest 1):</p>\n<ol>\n";
+  for (std::size_t k = 0; k < combinations.size(); ++k) {
+    out << "<li>";
+    const json& c = combinations[k];
+    for (std::size_t i = 0; i < c.at("parameters").size(); ++i) {
+      out << "<span data-field=\"" << format("/rank/combinations/%zu/coefficients/%zu", k, i)
+          << "\" data-value=\"" << exact(c.at("coefficients")[i]) << "\">"
+          << svg::escape(format("%+.4g ", c.at("coefficients")[i].get<double>())) << "</span>"
+          << svg::escape(c.at("parameters")[i].get<std::string>()) << " ";
+    }
+    out << "</li>\n";
+  }
+  out << "</ol>\n";
+}
+
+void writeParameters(std::ostream& out, const json& ev) {
+  out << "<h2>Parameters</h2>\n<table>\n<tr><th>parameter</th><th>nominal</th><th>unit</th>"
+      << "<th>standard uncertainty u</th><th>unit of u</th></tr>\n";
+  const json& parameters = ev.at("parameters");
+  for (std::size_t k = 0; k < parameters.size(); ++k) {
+    const json& p = parameters[k];
+    const bool angle = p.at("unit") == "deg";
+    const std::string base = format("/parameters/%zu/", k);
+    out << "<tr><td>" << svg::escape(p.at("name").get<std::string>()) << "</td>"
+        << numberCell(ev, base + "nominal", 1, "%.4f") << "<td>"
+        << svg::escape(p.at("unit").get<std::string>()) << "</td>"
+        << numberCell(ev, base + "u", angle ? 1.0 : 1e3, angle ? "%.6f" : "%.3f") << "<td>"
+        << (angle ? "deg" : kMicro) << "</td></tr>\n";
+  }
+  out << "</table>\n";
+}
+
+void writeTipSummary(std::ostream& out, const Plan& plan, const json& ev) {
+  if (!ev.contains("tip")) return;
+  out << "<table>\n<tr><th>tip uncertainty (" << kMicro << ")</th><th>S</th><th>S_m</th>"
+      << "<th>S_q</th><th>at joints</th></tr>\n<tr><td>worst of "
+      << ev.at("/tip/configurations"_json_pointer).get<std::size_t>() << " configurations</td>"
+      << numberCell(ev, "/tip/worst/total", 1e3, "%.3f")
+      << numberCell(ev, "/tip/worst/kinematic", 1e3, "%.3f")
+      << numberCell(ev, "/tip/worst/encoder", 1e3, "%.3f") << "<td>";
+  const json& joints = ev.at("/tip/worst/joints"_json_pointer);
+  for (std::size_t i = 0; i < joints.size(); ++i) {
+    const Quantity q = jointQuantity(plan.machine.mechanism->jointKind(static_cast<int>(i)));
+    out << (i ? ", " : "") << "<span data-field=\"/tip/worst/joints/" << i << "\" data-value=\""
+        << exact(joints[i]) << "\">" << format("%.2f", joints[i].get<double>()) << "</span> "
+        << unitName(q);
+  }
+  out << "</td></tr>\n<tr><td>mean over the workspace</td>"
+      << numberCell(ev, "/tip/mean", 1e3, "%.3f") << "<td></td><td></td><td></td></tr>\n"
+      << "<tr><td>root mean square</td>" << numberCell(ev, "/tip/rms", 1e3, "%.3f")
+      << "<td></td><td></td><td></td></tr>\n</table>\n";
+}
+
+void writeProfileTable(std::ostream& out, const json& ev) {
+  if (!ev.contains("profile")) return;
+  out << "<table>\n<tr><th>reach (mm)</th><th>S_m (" << kMicro << ")</th><th>S_q (" << kMicro
+      << ")</th><th>S (" << kMicro << ")</th></tr>\n";
+  for (std::size_t k = 0; k < ev.at("profile").size(); ++k) {
+    const std::string base = format("/profile/%zu/", k);
+    out << "<tr>" << numberCell(ev, base + "reach", 1, "%.1f")
+        << numberCell(ev, base + "kinematic", 1e3, "%.3f")
+        << numberCell(ev, base + "encoder", 1e3, "%.3f")
+        << numberCell(ev, base + "total", 1e3, "%.3f") << "</tr>\n";
+  }
+  out << "</table>\n";
+}
+
+void writeFigure(std::ostream& out, const ReportFigure& figure) {
+  out << "<figure id=\"figure-" << svg::escape(figure.name) << "\">\n"
+      << figure.svg << "<figcaption>" << svg::escape(figure.caption)
+      << "</figcaption>\n</figure>\n";
+}
+
+void writeFigures(std::ostream& out, const std::vector<ReportFigure>& figures,
+                  const std::string& prefix) {
+  for (const ReportFigure& f : figures) {
+    if (f.name.starts_with(prefix)) writeFigure(out, f);
+  }
+}
+
+/// The leaves of a JSON value as (pointer, value) rows.
+void flatten(const json& value, const std::string& pointer,
+             std::vector<std::pair<std::string, json>>& rows) {
+  if (value.is_object()) {
+    for (const auto& [key, child] : value.items()) flatten(child, pointer + "/" + key, rows);
+  } else if (value.is_array() && !value.empty() && !value.front().is_primitive()) {
+    for (std::size_t i = 0; i < value.size(); ++i) {
+      flatten(value[i], pointer + "/" + std::to_string(i), rows);
+    }
+  } else {
+    rows.emplace_back(pointer, value);
+  }
+}
+
+std::string jsonText(const json& value) {
+  if (value.is_number_float()) return format("%.6g", value.get<double>());
+  if (value.is_string()) return value.get<std::string>();
+  return value.dump();
+}
+
+/// The optimizer's search: its criterion from the random starting designs to the optimum
+/// (the `optimization` block `artcal optimize` writes into `predicted`).
+void writeOptimization(std::ostream& out, const json& optimization) {
+  const bool mm = optimization.value("unit", "") == "mm";
+  const auto row = [&](const char* what, const json::json_pointer& at) {
+    if (!optimization.contains(at) || !optimization.at(at).is_number()) return;
+    const double v = optimization.at(at).get<double>();
+    out << "<tr><td>" << what << "</td><td class=\"num\">"
+        << svg::escape(mm ? format("%.3f", v * 1e3) : format("%.6g", v)) << "</td></tr>\n";
+  };
+  out << "<p>The search (" << svg::escape(jsonText(optimization.value("algorithm", json("?"))))
+      << ", " << svg::escape(jsonText(optimization.value("starts_done", json("?")))) << " of "
+      << svg::escape(jsonText(optimization.value("starts", json("?")))) << " starts, "
+      << svg::escape(jsonText(optimization.value("termination", json("?")))) << "): the criterion "
+      << svg::escape(jsonText(optimization.value("criterion", json("?"))))
+      << " from the starting designs to the optimum.</p>\n<table>\n<tr><th>design</th><th>"
+      << (mm ? std::string("criterion (") + kMicro + ")" : std::string("criterion"))
+      << "</th></tr>\n";
+  row("random starting designs, median", "/random_initial/median"_json_pointer);
+  row("random starting designs, best", "/random_initial/best"_json_pointer);
+  row("best start as drawn", "/best_start/initial"_json_pointer);
+  row("best start after the exchange", "/best_start/exchanged"_json_pointer);
+  row("best start after refinement", "/best_start/refined"_json_pointer);
+  row("optimum written to the plan", "/value"_json_pointer);
+  out << "</table>\n";
+}
+
+/// The predicted numbers the optimizer wrote beside the same figures evaluated now (the same
+/// pointers of evaluate --json; the profile and correlation are shown in their figures).
+void writePredicted(std::ostream& out, const json& predicted, const json& evaluation) {
+  std::vector<std::pair<std::string, json>> rows;
+  flatten(predicted, "", rows);
+  out << "<table>\n<tr><th>predicted by the optimizer</th><th>in the plan file</th>"
+      << "<th>evaluated now</th></tr>\n";
+  for (const auto& [pointer, value] : rows) {
+    if (!value.is_number() || pointer.starts_with("/optimization") ||
+        pointer.starts_with("/profile") || pointer.starts_with("/correlation")) {
+      continue;
+    }
+    out << "<tr><td>" << svg::escape(pointer.substr(1)) << "</td><td class=\"num\">"
+        << svg::escape(jsonText(value)) << "</td>";
+    const json::json_pointer here(pointer);
+    if (value.is_number() && evaluation.contains(here) && evaluation.at(here).is_number()) {
+      out << numberCell(evaluation, pointer, 1, "%.6g");
+    } else {
+      out << "<td></td>";
+    }
+    out << "</tr>\n";
+  }
+  out << "</table>\n";
+}
+
+/// An optimized plan (plan-format.md, optimization spec): its design block, the search from the
+/// starting designs to the optimum, and its predicted block beside the evaluation now.
+void writeDesign(std::ostream& out, const ReportInput& in) {
+  if (!in.document.contains("design") && !in.document.contains("predicted")) return;
+  out << "<h2>Design</h2>\n";
+  if (in.document.contains("design")) {
+    std::vector<std::pair<std::string, json>> rows;
+    flatten(in.document.at("design"), "", rows);
+    out << "<table>\n<tr><th>design</th><th>value</th></tr>\n";
+    for (const auto& [pointer, value] : rows) {
+      out << "<tr><td>" << svg::escape(pointer.substr(1)) << "</td><td>"
+          << svg::escape(jsonText(value)) << "</td></tr>\n";
+    }
+    out << "</table>\n";
+  }
+  if (!in.document.contains("predicted") || !in.document.at("predicted").is_object()) return;
+  const json& predicted = in.document.at("predicted");
+  if (predicted.contains("optimization") && predicted.at("optimization").is_object()) {
+    writeOptimization(out, predicted.at("optimization"));
+  }
+  writePredicted(out, predicted, in.evaluation_json);
+}
+
+/// The flagged readings, worst first (the first kTabledOutliers of them).
+void writeFlagged(std::ostream& out, const json& cal) {
+  struct Flag {
+    std::size_t placement, measurement;
+    double score;
+  };
+  std::vector<Flag> flags;
+  const json& residuals = cal.at("residuals");
+  for (std::size_t j = 0; j < residuals.size(); ++j) {
+    const json& measurements = residuals[j].at("measurements");
+    for (std::size_t m = 0; m < measurements.size(); ++m) {
+      if (measurements[m].at("flagged").get<bool>()) {
+        flags.push_back({j, m, measurements[m].at("score").get<double>()});
+      }
+    }
+  }
+  if (flags.empty()) {
+    out << "<p>No reading is flagged.</p>\n";
+    return;
+  }
+  std::stable_sort(flags.begin(), flags.end(),
+                   [](const Flag& a, const Flag& b) { return a.score > b.score; });
+  out << "<table>\n<tr><th>flagged reading</th><th>feature</th><th>score (largest |normalized "
+         "residual|)</th></tr>\n";
+  for (std::size_t k = 0; k < std::min(flags.size(), kTabledOutliers); ++k) {
+    const Flag& f = flags[k];
+    const std::string base = format("/residuals/%zu/measurements/%zu/", f.placement, f.measurement);
+    out << "<tr><td>placement " << f.placement + 1 << ", reading " << f.measurement + 1 << "</td>"
+        << numberCell(cal, base + "feature", 1, "%.0f", "/calibration")
+        << numberCell(cal, base + "score", 1, "%.2f", "/calibration") << "</tr>\n";
+  }
+  out << "</table>\n";
+  if (flags.size() > kTabledOutliers) {
+    out << "<p>and " << flags.size() - kTabledOutliers << " more flagged readings.</p>\n";
+  }
+}
+
+/// The calibration of the plan's readings (calibrate --json, pointers under /calibration).
+void writeCalibration(std::ostream& out, const ReportInput& in,
+                      const std::vector<ReportFigure>& figures) {
+  if (!in.calibration_json) return;
+  const json& cal = *in.calibration_json;
+  const std::string prefix = "/calibration";
+  const bool converged = cal.at("converged").get<bool>();
+  out << "<h2>Calibration of the readings</h2>\n<p class=\"verdict " << (converged ? "ok" : "bad")
+      << "\" data-field=\"/calibration/converged\" data-value=\"" << (converged ? "true" : "false")
+      << "\">" << (converged ? "CONVERGED" : "NOT CONVERGED") << ": "
+      << svg::escape(cal.value("message", "")) << "</p>\n<table>\n<tr><th>iterations</th>"
+      << "<th>chi2</th><th>dof</th><th>chi2 / dof</th><th>flagged readings</th></tr>\n<tr>"
+      << numberCell(cal, "/iterations", 1, "%.0f", prefix)
+      << numberCell(cal, "/chi2", 1, "%.4g", prefix) << numberCell(cal, "/dof", 1, "%.0f", prefix)
+      << numberCell(cal, "/chi2_per_dof", 1, "%.4g", prefix)
+      << numberCell(cal, "/flagged", 1, "%.0f", prefix) << "</tr>\n</table>\n";
+  out << "<table>\n<tr><th>parameter</th><th>nominal</th><th>estimate</th><th>unit</th>"
+      << "<th>u</th><th>u posterior</th><th>unit of u</th></tr>\n";
+  const json& parameters = cal.at("parameters");
+  for (std::size_t k = 0; k < parameters.size(); ++k) {
+    const json& p = parameters[k];
+    const bool angle = p.at("unit") == "deg";
+    const std::string base = format("/parameters/%zu/", k);
+    out << "<tr><td>" << svg::escape(p.at("name").get<std::string>()) << "</td>"
+        << numberCell(cal, base + "nominal", 1, "%.4f", prefix)
+        << numberCell(cal, base + "estimate", 1, "%.6f", prefix) << "<td>"
+        << svg::escape(p.at("unit").get<std::string>()) << "</td>"
+        << numberCell(cal, base + "u", angle ? 1.0 : 1e3, angle ? "%.6f" : "%.3f", prefix)
+        << numberCell(cal, base + "u_posterior", angle ? 1.0 : 1e3, angle ? "%.6f" : "%.3f", prefix)
+        << "<td>" << (angle ? "deg" : kMicro) << "</td></tr>\n";
+  }
+  out << "</table>\n";
+  writeFigures(out, figures, "residuals");
+  writeFlagged(out, cal);
+}
+
+}  // namespace
+
+std::vector<ReportFigure> reportFigures(const ReportInput& in) {
+  const Plan& plan = in.plan;
+  const std::vector<Eigen::MatrixXd> features = placedFeatures(plan);
+  std::vector<ReportFigure> figures;
+  const bool spatial = plan.machine.dimension() == 3;
+  const std::string layout_caption =
+      isPlanar2R(plan.machine)
+          ? "Artifact placements (numbered), each feature (circle) and each reading's probe "
+            "position (cross) with the arm's links faint, inside the reach annulus."
+          : "Artifact placements (numbered), each feature (circle) and each reading's probe "
+            "position (cross); grey: where the workspace samples lie.";
+  figures.push_back({"layout", layout_caption, layoutPlot(in, features, View::Plan).render()});
+  if (spatial) {
+    figures.push_back(
+        {"layout-side", layout_caption, layoutPlot(in, features, View::Side).render()});
+  }
+  if (in.calibration_json)
+    figures.push_back(residualFigure(*in.calibration_json, in.flag_threshold));
+  if (!in.evaluation.identifiable() || !in.evaluation.tip) return figures;
+  if (in.evaluation_json.contains("profile")) figures.push_back(profileFigure(in));
+  const TipEvaluator tips(plan.machine, plan.noise, in.evaluation.workspace);
+  std::vector<double> totals_um = workspaceTotals(in, tips);
+  for (double& s : totals_um) s *= 1e3;
+  figures.push_back(tipMapFigure(in, totals_um, features, View::Plan));
+  if (spatial) figures.push_back(tipMapFigure(in, totals_um, features, View::Side));
+  if (in.evaluation_json.contains("correlation")) figures.push_back(correlationFigure(in));
+  return figures;
+}
+
+std::string htmlReport(const ReportInput& in, const std::vector<ReportFigure>& figures) {
+  const json& ev = in.evaluation_json;
+  std::ostringstream out;
+  writeHead(out, in.plan);
+  writeVerdict(out, ev);
+  out << "<h2>Layout</h2>\n";
+  writeFigures(out, figures, "layout");
+  writeDesign(out, in);
+  writeParameters(out, ev);
+  if (!in.evaluation.identifiable()) {
+    out << "<p>No uncertainties: the plan does not identify every calibrated parameter.</p>\n";
+  }
+  writeFigures(out, figures, "correlation");
+  if (ev.contains("tip")) out << "<h2>Tip uncertainty</h2>\n";
+  writeTipSummary(out, in.plan, ev);
+  writeFigures(out, figures, "tip");
+  writeProfileTable(out, ev);
+  writeCalibration(out, in, figures);
+  out << "</body>\n</html>\n";
+  return out.str();
+}
+
+}  // namespace artcal

@@ -1,0 +1,185 @@
+#include "artcal/report/report.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+namespace artcal {
+
+using nlohmann::json;
+
+json finiteOrNull(double value) {
+  return std::isfinite(value) ? json(value) : json(nullptr);
+}
+
+std::vector<double> jointsToFile(const Machine& machine, const Eigen::VectorXd& q) {
+  std::vector<double> out;
+  for (int i = 0; i < q.size(); ++i) {
+    out.push_back(toFileUnit(jointQuantity(machine.mechanism->jointKind(i)), q[i]));
+  }
+  return out;
+}
+
+json countingToJson(const CountingCondition& counting) {
+  json out = {{"N_p", counting.N_p},
+              {"N_b", counting.N_b},
+              {"N_r", counting.N_r},
+              {"satisfied", counting.satisfied}};
+  out["minimum_placements_alike"] =
+      counting.minimum_alike > 0 ? json(counting.minimum_alike) : json(nullptr);
+  return out;
+}
+
+json identifiabilityToJson(const Identifiability& id) {
+  json names = json::array(), combinations = json::array();
+  for (const Combination& c : id.unidentifiable) {
+    names.push_back(c.names);
+    combinations.push_back({{"parameters", c.names}, {"coefficients", c.coefficients}});
+  }
+  return {{"identifiable", id.identifiable()},
+          {"counting", countingToJson(id.counting)},
+          {"rank",
+           {{"rank", id.rank},
+            {"deficiency", id.deficiency},
+            {"condition_number", finiteOrNull(id.condition_number)},
+            {"tolerance", id.tolerance},
+            {"unidentifiable", names},
+            {"combinations", combinations}}}};
+}
+
+json tipToJson(const Machine& machine, const TipSummary& tip,
+               const std::vector<Eigen::VectorXd>& workspace) {
+  json worst = {{"total", tip.worst.total},
+                {"kinematic", tip.worst.kinematic},
+                {"encoder", tip.worst.encoder}};
+  if (tip.worst_index >= 0) {
+    worst["joints"] = jointsToFile(machine, workspace[static_cast<std::size_t>(tip.worst_index)]);
+    worst["index"] = tip.worst_index;
+  }
+  return {
+      {"worst", worst}, {"mean", tip.mean}, {"rms", tip.rms}, {"configurations", workspace.size()}};
+}
+
+json evaluationToJson(const Plan& plan, const Evaluation& ev) {
+  json out = identifiabilityToJson(ev.identifiability);
+  out["plan"] = plan.name;
+  out["identifiable"] = ev.identifiable();
+  const Machine& machine = plan.machine;
+  json parameters = json::array();
+  for (int k = 0; k < machine.calibratedCount(); ++k) {
+    const ParameterInfo& info = machine.calibratedInfo(k);
+    json p = {{"name", info.name},
+              {"nominal", toFileUnit(info.quantity, machine.nominal[machine.calibrated[k]])},
+              {"unit", unitName(info.quantity)}};
+    p["u"] = ev.covariance ? json(toFileUnit(info.quantity, ev.covariance->u[k])) : json(nullptr);
+    parameters.push_back(p);
+  }
+  out["parameters"] = parameters;
+  if (ev.covariance) {
+    const Eigen::MatrixXd& corr = ev.covariance->correlation;
+    json rows = json::array();
+    for (int i = 0; i < corr.rows(); ++i) {
+      json row = json::array();
+      for (int j = 0; j < corr.cols(); ++j) row.push_back(corr(i, j));
+      rows.push_back(row);
+    }
+    out["correlation"] = rows;
+  }
+  if (ev.tip) out["tip"] = tipToJson(machine, *ev.tip, ev.workspace);
+  if (!ev.profile.empty()) {
+    json profile = json::array();
+    for (const ProfilePoint& p : ev.profile) {
+      profile.push_back({{"reach", p.reach},
+                         {"total", p.tip.total},
+                         {"kinematic", p.tip.kinematic},
+                         {"encoder", p.tip.encoder}});
+    }
+    out["profile"] = profile;
+  }
+  return out;
+}
+
+namespace {
+
+std::string format(const char* fmt, auto... args) {
+  char buffer[512];
+  std::snprintf(buffer, sizeof buffer, fmt, args...);
+  return buffer;
+}
+
+// Standard uncertainties read best in um for lengths and mdeg-scale decimals for angles.
+std::string uncertaintyText(Quantity q, double internal) {
+  return q == Quantity::Angle ? format("%.6f deg", radToDeg(internal))
+                              : format("%.2f um", internal * 1000.0);
+}
+
+}  // namespace
+
+std::string identifiabilityTable(const Plan& plan, const Identifiability& id) {
+  std::ostringstream out;
+  const CountingCondition& c = id.counting;
+  out << "Plan " << (plan.name.empty() ? plan.source : plan.name) << ": " << plan.placements.size()
+      << " placements, " << c.N_p << " calibrated parameters\n";
+  out << format("  counting condition  N(b) - N(r) = %d - %d = %d %s N(p) = %d   %s\n", c.N_b,
+                c.N_r, c.N_b - c.N_r, c.satisfied ? ">=" : "<", c.N_p,
+                c.satisfied ? "satisfied" : "NOT satisfied");
+  if (c.minimum_alike > 0) {
+    out << format("  placements like the first needed: m >= %d\n", c.minimum_alike);
+  }
+  out << format("  rank of scaled N_red  %d of %d (deficiency %d, tolerance %.0e)\n", id.rank,
+                c.N_p, id.deficiency, id.tolerance);
+  if (std::isfinite(id.condition_number)) {
+    out << format("  condition number      %.3g\n", id.condition_number);
+  }
+  for (std::size_t k = 0; k < id.unidentifiable.size(); ++k) {
+    const Combination& comb = id.unidentifiable[k];
+    out << "  unidentifiable #" << k + 1 << ":  ";
+    for (std::size_t i = 0; i < comb.names.size(); ++i) {
+      out << format(i == 0 ? "%+.4g %s" : "  %+.4g %s", comb.coefficients[i],
+                    comb.names[i].c_str());
+    }
+    out << "   (scaled parameters)\n";
+  }
+  out << (id.identifiable() ? "IDENTIFIABLE\n" : "NOT IDENTIFIABLE\n");
+  return out.str();
+}
+
+std::string evaluationTable(const Plan& plan, const Evaluation& ev) {
+  std::ostringstream out;
+  out << identifiabilityTable(plan, ev.identifiability);
+  if (!ev.covariance) {
+    out << "No uncertainties: the plan does not identify every calibrated parameter.\n";
+    return out.str();
+  }
+  const Machine& machine = plan.machine;
+  out << "\nParameter          nominal          u (standard uncertainty)\n";
+  for (int k = 0; k < machine.calibratedCount(); ++k) {
+    const ParameterInfo& info = machine.calibratedInfo(k);
+    const double nominal = toFileUnit(info.quantity, machine.nominal[machine.calibrated[k]]);
+    out << format("  %-12s %12.4f %-4s   %s\n", info.name.c_str(), nominal,
+                  std::string(unitName(info.quantity)).c_str(),
+                  uncertaintyText(info.quantity, ev.covariance->u[k]).c_str());
+  }
+  if (ev.tip) {
+    const TipSummary& tip = *ev.tip;
+    out << format("\nTip uncertainty over %zu workspace configurations (um)\n",
+                  ev.workspace.size());
+    out << format("  worst  S = %.2f  (S_m %.2f, S_q %.2f) at joints [", tip.worst.total * 1e3,
+                  tip.worst.kinematic * 1e3, tip.worst.encoder * 1e3);
+    const auto joints =
+        jointsToFile(machine, ev.workspace[static_cast<std::size_t>(tip.worst_index)]);
+    for (std::size_t i = 0; i < joints.size(); ++i) out << format(i ? ", %.2f" : "%.2f", joints[i]);
+    out << "]\n" << format("  mean   S = %.2f    rms S = %.2f\n", tip.mean * 1e3, tip.rms * 1e3);
+  }
+  if (!ev.profile.empty()) {
+    out << "\nTip uncertainty against reach (seed Fig. 6; worse elbow branch)\n";
+    out << "  reach mm     S_m um    S_q um      S um\n";
+    for (const ProfilePoint& p : ev.profile) {
+      out << format("  %8.1f  %9.2f %9.2f %9.2f\n", p.reach, p.tip.kinematic * 1e3,
+                    p.tip.encoder * 1e3, p.tip.total * 1e3);
+    }
+  }
+  return out.str();
+}
+
+}  // namespace artcal
