@@ -79,8 +79,8 @@ TipEvaluator::TipEvaluator(const Machine& machine, const Noise& noise,
   Eigen::MatrixXd J_x_p, J_x_q;
   const Eigen::VectorXd sigma_q2 = noise.encoder.array().square();
   for (int g = 0; g < count; ++g) {
-    machine.mechanism->forward(machine.nominal, configurations_[static_cast<std::size_t>(g)], x,
-                               &J_x_p, &J_x_q);
+    forwardOrThrow(*machine.mechanism, machine.nominal,
+                   configurations_[static_cast<std::size_t>(g)], x, &J_x_p, &J_x_q);
     for (int j = 0; j < n_p; ++j) {
       J_p_.block(g * dimension_, j, dimension_, 1) = J_x_p.col(machine.calibrated[j]);
     }

@@ -70,7 +70,7 @@ std::optional<Eigen::VectorXd> planar2rNear(const Machine& machine, const Eigen:
   for (Eigen::VectorXd q : planar2rInverse(p, target.head<2>())) {
     if (!nearestRepresentativeWithinLimits(machine, q0, q)) continue;
     Eigen::VectorXd x;
-    machine.mechanism->forward(p, q, x);
+    forwardOrThrow(*machine.mechanism, p, q, x);
     if ((x - target).norm() > 1e-6) continue;
     const double distance = (q - q0).norm();
     if (!best || distance < best_distance) {
@@ -94,7 +94,7 @@ std::optional<Eigen::VectorXd> solveInverseKinematics(const Machine& machine,
   applyJointLimits(machine, q);
   Eigen::VectorXd x;
   Eigen::MatrixXd J;
-  mech.forward(p, q, x, nullptr, &J);
+  forwardOrThrow(mech, p, q, x, nullptr, &J);
   Eigen::VectorXd error = target - x;
   double lambda = 1e-3 * (J * J.transpose()).trace() / J.rows();
   const int d = mech.dimension();
@@ -105,7 +105,7 @@ std::optional<Eigen::VectorXd> solveInverseKinematics(const Machine& machine,
     applyJointLimits(machine, trial);
     Eigen::VectorXd x_trial;
     Eigen::MatrixXd J_trial;
-    mech.forward(p, trial, x_trial, nullptr, &J_trial);
+    forwardOrThrow(mech, p, trial, x_trial, nullptr, &J_trial);
     const Eigen::VectorXd trial_error = target - x_trial;
     if (trial_error.norm() < error.norm()) {
       q = trial;

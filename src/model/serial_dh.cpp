@@ -54,8 +54,9 @@ SerialDH::SerialDH(std::vector<JointKind> joints) : joints_(std::move(joints)) {
 //   d x / d theta_i = z x (x - o),   d x / d d_i = z,
 //   d x / d a_i = x_i,               d x / d alpha_i = x_i x (x - o_i),
 // and a revolute joint variable acts like theta_i, a prismatic one like d_i.
-void SerialDH::forward(const Eigen::VectorXd& p, const Eigen::VectorXd& q, Eigen::VectorXd& x,
-                       Eigen::MatrixXd* J_x_p, Eigen::MatrixXd* J_x_q) const {
+ForwardStatus SerialDH::forward(const Eigen::VectorXd& p, const Eigen::VectorXd& q,
+                                Eigen::VectorXd& x, Eigen::MatrixXd* J_x_p,
+                                Eigen::MatrixXd* J_x_q) const {
   const int n = jointCount();
   Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
   Eigen::Vector3d o = Eigen::Vector3d::Zero();
@@ -104,6 +105,7 @@ void SerialDH::forward(const Eigen::VectorXd& p, const Eigen::VectorXd& q, Eigen
       }
     }
   }
+  return ForwardStatus::Ok;
 }
 
 }  // namespace artcal

@@ -43,7 +43,7 @@ double machineReach(const Machine& machine, const std::vector<Eigen::VectorXd>& 
   double reach = 0.0;
   Eigen::VectorXd x;
   for (const Eigen::VectorXd& q : workspace) {
-    machine.mechanism->forward(machine.nominal, q, x);
+    forwardOrThrow(*machine.mechanism, machine.nominal, q, x);
     reach = std::max(reach, x.norm());
   }
   return reach > 0.0 ? reach : 1.0;

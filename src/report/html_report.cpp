@@ -68,7 +68,7 @@ Eigen::Vector2d project(const Eigen::VectorXd& x, View view) {
 
 Eigen::VectorXd probePosition(const Machine& machine, const Eigen::VectorXd& q) {
   Eigen::VectorXd x;
-  machine.mechanism->forward(machine.nominal, q, x);
+  forwardOrThrow(*machine.mechanism, machine.nominal, q, x);
   return x;
 }
 

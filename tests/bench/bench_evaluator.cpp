@@ -12,7 +12,7 @@
 #include <benchmark/benchmark.h>
 #include <sys/resource.h>
 
-#include "../plan_builders.hpp"
+#include "../support/plan_builders.hpp"
 
 namespace artcal {
 namespace {

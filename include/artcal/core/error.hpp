@@ -29,4 +29,11 @@ class InputError : public std::runtime_error {
   std::string pointer_;
 };
 
+/// A numerical failure of a model (forward kinematics that did not converge, a singular
+/// configuration). Numerical code raises it; the edge (io, command line) says where it happened.
+class KinematicsError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 }  // namespace artcal

@@ -15,8 +15,9 @@ class Planar2R final : public Mechanism {
   int jointCount() const override { return 2; }
   JointKind jointKind(int) const override { return JointKind::Revolute; }
   const std::vector<ParameterInfo>& parameters() const override { return parameters_; }
-  void forward(const Eigen::VectorXd& p, const Eigen::VectorXd& q, Eigen::VectorXd& x,
-               Eigen::MatrixXd* J_x_p = nullptr, Eigen::MatrixXd* J_x_q = nullptr) const override;
+  ForwardStatus forward(const Eigen::VectorXd& p, const Eigen::VectorXd& q, Eigen::VectorXd& x,
+                        Eigen::MatrixXd* J_x_p = nullptr,
+                        Eigen::MatrixXd* J_x_q = nullptr) const override;
 
  private:
   std::vector<ParameterInfo> parameters_;

@@ -18,8 +18,9 @@ class SerialDH final : public Mechanism {
   int jointCount() const override { return static_cast<int>(joints_.size()); }
   JointKind jointKind(int joint) const override { return joints_[joint]; }
   const std::vector<ParameterInfo>& parameters() const override { return parameters_; }
-  void forward(const Eigen::VectorXd& p, const Eigen::VectorXd& q, Eigen::VectorXd& x,
-               Eigen::MatrixXd* J_x_p = nullptr, Eigen::MatrixXd* J_x_q = nullptr) const override;
+  ForwardStatus forward(const Eigen::VectorXd& p, const Eigen::VectorXd& q, Eigen::VectorXd& x,
+                        Eigen::MatrixXd* J_x_p = nullptr,
+                        Eigen::MatrixXd* J_x_q = nullptr) const override;
 
   /// Index in p of joint i's first parameter (theta); d, a, alpha follow.
   static int jointParameterOffset(int joint) { return 4 * joint; }

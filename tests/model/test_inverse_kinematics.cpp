@@ -47,7 +47,7 @@ Eigen::VectorXd randomJoints(const Machine& machine, std::mt19937_64& rng) {
 
 Eigen::VectorXd forward(const Machine& machine, const Eigen::VectorXd& q) {
   Eigen::VectorXd x;
-  machine.mechanism->forward(machine.nominal, q, x);
+  forwardOrThrow(*machine.mechanism, machine.nominal, q, x);
   return x;
 }
 

@@ -287,8 +287,8 @@ void expectKinematicVarianceMatchesDirectTrace(const Machine& machine, const Noi
   for (int g = 0; g < 50; ++g) {
     Eigen::VectorXd x;
     Eigen::MatrixXd J_x_p;
-    machine.mechanism->forward(machine.nominal, tip.configurations()[static_cast<std::size_t>(g)],
-                               x, &J_x_p);
+    forwardOrThrow(*machine.mechanism, machine.nominal,
+                   tip.configurations()[static_cast<std::size_t>(g)], x, &J_x_p);
     const Eigen::MatrixXd J = J_x_p(Eigen::all, machine.calibrated);
     const double direct = (J * V * J.transpose()).trace();
     EXPECT_NEAR(S_m2[g], direct, 1e-12 * direct) << g;

@@ -104,10 +104,10 @@ TEST(Simulator, NoiseFreeAtNominalReproducesThePlannedReadings) {
     Eigen::VectorXd planned, simulated;
     for (std::size_t j = 0; j < plan.placements.size(); ++j) {
       for (std::size_t i = 0; i < plan.placements[j].measurements.size(); ++i) {
-        plan.machine.mechanism->forward(plan.machine.nominal,
-                                        plan.placements[j].measurements[i].joints, planned);
-        plan.machine.mechanism->forward(plan.machine.nominal,
-                                        run.placements[j].measurements[i].joints, simulated);
+        forwardOrThrow(*plan.machine.mechanism, plan.machine.nominal,
+                       plan.placements[j].measurements[i].joints, planned);
+        forwardOrThrow(*plan.machine.mechanism, plan.machine.nominal,
+                       run.placements[j].measurements[i].joints, simulated);
         const Artifact& artifact =
             plan.artifacts[static_cast<std::size_t>(plan.placements[j].artifact)];
         const int feature = plan.placements[j].measurements[i].feature;
@@ -134,7 +134,7 @@ TEST(Simulator, NoiseFreeReadingsPutTheTrueMachineOnTheFeatures) {
   for (std::size_t j = 0; j < run.placements.size(); ++j) {
     const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(run.placements[j].artifact)];
     for (const Measurement& m : run.placements[j].measurements) {
-      plan.machine.mechanism->forward(truth, m.joints, x);
+      forwardOrThrow(*plan.machine.mechanism, truth, m.joints, x);
       EXPECT_NEAR((simulator.nominalPoses()[j].apply(x) - artifact.features.col(m.feature)).norm(),
                   0.0, 1e-8);
     }
@@ -156,12 +156,12 @@ TEST(Simulator, ReadingNoiseHasTheDeclaredCovariance) {
   for (int s = 0; s < draws; ++s) {
     NormalSource normal(trialSeed(3, static_cast<std::uint64_t>(s)));
     const SimulatedRun run = simulator.simulate(plan.machine.nominal, normal);
-    plan.machine.mechanism->forward(plan.machine.nominal, run.placements[2].measurements[1].joints,
-                                    x);
+    forwardOrThrow(*plan.machine.mechanism, plan.machine.nominal,
+                   run.placements[2].measurements[1].joints, x);
     scatter += (x - target) * (x - target).transpose();
   }
   scatter /= draws;
-  plan.machine.mechanism->forward(plan.machine.nominal, planned.joints, x, nullptr, &J_x_q);
+  forwardOrThrow(*plan.machine.mechanism, plan.machine.nominal, planned.joints, x, nullptr, &J_x_q);
   Eigen::Matrix2d expected =
       J_x_q * plan.noise.encoder.array().square().matrix().asDiagonal() * J_x_q.transpose();
   expected.diagonal().array() += plan.noise.probe * plan.noise.probe;
@@ -185,8 +185,10 @@ TEST(Simulator, ArtifactErrorIsTheSameInEveryPlacement) {
     ASSERT_EQ(run.systematic.size(), 1);
     sum2 += run.systematic[0] * run.systematic[0];
     for (const Placement& placement : run.placements) {
-      plan.machine.mechanism->forward(plan.machine.nominal, placement.measurements[0].joints, x0);
-      plan.machine.mechanism->forward(plan.machine.nominal, placement.measurements[1].joints, x1);
+      forwardOrThrow(*plan.machine.mechanism, plan.machine.nominal,
+                     placement.measurements[0].joints, x0);
+      forwardOrThrow(*plan.machine.mechanism, plan.machine.nominal,
+                     placement.measurements[1].joints, x1);
       EXPECT_NEAR((x1 - x0).norm(), 80.0 + run.systematic[0], 1e-8);
     }
   }

@@ -65,7 +65,7 @@ OptimizerOptions smallEffort(const Plan& plan, int threads) {
 
 Eigen::VectorXd forward(const Machine& machine, const Eigen::VectorXd& q) {
   Eigen::VectorXd x;
-  machine.mechanism->forward(machine.nominal, q, x);
+  forwardOrThrow(*machine.mechanism, machine.nominal, q, x);
   return x;
 }
 

@@ -22,16 +22,16 @@ void checkJacobians(const Mechanism& model, const Eigen::VectorXd& p,
     const Eigen::VectorXd& q = configurations[c];
     Eigen::VectorXd x;
     Eigen::MatrixXd J_x_p, J_x_q;
-    model.forward(p, q, x, &J_x_p, &J_x_q);
+    forwardOrThrow(model, p, q, x, &J_x_p, &J_x_q);
     ASSERT_EQ(x.size(), model.dimension());
     const auto of_p = [&](const Eigen::VectorXd& pp) {
       Eigen::VectorXd y;
-      model.forward(pp, q, y);
+      forwardOrThrow(model, pp, q, y);
       return y;
     };
     const auto of_q = [&](const Eigen::VectorXd& qq) {
       Eigen::VectorXd y;
-      model.forward(p, qq, y);
+      forwardOrThrow(model, p, qq, y);
       return y;
     };
     const std::string where = model.modelName() + " configuration " + std::to_string(c);
@@ -39,7 +39,7 @@ void checkJacobians(const Mechanism& model, const Eigen::VectorXd& p,
     expectJacobianNear(J_x_q, centralDifferenceJacobian(of_q, q, 1e-6), 1e-7, where + " J_x_q");
     // The position does not depend on whether Jacobians were asked for.
     Eigen::VectorXd x_alone;
-    model.forward(p, q, x_alone);
+    forwardOrThrow(model, p, q, x_alone);
     EXPECT_EQ(x_alone, x);
   }
 }
@@ -60,8 +60,8 @@ std::vector<Eigen::VectorXd> randomConfigurations(int joints, int count, std::ui
 TEST(Planar2R, ForwardMatchesTheSeedEquation) {
   const Planar2R arm;
   Eigen::VectorXd x;
-  arm.forward(Eigen::Vector3d(150, 100, degToRad(2.0)), Eigen::Vector2d(degToRad(30), degToRad(60)),
-              x);
+  forwardOrThrow(arm, Eigen::Vector3d(150, 100, degToRad(2.0)),
+                 Eigen::Vector2d(degToRad(30), degToRad(60)), x);
   EXPECT_NEAR(x[0], 150 * std::cos(degToRad(30)) + 100 * std::cos(degToRad(92)), 1e-12);
   EXPECT_NEAR(x[1], 150 * std::sin(degToRad(30)) + 100 * std::sin(degToRad(92)), 1e-12);
 }
@@ -124,7 +124,7 @@ TEST(SerialDH, ForwardMatchesHomogeneousTransforms) {
   }
   const Eigen::Vector4d tip = T * Eigen::Vector4d(p[20], p[21], p[22], 1.0);
   Eigen::VectorXd x;
-  arm->forward(p, q, x);
+  forwardOrThrow(*arm, p, q, x);
   EXPECT_LT((x - tip.head<3>()).norm(), 1e-10);
 }
 

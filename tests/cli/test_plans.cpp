@@ -205,7 +205,7 @@ TEST(Plans, ReadingsReachTheFeaturesOfTheirPoses) {
       ASSERT_TRUE(placement.pose.has_value());
       for (const Measurement& m : placement.measurements) {
         Eigen::VectorXd x;
-        plan.machine.mechanism->forward(plan.machine.nominal, m.joints, x);
+        forwardOrThrow(*plan.machine.mechanism, plan.machine.nominal, m.joints, x);
         EXPECT_LT((x - featureInMachineFrame(plan, placement, m.feature)).norm(), 1e-6);
         EXPECT_TRUE(plan.machine.withinLimits(m.joints));
       }

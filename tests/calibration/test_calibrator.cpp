@@ -253,7 +253,7 @@ void misprobe(Plan& plan, int j, int i, const Eigen::VectorXd& shift) {
   Measurement& m =
       plan.placements[static_cast<std::size_t>(j)].measurements[static_cast<std::size_t>(i)];
   Eigen::VectorXd x;
-  plan.machine.mechanism->forward(plan.machine.nominal, m.joints, x);
+  forwardOrThrow(*plan.machine.mechanism, plan.machine.nominal, m.joints, x);
   const auto q = solveInverseKinematics(plan.machine, plan.machine.nominal, x + shift, m.joints);
   ASSERT_TRUE(q.has_value());
   m.joints = *q;
