@@ -15,6 +15,8 @@
 #include <set>
 #include <sstream>
 
+#include "artcal/io/json_node.hpp"
+#include "artcal/io/csv_readings.hpp"
 #include "artcal/model/planar2r.hpp"
 #include "artcal/model/serial_dh.hpp"
 
@@ -29,147 +31,6 @@ constexpr std::size_t kMaxMeasurements = 10'000;
 constexpr std::size_t kMaxJoints = 32;
 constexpr std::size_t kMaxFeatures = 10'000;
 constexpr long kMaxWorkspace = 10'000'000;
-
-std::string escapePointerToken(const std::string& token) {
-  std::string out;
-  for (char c : token) {
-    if (c == '~') {
-      out += "~0";
-    } else if (c == '/') {
-      out += "~1";
-    } else {
-      out += c;
-    }
-  }
-  return out;
-}
-
-std::string jsonTypeName(const json& v) {
-  if (v.is_number()) return "a number";
-  if (v.is_string()) return "a string";
-  if (v.is_boolean()) return "a boolean";
-  if (v.is_null()) return "null";
-  if (v.is_array()) return "an array";
-  return "an object";
-}
-
-// A value of the document with its JSON pointer: every check names the exact place of a fault.
-class Node {
- public:
-  Node(const json& value, std::string pointer, const std::string& source)
-      : value_(&value), pointer_(std::move(pointer)), source_(&source) {}
-
-  [[noreturn]] void fail(const std::string& message) const {
-    throw InputError(*source_, pointer_.empty() ? "/" : pointer_, message);
-  }
-  const json& value() const { return *value_; }
-  const std::string& pointer() const { return pointer_; }
-
-  const json& object() const {
-    if (!value_->is_object()) fail("expected an object, got " + jsonTypeName(*value_));
-    return *value_;
-  }
-  bool has(const std::string& key) const { return object().contains(key); }
-  Node at(const std::string& key) const {
-    const auto& obj = object();
-    const auto it = obj.find(key);
-    if (it == obj.end()) {
-      throw InputError(*source_, pointer_ + "/" + escapePointerToken(key), "missing field");
-    }
-    return {*it, pointer_ + "/" + escapePointerToken(key), *source_};
-  }
-  std::optional<Node> find(const std::string& key) const {
-    if (!has(key)) return std::nullopt;
-    return at(key);
-  }
-  std::size_t arraySize(std::size_t min, std::size_t max) const {
-    if (!value_->is_array()) fail("expected an array, got " + jsonTypeName(*value_));
-    const std::size_t n = value_->size();
-    if (n < min)
-      fail("expected at least " + std::to_string(min) + " entries, got " + std::to_string(n));
-    if (n > max)
-      fail("expected at most " + std::to_string(max) + " entries, got " + std::to_string(n));
-    return n;
-  }
-  Node operator[](std::size_t i) const {
-    return {(*value_)[i], pointer_ + "/" + std::to_string(i), *source_};
-  }
-  double number() const {
-    if (!value_->is_number()) fail("expected a number, got " + jsonTypeName(*value_));
-    const double v = value_->get<double>();
-    if (!std::isfinite(v)) fail("expected a finite number");
-    return v;
-  }
-  double nonNegative() const {
-    const double v = number();
-    if (v < 0.0) fail("must not be negative, got " + json(v).dump());
-    return v;
-  }
-  double positive() const {
-    const double v = number();
-    if (v <= 0.0) fail("must be positive, got " + json(v).dump());
-    return v;
-  }
-  long integer(long min, long max) const {
-    if (!value_->is_number_integer() && !value_->is_number_unsigned()) {
-      if (value_->is_number_float()) {
-        const double d = value_->get<double>();
-        if (std::isfinite(d) && d == std::floor(d) && std::abs(d) < 9e15)
-          return checkRange(static_cast<long>(d), min, max);
-      }
-      fail("expected a whole number, got " + jsonTypeName(*value_));
-    }
-    if (value_->is_number_unsigned() &&
-        value_->get<std::uint64_t>() > static_cast<std::uint64_t>(max)) {
-      fail("must be at most " + std::to_string(max) + ", got " + value_->dump());
-    }
-    return checkRange(value_->get<long>(), min, max);
-  }
-  std::string string() const {
-    if (!value_->is_string()) fail("expected a string, got " + jsonTypeName(*value_));
-    return value_->get<std::string>();
-  }
-  /// An array of exactly `count` finite numbers.
-  Eigen::VectorXd numbers(std::size_t count) const {
-    if (!value_->is_array() || value_->size() != count ||
-        !std::all_of(value_->begin(), value_->end(), [](const json& v) { return v.is_number(); })) {
-      fail("expected " + std::to_string(count) + " numbers, got " + describeArray());
-    }
-    Eigen::VectorXd v(count);
-    for (std::size_t i = 0; i < count; ++i) v[static_cast<int>(i)] = (*this)[i].number();
-    return v;
-  }
-  /// Warns of members not in `known`: other tools may extend the format, a typo is more likely.
-  void warnUnknown(std::initializer_list<const char*> known,
-                   std::vector<std::string>& warnings) const {
-    for (const auto& item : object().items()) {
-      // Not a structured binding: clang 14 (the fuzz build) cannot capture one in a lambda.
-      const std::string& key = item.key();
-      if (std::none_of(known.begin(), known.end(), [&](const char* k) { return key == k; })) {
-        warnings.push_back(*source_ + ": " + pointer_ + "/" + escapePointerToken(key) +
-                           ": unknown field, ignored");
-      }
-    }
-  }
-
- private:
-  long checkRange(long v, long min, long max) const {
-    if (v < min) fail("must be at least " + std::to_string(min) + ", got " + std::to_string(v));
-    if (v > max) fail("must be at most " + std::to_string(max) + ", got " + std::to_string(v));
-    return v;
-  }
-  std::string describeArray() const {
-    if (!value_->is_array()) return jsonTypeName(*value_);
-    for (const auto& v : *value_) {
-      if (!v.is_number()) return "an array holding " + jsonTypeName(v);
-    }
-    return std::to_string(value_->size());
-  }
-
-  const json* value_;
-  std::string pointer_;
-  const std::string* source_;
-};
 
 MechanismPtr parsePlanar2R(const Node& machine, Eigen::VectorXd& nominal) {
   auto mechanism = std::make_shared<Planar2R>();
@@ -367,6 +228,36 @@ Eigen::VectorXd jointsFromFile(const Mechanism& mech, const Eigen::VectorXd& val
   return q;
 }
 
+/// A measurement entry {"feature", "csv", "unit"}: one measurement per row of the CSV file,
+/// which is relative to the plan file (models.md section 7).
+void appendCsvMeasurements(const Node& entry, const Plan& plan, const Artifact& artifact,
+                           std::vector<Measurement>& out, std::vector<std::string>& warnings) {
+  entry.warnUnknown({"feature", "csv", "unit"}, warnings);
+  const int feature = static_cast<int>(entry.at("feature").integer(0, artifact.featureCount() - 1));
+  const Node csv = entry.at("csv");
+  const std::filesystem::path relative(csv.string());
+  if (relative.empty()) csv.fail("expected a file name");
+  const std::filesystem::path path = relative.is_absolute()
+                                         ? relative
+                                         : std::filesystem::path(plan.source).parent_path() / relative;
+  ReadingUnits units;
+  if (const auto unit = entry.find("unit")) {
+    const auto named = readingUnitsFromName(unit->string());
+    if (!named) unit->fail("unknown unit \"" + unit->string() + "\" (expected deg, rad, mm or m)");
+    units = *named;
+  }
+  const Mechanism& mech = *plan.machine.mechanism;
+  std::vector<JointKind> kinds;
+  for (int i = 0; i < mech.jointCount(); ++i) kinds.push_back(mech.jointKind(i));
+  for (Eigen::VectorXd& joints : readJointCsv(path.lexically_normal().string(), kinds, units)) {
+    if (out.size() >= kMaxMeasurements) csv.fail("more than " + std::to_string(kMaxMeasurements) + " readings in one placement");
+    Measurement measurement;
+    measurement.feature = feature;
+    measurement.joints = std::move(joints);
+    out.push_back(std::move(measurement));
+  }
+}
+
 Placement parsePlacement(const Node& node, const Plan& plan, bool require_measurements,
                          std::vector<std::string>& warnings) {
   node.object();
@@ -389,6 +280,10 @@ Placement parsePlacement(const Node& node, const Plan& plan, bool require_measur
   for (std::size_t i = 0; i < n; ++i) {
     const Node m = (*measurements)[i];
     m.object();
+    if (m.has("csv")) {
+      appendCsvMeasurements(m, plan, art, placement.measurements, warnings);
+      continue;
+    }
     m.warnUnknown({"feature", "joints"}, warnings);
     Measurement measurement;
     measurement.feature = static_cast<int>(m.at("feature").integer(0, art.featureCount() - 1));
@@ -623,7 +518,7 @@ nlohmann::json machineToJson(const Machine& machine, const Eigen::VectorXd& para
   if (mech.modelName() == "serial-dh") {
     json joints = json::array();
     for (int j = 0; j < mech.jointCount(); ++j) {
-      const int k = SerialDH::jointParameterOffset(j);
+      const int k = static_cast<const SerialDH&>(mech).parameterOffset(j);
       joints.push_back(
           {{"type", mech.jointKind(j) == JointKind::Revolute ? "revolute" : "prismatic"},
            {"theta", fileValue(k)},
@@ -632,7 +527,7 @@ nlohmann::json machineToJson(const Machine& machine, const Eigen::VectorXd& para
            {"alpha", fileValue(k + 3)}});
     }
     out["joints"] = joints;
-    const int k = 4 * mech.jointCount();
+    const int k = static_cast<const SerialDH&>(mech).probeParameterOffset();
     out["probe"] = {fileValue(k), fileValue(k + 1), fileValue(k + 2)};
   } else {
     for (int i = 0; i < mech.parameterCount(); ++i)
@@ -649,37 +544,6 @@ nlohmann::json machineToJson(const Machine& machine, const Eigen::VectorXd& para
   }
   out["joint_limits"] = limits;
   return out;
-}
-
-void writeFileAtomically(const std::string& path, const std::string& content) {
-  namespace fs = std::filesystem;
-  const fs::path target(path);
-  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
-  std::string name = target.filename().string();
-  name.insert(name.begin(), '.');
-  name.append(".XXXXXX");
-  std::string pattern = (dir / name).string();
-  const int fd = ::mkstemp(pattern.data());
-  if (fd < 0) throw std::runtime_error(path + ": cannot create a temporary file beside it");
-  const char* data = content.data();
-  std::size_t left = content.size();
-  bool ok = true;
-  while (left > 0) {
-    const ssize_t written = ::write(fd, data, left);
-    if (written <= 0) {
-      ok = false;
-      break;
-    }
-    data += written;
-    left -= static_cast<std::size_t>(written);
-  }
-  ok = ok && ::fsync(fd) == 0;
-  ok = (::close(fd) == 0) && ok;
-  if (ok) ::chmod(pattern.c_str(), 0644);
-  if (!ok || std::rename(pattern.c_str(), path.c_str()) != 0) {
-    std::remove(pattern.c_str());
-    throw std::runtime_error(path + ": cannot be written");
-  }
 }
 
 }  // namespace artcal

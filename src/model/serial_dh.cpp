@@ -8,9 +8,8 @@ namespace artcal {
 
 namespace {
 
-// Frames are kept on the stack (no allocation per call); plan files allow at most 32 joints.
-constexpr int kMaxJoints = 32;
-using Columns = Eigen::Matrix<double, 3, Eigen::Dynamic, Eigen::ColMajor, 3, kMaxJoints + 1>;
+// Per-joint axes kept on the stack (no allocation per call).
+using Columns = Eigen::Matrix<double, 3, Eigen::Dynamic, Eigen::ColMajor, 3, SerialDH::kMaxJoints>;
 using Jacobian = Eigen::Map<Eigen::Matrix<double, 3, Eigen::Dynamic>>;
 
 // R <- R Rz(angle): only the x and y columns turn.
@@ -29,10 +28,51 @@ void turnAboutX(Eigen::Matrix3d& R, double angle) {
   R.col(2) = c * z - s * y;
 }
 
+// R <- R Ry(angle): only the z and x columns turn.
+void turnAboutY(Eigen::Matrix3d& R, double angle) {
+  const double c = std::cos(angle), s = std::sin(angle);
+  const Eigen::Vector3d x = R.col(0), z = R.col(2);
+  R.col(0) = c * x - s * z;
+  R.col(2) = c * z + s * x;
+}
+
+std::vector<DHJoint> withoutBeta(const std::vector<JointKind>& kinds) {
+  std::vector<DHJoint> out;
+  for (JointKind kind : kinds) out.push_back({kind, false});
+  return out;
+}
+
+// The world axes (and pivots, for rotations) of one joint's elementary transforms: what the
+// geometric Jacobian needs once the tip is known.
+struct JointAxes {
+  Columns theta_axis,
+      theta_pivot;      // Rz(theta) about theta_axis through theta_pivot; Tz(d) along it
+  Columns a_direction;  // Tx(a)
+  Columns alpha_axis, alpha_pivot;  // Rx(alpha)
+  Columns beta_axis, beta_pivot;    // Ry(beta)
+  explicit JointAxes(int n)
+      : theta_axis(3, n),
+        theta_pivot(3, n),
+        a_direction(3, n),
+        alpha_axis(3, n),
+        alpha_pivot(3, n),
+        beta_axis(3, n),
+        beta_pivot(3, n) {}
+};
+
 }  // namespace
 
-SerialDH::SerialDH(std::vector<JointKind> joints) : joints_(std::move(joints)) {
+SerialDH::SerialDH(const std::vector<JointKind>& joints)
+    : SerialDH(withoutBeta(joints), DHConvention::Standard) {}
+
+SerialDH::SerialDH(std::vector<DHJoint> joints, DHConvention convention)
+    : joints_(std::move(joints)), convention_(convention) {
+  if (joints_.size() > static_cast<std::size_t>(kMaxJoints)) {
+    throw std::invalid_argument("serial-dh: at most " + std::to_string(kMaxJoints) + " joints");
+  }
   for (std::size_t i = 0; i < joints_.size(); ++i) {
+    offsets_.push_back(static_cast<int>(parameters_.size()));
+    // Built by insert/push_back: GCC 12 warns (-Wrestrict, falsely) on "j" + to_string(...).
     std::string prefix = std::to_string(i + 1);
     prefix.insert(prefix.begin(), 'j');
     prefix.push_back('.');
@@ -40,57 +80,81 @@ SerialDH::SerialDH(std::vector<JointKind> joints) : joints_(std::move(joints)) {
     parameters_.push_back({prefix + "d", Quantity::Length});
     parameters_.push_back({prefix + "a", Quantity::Length});
     parameters_.push_back({prefix + "alpha", Quantity::Angle});
+    if (joints_[i].has_beta) parameters_.push_back({prefix + "beta", Quantity::Angle});
   }
+  offsets_.push_back(static_cast<int>(parameters_.size()));
   parameters_.push_back({"probe.x", Quantity::Length});
   parameters_.push_back({"probe.y", Quantity::Length});
   parameters_.push_back({"probe.z", Quantity::Length});
-  if (joints_.size() > static_cast<std::size_t>(kMaxJoints)) {
-    throw std::invalid_argument("serial-dh: at most " + std::to_string(kMaxJoints) + " joints");
-  }
 }
 
-// Geometric Jacobian of the probe centre x. With frame i-1 (origin o, z axis z) before joint i
-// and frame i (origin o_i, x axis x_i) after it:
-//   d x / d theta_i = z x (x - o),   d x / d d_i = z,
-//   d x / d a_i = x_i,               d x / d alpha_i = x_i x (x - o_i),
-// and a revolute joint variable acts like theta_i, a prismatic one like d_i.
+// Geometric Jacobian of the probe centre x: each elementary rotation contributes
+// axis x (x - pivot), each translation its direction, all in the world frame at the moment the
+// transform is applied; a revolute joint variable acts like theta_i, a prismatic one like d_i.
 ForwardStatus SerialDH::forward(const Eigen::VectorXd& p, const Eigen::VectorXd& q,
                                 Eigen::VectorXd& x, Eigen::MatrixXd* J_x_p,
                                 Eigen::MatrixXd* J_x_q) const {
   const int n = jointCount();
   Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
   Eigen::Vector3d o = Eigen::Vector3d::Zero();
-  // Frames before each joint (index i) and after the last one (index n).
-  Columns origins(3, n + 1), z_axes(3, n + 1), x_axes(3, n + 1);
-  origins.col(0) = o;
-  z_axes.col(0) = R.col(2);
-  x_axes.col(0) = R.col(0);
+  JointAxes axes(n);
   for (int i = 0; i < n; ++i) {
-    const int k = jointParameterOffset(i);
+    const int k = offsets_[i];
     double theta = p[k], d = p[k + 1];
-    (joints_[i] == JointKind::Revolute ? theta : d) += q[i];
-    o += R.col(2) * d;
-    turnAboutZ(R, theta);
-    o += R.col(0) * p[k + 2];
-    turnAboutX(R, p[k + 3]);
-    origins.col(i + 1) = o;
-    z_axes.col(i + 1) = R.col(2);
-    x_axes.col(i + 1) = R.col(0);
+    (joints_[i].kind == JointKind::Revolute ? theta : d) += q[i];
+    const double a = p[k + 2], alpha = p[k + 3];
+    const double beta = joints_[i].has_beta ? p[k + 4] : 0.0;
+    auto rotateZTranslateZ = [&] {
+      axes.theta_axis.col(i) = R.col(2);
+      axes.theta_pivot.col(i) = o;
+      turnAboutZ(R, theta);
+      o += R.col(2) * d;
+    };
+    auto translateXRotateX = [&] {
+      axes.a_direction.col(i) = R.col(0);
+      o += R.col(0) * a;
+      axes.alpha_axis.col(i) = R.col(0);
+      axes.alpha_pivot.col(i) = o;
+      turnAboutX(R, alpha);
+    };
+    auto rotateY = [&] {
+      axes.beta_axis.col(i) = R.col(1);
+      axes.beta_pivot.col(i) = o;
+      if (beta != 0.0) turnAboutY(R, beta);
+    };
+    if (convention_ == DHConvention::Standard) {
+      rotateZTranslateZ();
+      translateXRotateX();
+      rotateY();
+    } else {
+      // Rx(alpha) Tx(a): alpha turns about the incoming x axis at the incoming origin.
+      axes.alpha_axis.col(i) = R.col(0);
+      axes.alpha_pivot.col(i) = o;
+      turnAboutX(R, alpha);
+      axes.a_direction.col(i) = R.col(0);
+      o += R.col(0) * a;
+      rotateY();
+      rotateZTranslateZ();
+    }
   }
   const Eigen::Vector3d tip = o + R * p.segment<3>(probeParameterOffset());
   x.resize(3);
   Eigen::Map<Eigen::Vector3d>(x.data()) = tip;
+  auto turning = [&](const Columns& axis, const Columns& pivot, int i) -> Eigen::Vector3d {
+    return axis.col(i).cross(tip - pivot.col(i));
+  };
   // Written through fixed-row maps: GCC 12 warns (-Warray-bounds, falsely) when fixed-size
   // vectors are assigned into blocks of a dynamic matrix under -march=native.
   if (J_x_p) {
     J_x_p->resize(3, parameterCount());
     Jacobian J(J_x_p->data(), 3, parameterCount());
     for (int i = 0; i < n; ++i) {
-      const int k = jointParameterOffset(i);
-      J.col(k) = z_axes.col(i).cross(tip - origins.col(i));
-      J.col(k + 1) = z_axes.col(i);
-      J.col(k + 2) = x_axes.col(i + 1);
-      J.col(k + 3) = x_axes.col(i + 1).cross(tip - origins.col(i + 1));
+      const int k = offsets_[i];
+      J.col(k) = turning(axes.theta_axis, axes.theta_pivot, i);
+      J.col(k + 1) = axes.theta_axis.col(i);
+      J.col(k + 2) = axes.a_direction.col(i);
+      J.col(k + 3) = turning(axes.alpha_axis, axes.alpha_pivot, i);
+      if (joints_[i].has_beta) J.col(k + 4) = turning(axes.beta_axis, axes.beta_pivot, i);
     }
     J.middleCols<3>(probeParameterOffset()) = R;
   }
@@ -98,10 +162,10 @@ ForwardStatus SerialDH::forward(const Eigen::VectorXd& p, const Eigen::VectorXd&
     J_x_q->resize(3, n);
     Jacobian J(J_x_q->data(), 3, n);
     for (int i = 0; i < n; ++i) {
-      if (joints_[i] == JointKind::Revolute) {
-        J.col(i) = z_axes.col(i).cross(tip - origins.col(i));
+      if (joints_[i].kind == JointKind::Revolute) {
+        J.col(i) = turning(axes.theta_axis, axes.theta_pivot, i);
       } else {
-        J.col(i) = z_axes.col(i);
+        J.col(i) = axes.theta_axis.col(i);
       }
     }
   }

@@ -1,33 +1,53 @@
 #pragma once
-// A serial arm in standard Denavit-Hartenberg form: each joint i contributes
-//   T_i = Rz(theta_i) Tz(d_i) Tx(a_i) Rx(alpha_i)
-// with the joint variable added to theta_i (revolute) or d_i (prismatic), and the probe centre
-// sits at `probe` in the last frame. Parameters: j1.theta, j1.d, j1.a, j1.alpha, ..., probe.x,
-// probe.y, probe.z (4n + 3). Jacobians are the geometric ones (rotation about / translation along
-// the joint axes), exact.
+// A serial arm in Denavit-Hartenberg form (plan-format.md; models.md section 2). Joint i
+// contributes, with the joint variable added to theta_i (revolute) or d_i (prismatic),
+//   standard (default):  A_i = Rz(theta_i) Tz(d_i) Tx(a_i) Rx(alpha_i) [Ry(beta_i)]
+//   modified (Craig):    A_i = Rx(alpha_i) Tx(a_i) [Ry(beta_i)] Rz(theta_i) Tz(d_i)
+// where the Hayati tilt beta_i exists only on joints that carry it (it describes a small tilt
+// between nearly parallel consecutive axes, where d is ill-defined). The probe centre sits at
+// `probe` in the last frame. Parameters: j1.theta, j1.d, j1.a, j1.alpha[, j1.beta], ..., probe.x,
+// probe.y, probe.z. Jacobians are the geometric ones (rotation about / translation along each
+// elementary transform's axis), exact.
 
 #include "artcal/model/mechanism.hpp"
 
 namespace artcal {
 
+enum class DHConvention { Standard, Modified };
+
+struct DHJoint {
+  JointKind kind = JointKind::Revolute;
+  bool has_beta = false;  ///< the joint carries a Hayati beta parameter
+};
+
 class SerialDH final : public Mechanism {
  public:
-  explicit SerialDH(std::vector<JointKind> joints);
+  static constexpr int kMaxJoints = 32;
+
+  /// Standard convention, no beta (4n + 3 parameters).
+  explicit SerialDH(const std::vector<JointKind>& joints);
+  /// Throws std::invalid_argument beyond kMaxJoints joints.
+  SerialDH(std::vector<DHJoint> joints, DHConvention convention);
+
   std::string modelName() const override { return "serial-dh"; }
   int dimension() const override { return 3; }
   int jointCount() const override { return static_cast<int>(joints_.size()); }
-  JointKind jointKind(int joint) const override { return joints_[joint]; }
+  JointKind jointKind(int joint) const override { return joints_[joint].kind; }
   const std::vector<ParameterInfo>& parameters() const override { return parameters_; }
   ForwardStatus forward(const Eigen::VectorXd& p, const Eigen::VectorXd& q, Eigen::VectorXd& x,
                         Eigen::MatrixXd* J_x_p = nullptr,
                         Eigen::MatrixXd* J_x_q = nullptr) const override;
 
-  /// Index in p of joint i's first parameter (theta); d, a, alpha follow.
-  static int jointParameterOffset(int joint) { return 4 * joint; }
-  int probeParameterOffset() const { return 4 * jointCount(); }
+  DHConvention convention() const { return convention_; }
+  bool hasBeta(int joint) const { return joints_[joint].has_beta; }
+  /// Index in p of joint i's first parameter (theta); d, a, alpha[, beta] follow.
+  int parameterOffset(int joint) const { return offsets_[joint]; }
+  int probeParameterOffset() const { return offsets_.back(); }
 
  private:
-  std::vector<JointKind> joints_;
+  std::vector<DHJoint> joints_;
+  DHConvention convention_;
+  std::vector<int> offsets_;  ///< per joint, then the probe's
   std::vector<ParameterInfo> parameters_;
 };
 

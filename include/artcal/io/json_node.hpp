@@ -1,0 +1,67 @@
+#pragma once
+// Reading a JSON document with the JSON pointer of every value at hand, so that every check of
+// the input names the exact place of a fault: InputError(file, pointer, message)
+// (plan-format.md, "Errors"). Used by the plan reader and by every model family's codec.
+
+#include <Eigen/Core>
+#include <initializer_list>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "artcal/core/error.hpp"
+
+namespace artcal {
+
+/// A JSON pointer token with '~' and '/' escaped (RFC 6901).
+std::string escapePointerToken(const std::string& token);
+
+/// "a number", "a string", ... for messages.
+std::string jsonTypeName(const nlohmann::json& value);
+
+/// A value of the document with its JSON pointer: every check names the exact place of a fault.
+/// The node refers to the document and to the source name; both must outlive it.
+class Node {
+ public:
+  Node(const nlohmann::json& value, std::string pointer, const std::string& source)
+      : value_(&value), pointer_(std::move(pointer)), source_(&source) {}
+
+  /// Raises InputError(source, pointer, message).
+  [[noreturn]] void fail(const std::string& message) const;
+  const nlohmann::json& value() const { return *value_; }
+  const std::string& pointer() const { return pointer_; }
+  const std::string& source() const { return *source_; }
+
+  /// The value as an object; InputError when it is not one.
+  const nlohmann::json& object() const;
+  bool has(const std::string& key) const { return object().contains(key); }
+  /// The member `key`; InputError "missing field" when absent.
+  Node at(const std::string& key) const;
+  std::optional<Node> find(const std::string& key) const;
+  /// The size of an array of min..max entries; InputError otherwise.
+  std::size_t arraySize(std::size_t min, std::size_t max) const;
+  Node operator[](std::size_t i) const;
+  /// A finite number.
+  double number() const;
+  double nonNegative() const;
+  double positive() const;
+  /// A whole number in [min, max] (a float with no fractional part is accepted).
+  long integer(long min, long max) const;
+  std::string string() const;
+  /// An array of exactly `count` finite numbers.
+  Eigen::VectorXd numbers(std::size_t count) const;
+  /// Warns of members not in `known`: other tools may extend the format, a typo is more likely.
+  void warnUnknown(std::initializer_list<const char*> known,
+                   std::vector<std::string>& warnings) const;
+
+ private:
+  long checkRange(long v, long min, long max) const;
+  std::string describeArray() const;
+
+  const nlohmann::json* value_;
+  std::string pointer_;
+  const std::string* source_;
+};
+
+}  // namespace artcal

@@ -1,0 +1,66 @@
+#pragma once
+// A serial chain with URDF semantics (models.md section 1). Joint i contributes
+//   T_i(q_i) = Trans(xyz_i) Rot(rpy_i) M_i(q_i + offset_i),   Rot(r, p, y) = Rz(y) Ry(p) Rx(r),
+// where M_i is a rotation about axis_i (revolute), a translation along it (prismatic) or nothing
+// (fixed). x = f(p, q) is the origin of the last frame of T_1(q_1) ... T_n(q_n); the readings q are
+// the movable joints' in chain order. Parameters per joint, named after it: NAME.x NAME.y NAME.z
+// (mm), NAME.roll NAME.pitch NAME.yaw (rad inside) and, for a movable joint, NAME.offset. The axis
+// is a unit vector and not a parameter (its tilt is the next frame's rpy). The chain is heavily
+// over-parameterised on purpose; "calibrate": "identifiable" chooses what the data separates.
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "artcal/model/mechanism.hpp"
+
+namespace artcal {
+
+enum class ChainJointType { Revolute, Prismatic, Fixed };
+
+struct ChainJoint {
+  std::string name;
+  ChainJointType type = ChainJointType::Fixed;
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();  ///< normalised by the model; unused if fixed
+};
+
+class Chain final : public Mechanism {
+ public:
+  static constexpr int kMaxJoints = 64;
+  static constexpr int kOriginParameters = 6;  ///< x y z roll pitch yaw
+
+  /// Throws std::invalid_argument on an empty chain, more than kMaxJoints joints, an empty or
+  /// repeated name, or a zero axis of a movable joint.
+  explicit Chain(std::vector<ChainJoint> joints);
+
+  std::string modelName() const override { return "chain"; }
+  int dimension() const override { return 3; }
+  int jointCount() const override { return static_cast<int>(movable_.size()); }
+  JointKind jointKind(int joint) const override;
+  const std::vector<ParameterInfo>& parameters() const override { return parameters_; }
+  ForwardStatus forward(const Eigen::VectorXd& p, const Eigen::VectorXd& q, Eigen::VectorXd& x,
+                        Eigen::MatrixXd* J_x_p = nullptr,
+                        Eigen::MatrixXd* J_x_q = nullptr) const override;
+
+  /// Every joint of the chain (fixed ones included), in order.
+  const std::vector<ChainJoint>& joints() const { return joints_; }
+  /// Index in p of chain joint i's x; y z roll pitch yaw follow, then offset if it is movable.
+  int parameterOffset(int chain_joint) const { return offsets_[chain_joint]; }
+  static bool isMovable(ChainJointType type) { return type != ChainJointType::Fixed; }
+
+ private:
+  std::vector<ChainJoint> joints_;
+  std::vector<int> movable_;  ///< chain index of each movable joint, in reading order
+  std::vector<int> offsets_;
+  std::vector<ParameterInfo> parameters_;
+};
+
+/// Rz(yaw) Ry(pitch) Rx(roll), URDF's fixed-axis roll-pitch-yaw (radians).
+Eigen::Matrix3d rpyToMatrix(const Eigen::Vector3d& rpy);
+/// Roll, pitch, yaw of a rotation matrix with rpyToMatrix(rpyFromMatrix(R)) == R to rounding,
+/// also at and near pitch = +-90 deg (there roll and yaw are not unique: one pair is returned).
+Eigen::Vector3d rpyFromMatrix(const Eigen::Matrix3d& R);
+/// Rotation by `angle` (rad) about the unit vector `axis` (Rodrigues).
+Eigen::Matrix3d axisAngleMatrix(const Eigen::Vector3d& axis, double angle);
+
+}  // namespace artcal

@@ -1,0 +1,195 @@
+#include "artcal/model/chain.hpp"
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <optional>
+#include <set>
+#include <stdexcept>
+
+namespace artcal {
+
+namespace {
+
+// Per-joint scratch kept on the stack (no allocation per call).
+using Columns = Eigen::Matrix<double, 3, Eigen::Dynamic, Eigen::ColMajor, 3, Chain::kMaxJoints>;
+using Jacobian = Eigen::Map<Eigen::Matrix<double, 3, Eigen::Dynamic>>;
+
+// R <- R Rz(angle): the x and y columns turn.
+void turnAboutZ(Eigen::Matrix3d& R, double angle) {
+  const double c = std::cos(angle), s = std::sin(angle);
+  const Eigen::Vector3d x = R.col(0), y = R.col(1);
+  R.col(0) = c * x + s * y;
+  R.col(1) = c * y - s * x;
+}
+
+// R <- R Ry(angle): the z and x columns turn.
+void turnAboutY(Eigen::Matrix3d& R, double angle) {
+  const double c = std::cos(angle), s = std::sin(angle);
+  const Eigen::Vector3d x = R.col(0), z = R.col(2);
+  R.col(0) = c * x - s * z;
+  R.col(2) = c * z + s * x;
+}
+
+// R <- R Rx(angle): the y and z columns turn.
+void turnAboutX(Eigen::Matrix3d& R, double angle) {
+  const double c = std::cos(angle), s = std::sin(angle);
+  const Eigen::Vector3d y = R.col(1), z = R.col(2);
+  R.col(1) = c * y + s * z;
+  R.col(2) = c * z - s * y;
+}
+
+std::vector<ParameterInfo> chainParameters(const std::vector<ChainJoint>& joints) {
+  std::vector<ParameterInfo> out;
+  for (const ChainJoint& joint : joints) {
+    for (const char* axis : {".x", ".y", ".z"})
+      out.push_back({joint.name + axis, Quantity::Length});
+    for (const char* angle : {".roll", ".pitch", ".yaw"}) {
+      out.push_back({joint.name + angle, Quantity::Angle});
+    }
+    if (joint.type == ChainJointType::Revolute)
+      out.push_back({joint.name + ".offset", Quantity::Angle});
+    if (joint.type == ChainJointType::Prismatic) {
+      out.push_back({joint.name + ".offset", Quantity::Length});
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+Eigen::Matrix3d rpyToMatrix(const Eigen::Vector3d& rpy) {
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+  turnAboutZ(R, rpy[2]);
+  turnAboutY(R, rpy[1]);
+  turnAboutX(R, rpy[0]);
+  return R;
+}
+
+// R = Rz(y) Ry(p) Rx(r): R(2,0) = -sin p, and cos p = |(R00, R10)| >= 0 (atan2, not asin: exact
+// near +-90 deg). Yaw from the first column (R00, R10) = cos p (cos y, sin y); roll is then
+// whatever is left, Rx(r) = Ry(p)^T Rz(y)^T R. Near the gimbal lock the yaw is poorly determined
+// (error e ~ rounding / cos p), but there a z turn after Ry(+-90) is an x turn: roll absorbs e and
+// the product misses R by only e cos p, i.e. rounding. At the lock itself atan2(0, 0) = 0 and
+// roll takes all of yaw -+ roll, the one combination defined there.
+Eigen::Vector3d rpyFromMatrix(const Eigen::Matrix3d& R) {
+  const double cos_pitch = std::hypot(R(0, 0), R(1, 0));
+  const double pitch = std::atan2(-R(2, 0), cos_pitch);
+  const double yaw = std::atan2(R(1, 0), R(0, 0));
+  // rest <- Ry(-pitch) Rz(-yaw) R = (R^T Rz(yaw) Ry(pitch))^T.
+  Eigen::Matrix3d T = R.transpose();
+  turnAboutZ(T, yaw);
+  turnAboutY(T, pitch);
+  const Eigen::Matrix3d rest = T.transpose();
+  const double roll = std::atan2(rest(2, 1), rest(1, 1));
+  return {roll, pitch, yaw};
+}
+
+Eigen::Matrix3d axisAngleMatrix(const Eigen::Vector3d& axis, double angle) {
+  return Eigen::AngleAxisd(angle, axis).toRotationMatrix();
+}
+
+Chain::Chain(std::vector<ChainJoint> joints) : joints_(std::move(joints)) {
+  if (joints_.empty()) throw std::invalid_argument("chain: no joints");
+  if (joints_.size() > static_cast<std::size_t>(kMaxJoints)) {
+    throw std::invalid_argument("chain: at most " + std::to_string(kMaxJoints) + " joints");
+  }
+  std::set<std::string> names;
+  int offset = 0;
+  for (std::size_t i = 0; i < joints_.size(); ++i) {
+    ChainJoint& joint = joints_[i];
+    if (joint.name.empty()) throw std::invalid_argument("chain: a joint without a name");
+    if (!names.insert(joint.name).second) {
+      throw std::invalid_argument("chain: joint name \"" + joint.name + "\" used twice");
+    }
+    offsets_.push_back(offset);
+    offset += kOriginParameters;
+    if (isMovable(joint.type)) {
+      const double norm = joint.axis.norm();
+      if (!(norm > 1e-12) || !std::isfinite(norm)) {
+        throw std::invalid_argument("chain: joint \"" + joint.name + "\" has a zero axis");
+      }
+      joint.axis /= norm;
+      movable_.push_back(static_cast<int>(i));
+      offset += 1;
+    }
+  }
+  parameters_ = chainParameters(joints_);
+}
+
+JointKind Chain::jointKind(int joint) const {
+  return joints_[movable_[joint]].type == ChainJointType::Prismatic ? JointKind::Prismatic
+                                                                    : JointKind::Revolute;
+}
+
+// Geometric Jacobian. With R the orientation before joint i and o_i = o + R xyz_i the pivot of
+// its rotations (every rotation of T_i, Rz(yaw) Ry(pitch) Rx(roll) M_i, turns about a line
+// through o_i):
+//   dx/d(x, y, z)_i = R,
+//   dx/dyaw_i   = a_yaw x (x - o_i),   a_yaw   = R e_z,
+//   dx/dpitch_i = a_pitch x (x - o_i), a_pitch = R Rz(yaw) e_y,
+//   dx/droll_i  = a_roll x (x - o_i),  a_roll  = R Rz(yaw) Ry(pitch) e_x,
+//   dx/doffset_i = dx/dq_i = a_i x (x - o_i) (revolute) or a_i (prismatic), a_i the world axis.
+// Rotation columns hold their world axis until the tip is known, then the cross product.
+ForwardStatus Chain::forward(const Eigen::VectorXd& p, const Eigen::VectorXd& q, Eigen::VectorXd& x,
+                             Eigen::MatrixXd* J_x_p, Eigen::MatrixXd* J_x_q) const {
+  const int n = static_cast<int>(joints_.size());
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d o = Eigen::Vector3d::Zero();
+  Columns pivots(3, n), joint_axes(3, n);
+  std::optional<Jacobian> Jp;
+  if (J_x_p) {
+    J_x_p->resize(3, parameterCount());
+    Jp.emplace(J_x_p->data(), 3, parameterCount());
+  }
+  int reading = 0;
+  for (int i = 0; i < n; ++i) {
+    const ChainJoint& joint = joints_[i];
+    const int k = offsets_[i];
+    if (Jp) Jp->middleCols<3>(k) = R;
+    o += R * p.segment<3>(k);
+    pivots.col(i) = o;
+    if (Jp) Jp->col(k + 5) = R.col(2);
+    turnAboutZ(R, p[k + 5]);
+    if (Jp) Jp->col(k + 4) = R.col(1);
+    turnAboutY(R, p[k + 4]);
+    if (Jp) Jp->col(k + 3) = R.col(0);
+    turnAboutX(R, p[k + 3]);
+    if (!isMovable(joint.type)) continue;
+    const double value = q[reading++] + p[k + 6];
+    const Eigen::Vector3d axis = R * joint.axis;
+    joint_axes.col(i) = axis;
+    if (Jp) Jp->col(k + 6) = axis;
+    if (joint.type == ChainJointType::Revolute) {
+      R = R * axisAngleMatrix(joint.axis, value);
+    } else {
+      o += axis * value;
+    }
+  }
+  x.resize(3);
+  Eigen::Map<Eigen::Vector3d>(x.data()) = o;
+  if (Jp) {
+    for (int i = 0; i < n; ++i) {
+      const int k = offsets_[i];
+      const Eigen::Vector3d arm = o - pivots.col(i);
+      for (int c = k + 3; c < k + 6; ++c) Jp->col(c) = Jp->col(c).cross(arm).eval();
+      if (joints_[i].type == ChainJointType::Revolute) {
+        Jp->col(k + 6) = Jp->col(k + 6).cross(arm).eval();
+      }
+    }
+  }
+  if (J_x_q) {
+    J_x_q->resize(3, jointCount());
+    Jacobian Jq(J_x_q->data(), 3, jointCount());
+    for (int m = 0; m < jointCount(); ++m) {
+      const int i = movable_[m];
+      if (joints_[i].type == ChainJointType::Revolute) {
+        Jq.col(m) = joint_axes.col(i).cross(o - pivots.col(i));
+      } else {
+        Jq.col(m) = joint_axes.col(i);
+      }
+    }
+  }
+  return ForwardStatus::Ok;
+}
+
+}  // namespace artcal
