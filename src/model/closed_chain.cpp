@@ -42,7 +42,28 @@ PoseStep newtonStep(const PoseLU& lu, const ConstraintVector& g, int pose_dimens
   return ds;
 }
 
+// Uniform in [0, 1) from the top 53 bits: the same on every platform.
+double unitUniform(std::mt19937_64& rng) {
+  return static_cast<double>(rng() >> 11) * 0x1.0p-53;
+}
+
 }  // namespace
+
+Eigen::Matrix3d rotationFromRpy(const Eigen::Vector3d& rpy) {
+  return (Eigen::AngleAxisd(rpy[2], Eigen::Vector3d::UnitZ()) *
+          Eigen::AngleAxisd(rpy[1], Eigen::Vector3d::UnitY()) *
+          Eigen::AngleAxisd(rpy[0], Eigen::Vector3d::UnitX()))
+      .toRotationMatrix();
+}
+
+Eigen::Matrix3d randomTilt(const Eigen::Matrix3d& home, double tilt, std::mt19937_64& rng) {
+  Eigen::Vector3d direction;
+  do {  // uniform in the unit ball by rejection, then projected on the sphere
+    for (int i = 0; i < 3; ++i) direction[i] = 2.0 * unitUniform(rng) - 1.0;
+  } while (direction.squaredNorm() > 1.0 || direction.squaredNorm() < 1e-6);
+  const double angle = tilt * unitUniform(rng);
+  return Eigen::AngleAxisd(angle, direction.normalized()).toRotationMatrix() * home;
+}
 
 void retractPose(ChainPose& pose, const Eigen::Ref<const Eigen::VectorXd>& ds) {
   const auto n = ds.size();

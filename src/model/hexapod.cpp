@@ -8,11 +8,6 @@ namespace artcal {
 
 namespace {
 
-// Uniform in [0, 1) from the top 53 bits: the same on every platform.
-double unitUniform(std::mt19937_64& rng) {
-  return static_cast<double>(rng() >> 11) * 0x1.0p-53;
-}
-
 Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
   Eigen::Matrix3d S;
   S << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
@@ -20,22 +15,6 @@ Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
 }
 
 }  // namespace
-
-Eigen::Matrix3d rotationFromRpy(const Eigen::Vector3d& rpy) {
-  return (Eigen::AngleAxisd(rpy[2], Eigen::Vector3d::UnitZ()) *
-          Eigen::AngleAxisd(rpy[1], Eigen::Vector3d::UnitY()) *
-          Eigen::AngleAxisd(rpy[0], Eigen::Vector3d::UnitX()))
-      .toRotationMatrix();
-}
-
-Eigen::Matrix3d randomTilt(const Eigen::Matrix3d& home, double tilt, std::mt19937_64& rng) {
-  Eigen::Vector3d direction;
-  do {  // uniform in the unit ball by rejection, then projected on the sphere
-    for (int i = 0; i < 3; ++i) direction[i] = 2.0 * unitUniform(rng) - 1.0;
-  } while (direction.squaredNorm() > 1.0 || direction.squaredNorm() < 1e-6);
-  const double angle = tilt * unitUniform(rng);
-  return Eigen::AngleAxisd(angle, direction.normalized()).toRotationMatrix() * home;
-}
 
 Hexapod::Hexapod(const ChainPose& home, double platform_radius)
     : home_(home), platform_radius_(platform_radius) {
@@ -104,6 +83,13 @@ Eigen::VectorXd Hexapod::legReadings(const Eigen::VectorXd& p, const Eigen::Vect
            p[legOffsetIndex(i)];
   }
   return q;
+}
+
+std::optional<Eigen::Matrix3d> Hexapod::orientationOf(const Eigen::VectorXd& p,
+                                                      const Eigen::VectorXd& q) const {
+  ChainPose pose;
+  if (solvePose(p, q, pose) != ForwardStatus::Ok) return std::nullopt;
+  return pose.R;
 }
 
 }  // namespace artcal

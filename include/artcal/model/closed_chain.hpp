@@ -20,6 +20,8 @@
 // docs/hexapod.md ("Adding a closed-chain family").
 
 #include <Eigen/Core>
+#include <optional>
+#include <random>
 
 #include "artcal/model/mechanism.hpp"
 
@@ -79,6 +81,29 @@ class ClosedChainMechanism : public Mechanism {
  private:
   ClosedChainOptions options_;
 };
+
+/// A closed chain whose posture is the orientation of its moving body (the hexapod's platform
+/// tilt): a point is read in several postures by several orientations, and inverse kinematics
+/// is closed form given the orientation. Inverse kinematics (inverse_kinematics.hpp) asks for it.
+class OrientedPostures {
+ public:
+  virtual ~OrientedPostures() = default;
+  virtual Eigen::Matrix3d homeOrientation() const = 0;
+  /// The readings that put the probe centre on `target` with the body turned to R (limits not
+  /// applied).
+  virtual Eigen::VectorXd readingsAt(const Eigen::VectorXd& p, const Eigen::Vector3d& target,
+                                     const Eigen::Matrix3d& R) const = 0;
+  /// The body's orientation at readings q (forward kinematics); std::nullopt when it fails.
+  virtual std::optional<Eigen::Matrix3d> orientationOf(const Eigen::VectorXd& p,
+                                                       const Eigen::VectorXd& q) const = 0;
+};
+
+/// Rz(yaw) Ry(pitch) Rx(roll) (URDF's fixed-axis roll-pitch-yaw), angles in rad.
+Eigen::Matrix3d rotationFromRpy(const Eigen::Vector3d& rpy);
+
+/// An orientation within `tilt` rad of `home`: exp([w]) home, w along a uniformly random
+/// direction with |w| uniform in [0, tilt] (the same on every platform).
+Eigen::Matrix3d randomTilt(const Eigen::Matrix3d& home, double tilt, std::mt19937_64& rng);
 
 /// The pose moved by ds: the first min(3, n) coordinates translate, the last three of a 6-vector
 /// turn (R <- exp([w]) R, the exact exponential).

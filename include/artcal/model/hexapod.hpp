@@ -14,13 +14,11 @@
 // Inverse kinematics is closed form: for a probe target x* and a platform orientation R (the
 // posture), t = x* - R probe and q_i = |t + R a_i - b_i| - offset_i.
 
-#include <random>
-
 #include "artcal/model/closed_chain.hpp"
 
 namespace artcal {
 
-class Hexapod final : public ClosedChainMechanism {
+class Hexapod final : public ClosedChainMechanism, public OrientedPostures {
  public:
   static constexpr int kLegs = 6;
   static constexpr int kParametersPerLeg = 7;
@@ -55,17 +53,19 @@ class Hexapod final : public ClosedChainMechanism {
   Eigen::VectorXd legReadings(const Eigen::VectorXd& p, const Eigen::Vector3d& target,
                               const Eigen::Matrix3d& R) const;
 
+  // OrientedPostures: the platform orientation is the posture.
+  Eigen::Matrix3d homeOrientation() const override { return home_.R; }
+  Eigen::VectorXd readingsAt(const Eigen::VectorXd& p, const Eigen::Vector3d& target,
+                             const Eigen::Matrix3d& R) const override {
+    return legReadings(p, target, R);
+  }
+  std::optional<Eigen::Matrix3d> orientationOf(const Eigen::VectorXd& p,
+                                               const Eigen::VectorXd& q) const override;
+
  private:
   ChainPose home_;
   double platform_radius_;
   std::vector<ParameterInfo> parameters_;
 };
-
-/// Rz(yaw) Ry(pitch) Rx(roll) (URDF's fixed-axis roll-pitch-yaw), angles in rad.
-Eigen::Matrix3d rotationFromRpy(const Eigen::Vector3d& rpy);
-
-/// A platform orientation within `tilt` rad of `home`: exp([w]) home, w along a uniformly random
-/// direction with |w| uniform in [0, tilt].
-Eigen::Matrix3d randomTilt(const Eigen::Matrix3d& home, double tilt, std::mt19937_64& rng);
 
 }  // namespace artcal
