@@ -3,7 +3,8 @@
 
 # The Debian packages artcal builds with (README.md, "Setup").
 ARTCAL_PACKAGES=(build-essential cmake ninja-build libeigen3-dev libnlopt-cxx-dev
-                 nlohmann-json3-dev libcli11-dev libgtest-dev libbenchmark-dev)
+                 nlohmann-json3-dev libcli11-dev libgtest-dev libbenchmark-dev
+                 liburdfdom-dev libtinyxml2-dev)
 
 # Prints the packages of ARTCAL_PACKAGES that are not installed, one per line.
 missing_packages() {
