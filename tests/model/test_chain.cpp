@@ -10,6 +10,7 @@
 #include <random>
 
 #include "artcal/model/chain.hpp"
+#include "artcal/model/inverse_kinematics.hpp"
 #include "artcal/model/serial_dh.hpp"
 #include "finite_difference.hpp"
 
@@ -290,6 +291,30 @@ TEST(Chain, RpyFromMatrixInvertsRpyToMatrixIncludingGimbalLock) {
     EXPECT_LT((rpyToMatrix(back) - R).cwiseAbs().maxCoeff(), 1e-15) << rpy.transpose();
     EXPECT_LE(std::abs(back[1]), kPi / 2);
   }
+}
+
+// The generic damped least squares serves the chain: several genuinely different postures of the
+// Panda put the ball on one point, each within the joint limits.
+TEST(Chain, PandaPosturesReachAPointWithinTheJointLimits) {
+  Machine machine;
+  machine.mechanism = std::make_shared<Chain>(pandaChain());
+  machine.nominal = pandaNominal(static_cast<const Chain&>(*machine.mechanism));
+  const double limits_deg[7][2] = {{-166, 166}, {-101, 101}, {-166, 166}, {-176, -4},
+                                   {-166, 166}, {-1, 215},   {-166, 166}};
+  for (const auto& l : limits_deg)
+    machine.joint_limits.push_back({l[0] * kPi / 180, l[1] * kPi / 180});
+  const Eigen::Vector3d target(450.0, -120.0, 380.0);
+  std::mt19937_64 rng(5);
+  const std::vector<Eigen::VectorXd> postures =
+      diversePostures(machine, machine.nominal, target, 4, rng);
+  ASSERT_EQ(postures.size(), 4u);
+  for (const Eigen::VectorXd& q : postures) {
+    Eigen::VectorXd x;
+    forwardOrThrow(*machine.mechanism, machine.nominal, q, x);
+    EXPECT_LT((x - target).norm(), 1e-9);
+    EXPECT_TRUE(machine.withinLimits(q));
+  }
+  EXPECT_GT((postures[0] - postures[1]).norm(), 0.1);
 }
 
 // ---- serial-dh with beta and the modified convention (models.md section 2)
