@@ -1,0 +1,37 @@
+#pragma once
+// Joint readings from CSV files (models.md section 7). Each row is one posture's readings of the
+// movable joints in chain order, comma-separated; the first line may be a header of joint names
+// (a line of which no field is a number). Blank lines are skipped. `unit` names the unit of the
+// readings of its kind: "deg" (default) or "rad" for the revolute joints, "mm" or "m" for the
+// prismatic ones; the joints of the other kind keep their file unit (deg, mm). Every fault raises
+// InputError naming the CSV file and the line ("hole_0.csv: line 12: expected 7 numbers, got 6").
+
+#include <Eigen/Core>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "artcal/model/mechanism.hpp"
+
+namespace artcal {
+
+/// Units of the readings of one CSV file.
+struct ReadingUnits {
+  double angle_to_rad = kDegree;  ///< revolute readings times this are rad
+  double length_to_mm = 1.0;      ///< prismatic readings times this are mm
+};
+
+/// "deg", "rad", "mm", "m"; std::nullopt for anything else.
+std::optional<ReadingUnits> readingUnitsFromName(const std::string& name);
+
+/// Largest number of rows read from one CSV file.
+inline constexpr std::size_t kMaxCsvRows = 100'000;
+
+/// The readings of `path` in internal units (rad, mm), one vector per row, for joints of the
+/// given kinds. InputError(path, "line N", ...) on any fault; an unreadable or empty file names
+/// the file alone.
+std::vector<Eigen::VectorXd> readJointCsv(const std::string& path,
+                                          const std::vector<JointKind>& kinds,
+                                          const ReadingUnits& units);
+
+}  // namespace artcal

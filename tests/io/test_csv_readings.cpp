@@ -1,0 +1,152 @@
+// Readings from CSV files (models.md section 7): a plan whose measurements name CSV files reads
+// the same readings as the plan that lists them, in every unit; every fault names the CSV file
+// and its line (exit status 2 on the command line).
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+
+#include "artcal/artcal.hpp"
+#include "artcal/io/csv_readings.hpp"
+#include "cli_runner.hpp"
+
+namespace artcal {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+/// A fresh folder for one test's files.
+class CsvFolder : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = fs::temp_directory_path() /
+           ("artcal-csv-" + std::to_string(::getpid()) + "-" + info->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_ / "front");
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string write(const std::string& name, const std::string& text) const {
+    const fs::path path = dir_ / name;
+    std::ofstream(path) << text;
+    return path.string();
+  }
+  fs::path dir_;
+};
+
+/// The 6-axis example plan with its readings.
+json examplePlan() {
+  std::ifstream in(std::string(ARTCAL_PLANS_DIR) + "/aacmm-6axis-3bars.json");
+  return json::parse(in);
+}
+
+/// The readings of feature `feature` of placement 0 as CSV rows, each value times `scale`.
+std::string csvOf(const json& plan, int feature, double scale, const std::string& header = "") {
+  std::ostringstream out;
+  out.precision(17);
+  if (!header.empty()) out << header << "\n";
+  for (const json& m : plan["placements"][0]["measurements"]) {
+    if (m["feature"].get<int>() != feature) continue;
+    const auto& joints = m["joints"];
+    for (std::size_t i = 0; i < joints.size(); ++i)
+      out << (i ? "," : "") << joints[i].get<double>() * scale;
+    out << "\n";
+  }
+  return out.str();
+}
+
+std::vector<Eigen::VectorXd> readingsOf(const Placement& placement, int feature) {
+  std::vector<Eigen::VectorXd> out;
+  for (const Measurement& m : placement.measurements)
+    if (m.feature == feature) out.push_back(m.joints);
+  return out;
+}
+
+TEST_F(CsvFolder, SameReadingsAsTheJsonListInDegreesAndRadians) {
+  json plan = examplePlan();
+  const Plan listed = parsePlan(plan, "listed.json");
+  write("front/hole_0.csv", csvOf(plan, 0, std::numbers::pi / 180.0));
+  write("front/hole_1.csv", csvOf(plan, 1, 1.0, "j1,j2,j3,j4,j5,j6"));
+  plan["placements"][0]["measurements"] =
+      json::array({{{"feature", 0}, {"csv", "front/hole_0.csv"}, {"unit", "rad"}},
+                   {{"feature", 1}, {"csv", "front/hole_1.csv"}}});
+  const std::string path = write("plan.json", plan.dump());
+  const Plan fromCsv = loadPlan(path);
+  EXPECT_TRUE(fromCsv.warnings.empty());
+  for (int feature : {0, 1}) {
+    const auto expected = readingsOf(listed.placements[0], feature);
+    const auto actual = readingsOf(fromCsv.placements[0], feature);
+    ASSERT_EQ(actual.size(), expected.size());
+    ASSERT_FALSE(actual.empty());
+    for (std::size_t i = 0; i < expected.size(); ++i)
+      EXPECT_LT((actual[i] - expected[i]).cwiseAbs().maxCoeff(), 1e-14) << feature << " " << i;
+  }
+}
+
+TEST_F(CsvFolder, PrismaticReadingsInMetres) {
+  const std::string path = write("lin.csv", "10,0.25\n\n-5, 0.5\r\n");
+  const auto units = readingUnitsFromName("m");
+  ASSERT_TRUE(units);
+  const auto rows = readJointCsv(path, {JointKind::Revolute, JointKind::Prismatic}, *units);
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_NEAR(rows[0][0], 10.0 * std::numbers::pi / 180.0, 1e-15);  // revolute stays in deg
+  EXPECT_DOUBLE_EQ(rows[0][1], 250.0);
+  EXPECT_DOUBLE_EQ(rows[1][1], 500.0);
+  EXPECT_FALSE(readingUnitsFromName("inch"));
+}
+
+/// The InputError of reading `text` as a 2-joint CSV file.
+InputError faultOf(const std::string& path) {
+  try {
+    readJointCsv(path, {JointKind::Revolute, JointKind::Revolute}, ReadingUnits{});
+  } catch (const InputError& e) {
+    return e;
+  }
+  ADD_FAILURE() << "no InputError for " << path;
+  return InputError("", "", "");
+}
+
+TEST_F(CsvFolder, FaultsNameTheFileAndTheLine) {
+  const InputError columns = faultOf(write("a.csv", "q1,q2\n1,2\n3,4,5\n"));
+  EXPECT_EQ(columns.file(), (dir_ / "a.csv").string());
+  EXPECT_EQ(columns.pointer(), "line 3");
+  EXPECT_NE(std::string(columns.what()).find("expected 2 readings, got 3"), std::string::npos);
+  const InputError word = faultOf(write("b.csv", "1,2\n1,x\n"));
+  EXPECT_EQ(word.pointer(), "line 2");
+  EXPECT_NE(std::string(word.what()).find("column 2: not a number"), std::string::npos);
+  // A header is only the first line; a line of names later is an error.
+  EXPECT_EQ(faultOf(write("c.csv", "1,2\nq1,q2\n")).pointer(), "line 2");
+  EXPECT_EQ(faultOf(write("d.csv", "1,nan\n")).pointer(), "line 1");
+  EXPECT_EQ(faultOf(write("e.csv", "1,2.5e999\n")).pointer(), "line 1");
+  EXPECT_NE(std::string(faultOf(write("f.csv", "q1,q2\n\n")).what()).find("no readings"),
+            std::string::npos);
+  EXPECT_NE(std::string(faultOf((dir_ / "missing.csv").string()).what()).find("cannot be read"),
+            std::string::npos);
+}
+
+TEST_F(CsvFolder, CommandLineAnswersWithOneLineAndStatusTwo) {
+  json plan = examplePlan();
+  write("front/hole_0.csv", "1,2,3,4,5,6\n1,2,3,4,5\n");
+  plan["placements"][0]["measurements"] =
+      json::array({{{"feature", 0}, {"csv", "front/hole_0.csv"}},
+                   {{"feature", 1}, {"csv", "front/hole_1.csv"}}});
+  const std::string path = write("plan.json", plan.dump());
+  const auto run = test_support::runCli("check " + path, test_support::Stderr::Only);
+  EXPECT_EQ(run.status, 2);
+  EXPECT_EQ(run.out, "error: " + (dir_ / "front/hole_0.csv").string() +
+                         ": line 2: expected 6 readings, got 5\n");
+  plan["placements"][0]["measurements"][0]["unit"] = "grad";
+  const std::string unit = write("unit.json", plan.dump());
+  const auto bad_unit = test_support::runCli("check " + unit, test_support::Stderr::Only);
+  EXPECT_EQ(bad_unit.status, 2);
+  EXPECT_NE(bad_unit.out.find("unit.json: /placements/0/measurements/0/unit: unknown unit"),
+            std::string::npos);
+}
+
+}  // namespace
+}  // namespace artcal
