@@ -1,0 +1,40 @@
+#pragma once
+// URDF import and export of the `chain` model (models.md section 1).
+//
+// Import: the chain of joints from a base link to a tip link, parsed with urdfdom (the model:
+// links, joints, types, axes, limits); the <origin> values are read from the file's own text with
+// tinyxml2 (urdfdom keeps origins as quaternions, and back to roll-pitch-yaw loses digits near
+// pitch = +-90 deg). Metres and radians become mm and degrees; joint_limits come from <limit>
+// (continuous joints: -180..180 deg).
+//
+// Export: the input URDF with the chain's <origin> xyz and rpy attributes replaced by the
+// machine's, and nothing else changed (meshes, limits, gazebo and transmission tags, comments
+// stay). A movable joint's offset d is folded exactly into the origins of the joints that hang
+// from its child link (the chain's next joint among them): M(q + d) = M(q) M(d), and M(d)
+// premultiplies each such origin (Rot(axis, d) for a revolute joint, Trans(d axis) for a
+// prismatic one). The exported file's forward kinematics equals the machine's.
+//
+// Errors are InputError naming the URDF file (or the machine file), "line N" where the XML
+// gives one, and what to check.
+
+#include <Eigen/Core>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "artcal/model/chain.hpp"
+
+namespace artcal {
+
+/// The machine block ("model": "chain", "joints", "joint_limits", "calibrate": "identifiable")
+/// of the chain from link `base` to link `tip` of the URDF file at `urdf_path`.
+nlohmann::json importUrdf(const std::string& urdf_path, const std::string& base,
+                          const std::string& tip);
+
+/// The text of the URDF file at `urdf_path` with the origins of `chain`'s joints set from the
+/// parameters `p` (internal units, offsets folded as above). `machine_source` names the machine
+/// file in errors (a joint of the chain missing from the URDF, of another type, or an offset
+/// with no joint below it to fold into).
+std::string exportUrdf(const Chain& chain, const Eigen::VectorXd& p, const std::string& urdf_path,
+                       const std::string& machine_source);
+
+}  // namespace artcal

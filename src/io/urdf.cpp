@@ -1,0 +1,330 @@
+#include "artcal/io/urdf.hpp"
+
+#include <tinyxml2.h>
+
+#include <console_bridge/console.h>
+#include <urdf_parser/urdf_parser.h>
+#include <Eigen/Geometry>
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "artcal/core/error.hpp"
+#include "artcal/core/units.hpp"
+
+namespace artcal {
+
+namespace {
+
+using nlohmann::json;
+
+std::string readText(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path, "", "cannot read the URDF file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (!in.good() && !in.eof()) throw InputError(path, "", "cannot read the URDF file");
+  return text.str();
+}
+
+// urdfdom reports through console_bridge; the first error becomes the one line the user sees,
+// and nothing else reaches stderr.
+class FirstError final : public console_bridge::OutputHandler {
+ public:
+  void log(const std::string& text, console_bridge::LogLevel level, const char*, int) override {
+    if (level >= console_bridge::CONSOLE_BRIDGE_LOG_ERROR && first.empty()) first = text;
+  }
+  std::string first;
+};
+
+// Both views of one URDF: the XML (for the origins' own text and the rewrite) and urdfdom's model.
+struct UrdfDocument {
+  std::string path;
+  tinyxml2::XMLDocument xml;
+  urdf::ModelInterfaceSharedPtr model;
+  std::map<std::string, tinyxml2::XMLElement*> joint_elements;
+
+  [[noreturn]] void fail(const tinyxml2::XMLElement* at, const std::string& message) const {
+    throw InputError(path, at ? "line " + std::to_string(at->GetLineNum()) : "", message);
+  }
+};
+
+void loadUrdf(const std::string& path, UrdfDocument& doc) {
+  doc.path = path;
+  const std::string text = readText(path);
+  if (doc.xml.Parse(text.c_str(), text.size()) != tinyxml2::XML_SUCCESS) {
+    throw InputError(path, "line " + std::to_string(doc.xml.ErrorLineNum()),
+                     std::string("not well-formed XML: ") + doc.xml.ErrorName());
+  }
+  const tinyxml2::XMLElement* robot = doc.xml.RootElement();
+  if (!robot || std::string(robot->Name()) != "robot") {
+    throw InputError(path, "", "not a URDF file (expected a <robot> root element)");
+  }
+  FirstError errors;
+  console_bridge::useOutputHandler(&errors);
+  doc.model = urdf::parseURDF(text);
+  console_bridge::restorePreviousOutputHandler();
+  if (!doc.model) {
+    throw InputError(path, "",
+                     "not a valid URDF (" +
+                         (errors.first.empty() ? "urdfdom refused it" : errors.first) +
+                         "); check the links and joints it names");
+  }
+  for (tinyxml2::XMLElement* e = doc.xml.RootElement()->FirstChildElement("joint"); e;
+       e = e->NextSiblingElement("joint")) {
+    if (const char* name = e->Attribute("name")) doc.joint_elements[name] = e;
+  }
+}
+
+// A number of the URDF's text in metres as mm, exactly as the decimal says: the exponent is
+// shifted by 3 before conversion ("0.333" -> "0.333e3" = 333, not 0.333 * 1000).
+bool metresTextToMillimetres(const std::string& token, double& mm) {
+  std::string shifted = token;
+  const std::size_t e = token.find_first_of("eE");
+  if (e == std::string::npos) {
+    shifted += "e3";
+  } else {
+    int exponent = 0;
+    const char* first = token.data() + e + 1;
+    const char* last = token.data() + token.size();
+    if (first != last && *first == '+') ++first;
+    const auto [end, error] = std::from_chars(first, last, exponent);
+    if (error != std::errc() || end != last) return false;
+    shifted = token.substr(0, e) + "e" + std::to_string(exponent + 3);
+  }
+  const auto [end, error] = std::from_chars(shifted.data(), shifted.data() + shifted.size(), mm);
+  return error == std::errc() && end == shifted.data() + shifted.size() && std::isfinite(mm);
+}
+
+std::vector<std::string> tokens(const char* text) {
+  std::istringstream in(text ? text : "");
+  std::vector<std::string> out;
+  for (std::string t; in >> t;) out.push_back(t);
+  return out;
+}
+
+// The <origin> of a joint element: xyz in mm, rpy in rad (absent: zeros, as URDF says).
+struct OriginValues {
+  Eigen::Vector3d xyz_mm = Eigen::Vector3d::Zero();
+  Eigen::Vector3d rpy = Eigen::Vector3d::Zero();
+};
+
+OriginValues readOrigin(const UrdfDocument& doc, const tinyxml2::XMLElement* joint) {
+  OriginValues out;
+  const tinyxml2::XMLElement* origin = joint->FirstChildElement("origin");
+  if (!origin) return out;
+  const auto three = [&](const char* attribute, auto convert, Eigen::Vector3d& v) {
+    const char* text = origin->Attribute(attribute);
+    if (!text) return;
+    const std::vector<std::string> t = tokens(text);
+    if (t.size() != 3) doc.fail(origin, std::string("<origin ") + attribute + "> needs 3 numbers");
+    for (int i = 0; i < 3; ++i) {
+      if (!convert(t[static_cast<std::size_t>(i)], v[i])) {
+        doc.fail(origin,
+                 std::string("<origin ") + attribute + ">: \"" + t[i] + "\" is not a number");
+      }
+    }
+  };
+  three("xyz", metresTextToMillimetres, out.xyz_mm);
+  three(
+      "rpy",
+      [](const std::string& token, double& value) {
+        const auto [end, error] = std::from_chars(token.data(), token.data() + token.size(), value);
+        return error == std::errc() && end == token.data() + token.size() && std::isfinite(value);
+      },
+      out.rpy);
+  return out;
+}
+
+tinyxml2::XMLElement* jointElement(const UrdfDocument& doc, const std::string& name) {
+  const auto it = doc.joint_elements.find(name);
+  return it == doc.joint_elements.end() ? nullptr : it->second;
+}
+
+// The joints from `base` down to `tip`, in chain order.
+std::vector<urdf::JointConstSharedPtr> chainJoints(const UrdfDocument& doc, const std::string& base,
+                                                   const std::string& tip) {
+  for (const std::string& link : {base, tip}) {
+    if (!doc.model->getLink(link)) {
+      doc.fail(nullptr, "no link named \"" + link + "\" (check --base and --tip)");
+    }
+  }
+  std::vector<urdf::JointConstSharedPtr> joints;
+  for (urdf::LinkConstSharedPtr link = doc.model->getLink(tip); link->name != base;) {
+    if (!link->parent_joint) {
+      doc.fail(nullptr,
+               "link \"" + base + "\" is not above link \"" + tip + "\" (check --base and --tip)");
+    }
+    joints.push_back(link->parent_joint);
+    link = doc.model->getLink(link->parent_joint->parent_link_name);
+  }
+  if (joints.empty()) doc.fail(nullptr, "--base and --tip name the same link: no joints between");
+  if (joints.size() > static_cast<std::size_t>(Chain::kMaxJoints)) {
+    doc.fail(nullptr,
+             "more than " + std::to_string(Chain::kMaxJoints) + " joints from base to tip");
+  }
+  return {joints.rbegin(), joints.rend()};
+}
+
+const char* chainTypeName(const UrdfDocument& doc, const urdf::Joint& joint) {
+  switch (joint.type) {
+    case urdf::Joint::REVOLUTE:
+    case urdf::Joint::CONTINUOUS:
+      return "revolute";
+    case urdf::Joint::PRISMATIC:
+      return "prismatic";
+    case urdf::Joint::FIXED:
+      return "fixed";
+    default:
+      doc.fail(jointElement(doc, joint.name),
+               "joint \"" + joint.name +
+                   "\": a chain holds revolute, continuous, prismatic and fixed joints only");
+  }
+}
+
+json jointLimits(const UrdfDocument& doc, const urdf::Joint& joint) {
+  if (joint.type == urdf::Joint::CONTINUOUS) return json::array({-180.0, 180.0});
+  const bool prismatic = joint.type == urdf::Joint::PRISMATIC;
+  if (!joint.limits || !(joint.limits->lower < joint.limits->upper)) {
+    doc.fail(jointElement(doc, joint.name),
+             "joint \"" + joint.name + "\": <limit> needs lower < upper");
+  }
+  const auto convert = [&](double v) { return prismatic ? v * 1000.0 : radToDeg(v); };
+  return json::array({convert(joint.limits->lower), convert(joint.limits->upper)});
+}
+
+json vectorJson(const Eigen::Vector3d& v) {
+  return json::array({v[0], v[1], v[2]});
+}
+
+// Shortest text that reads back as the same double.
+std::string shortest(double v) {
+  if (v == 0.0) v = 0.0;  // no "-0"
+  char buffer[64];
+  const auto [end, error] = std::to_chars(buffer, buffer + sizeof buffer, v);
+  (void)error;
+  return std::string(buffer, end);
+}
+
+std::string tripleText(const Eigen::Vector3d& v) {
+  return shortest(v[0]) + " " + shortest(v[1]) + " " + shortest(v[2]);
+}
+
+void writeOrigin(UrdfDocument& doc, tinyxml2::XMLElement* joint, const Eigen::Isometry3d& T) {
+  tinyxml2::XMLElement* origin = joint->FirstChildElement("origin");
+  if (!origin) {
+    origin = doc.xml.NewElement("origin");
+    joint->InsertFirstChild(origin);
+  }
+  const Eigen::Vector3d xyz_m = T.translation() / 1000.0;
+  origin->SetAttribute("rpy", tripleText(rpyFromMatrix(T.linear())).c_str());
+  origin->SetAttribute("xyz", tripleText(xyz_m).c_str());
+}
+
+Eigen::Isometry3d originTransform(const Eigen::Vector3d& xyz_mm, const Eigen::Vector3d& rpy) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = rpyToMatrix(rpy);
+  T.translation() = xyz_mm;
+  return T;
+}
+
+bool typesAgree(ChainJointType type, const urdf::Joint& joint) {
+  switch (type) {
+    case ChainJointType::Revolute:
+      return joint.type == urdf::Joint::REVOLUTE || joint.type == urdf::Joint::CONTINUOUS;
+    case ChainJointType::Prismatic:
+      return joint.type == urdf::Joint::PRISMATIC;
+    case ChainJointType::Fixed:
+      return joint.type == urdf::Joint::FIXED;
+  }
+  return false;
+}
+
+}  // namespace
+
+json importUrdf(const std::string& urdf_path, const std::string& base, const std::string& tip) {
+  UrdfDocument doc;
+  loadUrdf(urdf_path, doc);
+  json joints = json::array(), limits = json::array();
+  for (const urdf::JointConstSharedPtr& joint : chainJoints(doc, base, tip)) {
+    const tinyxml2::XMLElement* element = jointElement(doc, joint->name);
+    if (!element) doc.fail(nullptr, "joint \"" + joint->name + "\" not found in the XML");
+    const OriginValues origin = readOrigin(doc, element);
+    json entry = {
+        {"name", joint->name},
+        {"type", chainTypeName(doc, *joint)},
+        {"origin",
+         {{"xyz", vectorJson(origin.xyz_mm)},
+          {"rpy", vectorJson(origin.rpy.unaryExpr([](double r) { return radToDeg(r); }))}}}};
+    if (joint->type != urdf::Joint::FIXED) {
+      const Eigen::Vector3d axis(joint->axis.x, joint->axis.y, joint->axis.z);
+      if (!(axis.norm() > 1e-12)) doc.fail(element, "joint \"" + joint->name + "\": zero <axis>");
+      entry["axis"] = vectorJson(axis);
+      limits.push_back(jointLimits(doc, *joint));
+    }
+    joints.push_back(entry);
+  }
+  json machine = {{"model", "chain"}, {"joints", joints}};
+  if (!limits.empty()) machine["joint_limits"] = limits;
+  machine["calibrate"] = "identifiable";
+  return machine;
+}
+
+std::string exportUrdf(const Chain& chain, const Eigen::VectorXd& p, const std::string& urdf_path,
+                       const std::string& machine_source) {
+  UrdfDocument doc;
+  loadUrdf(urdf_path, doc);
+  // What each joint's origin is premultiplied by: the offset of the movable joint above it.
+  std::map<std::string, Eigen::Isometry3d> folds;
+  std::map<std::string, bool> in_chain;
+  for (int i = 0; i < static_cast<int>(chain.joints().size()); ++i) {
+    const ChainJoint& joint = chain.joints()[static_cast<std::size_t>(i)];
+    in_chain[joint.name] = true;
+    const urdf::JointConstSharedPtr urdf_joint = doc.model->getJoint(joint.name);
+    tinyxml2::XMLElement* element = jointElement(doc, joint.name);
+    const std::string where = "/joints/" + std::to_string(i);
+    if (!urdf_joint || !element) {
+      throw InputError(machine_source, where,
+                       "joint \"" + joint.name + "\" is not in " + urdf_path +
+                           " (export to the URDF the machine was imported from)");
+    }
+    if (!typesAgree(joint.type, *urdf_joint)) {
+      throw InputError(machine_source, where,
+                       "joint \"" + joint.name + "\" has another type in " + urdf_path);
+    }
+    const int k = chain.parameterOffset(i);
+    Eigen::Isometry3d T = originTransform(p.segment<3>(k), p.segment<3>(k + 3));
+    if (const auto fold = folds.find(joint.name); fold != folds.end()) T = fold->second * T;
+    writeOrigin(doc, element, T);
+    if (!Chain::isMovable(joint.type) || p[k + 6] == 0.0) continue;
+    // M(q + d) = M(q) M(d): M(d) moves to the front of every origin below this joint.
+    Eigen::Isometry3d M = Eigen::Isometry3d::Identity();
+    if (joint.type == ChainJointType::Revolute) {
+      M.linear() = axisAngleMatrix(joint.axis, p[k + 6]);
+    } else {
+      M.translation() = joint.axis * p[k + 6];
+    }
+    const urdf::LinkConstSharedPtr child = doc.model->getLink(urdf_joint->child_link_name);
+    if (!child || child->child_joints.empty()) {
+      throw InputError(machine_source, where,
+                       "joint \"" + joint.name +
+                           "\" has an offset but no joint below it in the URDF to fold it into");
+    }
+    for (const urdf::JointSharedPtr& below : child->child_joints) folds[below->name] = M;
+  }
+  // Joints off the chain that hang from a link with a folded offset (e.g. a gripper's fingers).
+  for (const auto& [name, M] : folds) {
+    if (in_chain.count(name)) continue;
+    tinyxml2::XMLElement* element = jointElement(doc, name);
+    if (!element) doc.fail(nullptr, "joint \"" + name + "\" not found in the XML");
+    const OriginValues origin = readOrigin(doc, element);
+    writeOrigin(doc, element, M * originTransform(origin.xyz_mm, origin.rpy));
+  }
+  tinyxml2::XMLPrinter printer;
+  doc.xml.Print(&printer);
+  return std::string(printer.CStr(), static_cast<std::size_t>(printer.CStrSize() - 1));
+}
+
+}  // namespace artcal
