@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "artcal/core/error.hpp"
+#include "artcal/io/output_file.hpp"
 #include "artcal/io/plan_io.hpp"
 #include "commands.hpp"
 
@@ -40,11 +41,12 @@ void printJson(const nlohmann::json& document) {
 }
 
 void writeJsonOutput(const std::string& path, const nlohmann::json& document) {
-  if (path == "-") {
-    printJson(document);
-  } else {
-    writeFileAtomically(path, document.dump(1) + "\n");
-  }
+  writeOutputFile(path,
+                  path == kStandardOutput ? document.dump(2) + "\n" : document.dump(1) + "\n");
+}
+
+std::ostream& summaryStream(const std::string& output) {
+  return output == kStandardOutput ? std::cerr : std::cout;
 }
 
 }  // namespace artcal::cli
@@ -75,6 +77,9 @@ int main(int argc, char** argv) {
   } catch (const artcal::InputError& e) {
     std::cerr << "error: " << e.describe() << std::endl;
     return 2;
+  } catch (const artcal::RunError& e) {
+    std::cerr << "error: " << e.describe() << std::endl;
+    return 1;
   } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << std::endl;
     return 2;

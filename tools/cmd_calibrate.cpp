@@ -7,6 +7,7 @@
 #include "artcal/calibration/calibrator.hpp"
 #include "artcal/calibration/confirmation.hpp"
 #include "artcal/calibration/simulation.hpp"
+#include "artcal/io/output_file.hpp"
 #include "artcal/io/plan_io.hpp"
 #include "artcal/io/truth_io.hpp"
 #include "artcal/report/calibration_report.hpp"
@@ -36,6 +37,7 @@ constexpr const char* kTruthHelp =
     "values over the plan's nominal ones), or {\"machine\": {...}, \"parameters\": {...}}.";
 
 int runSimulate(const SimulateArguments& args) {
+  checkOutputPath(args.output);
   const Plan plan = loadPlanReporting(args.plan);
   nlohmann::json document = readJsonFile(args.plan);
   const Eigen::VectorXd truth = loadTruth(args.truth, plan);
@@ -102,6 +104,7 @@ struct CalibrateArguments {
 int runCalibrate(const CalibrateArguments& args) {
   std::string error;
   checkOptions(args.options.isValid(&error), "calibrate", error);
+  if (!args.write_machine.empty()) checkOutputPath(args.write_machine);
   const Plan plan = loadPlanReporting(args.plan);
   const Calibration calibration = calibratePlan(plan, args.options);
   if (!args.write_machine.empty()) {
@@ -112,10 +115,11 @@ int runCalibrate(const CalibrateArguments& args) {
       std::cerr << "warning: not converged: " << args.write_machine << " not written\n";
     }
   }
+  std::ostream& out = summaryStream(args.write_machine);
   if (args.json) {
-    printJson(calibrationToJson(plan, plan.placements, calibration));
+    out << calibrationToJson(plan, plan.placements, calibration).dump(2) << std::endl;
   } else {
-    std::cout << calibrationTable(plan, plan.placements, calibration);
+    out << calibrationTable(plan, plan.placements, calibration);
   }
   return calibration.summary.converged() ? 0 : 1;
 }
@@ -131,7 +135,8 @@ void addCalibrateCommand(CLI::App& app, Action& action) {
   cmd->add_flag("--json", args->json, "print one JSON document instead of the tables");
   cmd->add_option("--write-machine", args->write_machine,
                   "write the machine block with the estimated parameters (the next plan's "
-                  "machine) to this file, when converged");
+                  "machine) to this file, when converged ('-': stdout, the tables then on "
+                  "stderr)");
   cmd->add_option("--max-iterations", args->options.max_iterations, "iteration limit")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "artcal/core/error.hpp"
+#include "artcal/io/output_file.hpp"
 #include "artcal/io/plan_io.hpp"
 #include "artcal/planning/optimizer.hpp"
 #include "artcal/report/report.hpp"
@@ -113,6 +114,7 @@ std::string summaryTable(const Plan& plan, const OptimizerSummary& summary,
 }
 
 int runOptimize(const OptimizeArguments& args) {
+  checkOutputPath(args.output);  // refused before the search, not after it
   const nlohmann::json spec_document = readJsonFile(args.spec);
   const Plan spec = parsePlan(spec_document, args.spec, /*require_placements=*/false);
   for (const std::string& warning : spec.warnings) std::cerr << "warning: " << warning << "\n";
@@ -135,14 +137,15 @@ int runOptimize(const OptimizeArguments& args) {
   predicted.erase("plan");
   predicted["optimization"] = optimizationToJson(spec, options, summary);
   document["predicted"] = predicted;
-  writeFileAtomically(args.output, document.dump(1) + "\n");
+  writeJsonOutput(args.output, document);
+  std::ostream& summary_out = summaryStream(args.output);
   if (args.json) {
     nlohmann::json out = predicted;
     out["plan"] = args.output;
     out["seconds"] = summary.seconds;
-    printJson(out);
+    summary_out << out.dump(2) << std::endl;
   } else {
-    std::cout << summaryTable(spec, summary, evaluation, args.output);
+    summary_out << summaryTable(spec, summary, evaluation, args.output);
   }
   return 0;
 }
@@ -154,7 +157,9 @@ void addOptimizeCommand(CLI::App& app, Action& action) {
       "searches placements and postures minimising the design criterion; writes the complete "
       "plan with its predicted figures (exit 0)");
   cmd->add_option("SPEC", args->spec, "optimization spec: a plan with a design block")->required();
-  cmd->add_option("-o,--output", args->output, "the plan to write")->required();
+  cmd->add_option("-o,--output", args->output,
+                  "the plan to write ('-': stdout, the summary then on stderr)")
+      ->required();
   cmd->add_flag("--json", args->json, "print one JSON document instead of the table");
   cmd->add_flag("--quiet", args->quiet, "no progress line on stderr");
   cmd->add_option("--starts", args->starts, "starts (overrides design.starts)")

@@ -1,11 +1,13 @@
 // artcal report PLAN -o report.html [--svg DIR]: the self-contained HTML report (html_report.hpp).
 
 #include <filesystem>
+#include <iomanip>
 #include <iostream>
 #include <optional>
 
 #include "artcal/calibration/calibrator.hpp"
 #include "artcal/estimation/evaluator.hpp"
+#include "artcal/io/output_file.hpp"
 #include "artcal/io/plan_io.hpp"
 #include "artcal/report/calibration_report.hpp"
 #include "artcal/report/html_report.hpp"
@@ -36,8 +38,8 @@ bool wantsCalibration(const ReportArguments& args, const nlohmann::json& documen
 void writeSvgFiles(const std::string& dir, const std::vector<ReportFigure>& figures) {
   std::filesystem::create_directories(dir);
   for (const ReportFigure& figure : figures) {
-    writeFileAtomically((std::filesystem::path(dir) / (figure.name + ".svg")).string(),
-                        "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n" + figure.svg);
+    writeOutputFile((std::filesystem::path(dir) / (figure.name + ".svg")).string(),
+                    "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n" + figure.svg);
   }
 }
 
@@ -60,17 +62,16 @@ nlohmann::json summaryJson(const ReportArguments& args, const std::string& html,
   return out;
 }
 
-void printSummary(const nlohmann::json& summary) {
-  std::cout << "Report " << summary["report"].get<std::string>() << " ("
-            << summary["bytes"].get<std::size_t>() << " bytes)"
-            << (summary["identifiable"].get<bool>() ? "" : "; the plan is NOT identifiable")
-            << (summary["calibration_converged"] == false ? "; the calibration did NOT converge"
-                                                          : "")
-            << "\n  figure                bytes  file\n";
+void printSummary(const nlohmann::json& summary, std::ostream& out) {
+  out << "Report " << summary["report"].get<std::string>() << " ("
+      << summary["bytes"].get<std::size_t>() << " bytes)"
+      << (summary["identifiable"].get<bool>() ? "" : "; the plan is NOT identifiable")
+      << (summary["calibration_converged"] == false ? "; the calibration did NOT converge" : "")
+      << "\n  figure                bytes  file\n";
   for (const auto& f : summary["figures"]) {
-    std::printf("  %-18s %8zu  %s\n", f["name"].get<std::string>().c_str(),
-                f["bytes"].get<std::size_t>(),
-                f.contains("file") ? f["file"].get<std::string>().c_str() : "(inline only)");
+    out << "  " << std::left << std::setw(18) << f["name"].get<std::string>() << " " << std::right
+        << std::setw(8) << f["bytes"].get<std::size_t>() << "  "
+        << (f.contains("file") ? f["file"].get<std::string>() : "(inline only)") << "\n";
   }
 }
 
@@ -82,7 +83,9 @@ void addReportCommand(CLI::App& app, Action& action) {
       "identifiability, calibration) with the numbers of `evaluate --json` (exit 0; 1 when not "
       "identifiable or the calibration did not converge)");
   cmd->add_option("PLAN", args->plan, "plan file (artcal-plan/1)")->required();
-  cmd->add_option("-o,--output", args->output, "HTML file to write")->required();
+  cmd->add_option("-o,--output", args->output,
+                  "HTML file to write ('-': stdout, the summary then on stderr)")
+      ->required();
   cmd->add_option("--svg", args->svg_dir, "also write each figure as DIR/<name>.svg");
   cmd->add_flag("--json", args->json, "print what was written as one JSON document");
   cmd->add_option("--rank-tol", args->rank_tolerance,
@@ -102,6 +105,7 @@ void addReportCommand(CLI::App& app, Action& action) {
       ->capture_default_str();
   cmd->callback([&action, args] {
     action = [args] {
+      checkOutputPath(args->output);
       const nlohmann::json document = readJsonFile(args->plan);
       const Plan plan = parsePlan(document, args->plan);
       for (const std::string& warning : plan.warnings) std::cerr << "warning: " << warning << "\n";
@@ -124,14 +128,14 @@ void addReportCommand(CLI::App& app, Action& action) {
                               args->flag_threshold};
       const std::vector<ReportFigure> figures = reportFigures(input);
       const std::string html = htmlReport(input, figures);
-      writeFileAtomically(args->output, html);
+      writeOutputFile(args->output, html);
       if (!args->svg_dir.empty()) writeSvgFiles(args->svg_dir, figures);
       const nlohmann::json summary =
           summaryJson(*args, html, figures, evaluation.identifiable(), converged);
       if (args->json) {
-        printJson(summary);
+        summaryStream(args->output) << summary.dump(2) << std::endl;
       } else {
-        printSummary(summary);
+        printSummary(summary, summaryStream(args->output));
       }
       return evaluation.identifiable() && converged.value_or(true) ? 0 : 1;
     };

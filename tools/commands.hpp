@@ -4,6 +4,7 @@
 
 #include <CLI/CLI.hpp>
 #include <functional>
+#include <iosfwd>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -32,7 +33,12 @@ Plan loadPlanReporting(const std::string& path, bool require_placements = true);
 /// Prints a JSON document (2-space indent) on stdout.
 void printJson(const nlohmann::json& document);
 
-/// Writes JSON to a file atomically; "-" means stdout.
+/// Writes JSON where an output option says (writeOutputFile: "-" is stdout; devices, FIFOs and
+/// directories refused; symbolic links followed).
 void writeJsonOutput(const std::string& path, const nlohmann::json& document);
+
+/// Where a command that writes `output` prints its own summary: stdout, or stderr when the
+/// output itself goes to stdout ("-"), so that stdout holds the output file alone.
+std::ostream& summaryStream(const std::string& output);
 
 }  // namespace artcal::cli

@@ -36,4 +36,30 @@ class KinematicsError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// A valid plan that cannot be run as asked: a simulated machine (simulate, confirm) that cannot
+/// reach a planned reading. It names the place like InputError, but the command line answers with
+/// exit status 1, not 2: the plan is not bad input, the run failed (docs/plan-format.md).
+class RunError : public std::runtime_error {
+ public:
+  RunError(std::string file, std::string pointer, const std::string& message)
+      : std::runtime_error(message), file_(std::move(file)), pointer_(std::move(pointer)) {}
+
+  const std::string& file() const { return file_; }
+  const std::string& pointer() const { return pointer_; }
+  /// "FILE: POINTER: MESSAGE".
+  std::string describe() const {
+    std::string out = file_;
+    if (!pointer_.empty()) out += ": " + pointer_;
+    return out + ": " + what();
+  }
+  /// The same error with `context` ("trial 17") put before the message.
+  RunError within(const std::string& context) const {
+    return {file_, pointer_, context + ": " + what()};
+  }
+
+ private:
+  std::string file_;
+  std::string pointer_;
+};
+
 }  // namespace artcal

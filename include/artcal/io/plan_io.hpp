@@ -7,6 +7,7 @@
 #include <string>
 
 #include "artcal/core/error.hpp"
+#include "artcal/io/output_file.hpp"
 #include "artcal/plan/plan.hpp"
 
 namespace artcal {
@@ -38,8 +39,5 @@ Plan loadPlan(const std::string& path, bool require_placements = true);
 nlohmann::json placementsToJson(const Plan& plan);
 /// The machine block with the given full parameter vector as nominal values (file units).
 nlohmann::json machineToJson(const Machine& machine, const Eigen::VectorXd& parameters);
-
-/// Writes `content` to `path` through a temporary file and a rename; std::runtime_error on failure.
-void writeFileAtomically(const std::string& path, const std::string& content);
 
 }  // namespace artcal
