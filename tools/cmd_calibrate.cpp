@@ -7,6 +7,7 @@
 #include "artcal/calibration/calibrator.hpp"
 #include "artcal/calibration/confirmation.hpp"
 #include "artcal/calibration/simulation.hpp"
+#include "artcal/io/machine_covariance.hpp"
 #include "artcal/io/output_file.hpp"
 #include "artcal/io/plan_io.hpp"
 #include "artcal/io/truth_io.hpp"
@@ -110,7 +111,11 @@ int runCalibrate(const CalibrateArguments& args) {
   if (!args.write_machine.empty()) {
     // Only a converged estimate may become the next plan's machine.
     if (calibration.summary.converged()) {
-      writeJsonOutput(args.write_machine, machineToJson(plan.machine, calibration.parameters));
+      nlohmann::json machine = machineToJson(plan.machine, calibration.parameters);
+      // V_p travels with the estimate: `verify --machine` predicts the spread from it.
+      if (calibration.covariance)
+        machine["covariance"] = covarianceToJson(plan.machine, calibration.covariance->V);
+      writeJsonOutput(args.write_machine, machine);
     } else {
       std::cerr << "warning: not converged: " << args.write_machine << " not written\n";
     }

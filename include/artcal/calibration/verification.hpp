@@ -1,0 +1,91 @@
+#pragma once
+// Verification of a (calibrated) machine on readings it has not seen (models.md section 6): the
+// parameters are held fixed, every placement's rigid transform is fitted (Gauss-Newton on the
+// same whitened observation blocks the calibrator uses, started from the same Umeyama fit), and
+// the figures a metrologist reads are computed per placement:
+//
+// - spread of a feature: its postures' machine-frame positions x_i = f(p, q_i), their mean m,
+//   spread_mean = mean |x_i - m| (MUKCa's MAE), spread_rms = sqrt(mean |x_i - m|^2);
+// - length errors: for every pair (a, b) of measured features, |m_b - m_a| - |W*_b - W*_a|;
+// - residuals of the rigid fit: |[R x_i + t - W*_i]_valued| per reading.
+//
+// Predicted figures, when the parameters' covariance V_p (of the calibration that produced them)
+// is given. The deviation of posture i from the feature mean is
+//   d_i = (J_i - Jbar) dp + (e_i - ebar),   J_i = df/dp at q_i over the covariance's parameters,
+// with dp ~ (0, V_p) the calibration's parameter error and e_i ~ (0, Sigma_i) the reading's own
+// error, Sigma_i = s_p^2 I + J_q,i Sigma_q J_q,i^T (method.md section 2: probing and encoders),
+// independent between readings. Hence
+//   E|d_i|^2 = tr((J_i - Jbar) V_p (J_i - Jbar)^T) + tr(Sigma_i) (1 - 2/n) + tr(sum_k Sigma_k)/n^2
+// and predicted_spread_rms = sqrt(mean_i E|d_i|^2). A length error's predicted u is the standard
+// deviation of u^T (m_b - m_a), u the unit direction between the means, with Cov(m_b - m_a) =
+// (Jbar_b - Jbar_a) V_p (...)^T + sum Sigma_i / n_a^2 + sum Sigma_k / n_b^2, plus the artifact's
+// own calibration uncertainty of that distance (its systematic errors). What is not modelled
+// (gear errors, elasticity, a socket that moved) is exactly what the observed figures show beyond
+// the predicted ones.
+
+#include <Eigen/Core>
+#include <optional>
+#include <vector>
+
+#include "artcal/artifact/rigid_transform.hpp"
+#include "artcal/plan/plan.hpp"
+
+namespace artcal {
+
+/// The covariance of some of the model's parameters (internal units).
+struct ParameterUncertainty {
+  std::vector<int> indices;  ///< into the model's full parameter vector
+  Eigen::MatrixXd V;         ///< indices.size() squared
+};
+
+struct FeatureSpread {
+  int feature = 0;
+  int postures = 0;
+  Eigen::VectorXd mean;               ///< machine-frame mean position, mm
+  double spread_mean = 0.0;           ///< mm
+  double spread_rms = 0.0;            ///< mm
+  double predicted_spread_rms = 0.0;  ///< mm
+};
+
+struct LengthError {
+  int from = 0;
+  int to = 0;
+  double error = 0.0;        ///< |m_to - m_from| - calibrated distance, mm
+  double predicted_u = 0.0;  ///< mm
+};
+
+struct PlacementVerification {
+  int index = 0;
+  std::vector<FeatureSpread> features;
+  std::vector<LengthError> length_errors;
+  RigidTransform pose;         ///< fitted, machine -> artifact
+  Eigen::VectorXd residuals;   ///< |residual| per reading, mm, in measurement order
+  Eigen::VectorXd deviations;  ///< |x_i - m| per reading, mm, in measurement order
+  double residual_rms = 0.0;
+  double residual_max = 0.0;
+};
+
+struct Verification {
+  std::vector<PlacementVerification> placements;
+  bool predicted = false;             ///< a covariance was given
+  double spread_rms = 0.0;            ///< over every posture of every placement
+  double spread_mean = 0.0;           ///< mean |x_i - m| over every posture (MUKCa's MAE)
+  double predicted_spread_rms = 0.0;  ///< sqrt of the mean predicted |d_i|^2
+  double length_error_rms = 0.0;      ///< over every pair of every placement
+  double length_error_mean_abs = 0.0;
+  double residual_rms = 0.0;
+};
+
+struct VerifyOptions {
+  int max_iterations = 30;        ///< Gauss-Newton steps of each rigid fit
+  double step_tolerance = 1e-12;  ///< mm (and rad): a rigid step smaller than this stops
+};
+
+/// Verifies the full parameter vector `p` on every placement of `plan`. `uncertainty`, when
+/// given, supplies V_p for the predicted figures (without it they are those of the readings'
+/// own noise alone). KinematicsError when a reading's forward kinematics fails.
+Verification verifyMachine(const Plan& plan, const Eigen::VectorXd& p,
+                           const std::optional<ParameterUncertainty>& uncertainty,
+                           const VerifyOptions& options = {});
+
+}  // namespace artcal

@@ -1,0 +1,29 @@
+#pragma once
+// The calibrated parameters' covariance V_p carried in a machine file (`calibrate
+// --write-machine` writes it beside the machine block; `verify --machine` reads it for the
+// predicted figures, models.md section 6):
+//   "covariance": {"parameters": [names], "matrix": [[...], ...]}
+// in file units: entry (i, j) in the units of parameter i times those of parameter j (mm, deg).
+
+#include <Eigen/Core>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+
+#include "artcal/calibration/verification.hpp"
+#include "artcal/model/machine.hpp"
+#include "artcal/plan/plan.hpp"
+
+namespace artcal {
+
+/// The "covariance" member for V (internal units) over the machine's calibrated parameters.
+nlohmann::json covarianceToJson(const Machine& machine, const Eigen::MatrixXd& V);
+
+/// The "covariance" member of a machine file for `plan`'s model (internal units); std::nullopt
+/// when there is none. InputError naming `source` and the pointer when malformed, when a name is
+/// not a parameter of the model, or when the matrix is not symmetric positive semi-definite.
+std::optional<ParameterUncertainty> parseMachineCovariance(const nlohmann::json& document,
+                                                           const std::string& source,
+                                                           const Plan& plan);
+
+}  // namespace artcal

@@ -1,0 +1,233 @@
+#include "artcal/calibration/verification.hpp"
+
+#include <cmath>
+#include <map>
+
+#include "artcal/estimation/design_matrix.hpp"
+#include "artcal/estimation/normal_matrix.hpp"
+
+namespace artcal {
+
+namespace {
+
+/// Machine-frame position, its Jacobian over the covariance's parameters and the covariance of
+/// the reading's own error (probing and encoders, method.md section 2) of one reading.
+struct ReadingModel {
+  Eigen::VectorXd x;
+  Eigen::MatrixXd J;
+  Eigen::MatrixXd Sigma;
+};
+
+ReadingModel modelReading(const Plan& plan, const Eigen::VectorXd& p, const Eigen::VectorXd& q,
+                          const std::vector<int>& indices) {
+  const Mechanism& mech = *plan.machine.mechanism;
+  ReadingModel out;
+  Eigen::MatrixXd J_x_p, J_x_q;
+  forwardOrThrow(mech, p, q, out.x, &J_x_p, &J_x_q);
+  const int d = static_cast<int>(out.x.size());
+  out.J.resize(d, static_cast<int>(indices.size()));
+  for (std::size_t k = 0; k < indices.size(); ++k)
+    out.J.col(static_cast<int>(k)) = J_x_p.col(indices[k]);
+  out.Sigma = J_x_q * plan.noise.encoder.array().square().matrix().asDiagonal() * J_x_q.transpose();
+  out.Sigma.diagonal().array() += plan.noise.probe * plan.noise.probe;
+  return out;
+}
+
+/// The placement's rigid transform with p held fixed: Gauss-Newton on the whitened observation
+/// block from the Umeyama start (the calibrator's r_j update with dg = 0).
+RigidTransform fitRigidOnly(DesignMatrixBuilder& builder, const Artifact& artifact,
+                            const Placement& placement, const Eigen::VectorXd& p,
+                            RigidTransform pose, const VerifyOptions& options) {
+  ObservationBlock block;
+  const Eigen::VectorXd no_errors;
+  for (int it = 0; it < options.max_iterations; ++it) {
+    builder.build(artifact, placement.measurements, p, pose, no_errors, true, block);
+    const Eigen::MatrixXd M = block.A_r.transpose() * block.A_r;
+    const Eigen::VectorXd step = -symmetricPseudoInverse(M) * (block.A_r.transpose() * block.e);
+    pose = pose.perturbed(artifact.expandRigidStep(step));
+    if (!(step.lpNorm<Eigen::Infinity>() > options.step_tolerance)) break;
+  }
+  return pose;
+}
+
+struct FeatureAccumulator {
+  std::vector<int> readings;  ///< indices into the placement's measurements
+};
+
+/// Sum over readings of the predicted E|d_i|^2 (see the header).
+double predictedSquaredDeviations(const std::vector<ReadingModel>& models,
+                                  const std::vector<int>& readings,
+                                  const std::optional<ParameterUncertainty>& uncertainty) {
+  const auto n = static_cast<double>(readings.size());
+  const int d = static_cast<int>(models[readings.front()].x.size());
+  Eigen::MatrixXd J_mean = Eigen::MatrixXd::Zero(d, models[readings.front()].J.cols());
+  double trace_sum = 0.0;
+  for (int i : readings) {
+    J_mean += models[i].J / n;
+    trace_sum += models[i].Sigma.trace();
+  }
+  double total = 0.0;
+  for (int i : readings) {
+    double parameter_part = 0.0;
+    if (uncertainty) {
+      const Eigen::MatrixXd dJ = models[i].J - J_mean;
+      parameter_part = (dJ * uncertainty->V * dJ.transpose()).trace();
+    }
+    total += parameter_part + models[i].Sigma.trace() * (1.0 - 2.0 / n) + trace_sum / (n * n);
+  }
+  return total;
+}
+
+/// Predicted standard uncertainty of a length error between two features (see the header).
+double predictedLengthU(const std::vector<ReadingModel>& models, const std::vector<int>& a,
+                        const std::vector<int>& b, const Eigen::VectorXd& direction,
+                        const std::optional<ParameterUncertainty>& uncertainty,
+                        double artifact_variance) {
+  auto meanNoise = [&](const std::vector<int>& readings, Eigen::MatrixXd& J_mean) {
+    const auto n = static_cast<double>(readings.size());
+    Eigen::MatrixXd cov = Eigen::MatrixXd::Zero(direction.size(), direction.size());
+    J_mean.setZero(direction.size(), models[readings.front()].J.cols());
+    for (int i : readings) {
+      cov += models[i].Sigma / (n * n);
+      J_mean += models[i].J / n;
+    }
+    return cov;
+  };
+  Eigen::MatrixXd J_a, J_b;
+  Eigen::MatrixXd cov = meanNoise(a, J_a) + meanNoise(b, J_b);
+  if (uncertainty) {
+    const Eigen::MatrixXd dJ = J_b - J_a;
+    cov += dJ * uncertainty->V * dJ.transpose();
+  }
+  return std::sqrt(direction.dot(cov * direction) + artifact_variance);
+}
+
+/// Variance of the calibrated distance between features a and b from the artifact's systematic
+/// errors (each moves one coordinate of one feature; first order along the distance).
+double artifactDistanceVariance(const Artifact& artifact, int a, int b) {
+  const Eigen::VectorXd zero;
+  const Eigen::VectorXd delta = artifact.feature(b, zero) - artifact.feature(a, zero);
+  const Eigen::VectorXd unit = delta / delta.norm();
+  double variance = 0.0;
+  for (const SystematicError& e : artifact.systematic) {
+    if (e.feature != a && e.feature != b) continue;
+    const double sign = e.feature == b ? 1.0 : -1.0;
+    const double along = sign * unit[e.coordinate];
+    variance += along * along * e.sigma * e.sigma;
+  }
+  return variance;
+}
+
+PlacementVerification verifyPlacement(const Plan& plan, int index, const Eigen::VectorXd& p,
+                                      const RigidTransform& start, DesignMatrixBuilder& builder,
+                                      const std::optional<ParameterUncertainty>& uncertainty,
+                                      const VerifyOptions& options, double& predicted_sum) {
+  const Placement& placement = plan.placements[static_cast<std::size_t>(index)];
+  const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
+  const std::vector<int> no_indices;
+  const std::vector<int>& indices = uncertainty ? uncertainty->indices : no_indices;
+  PlacementVerification out;
+  out.index = index;
+  const auto count = static_cast<int>(placement.measurements.size());
+  std::vector<ReadingModel> models;
+  models.reserve(placement.measurements.size());
+  std::map<int, FeatureAccumulator> features;
+  for (int i = 0; i < count; ++i) {
+    const Measurement& m = placement.measurements[static_cast<std::size_t>(i)];
+    models.push_back(modelReading(plan, p, m.joints, indices));
+    features[m.feature].readings.push_back(i);
+  }
+  out.deviations.resize(count);
+  for (const auto& [feature, acc] : features) {
+    FeatureSpread spread;
+    spread.feature = feature;
+    spread.postures = static_cast<int>(acc.readings.size());
+    spread.mean = Eigen::VectorXd::Zero(plan.machine.dimension());
+    for (int i : acc.readings) spread.mean += models[i].x / spread.postures;
+    double sum = 0.0, sum2 = 0.0;
+    for (int i : acc.readings) {
+      const double distance = (models[i].x - spread.mean).norm();
+      out.deviations[i] = distance;
+      sum += distance;
+      sum2 += distance * distance;
+    }
+    spread.spread_mean = sum / spread.postures;
+    spread.spread_rms = std::sqrt(sum2 / spread.postures);
+    const double predicted = predictedSquaredDeviations(models, acc.readings, uncertainty);
+    predicted_sum += predicted;
+    spread.predicted_spread_rms = std::sqrt(predicted / spread.postures);
+    out.features.push_back(std::move(spread));
+  }
+  for (std::size_t a = 0; a < out.features.size(); ++a) {
+    for (std::size_t b = a + 1; b < out.features.size(); ++b) {
+      const FeatureSpread& fa = out.features[a];
+      const FeatureSpread& fb = out.features[b];
+      const Eigen::VectorXd zero;
+      const double calibrated =
+          (artifact.feature(fb.feature, zero) - artifact.feature(fa.feature, zero)).norm();
+      const Eigen::VectorXd between = fb.mean - fa.mean;
+      LengthError length;
+      length.from = fa.feature;
+      length.to = fb.feature;
+      length.error = between.norm() - calibrated;
+      length.predicted_u =
+          predictedLengthU(models, features[fa.feature].readings, features[fb.feature].readings,
+                           between / between.norm(), uncertainty,
+                           artifactDistanceVariance(artifact, fa.feature, fb.feature));
+      out.length_errors.push_back(length);
+    }
+  }
+  out.pose = fitRigidOnly(builder, artifact, placement, p, start, options);
+  const int k = artifact.valuedPerFeature();
+  out.residuals.resize(count);
+  const Eigen::VectorXd zero;
+  for (int i = 0; i < count; ++i) {
+    const int feature = placement.measurements[static_cast<std::size_t>(i)].feature;
+    out.residuals[i] =
+        (out.pose.apply(models[i].x) - artifact.feature(feature, zero)).head(k).norm();
+  }
+  out.residual_rms = count > 0 ? std::sqrt(out.residuals.squaredNorm() / count) : 0.0;
+  out.residual_max = count > 0 ? out.residuals.maxCoeff() : 0.0;
+  return out;
+}
+
+}  // namespace
+
+Verification verifyMachine(const Plan& plan, const Eigen::VectorXd& p,
+                           const std::optional<ParameterUncertainty>& uncertainty,
+                           const VerifyOptions& options) {
+  Verification out;
+  out.predicted = uncertainty.has_value();
+  DesignMatrixBuilder builder(plan.machine, plan.noise);
+  const std::vector<RigidTransform> starts = fitPlacements(plan, plan.placements, p);
+  double predicted_sum = 0.0, deviation_sum = 0.0, deviation_sum2 = 0.0, residual_sum2 = 0.0;
+  double length_sum2 = 0.0, length_sum_abs = 0.0;
+  int readings = 0, lengths = 0;
+  for (int j = 0; j < static_cast<int>(plan.placements.size()); ++j) {
+    out.placements.push_back(verifyPlacement(plan, j, p, starts[static_cast<std::size_t>(j)],
+                                             builder, uncertainty, options, predicted_sum));
+    const PlacementVerification& v = out.placements.back();
+    readings += static_cast<int>(v.deviations.size());
+    deviation_sum += v.deviations.sum();
+    deviation_sum2 += v.deviations.squaredNorm();
+    residual_sum2 += v.residuals.squaredNorm();
+    for (const LengthError& e : v.length_errors) {
+      length_sum2 += e.error * e.error;
+      length_sum_abs += std::abs(e.error);
+      ++lengths;
+    }
+  }
+  if (readings > 0) {
+    out.spread_rms = std::sqrt(deviation_sum2 / readings);
+    out.spread_mean = deviation_sum / readings;
+    out.predicted_spread_rms = std::sqrt(predicted_sum / readings);
+    out.residual_rms = std::sqrt(residual_sum2 / readings);
+  }
+  if (lengths > 0) {
+    out.length_error_rms = std::sqrt(length_sum2 / lengths);
+    out.length_error_mean_abs = length_sum_abs / lengths;
+  }
+  return out;
+}
+
+}  // namespace artcal

@@ -1,0 +1,154 @@
+#include "artcal/report/verification_report.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <numeric>
+#include <sstream>
+
+#include "artcal/report/report.hpp"
+
+namespace artcal {
+
+using nlohmann::json;
+
+namespace {
+
+std::string fixed(double value, int decimals = 4) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "%.*f", decimals, value);
+  return buffer;
+}
+
+json featureToJson(const FeatureSpread& f) {
+  return {{"feature", f.feature},
+          {"postures", f.postures},
+          {"spread_mean", finiteOrNull(f.spread_mean)},
+          {"spread_rms", finiteOrNull(f.spread_rms)},
+          {"predicted_spread_rms", finiteOrNull(f.predicted_spread_rms)},
+          {"mean_position", std::vector<double>(f.mean.data(), f.mean.data() + f.mean.size())}};
+}
+
+json placementToJson(const PlacementVerification& v) {
+  json features = json::array();
+  for (const FeatureSpread& f : v.features) features.push_back(featureToJson(f));
+  json lengths = json::array();
+  for (const LengthError& e : v.length_errors) {
+    lengths.push_back({{"from", e.from},
+                       {"to", e.to},
+                       {"error", finiteOrNull(e.error)},
+                       {"predicted_u", finiteOrNull(e.predicted_u)}});
+  }
+  return {{"index", v.index},
+          {"features", features},
+          {"length_errors", lengths},
+          {"residual_rms", finiteOrNull(v.residual_rms)},
+          {"residual_max", finiteOrNull(v.residual_max)}};
+}
+
+/// A reading's place for a person: placement, feature and the how-many-th posture of that
+/// feature (the row of its CSV file, header and blank lines not counted), from 1.
+struct ReadingPlace {
+  int placement, measurement, feature, posture;
+  double deviation, residual;
+};
+
+std::vector<ReadingPlace> largestDeviations(const Plan& plan, const Verification& verification,
+                                            int count) {
+  std::vector<ReadingPlace> all;
+  for (const PlacementVerification& v : verification.placements) {
+    const auto& measurements = plan.placements[static_cast<std::size_t>(v.index)].measurements;
+    std::vector<int> posture_of_feature;
+    for (std::size_t i = 0; i < measurements.size(); ++i) {
+      const int feature = measurements[i].feature;
+      if (feature >= static_cast<int>(posture_of_feature.size()))
+        posture_of_feature.resize(static_cast<std::size_t>(feature) + 1, 0);
+      const int posture = ++posture_of_feature[static_cast<std::size_t>(feature)];
+      all.push_back({v.index, static_cast<int>(i), feature, posture,
+                     v.deviations[static_cast<int>(i)], v.residuals[static_cast<int>(i)]});
+    }
+  }
+  const auto n = std::min<std::size_t>(all.size(), static_cast<std::size_t>(std::max(count, 0)));
+  std::partial_sort(
+      all.begin(), all.begin() + static_cast<long>(n), all.end(),
+      [](const ReadingPlace& a, const ReadingPlace& b) { return a.deviation > b.deviation; });
+  all.resize(n);
+  return all;
+}
+
+}  // namespace
+
+json verificationToJson(const Plan& plan, const Verification& verification) {
+  json placements = json::array();
+  for (const PlacementVerification& v : verification.placements)
+    placements.push_back(placementToJson(v));
+  json verify = {{"placements", placements},
+                 {"spread_rms", finiteOrNull(verification.spread_rms)},
+                 {"spread_mean", finiteOrNull(verification.spread_mean)},
+                 {"predicted_spread_rms", finiteOrNull(verification.predicted_spread_rms)},
+                 {"predicted_from_calibration", verification.predicted},
+                 {"length_error_rms", finiteOrNull(verification.length_error_rms)},
+                 {"length_error_mean_abs", finiteOrNull(verification.length_error_mean_abs)},
+                 {"residual_rms", finiteOrNull(verification.residual_rms)}};
+  json largest = json::array();
+  for (const ReadingPlace& r : largestDeviations(plan, verification, 10)) {
+    largest.push_back({{"placement", r.placement},
+                       {"measurement", r.measurement},
+                       {"feature", r.feature},
+                       {"posture", r.posture},
+                       {"deviation", finiteOrNull(r.deviation)},
+                       {"residual", finiteOrNull(r.residual)}});
+  }
+  verify["largest_deviations"] = largest;
+  return {{"plan", plan.name}, {"verify", verify}};
+}
+
+std::string verificationTable(const Plan& plan, const Verification& verification, int outliers) {
+  std::ostringstream out;
+  out << "Plan " << plan.name << ": " << verification.placements.size()
+      << " placements verified, parameters held fixed (mm)\n";
+  out << "  predicted spread from "
+      << (verification.predicted ? "the calibration's V_p and the reading noise"
+                                 : "the reading noise alone (no covariance given)")
+      << "\n\n";
+  out << "placement feature postures  spread_mean  spread_rms  predicted_rms\n";
+  for (const PlacementVerification& v : verification.placements) {
+    for (const FeatureSpread& f : v.features) {
+      char line[160];
+      std::snprintf(line, sizeof line, "%9d %7d %8d %12.4f %11.4f %14.4f\n", v.index, f.feature,
+                    f.postures, f.spread_mean, f.spread_rms, f.predicted_spread_rms);
+      out << line;
+    }
+  }
+  out << "\nplacement  from  to   length error   predicted u   residual rms   residual max\n";
+  for (const PlacementVerification& v : verification.placements) {
+    for (const LengthError& e : v.length_errors) {
+      char line[160];
+      std::snprintf(line, sizeof line, "%9d %5d %3d %14.4f %13.4f %14.4f %14.4f\n", v.index, e.from,
+                    e.to, e.error, e.predicted_u, v.residual_rms, v.residual_max);
+      out << line;
+    }
+  }
+  out << "\nall placements\n"
+      << "  spread mean " << fixed(verification.spread_mean) << "   spread rms "
+      << fixed(verification.spread_rms) << "   predicted rms "
+      << fixed(verification.predicted_spread_rms) << "\n"
+      << "  length error mean |e| " << fixed(verification.length_error_mean_abs) << "   rms "
+      << fixed(verification.length_error_rms) << "\n"
+      << "  residual rms " << fixed(verification.residual_rms) << "\n";
+  const std::vector<ReadingPlace> largest = largestDeviations(plan, verification, outliers);
+  if (!largest.empty()) {
+    out << "\nlargest deviations from their feature's mean (posture k: k-th reading of the "
+           "feature, the k-th data row of its CSV file)\n";
+    for (const ReadingPlace& r : largest) {
+      char line[200];
+      std::snprintf(line, sizeof line,
+                    "  placement %d feature %d posture %d (measurement %d): %.4f mm from the "
+                    "mean, residual %.4f mm\n",
+                    r.placement, r.feature, r.posture, r.measurement, r.deviation, r.residual);
+      out << line;
+    }
+  }
+  return out.str();
+}
+
+}  // namespace artcal

@@ -1,0 +1,129 @@
+// artcal verify (models.md section 6): spreads and length errors against a direct computation,
+// and the predicted spread against Monte-Carlo runs of simulate -> calibrate -> verify on
+// held-out readings (fixed seeds).
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "artcal/artcal.hpp"
+#include "artcal/calibration/verification.hpp"
+#include "cli_runner.hpp"
+
+namespace artcal {
+namespace {
+
+Plan serialPlan() {
+  return loadPlan(std::string(ARTCAL_PLANS_DIR) + "/aacmm-6axis-3bars.json");
+}
+
+/// A true machine: nominal plus a few-standard-uncertainty perturbation of every calibrated
+/// parameter (fixed values, not drawn).
+Eigen::VectorXd perturbedTruth(const Plan& plan) {
+  Eigen::VectorXd p = plan.machine.nominal;
+  for (int k = 0; k < plan.machine.calibratedCount(); ++k) {
+    const int i = plan.machine.calibrated[static_cast<std::size_t>(k)];
+    const bool angle = plan.machine.calibratedInfo(k).quantity == Quantity::Angle;
+    p[i] += (k % 2 ? 1.0 : -1.0) * (angle ? degToRad(0.01) : 0.05);
+  }
+  return p;
+}
+
+TEST(Verification, SpreadAndLengthErrorsMatchADirectComputation) {
+  Plan plan = serialPlan();
+  SimulationOptions options;
+  options.noise_scale = 1.0;
+  NormalSource normal(7);
+  plan.placements = Simulator(plan, options).simulate(perturbedTruth(plan), normal).placements;
+  const Verification v = verifyMachine(plan, plan.machine.nominal, std::nullopt);
+  ASSERT_EQ(v.placements.size(), plan.placements.size());
+  double sum2 = 0.0;
+  int count = 0;
+  for (std::size_t j = 0; j < plan.placements.size(); ++j) {
+    Eigen::Vector3d mean[2] = {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
+    int n[2] = {0, 0};
+    std::vector<Eigen::Vector3d> x;
+    for (const Measurement& m : plan.placements[j].measurements) {
+      Eigen::VectorXd xi;
+      forwardOrThrow(*plan.machine.mechanism, plan.machine.nominal, m.joints, xi);
+      x.push_back(xi);
+      mean[m.feature] += xi;
+      ++n[m.feature];
+    }
+    for (int f : {0, 1}) mean[f] /= n[f];
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      sum2 += (x[i] - mean[plan.placements[j].measurements[i].feature]).squaredNorm();
+      ++count;
+    }
+    ASSERT_EQ(v.placements[j].length_errors.size(), 1u);
+    EXPECT_NEAR(v.placements[j].length_errors[0].error, (mean[1] - mean[0]).norm() - 300.0, 1e-9);
+    // The rigid fit with p fixed leaves residuals no larger than the spread explains.
+    EXPECT_GT(v.placements[j].residual_rms, 0.0);
+  }
+  EXPECT_NEAR(v.spread_rms, std::sqrt(sum2 / count), 1e-12);
+  EXPECT_GT(v.spread_rms, 0.01);  // the perturbed machine's readings do not meet at nominal
+  EXPECT_FALSE(v.predicted);
+}
+
+TEST(Verification, NoiseFreeReadingsOfTheTrueMachineHaveNoSpread) {
+  Plan plan = serialPlan();
+  SimulationOptions options;
+  options.noise_scale = 0.0;
+  options.artifact_errors = false;
+  NormalSource normal(3);
+  const Eigen::VectorXd truth = perturbedTruth(plan);
+  plan.placements = Simulator(plan, options).simulate(truth, normal).placements;
+  const Verification v = verifyMachine(plan, truth, std::nullopt);
+  EXPECT_LT(v.spread_rms, 1e-7);
+  EXPECT_LT(v.length_error_rms, 1e-7);
+  EXPECT_LT(v.residual_rms, 1e-7);
+}
+
+// The predicted spread is E|d_i|^2 of the header: over many calibrations on one simulated run
+// and verifications on another, the mean observed squared spread must match it.
+TEST(Verification, PredictedSpreadMatchesMonteCarlo) {
+  const Plan plan = serialPlan();
+  const Eigen::VectorXd truth = perturbedTruth(plan);
+  const Simulator simulator(plan);
+  Calibrator calibrator(plan);
+  Plan held_out = plan;
+  double observed2 = 0.0, predicted2 = 0.0, noise_only2 = 0.0;
+  constexpr int kTrials = 200;
+  for (int t = 0; t < kTrials; ++t) {
+    NormalSource normal(trialSeed(11, static_cast<std::uint64_t>(t)));
+    const SimulatedRun training = simulator.simulate(truth, normal);
+    const Calibration calibration = calibrator.run(training.placements);
+    ASSERT_TRUE(calibration.summary.converged());
+    ASSERT_TRUE(calibration.covariance);
+    ParameterUncertainty u;
+    u.indices = plan.machine.calibrated;
+    u.V = calibration.covariance->V;
+    held_out.placements = simulator.simulate(truth, normal).placements;
+    const Verification v = verifyMachine(held_out, calibration.parameters, u);
+    const Verification n = verifyMachine(held_out, calibration.parameters, std::nullopt);
+    observed2 += v.spread_rms * v.spread_rms / kTrials;
+    predicted2 += v.predicted_spread_rms * v.predicted_spread_rms / kTrials;
+    noise_only2 += n.predicted_spread_rms * n.predicted_spread_rms / kTrials;
+  }
+  // 200 trials of 18 readings: the mean of squares is known to a few percent.
+  EXPECT_NEAR(observed2 / predicted2, 1.0, 0.08);
+  EXPECT_GT(predicted2, noise_only2 * 1.05);  // the calibration's V_p is a visible part
+}
+
+TEST(Verification, CommandLineReadsTheCovarianceOfCalibrate) {
+  const std::string plan = std::string(ARTCAL_PLANS_DIR) + "/aacmm-6axis-3bars.json";
+  const std::string machine = ::testing::TempDir() + "/verify-machine.json";
+  ASSERT_EQ(test_support::runCli("calibrate " + plan + " --write-machine " + machine).status, 0);
+  const auto run = test_support::runCli("verify --json " + plan + " --machine " + machine);
+  ASSERT_EQ(run.status, 0);
+  const auto json = nlohmann::json::parse(run.out);
+  EXPECT_TRUE(json["verify"]["predicted_from_calibration"].get<bool>());
+  EXPECT_EQ(json["verify"]["placements"].size(), 3u);
+  EXPECT_EQ(json["verify"]["placements"][0]["features"][0]["postures"].get<int>(), 3);
+  const auto bad =
+      test_support::runCli("verify " + plan + " --machine " + plan, test_support::Stderr::Only);
+  EXPECT_EQ(bad.status, 2);
+}
+
+}  // namespace
+}  // namespace artcal

@@ -1,0 +1,63 @@
+// artcal verify (models.md section 6): a (calibrated) machine on readings it has not seen.
+
+#include <iostream>
+
+#include "artcal/calibration/verification.hpp"
+#include "artcal/io/machine_covariance.hpp"
+#include "artcal/io/plan_io.hpp"
+#include "artcal/io/truth_io.hpp"
+#include "artcal/report/verification_report.hpp"
+#include "commands.hpp"
+
+namespace artcal::cli {
+
+namespace {
+
+struct VerifyArguments {
+  std::string plan, machine;
+  int outliers = 5;
+  bool json = false;
+};
+
+int runVerify(const VerifyArguments& args) {
+  const Plan plan = loadPlanReporting(args.plan);
+  Eigen::VectorXd p = plan.machine.nominal;
+  std::optional<ParameterUncertainty> uncertainty;
+  if (!args.machine.empty()) {
+    const nlohmann::json document = readJsonFile(args.machine);
+    p = parseTruth(document, args.machine, plan);
+    uncertainty = parseMachineCovariance(document, args.machine, plan);
+  }
+  const Verification verification = verifyMachine(plan, p, uncertainty);
+  if (args.json) {
+    printJson(verificationToJson(plan, verification));
+  } else {
+    std::cout << verificationTable(plan, verification, args.outliers);
+  }
+  return 0;
+}
+
+void addVerifyCommand(CLI::App& app, Action& action) {
+  auto args = std::make_shared<VerifyArguments>();
+  CLI::App* cmd = app.add_subcommand(
+      "verify",
+      "tests a (calibrated) machine on the readings of PLAN with its parameters held fixed: per "
+      "placement the spread of each feature's postures, the artifact's length errors and the "
+      "residuals of the rigid fit, beside what the calibration's uncertainty predicts");
+  cmd->add_option("PLAN", args->plan, "plan file with the (held-out) readings")->required();
+  cmd->add_option("--machine", args->machine,
+                  "machine file as `calibrate --write-machine` writes it (with its covariance); "
+                  "default: the plan's own nominal machine");
+  cmd->add_option("--outliers", args->outliers,
+                  "how many of the readings farthest from their feature's mean to list")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  cmd->add_flag("--json", args->json, "print one JSON document instead of the tables");
+  cmd->callback([&action, args] { action = [args] { return runVerify(*args); }; });
+}
+
+const Registrar verify_registrar(65, addVerifyCommand);
+
+}  // namespace
+
+}  // namespace artcal::cli
