@@ -25,6 +25,7 @@ struct Noise {
 struct Measurement {
   int feature = 0;
   Eigen::VectorXd joints;
+  int stylus = 0;  ///< the probe's stylus (Cartesian CMMs, models.md section 4)
 };
 
 /// Where an artifact is put. 2-D: center and angle; 3-D: center, direction and roll.
