@@ -1,0 +1,55 @@
+// Speed on the real Franka Panda data (issue 11):
+//   BM_CalibratePanda8Positions: plans/panda-8positions.json, the MUKCa readings of the 8 clean
+//     tool positions (488 readings, 2 sockets each), 25 chain parameters, from the nominal URDF.
+//     Target: <= 50 ms.
+//   BM_EvaluatePanda10000Samples: V_p -> tip uncertainty over 10 000 workspace configurations
+//     of the Panda, the workspace's Jacobians prepared once (PlanEvaluator). Target: <= 5 ms.
+// Run: build/tests/bench/bench_panda
+
+#include <benchmark/benchmark.h>
+
+#include "artcal/artcal.hpp"
+#include "artcal/calibration/calibrator.hpp"
+
+namespace artcal {
+namespace {
+
+Plan pandaPlan() {
+  return loadPlan(std::string(ARTCAL_PLANS_DIR) + "/panda-8positions.json");
+}
+
+void BM_CalibratePanda8Positions(benchmark::State& state) {
+  const Plan plan = pandaPlan();
+  CalibrationOptions options;
+  options.details = false;  // estimate and convergence only, as confirm runs it
+  Calibrator calibrator(plan, options);
+  int readings = 0;
+  for (const Placement& p : plan.placements) readings += static_cast<int>(p.measurements.size());
+  for (auto _ : state) {
+    const Calibration calibration = calibrator.run(plan.placements);
+    if (!calibration.summary.converged()) state.SkipWithError("not converged");
+    benchmark::DoNotOptimize(calibration.parameters.data());
+  }
+  state.counters["readings"] = readings;
+  state.counters["parameters"] = plan.machine.calibratedCount();
+}
+BENCHMARK(BM_CalibratePanda8Positions)->Unit(benchmark::kMillisecond);
+
+void BM_EvaluatePanda10000Samples(benchmark::State& state) {
+  Plan plan = pandaPlan();
+  plan.workspace.kind = WorkspaceSpec::Kind::Samples;
+  plan.workspace.samples = 10000;
+  plan.workspace.seed = 1;
+  PlanEvaluator evaluator(plan);
+  const auto poses = fitPlacements(plan, plan.placements, plan.machine.nominal);
+  for (auto _ : state) {
+    const auto tip = evaluator.tip(plan.placements, &poses);
+    if (!tip) state.SkipWithError("not identifiable");
+    benchmark::DoNotOptimize(tip);
+  }
+  state.counters["configurations"] = evaluator.workspace().size();
+}
+BENCHMARK(BM_EvaluatePanda10000Samples)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+}  // namespace artcal
