@@ -42,7 +42,22 @@ std::vector<int> systematicOffsets(const Plan& plan) {
   return offsets;
 }
 
+/// Below this many degrees of freedom chi2/dof is itself too uncertain for u_posterior to be read
+/// as a figure: its square root has a relative standard error of about 1/sqrt(2 dof), 13 % at 30.
+constexpr int kFewDegreesOfFreedom = 30;
+
 }  // namespace
+
+json posteriorCaveat(int dof) {
+  if (dof <= 0) return "no redundancy (dof " + std::to_string(dof) + "): no u_posterior";
+  if (dof >= kFewDegreesOfFreedom) return nullptr;
+  char text[160];
+  std::snprintf(text, sizeof text,
+                "only %d degrees of freedom: sqrt(chi2/dof), and so u_posterior, is uncertain by "
+                "about %.0f %% (1/sqrt(2 dof)); prefer u",
+                dof, 100.0 / std::sqrt(2.0 * dof));
+  return text;
+}
 
 json calibrationToJson(const Plan& plan, const std::vector<Placement>& placements,
                        const Calibration& calibration) {
@@ -55,8 +70,12 @@ json calibrationToJson(const Plan& plan, const std::vector<Placement>& placement
   out["iterations"] = calibration.summary.iterations;
   out["chi2"] = finiteOrNull(calibration.chi2);
   out["dof"] = calibration.dof;
-  out["chi2_per_dof"] = finiteOrNull(calibration.chi2_per_dof);
-  out["birge_ratio"] = finiteOrNull(std::sqrt(calibration.chi2_per_dof));
+  // Without redundancy (dof <= 0) there is no chi2/dof at all: null, not 0.
+  const bool redundant = calibration.dof > 0;
+  out["chi2_per_dof"] = redundant ? finiteOrNull(calibration.chi2_per_dof) : json(nullptr);
+  out["birge_ratio"] =
+      redundant ? finiteOrNull(std::sqrt(calibration.chi2_per_dof)) : json(nullptr);
+  out["u_posterior_caveat"] = posteriorCaveat(calibration.dof);
   const Eigen::VectorXd posterior = calibration.posteriorU();
   json parameters = json::array();
   for (int k = 0; k < machine.calibratedCount(); ++k) {
@@ -132,8 +151,17 @@ std::string calibrationTable(const Plan& plan, const std::vector<Placement>& pla
       << (s.converged() ? "converged" : "NOT CONVERGED") << " (" << s.message << ") after "
       << s.iterations << " iterations\n";
   out << "chi2 = " << format("%.4g", calibration.chi2) << " on " << calibration.dof
-      << " degrees of freedom, chi2/dof = " << format("%.4f", calibration.chi2_per_dof)
-      << " (Birge ratio " << format("%.3f", std::sqrt(calibration.chi2_per_dof)) << ")\n\n";
+      << " degrees of freedom, chi2/dof = ";
+  if (calibration.dof > 0) {
+    out << format("%.4f", calibration.chi2_per_dof) << " (Birge ratio "
+        << format("%.3f", std::sqrt(calibration.chi2_per_dof)) << ")\n";
+  } else {
+    out << "- (no redundancy)\n";
+  }
+  if (const json caveat = posteriorCaveat(calibration.dof); caveat.is_string()) {
+    out << "note: " << caveat.get<std::string>() << "\n";
+  }
+  out << "\n";
   out << "parameter      nominal        estimate             u    u_posterior  unit\n";
   const Eigen::VectorXd posterior = calibration.posteriorU();
   for (int k = 0; k < machine.calibratedCount(); ++k) {

@@ -177,9 +177,9 @@ void drawArtifacts(svg::Plot& plot, const Plan& plan, const std::vector<Eigen::M
     for (int i = 0; i < f.cols(); ++i) {
       plot.marker(project(f.col(i), view), svg::Shape::Circle, 7.0 * density,
                   filled("#000000", "#ffffff", density), "feature", {},
-                  format("placement %zu, feature %d", j + 1, i));
+                  format("placement %zu, feature %d", j, i));
     }
-    if (numbered) plot.label(project(f.col(0), view), format("%zu", j + 1));
+    if (numbered) plot.label(project(f.col(0), view), format("%zu", j));
   }
 }
 
@@ -377,9 +377,9 @@ ReportFigure residualFigure(const json& calibration, double threshold) {
         const double score = entry.at("score").get<double>();
         plot.marker({reading, worst}, svg::Shape::Diamond, 14.0, filled("#000000", "none", 2.0),
                     "flagged outlier", {{"data-field", field}, {"data-value", exact(score)}},
-                    format("placement %zu, reading %zu: score %.2f", j + 1, m + 1, score));
+                    format("placement %zu, reading %zu: score %.2f", j, m, score));
         if (calibration.at("flagged").get<int>() <= kLabelledOutliers) {
-          plot.label({reading, worst}, format("P%zu R%zu", j + 1, m + 1));
+          plot.label({reading, worst}, format("P%zu R%zu", j, m));
         }
       }
     }
@@ -668,7 +668,7 @@ void writeFlagged(std::ostream& out, const json& cal) {
   for (std::size_t k = 0; k < std::min(flags.size(), kTabledOutliers); ++k) {
     const Flag& f = flags[k];
     const std::string base = format("/residuals/%zu/measurements/%zu/", f.placement, f.measurement);
-    out << "<tr><td>placement " << f.placement + 1 << ", reading " << f.measurement + 1 << "</td>"
+    out << "<tr><td>placement " << f.placement << ", reading " << f.measurement << "</td>"
         << numberCell(cal, base + "feature", 1, "%.0f", "/calibration")
         << numberCell(cal, base + "score", 1, "%.2f", "/calibration") << "</tr>\n";
   }
@@ -723,10 +723,12 @@ std::vector<ReportFigure> reportFigures(const ReportInput& in) {
   const bool spatial = plan.machine.dimension() == 3;
   const std::string layout_caption =
       isPlanar2R(plan.machine)
-          ? "Artifact placements (numbered), each feature (circle) and each reading's probe "
-            "position (cross) with the arm's links faint, inside the reach annulus."
-          : "Artifact placements (numbered), each feature (circle) and each reading's probe "
-            "position (cross); grey: where the workspace samples lie.";
+          ? "Artifact placements (numbered from 0, as in the plan file and every table), each "
+            "feature (circle) and each reading's probe position (cross) with the arm's links "
+            "faint, inside the reach annulus."
+          : "Artifact placements (numbered from 0, as in the plan file and every table), each "
+            "feature (circle) and each reading's probe position (cross); grey: where the "
+            "workspace samples lie.";
   figures.push_back({"layout", layout_caption, layoutPlot(in, features, View::Plan).render()});
   if (spatial) {
     figures.push_back(

@@ -13,6 +13,11 @@
 
 namespace artcal {
 
+/// `u_posterior_caveat`: null with 30 or more degrees of freedom; otherwise why u_posterior (u
+/// scaled by sqrt(chi2/dof)) is not to be read as a figure: no redundancy at all (dof <= 0), or so
+/// few degrees of freedom that sqrt(chi2/dof) is uncertain by 1/sqrt(2 dof) (13 % at 30).
+nlohmann::json posteriorCaveat(int dof);
+
 nlohmann::json calibrationToJson(const Plan& plan, const std::vector<Placement>& placements,
                                  const Calibration& calibration);
 std::string calibrationTable(const Plan& plan, const std::vector<Placement>& placements,
