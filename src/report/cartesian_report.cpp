@@ -1,0 +1,190 @@
+#include "artcal/report/cartesian_report.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <map>
+#include <sstream>
+
+namespace artcal {
+
+namespace {
+
+constexpr double kUmPerMm = 1000.0;
+constexpr double kUmPerMPerRad = 1e6;
+
+// Table value: um for translations, um/m for rotations (internal mm, rad).
+double tableValue(bool rotation, double internal) {
+  return internal * (rotation ? kUmPerMPerRad : kUmPerMm);
+}
+// JSON value: mm for translations, um/m for rotations (the parameters' file units).
+double fileValue(bool rotation, double internal) {
+  return rotation ? internal * kUmPerMPerRad : internal;
+}
+
+std::string format(const char* spec, double value) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, spec, value);
+  return buffer;
+}
+
+std::string axisName(const Eigen::Vector3d& axis) {
+  for (int a = 0; a < 3; ++a) {
+    if (std::abs(std::abs(axis[a]) - 1.0) < 1e-9)
+      return std::string(axis[a] > 0 ? "+" : "-") + "xyz"[a];
+  }
+  return "[" + format("%.3f", axis[0]) + ", " + format("%.3f", axis[1]) + ", " +
+         format("%.3f", axis[2]) + "]";
+}
+
+// The reduced information of every model parameter (the frame-rotation test needs them all).
+Eigen::MatrixXd fullInformation(const Plan& plan) {
+  Plan all = plan;
+  all.machine.calibrated.clear();
+  for (int i = 0; i < plan.machine.mechanism->parameterCount(); ++i) {
+    all.machine.calibrated.push_back(i);
+  }
+  return parameterInformation(all, all.placements, all.machine.nominal);
+}
+
+// Model parameters not calibrated: the dropped ones of "identifiable", or those the plan fixed.
+std::vector<int> notCalibrated(const Plan& plan) {
+  if (plan.calibrate_resolution) return plan.calibrate_resolution->dropped;
+  std::vector<int> out;
+  const auto& calibrated = plan.machine.calibrated;
+  for (int i = 0; i < plan.machine.mechanism->parameterCount(); ++i) {
+    if (std::find(calibrated.begin(), calibrated.end(), i) == calibrated.end()) out.push_back(i);
+  }
+  return out;
+}
+
+}  // namespace
+
+const Cartesian* cartesianOf(const Plan& plan) {
+  return dynamic_cast<const Cartesian*>(plan.machine.mechanism.get());
+}
+
+CartesianAnswers cartesianAnswers(const Plan& plan, const Evaluation* evaluation,
+                                  int profile_steps) {
+  CartesianAnswers answers;
+  const Cartesian* cmm = cartesianOf(plan);
+  if (!cmm) return answers;
+  answers.absorbed = frameRotationsAbsorbed(*cmm, fullInformation(plan));
+  std::vector<int> dropped = notCalibrated(plan);
+  // Each absorbed rotation holds one of the parameters it moves at its nominal value: the
+  // squareness the frame defines. The rest of the dropped ones the plan cannot separate.
+  for (const AbsorbedRotation& rotation : answers.absorbed) {
+    std::string held;
+    for (auto it = dropped.begin(); it != dropped.end(); ++it) {
+      const std::string& name = cmm->parameters()[static_cast<std::size_t>(*it)].name;
+      if (std::find(rotation.involves.begin(), rotation.involves.end(), name) !=
+          rotation.involves.end()) {
+        held = name;
+        dropped.erase(it);
+        break;
+      }
+    }
+    answers.held_by_frame.push_back(held);
+  }
+  std::map<std::pair<int, int>, std::vector<int>> functions;  // (axis, error) -> degrees
+  const int per_axis = cmm->degree() * kAxisErrorCount;
+  for (const int i : dropped) {
+    const int axis = i / per_axis;
+    const int degree = (i % per_axis) / kAxisErrorCount + 1;
+    functions[{axis, i % kAxisErrorCount}].push_back(degree);
+  }
+  for (const auto& [key, degrees] : functions) {
+    const CartesianAxis& axis = cmm->axes()[static_cast<std::size_t>(key.first)];
+    const auto error = static_cast<AxisError>(key.second);
+    answers.unseparated.push_back(
+        {axis.name + "." + axisErrorName(error), axisErrorMeaning(axis.direction, error), degrees});
+  }
+  if (evaluation && evaluation->covariance) {
+    answers.profiles = errorFunctionProfiles(*cmm, plan.machine, evaluation->covariance->V,
+                                             plan.machine.nominal, profile_steps);
+  }
+  return answers;
+}
+
+nlohmann::json cartesianAnswersToJson(const Plan& plan, const CartesianAnswers& answers) {
+  nlohmann::json out = nlohmann::json::object();
+  if (!cartesianOf(plan)) return out;
+  nlohmann::json absorbed = nlohmann::json::array();
+  for (std::size_t r = 0; r < answers.absorbed.size(); ++r) {
+    const AbsorbedRotation& rotation = answers.absorbed[r];
+    absorbed.push_back({{"axis", {rotation.axis[0], rotation.axis[1], rotation.axis[2]}},
+                        {"involves", rotation.involves},
+                        {"held", answers.held_by_frame[r]}});
+  }
+  out["frame_rotations_absorbed"] = absorbed;
+  nlohmann::json unseparated = nlohmann::json::array();
+  for (const auto& f : answers.unseparated) {
+    unseparated.push_back(
+        {{"function", f.function}, {"meaning", f.meaning}, {"degrees", f.degrees}});
+  }
+  out["unseparated_functions"] = unseparated;
+  if (!answers.profiles.empty()) {
+    nlohmann::json functions = nlohmann::json::array();
+    for (const ErrorFunctionProfile& f : answers.profiles) {
+      nlohmann::json profile = nlohmann::json::array();
+      for (std::size_t i = 0; i < f.position.size(); ++i) {
+        profile.push_back({{"position", f.position[i]},
+                           {"value", fileValue(f.rotation, f.value[i])},
+                           {"u", fileValue(f.rotation, f.u[i])}});
+      }
+      functions.push_back({{"name", f.name},
+                           {"meaning", f.meaning},
+                           {"unit", f.rotation ? "um/m" : "mm"},
+                           {"calibrated_degrees", f.calibrated_degrees},
+                           {"fixed_degrees", f.fixed_degrees},
+                           {"profile", profile}});
+    }
+    out["error_functions"] = functions;
+  }
+  return out;
+}
+
+std::string cartesianAnswersTable(const Plan& plan, const CartesianAnswers& answers) {
+  const Cartesian* cmm = cartesianOf(plan);
+  if (!cmm) return {};
+  std::ostringstream out;
+  out << "\nFrame rotations the placements absorb (any artifact calibration; not a plan defect)\n";
+  if (answers.absorbed.empty()) out << "  none: the styli's offsets fix the frame's rotations\n";
+  for (std::size_t r = 0; r < answers.absorbed.size(); ++r) {
+    const AbsorbedRotation& rotation = answers.absorbed[r];
+    out << "  about " << axisName(rotation.axis) << ": squareness terms";
+    for (const std::string& name : rotation.involves) out << ' ' << name;
+    out << " move together";
+    if (!answers.held_by_frame[r].empty()) out << "; " << answers.held_by_frame[r] << " held at 0";
+    out << '\n';
+  }
+  out << "Error functions this plan leaves unseparated\n";
+  if (answers.unseparated.empty()) out << "  none\n";
+  for (const auto& f : answers.unseparated) {
+    out << "  " << f.function << " (" << f.meaning << "), degree";
+    if (f.degrees.size() > 1) out << 's';
+    for (std::size_t i = 0; i < f.degrees.size(); ++i) out << (i ? ", " : " ") << f.degrees[i];
+    out << '\n';
+  }
+  if (answers.profiles.empty()) return out.str();
+  out << "\nError functions: predicted u along each axis (um; rotations um/m)\n"
+      << "  function  meaning                 degrees   at start    at mid    at end   largest\n";
+  for (const ErrorFunctionProfile& f : answers.profiles) {
+    std::string degrees;
+    for (int n : f.calibrated_degrees) {
+      if (!degrees.empty()) degrees += ',';
+      degrees += std::to_string(n);
+    }
+    if (degrees.empty()) degrees = "-";
+    const std::size_t mid = f.u.size() / 2;
+    const double largest = *std::max_element(f.u.begin(), f.u.end());
+    char line[160];
+    std::snprintf(line, sizeof line, "  %-8s  %-22s  %-7s %9.3f %9.3f %9.3f %9.3f\n",
+                  f.name.c_str(), f.meaning.c_str(), degrees.c_str(),
+                  tableValue(f.rotation, f.u.front()), tableValue(f.rotation, f.u[mid]),
+                  tableValue(f.rotation, f.u.back()), tableValue(f.rotation, largest));
+    out << line;
+  }
+  return out.str();
+}
+
+}  // namespace artcal
