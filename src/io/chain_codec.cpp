@@ -1,0 +1,125 @@
+#include "artcal/io/chain_codec.hpp"
+
+#include <memory>
+#include <set>
+
+#include "artcal/model/chain.hpp"
+
+namespace artcal {
+
+namespace {
+
+ChainJointType readJointType(const Node& joint) {
+  const Node type = joint.at("type");
+  const std::string t = type.string();
+  if (t == "revolute") return ChainJointType::Revolute;
+  if (t == "prismatic") return ChainJointType::Prismatic;
+  if (t == "fixed") return ChainJointType::Fixed;
+  type.fail("unknown joint type \"" + t + "\" (expected revolute, prismatic or fixed)");
+}
+
+Eigen::Vector3d readAxis(const Node& joint) {
+  const Node axis = joint.at("axis");
+  const Eigen::Vector3d v = axis.numbers(3);
+  if (!(v.norm() > 1e-12)) axis.fail("the axis must not be zero");
+  return v.normalized();
+}
+
+// Appends joint's x y z (mm), roll pitch yaw (rad) and, when movable, offset to `values`.
+void readOriginAndOffset(const Node& joint, ChainJointType type, std::vector<double>& values,
+                         std::vector<std::string>& warnings) {
+  Eigen::Vector3d xyz = Eigen::Vector3d::Zero(), rpy = Eigen::Vector3d::Zero();
+  if (const auto origin = joint.find("origin")) {
+    origin->object();
+    origin->warnUnknown({"xyz", "rpy"}, warnings);
+    if (origin->has("xyz")) xyz = origin->at("xyz").numbers(3);
+    if (origin->has("rpy")) rpy = origin->at("rpy").numbers(3);
+  }
+  values.insert(values.end(),
+                {xyz[0], xyz[1], xyz[2], degToRad(rpy[0]), degToRad(rpy[1]), degToRad(rpy[2])});
+  if (!Chain::isMovable(type)) {
+    if (joint.has("offset")) joint.at("offset").fail("a fixed joint has no offset");
+    return;
+  }
+  const double offset = joint.find("offset") ? joint.at("offset").number() : 0.0;
+  values.push_back(type == ChainJointType::Revolute ? degToRad(offset) : offset);
+}
+
+MachineBlock readChain(const Node& machine, std::vector<std::string>& warnings) {
+  machine.warnUnknown({"model", "joints", "calibrate", "joint_limits"}, warnings);
+  const Node joints = machine.at("joints");
+  const std::size_t n = joints.arraySize(1, Chain::kMaxJoints);
+  std::vector<ChainJoint> chain;
+  std::vector<double> values;
+  std::set<std::string> names;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Node joint = joints[i];
+    joint.object();
+    joint.warnUnknown({"name", "type", "origin", "axis", "offset"}, warnings);
+    const Node name = joint.at("name");
+    ChainJoint entry{name.string(), readJointType(joint), Eigen::Vector3d::UnitZ()};
+    if (entry.name.empty()) name.fail("a joint name must not be empty");
+    if (!names.insert(entry.name).second) name.fail("joint name \"" + entry.name + "\" used twice");
+    if (Chain::isMovable(entry.type)) entry.axis = readAxis(joint);
+    readOriginAndOffset(joint, entry.type, values, warnings);
+    chain.push_back(std::move(entry));
+  }
+  MachineBlock block;
+  block.nominal = Eigen::Map<Eigen::VectorXd>(values.data(), static_cast<int>(values.size()));
+  block.mechanism = std::make_shared<Chain>(std::move(chain));
+  return block;
+}
+
+const char* typeName(ChainJointType type) {
+  switch (type) {
+    case ChainJointType::Revolute:
+      return "revolute";
+    case ChainJointType::Prismatic:
+      return "prismatic";
+    case ChainJointType::Fixed:
+      break;
+  }
+  return "fixed";
+}
+
+void writeChain(const Mechanism& mechanism, const Eigen::VectorXd& parameters,
+                nlohmann::json& out) {
+  const auto& chain = static_cast<const Chain&>(mechanism);  // made by readChain
+  auto fileValue = [&](int i) {
+    return toFileUnit(chain.parameters()[static_cast<std::size_t>(i)].quantity, parameters[i]);
+  };
+  nlohmann::json joints = nlohmann::json::array();
+  for (int i = 0; i < static_cast<int>(chain.joints().size()); ++i) {
+    const ChainJoint& joint = chain.joints()[static_cast<std::size_t>(i)];
+    const int k = chain.parameterOffset(i);
+    nlohmann::json entry = {{"name", joint.name},
+                            {"type", typeName(joint.type)},
+                            {"origin",
+                             {{"xyz", {fileValue(k), fileValue(k + 1), fileValue(k + 2)}},
+                              {"rpy", {fileValue(k + 3), fileValue(k + 4), fileValue(k + 5)}}}}};
+    if (Chain::isMovable(joint.type)) {
+      entry["axis"] = {joint.axis[0], joint.axis[1], joint.axis[2]};
+      entry["offset"] = fileValue(k + 6);
+    }
+    joints.push_back(entry);
+  }
+  out["joints"] = joints;
+}
+
+}  // namespace
+
+ModelCodec chainCodec() {
+  return {"chain", readChain, writeChain};
+}
+
+MachineBlock readChainMachine(const nlohmann::json& document, const std::string& source) {
+  const Node root(document, "", source);
+  root.object();
+  const Node machine = root.has("model") ? root : root.at("machine");
+  const Node model = machine.at("model");
+  if (model.string() != "chain") model.fail("expected the model \"chain\" (a URDF chain)");
+  std::vector<std::string> warnings;  // extra fields of a plan's machine block do not matter here
+  return chainCodec().read(machine, warnings);
+}
+
+}  // namespace artcal

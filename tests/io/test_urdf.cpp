@@ -1,0 +1,260 @@
+// URDF import and export of the chain model (models.md section 1): the imported Panda equals the
+// reference plan's chain; an exported URDF read back has the calibrated machine's forward
+// kinematics to 1e-9 mm (offsets folded, also into joints off the chain) and keeps everything
+// else of the input; bad input answers with one line and exit status 2.
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+#include "artcal/io/chain_codec.hpp"
+#include "artcal/io/plan_io.hpp"
+#include "artcal/io/urdf.hpp"
+#include "cli_runner.hpp"
+
+namespace artcal {
+namespace {
+
+using test_support::runCli;
+using test_support::Stderr;
+
+const std::string kData = ARTCAL_TEST_DATA;
+const std::string kPandaUrdf = kData + "/mukca/mukca/urdf/panda.urdf";
+const std::string kSmallUrdf = kData + "/urdf/arm3-slide.urdf";
+
+MachineBlock readMachine(const nlohmann::json& block) {
+  return readChainMachine(block, "machine");
+}
+
+const Chain& chainOf(const MachineBlock& block) {
+  return static_cast<const Chain&>(*block.mechanism);
+}
+
+Eigen::VectorXd randomVector(int size, std::uint64_t seed, double range) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> uniform(-range, range);
+  Eigen::VectorXd v(size);
+  for (int i = 0; i < size; ++i) v[i] = uniform(rng);
+  return v;
+}
+
+Eigen::Vector3d tip(const Mechanism& model, const Eigen::VectorXd& p, const Eigen::VectorXd& q) {
+  Eigen::VectorXd x;
+  forwardOrThrow(model, p, q, x);
+  return x;
+}
+
+// Largest distance between the two models' tips over seeded configurations.
+double largestTipDifference(const Mechanism& a, const Eigen::VectorXd& pa, const Mechanism& b,
+                            const Eigen::VectorXd& pb, std::uint64_t seed) {
+  EXPECT_EQ(a.jointCount(), b.jointCount());
+  double worst = 0.0;
+  for (int c = 0; c < 20; ++c) {
+    const Eigen::VectorXd q = randomVector(a.jointCount(), seed + c, 3.0);
+    worst = std::max(worst, (tip(a, pa, q) - tip(b, pb, q)).norm());
+  }
+  return worst;
+}
+
+std::string temporaryPath(const std::string& name) {
+  return (std::filesystem::temp_directory_path() /
+          (name + "-" + std::to_string(::getpid()) + ".urdf"))
+      .string();
+}
+
+void writeText(const std::string& path, const std::string& text) {
+  std::ofstream(path, std::ios::binary) << text;
+}
+
+TEST(UrdfImport, PandaEqualsTheReferencePlansChain) {
+  const nlohmann::json machine = importUrdf(kPandaUrdf, "panda_link0", "ball_link");
+  const Plan reference = loadPlan(kData + "/ref-chain-panda-2placements.json");
+  const nlohmann::json document = readJsonFile(kData + "/ref-chain-panda-2placements.json");
+  const nlohmann::json& expected = document["machine"];
+  ASSERT_EQ(machine["joints"].size(), expected["joints"].size());
+  for (std::size_t i = 0; i < expected["joints"].size(); ++i) {
+    const auto& got = machine["joints"][i];
+    const auto& want = expected["joints"][i];
+    EXPECT_EQ(got["name"], want["name"]);
+    EXPECT_EQ(got["type"], want["type"]);
+    for (int c = 0; c < 3; ++c) {
+      // The reference rounds the ball's offset to 1e-9 mm.
+      EXPECT_NEAR(got["origin"]["xyz"][c].get<double>(), want["origin"]["xyz"][c].get<double>(),
+                  1e-9);
+      EXPECT_NEAR(got["origin"]["rpy"][c].get<double>(), want["origin"]["rpy"][c].get<double>(),
+                  1e-12);
+    }
+  }
+  // Metres become mm exactly as the decimal says.
+  EXPECT_EQ(machine["joints"][0]["origin"]["xyz"][2].get<double>(), 333.0);
+  EXPECT_EQ(machine["joints"][4]["origin"]["xyz"][0].get<double>(), -82.5);
+  ASSERT_EQ(machine["joint_limits"].size(), 7u);
+  for (std::size_t j = 0; j < 7; ++j) {
+    for (std::size_t e = 0; e < 2; ++e) {
+      EXPECT_NEAR(machine["joint_limits"][j][e].get<double>(),
+                  expected["joint_limits"][j][e].get<double>(), 1e-6);
+    }
+  }
+  EXPECT_EQ(machine["calibrate"], "identifiable");
+  const MachineBlock block = readMachine(machine);
+  EXPECT_LT(largestTipDifference(chainOf(block), block.nominal, *reference.machine.mechanism,
+                                 reference.machine.nominal, 1),
+            2e-9);
+}
+
+TEST(UrdfImport, ContinuousAndPrismaticJointsAndLimits) {
+  const nlohmann::json machine = importUrdf(kSmallUrdf, "world", "probe");
+  const auto& joints = machine["joints"];
+  ASSERT_EQ(joints.size(), 6u);
+  EXPECT_EQ(joints[0]["name"], "mount");  // no <origin>: zeros
+  EXPECT_EQ(joints[0]["origin"]["xyz"], nlohmann::json::array({0.0, 0.0, 0.0}));
+  EXPECT_EQ(joints[3]["type"], "prismatic");
+  EXPECT_EQ(joints[4]["type"], "revolute");  // continuous
+  EXPECT_EQ(joints[1]["origin"]["xyz"][2].get<double>(), 300.0);
+  const auto& limits = machine["joint_limits"];
+  ASSERT_EQ(limits.size(), 4u);
+  EXPECT_DOUBLE_EQ(limits[2][1].get<double>(), 250.0);  // prismatic, m -> mm
+  EXPECT_DOUBLE_EQ(limits[3][0].get<double>(), -180.0);
+  EXPECT_DOUBLE_EQ(limits[0][1].get<double>(), radToDeg(3.0));
+}
+
+// A calibrated machine: every origin value and offset moved by up to `size` (mm or rad).
+Eigen::VectorXd calibrated(const MachineBlock& block, double size, std::uint64_t seed) {
+  return block.nominal + randomVector(static_cast<int>(block.nominal.size()), seed, size);
+}
+
+// Exports `p` into `urdf`, imports the result again and compares forward kinematics.
+void expectRoundTrip(const std::string& urdf, const std::string& base, const std::string& tip_link,
+                     double size, std::uint64_t seed) {
+  const MachineBlock block = readMachine(importUrdf(urdf, base, tip_link));
+  const Eigen::VectorXd p = calibrated(block, size, seed);
+  const std::string out = temporaryPath("roundtrip");
+  writeText(out, exportUrdf(chainOf(block), p, urdf, "machine"));
+  const MachineBlock again = readMachine(importUrdf(out, base, tip_link));
+  std::filesystem::remove(out);
+  EXPECT_LT(largestTipDifference(chainOf(block), p, chainOf(again), again.nominal, seed), 1e-9);
+}
+
+TEST(UrdfExport, PandaRoundTripKeepsTheCalibratedForwardKinematics) {
+  expectRoundTrip(kPandaUrdf, "panda_link0", "ball_link", 0.02, 10);
+  expectRoundTrip(kPandaUrdf, "panda_link0", "ball_link", 0.5, 20);  // large tilts too
+}
+
+TEST(UrdfExport, SmallArmRoundTripWithPrismaticAndGimbalLockOrigins) {
+  expectRoundTrip(kSmallUrdf, "world", "probe", 0.05, 30);
+  expectRoundTrip(kSmallUrdf, "world", "probe", 1.0, 40);
+}
+
+// The wrist's offset is folded into the origin of every joint hanging from its link, the
+// finger's too, which is off the calibrated chain: the finger moves as on the calibrated robot.
+TEST(UrdfExport, OffsetIsFoldedIntoJointsOffTheChain) {
+  const MachineBlock block = readMachine(importUrdf(kSmallUrdf, "world", "probe"));
+  const Eigen::VectorXd p = calibrated(block, 0.05, 50);
+  const std::string out = temporaryPath("finger");
+  writeText(out, exportUrdf(chainOf(block), p, kSmallUrdf, "machine"));
+  // The original URDF's chain to the finger with the calibrated values where the chains share
+  // joints (all but the last), against the exported file's chain to the finger.
+  const MachineBlock finger = readMachine(importUrdf(kSmallUrdf, "world", "finger"));
+  Eigen::VectorXd p_finger = finger.nominal;
+  const int shared = chainOf(block).parameterOffset(5);  // mount .. j4, before "tool"
+  p_finger.head(shared) = p.head(shared);
+  const MachineBlock exported = readMachine(importUrdf(out, "world", "finger"));
+  std::filesystem::remove(out);
+  ASSERT_EQ(chainOf(finger).jointCount(), 5);
+  EXPECT_LT(
+      largestTipDifference(chainOf(finger), p_finger, chainOf(exported), exported.nominal, 60),
+      1e-9);
+}
+
+TEST(UrdfExport, EverythingButTheChainsOriginsIsKept) {
+  const MachineBlock block = readMachine(importUrdf(kSmallUrdf, "world", "probe"));
+  const std::string text =
+      exportUrdf(chainOf(block), calibrated(block, 0.01, 70), kSmallUrdf, "machine");
+  for (const char* kept :
+       {"A small test robot", "tilted shoulder: the origin carries roll and pitch",
+        "package://arm3/meshes/base.stl", "scale=\"0.001 0.001 0.001\"",
+        "<origin xyz=\"0 0 0.05\" rpy=\"0 0 0\"/>", "transmission_interface/SimpleTransmission",
+        "EffortJointInterface", "Gazebo/Grey", "rgba=\"0.5 0.5 0.5 1\"",
+        "<limit lower=\"0.0\" upper=\"0.25\" effort=\"10\" velocity=\"0.1\"/>",
+        "<axis xyz=\"0.6 0 0.8\"/>"}) {
+    EXPECT_NE(text.find(kept), std::string::npos) << kept;
+  }
+  // The joint without an <origin> got one (its values changed).
+  const std::size_t mount = text.find("<joint name=\"mount\"");
+  ASSERT_NE(mount, std::string::npos);
+  EXPECT_LT(text.find("<origin", mount), text.find("</joint>", mount));
+}
+
+TEST(UrdfExport, NominalMachineReproducesTheInputOrigins) {
+  const MachineBlock block = readMachine(importUrdf(kPandaUrdf, "panda_link0", "ball_link"));
+  const std::string text = exportUrdf(chainOf(block), block.nominal, kPandaUrdf, "machine");
+  EXPECT_NE(text.find("<origin rpy=\"0 0 0\" xyz=\"0 0 0.333\"/>"), std::string::npos);
+  EXPECT_NE(text.find("xyz=\"0 -0.316 0\""), std::string::npos);
+}
+
+// ---- the command line
+
+TEST(UrdfCli, ImportWritesAMachineTheExportReadsBack) {
+  const std::string machine = temporaryPath("machine") + ".json";
+  const std::string out = temporaryPath("cli-export");
+  ASSERT_EQ(
+      runCli("import-urdf " + kPandaUrdf + " --base panda_link0 --tip ball_link -o " + machine)
+          .status,
+      0);
+  const auto run = runCli(
+      "export-urdf --machine " + machine + " --urdf " + kPandaUrdf + " -o " + out, Stderr::Merge);
+  EXPECT_EQ(run.status, 0) << run.out;
+  const MachineBlock a = readMachine(readJsonFile(machine));
+  const MachineBlock b = readMachine(importUrdf(out, "panda_link0", "ball_link"));
+  EXPECT_LT(largestTipDifference(chainOf(a), a.nominal, chainOf(b), b.nominal, 80), 1e-9);
+  std::filesystem::remove(machine);
+  std::filesystem::remove(out);
+}
+
+// One line "error: FILE: ..." and exit status 2.
+void expectOneLineError(const std::string& arguments, const std::string& file,
+                        const std::string& what) {
+  const auto run = runCli(arguments, Stderr::Only);
+  EXPECT_EQ(run.status, 2) << arguments;
+  EXPECT_EQ(run.out.rfind("error: " + file + ": ", 0), 0u) << run.out;
+  EXPECT_NE(run.out.find(what), std::string::npos) << run.out;
+  EXPECT_EQ(std::count(run.out.begin(), run.out.end(), '\n'), 1) << run.out;
+}
+
+TEST(UrdfCli, BadUrdfIsOneLineAndExitStatus2) {
+  const std::string broken = temporaryPath("broken");
+  writeText(broken, "<robot name=\"x\">\n  <link name=\"a\">\n</robot>\n");
+  expectOneLineError("import-urdf " + broken + " --base a --tip a", broken, "line");
+  writeText(broken,
+            "<robot name=\"x\"><link name=\"a\"/><joint name=\"j\" type=\"revolute\">"
+            "<parent link=\"a\"/><child link=\"b\"/></joint></robot>\n");
+  expectOneLineError("import-urdf " + broken + " --base a --tip b", broken, "not a valid URDF");
+  writeText(broken, "<model/>\n");
+  expectOneLineError("import-urdf " + broken + " --base a --tip b", broken, "<robot>");
+  std::filesystem::remove(broken);
+  expectOneLineError("import-urdf " + kSmallUrdf + " --base world --tip nowhere", kSmallUrdf,
+                     "no link named \"nowhere\"");
+  expectOneLineError("import-urdf " + kSmallUrdf + " --base probe --tip world", kSmallUrdf,
+                     "is not above");
+  expectOneLineError("import-urdf /nonexistent.urdf --base a --tip b", "/nonexistent.urdf",
+                     "cannot read");
+}
+
+TEST(UrdfCli, MachineThatDoesNotFitTheUrdfIsOneLineAndExitStatus2) {
+  const std::string machine = temporaryPath("small-machine") + ".json";
+  ASSERT_EQ(runCli("import-urdf " + kSmallUrdf + " --base world --tip probe -o " + machine).status,
+            0);
+  const std::string out = temporaryPath("never-written");
+  expectOneLineError("export-urdf --machine " + machine + " --urdf " + kPandaUrdf + " -o " + out,
+                     machine, "/joints/0: joint \"mount\" is not in");
+  EXPECT_FALSE(std::filesystem::exists(out));
+  std::filesystem::remove(machine);
+  expectOneLineError(
+      "export-urdf --machine " + kData + "/ref-2r-5bars.json --urdf " + kPandaUrdf + " -o " + out,
+      kData + "/ref-2r-5bars.json", "/machine/model");
+}
+
+}  // namespace
+}  // namespace artcal
