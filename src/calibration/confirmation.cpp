@@ -68,7 +68,13 @@ TrialResult runTrial(const Plan& plan, const Simulator& simulator, Calibrator& c
   const Eigen::VectorXd p_true =
       machine.withCalibrated(machine.nominal, machine.calibratedValues(machine.nominal) + shift);
   TrialResult result;
-  const SimulatedRun run = simulator.simulate(p_true, normal);
+  SimulatedRun run;
+  try {
+    run = simulator.simulate(p_true, normal);
+  } catch (const RunError& e) {
+    throw e.within("trial " + std::to_string(trial) + " (seed " + std::to_string(options.seed) +
+                   ")");
+  }
   const Calibration calibration = calibrator.run(run.placements);
   result.converged = calibration.summary.converged();
   result.error = calibration.estimate(machine) - machine.calibratedValues(p_true);

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 
@@ -48,6 +49,47 @@ bool SimulationOptions::isValid(std::string* error) const {
   return true;
 }
 
+namespace {
+
+// Why inverse kinematics found no reading within the joint limits: IK again with the limits
+// opened (by a full turn and the range on each side); the joint whose solution lies farthest
+// outside its limits is named, in file units. No solution even then: out of reach.
+std::string whyUnreachable(const Machine& machine, const Eigen::VectorXd& p,
+                           const Eigen::VectorXd& target, const Eigen::VectorXd& q0,
+                           const IkOptions& options) {
+  Machine open = machine;
+  for (auto& [lo, hi] : open.joint_limits) {
+    const double widen = (hi - lo) + 2 * std::numbers::pi;
+    lo -= widen;
+    hi += widen;
+  }
+  const auto q = solveInverseKinematics(open, p, target, q0, options);
+  if (!q) return "out of its reach (inverse kinematics found no joint values at all)";
+  int worst = -1;
+  double worst_excess = 0.0;
+  for (int i = 0; i < q->size(); ++i) {
+    const auto [lo, hi] = machine.joint_limits[static_cast<std::size_t>(i)];
+    const double excess = std::max(lo - (*q)[i], (*q)[i] - hi);
+    if (excess > worst_excess) {
+      worst = i;
+      worst_excess = excess;
+    }
+  }
+  if (worst < 0) return "inverse kinematics did not converge from the planned reading";
+  const Quantity unit = jointQuantity(machine.mechanism->jointKind(worst));
+  const auto [lo, hi] = machine.joint_limits[static_cast<std::size_t>(worst)];
+  auto file = [&](double v) {
+    std::ostringstream out;
+    out << toFileUnit(unit, v);
+    return out.str();
+  };
+  return "joint " + std::to_string(worst + 1) + " would have to read " + file((*q)[worst]) + " " +
+         std::string(unitName(unit)) + ", outside its limits [" + file(lo) + ", " + file(hi) +
+         "] (plan the readings farther inside the limits: design.joint_margin)";
+}
+
+}  // namespace
+
 Simulator::Simulator(const Plan& plan, const SimulationOptions& options)
     : plan_(&plan), options_(options) {
   std::string error;
@@ -87,9 +129,10 @@ SimulatedRun Simulator::simulate(const Eigen::VectorXd& p_true, NormalSource& no
       for (int k = 0; k < d; ++k) target[k] += scale * plan.noise.probe * normal();
       auto q = solveInverseKinematics(machine, p_true, target, m.joints, options_.ik);
       if (!q) {
-        throw InputError(plan.source,
-                         "/placements/" + std::to_string(j) + "/measurements/" + std::to_string(i),
-                         "the true machine cannot reach this point (inverse kinematics failed)");
+        throw RunError(plan.source,
+                       "/placements/" + std::to_string(j) + "/measurements/" + std::to_string(i),
+                       "the simulated machine cannot reach this reading's point: " +
+                           whyUnreachable(machine, p_true, target, m.joints, options_.ik));
       }
       for (int k = 0; k < q->size(); ++k) (*q)[k] += scale * plan.noise.encoder[k] * normal();
       m.joints = *q;

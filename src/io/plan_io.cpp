@@ -16,6 +16,7 @@
 #include <sstream>
 
 #include "artcal/io/json_node.hpp"
+#include "artcal/io/plausibility.hpp"
 #include "artcal/io/csv_readings.hpp"
 #include "artcal/model/planar2r.hpp"
 #include "artcal/model/serial_dh.hpp"
@@ -258,8 +259,32 @@ void appendCsvMeasurements(const Node& entry, const Plan& plan, const Artifact& 
   }
 }
 
+// A reading outside the plan's joint_limits is a typo, other units (radians, metres) or the wrong
+// machine: the machine never reported it (docs/hardening.md). Only limits the plan states are
+// enforced: the default revolute range wraps, and a reading of -200 deg is one of 160 deg.
+// Compared in internal units, with 1e-9 of the range as slack for a reading written at a limit.
+void checkWithinJointLimits(const Node& joints, const Machine& machine, const Eigen::VectorXd& q) {
+  const Mechanism& mech = *machine.mechanism;
+  for (int i = 0; i < q.size(); ++i) {
+    const auto [lo, hi] = machine.joint_limits[static_cast<std::size_t>(i)];
+    const double slack = 1e-9 * (hi - lo);
+    if (q[i] >= lo - slack && q[i] <= hi + slack) continue;
+    const Quantity unit = jointQuantity(mech.jointKind(i));
+    auto file = [&](double v) {
+      char text[32];
+      std::snprintf(text, sizeof text, "%.10g", toFileUnit(unit, v));
+      return std::string(text);
+    };
+    const std::string u = " " + std::string(unitName(unit));
+    joints[static_cast<std::size_t>(i)].fail(
+        "reading " + file(q[i]) + u + " of joint " + std::to_string(i + 1) +
+        " is outside its joint_limits [" + file(lo) + ", " + file(hi) + "]" + u +
+        ": check the reading, its units (degrees, mm) and machine.joint_limits");
+  }
+}
+
 Placement parsePlacement(const Node& node, const Plan& plan, bool require_measurements,
-                         std::vector<std::string>& warnings) {
+                         bool explicit_limits, std::vector<std::string>& warnings) {
   node.object();
   node.warnUnknown({"artifact", "pose", "measurements"}, warnings);
   Placement placement;
@@ -289,6 +314,7 @@ Placement parsePlacement(const Node& node, const Plan& plan, bool require_measur
     measurement.feature = static_cast<int>(m.at("feature").integer(0, art.featureCount() - 1));
     measurement.joints =
         jointsFromFile(mech, m.at("joints").numbers(static_cast<std::size_t>(mech.jointCount())));
+    if (explicit_limits) checkWithinJointLimits(m.at("joints"), plan.machine, measurement.joints);
     placement.measurements.push_back(std::move(measurement));
   }
   return placement;
@@ -339,10 +365,40 @@ Criterion parseCriterion(const Node& node) {
   node.fail("unknown criterion \"" + name + "\" (expected worst-tip, mean-tip, D, A or E)");
 }
 
+// design.joint_margin: one number for every joint or one per joint (deg revolute, mm prismatic),
+// default 2 deg / 1 mm; it must leave some of each joint's range (docs/plan-format.md).
+Eigen::VectorXd parseJointMargin(const std::optional<Node>& node, const Machine& machine) {
+  const Mechanism& mech = *machine.mechanism;
+  const int joints = mech.jointCount();
+  Eigen::VectorXd file_margin(joints);
+  for (int i = 0; i < joints; ++i) {
+    file_margin[i] = mech.jointKind(i) == JointKind::Revolute ? kDefaultRevoluteMarginDeg
+                                                              : kDefaultPrismaticMarginMm;
+  }
+  if (node && node->value().is_array()) {
+    node->numbers(static_cast<std::size_t>(joints));
+    for (int i = 0; i < joints; ++i) file_margin[i] = (*node)[static_cast<std::size_t>(i)].nonNegative();
+  } else if (node) {
+    file_margin.setConstant(node->nonNegative());
+  }
+  Eigen::VectorXd margin(joints);
+  for (int i = 0; i < joints; ++i) {
+    const Quantity q = jointQuantity(mech.jointKind(i));
+    margin[i] = fromFileUnit(q, file_margin[i]);
+    const auto [lo, hi] = machine.joint_limits[static_cast<std::size_t>(i)];
+    if (node && hi - lo <= 2.0 * margin[i]) {
+      node->fail("a margin of " + json(file_margin[i]).dump() + " " + std::string(unitName(q)) +
+                 " leaves nothing of joint " + std::to_string(i + 1) + "'s range");
+    }
+  }
+  return margin;
+}
+
 DesignSpec parseDesign(const Node& node, const Plan& plan, std::vector<std::string>& warnings) {
   node.object();
   node.warnUnknown(
-      {"artifact", "placements", "postures", "region", "criterion", "seed", "starts", "time_limit"},
+      {"artifact", "placements", "postures", "region", "criterion", "seed", "starts", "time_limit",
+       "joint_margin"},
       warnings);
   DesignSpec design;
   const Node artifact = node.at("artifact");
@@ -369,6 +425,7 @@ DesignSpec parseDesign(const Node& node, const Plan& plan, std::vector<std::stri
     design.seed = static_cast<std::uint64_t>(v->integer(0, std::numeric_limits<long>::max()));
   if (const auto v = node.find("starts")) design.starts = static_cast<int>(v->integer(1, 10'000));
   if (const auto v = node.find("time_limit")) design.time_limit = v->positive();
+  design.joint_margin = parseJointMargin(node.find("joint_margin"), plan.machine);
   return design;
 }
 
@@ -434,7 +491,8 @@ nlohmann::json parseJsonText(const std::string& text, const std::string& source)
   }
 }
 
-Plan parsePlan(const nlohmann::json& document, const std::string& source, bool require_placements) {
+Plan parsePlan(const nlohmann::json& document, const std::string& source, bool require_placements,
+               bool check_plausibility) {
   Plan plan;
   plan.source = source;
   const Node root(document, "", source);
@@ -462,7 +520,8 @@ Plan parsePlan(const nlohmann::json& document, const std::string& source, bool r
     plan.placements.reserve(n);
     for (std::size_t i = 0; i < n; ++i) {
       plan.placements.push_back(
-          parsePlacement((*placements)[i], plan, require_placements, plan.warnings));
+          parsePlacement((*placements)[i], plan, require_placements,
+                         root.at("machine").has("joint_limits"), plan.warnings));
     }
   } else if (require_placements) {
     root.at("placements");
@@ -472,6 +531,7 @@ Plan parsePlan(const nlohmann::json& document, const std::string& source, bool r
   }
   if (const auto design = root.find("design"))
     plan.design = parseDesign(*design, plan, plan.warnings);
+  if (check_plausibility) checkPlausibility(plan);  // only wrong units or a wrong pose explain
   return plan;
 }
 

@@ -32,6 +32,32 @@ std::array<Eigen::VectorXd, 2> regionExtent(const Region& region, int dimension)
   return {lo, hi};
 }
 
+Eigen::VectorXd defaultJointMargin(const Mechanism& mechanism) {
+  Eigen::VectorXd margin(mechanism.jointCount());
+  for (int i = 0; i < margin.size(); ++i) {
+    margin[i] = mechanism.jointKind(i) == JointKind::Revolute ? degToRad(kDefaultRevoluteMarginDeg)
+                                                              : kDefaultPrismaticMarginMm;
+  }
+  return margin;
+}
+
+// The machine whose joint limits are narrowed by `margin` (internal units, per joint). A
+// revolute joint with a full turn of range or more wraps and keeps its limits; a margin that
+// would leave less than half of a joint's range is cut to a quarter of the range.
+Machine withJointMargin(const Machine& machine, const Eigen::VectorXd& margin) {
+  Machine narrowed = machine;
+  for (int i = 0; i < margin.size(); ++i) {
+    auto& [lo, hi] = narrowed.joint_limits[static_cast<std::size_t>(i)];
+    const bool wraps = machine.mechanism->jointKind(i) == JointKind::Revolute &&
+                       hi - lo >= 2 * kPi - 1e-12;
+    if (wraps) continue;
+    const double m = std::min(margin[i], 0.25 * (hi - lo));
+    lo += m;
+    hi -= m;
+  }
+  return narrowed;
+}
+
 }  // namespace
 
 double uniform01(std::mt19937_64& rng) {
@@ -41,6 +67,10 @@ double uniform01(std::mt19937_64& rng) {
 DesignSpace::DesignSpace(const Plan& plan) : plan_(&plan) {
   if (!plan.design) throw InputError(plan.source, "/design", "the spec has no design block");
   const DesignSpec& spec = *plan.design;
+  reading_machine_ =
+      withJointMargin(plan.machine, spec.joint_margin.size() == plan.machine.jointCount()
+                                        ? spec.joint_margin
+                                        : defaultJointMargin(*plan.machine.mechanism));
   if (artifact().dimension != dimension()) {
     throw InputError(plan.source, "/design/artifact",
                      "the artifact's dimension does not match the machine's");
@@ -173,7 +203,7 @@ std::optional<Placement> DesignSpace::placeWithNewPostures(const Eigen::VectorXd
   placement.artifact = design().artifact;
   placement.pose = poseOf(v);
   for (int i = 0; i < x.cols(); ++i) {
-    const auto postures = posturesFor(plan_->machine, x.col(i), design().postures, rng);
+    const auto postures = posturesFor(reading_machine_, x.col(i), design().postures, rng);
     if (static_cast<int>(postures.size()) < design().postures) return std::nullopt;
     for (const Eigen::VectorXd& q : postures) placement.measurements.push_back({i, q});
   }
@@ -189,7 +219,7 @@ std::optional<Placement> DesignSpace::movePlacement(const Placement& previous,
   placement.pose = poseOf(v);
   for (const Measurement& m : previous.measurements) {
     auto q =
-        solveInverseKinematics(plan_->machine, plan_->machine.nominal, x.col(m.feature), m.joints);
+        solveInverseKinematics(reading_machine_, reading_machine_.nominal, x.col(m.feature), m.joints);
     if (!q) return std::nullopt;
     placement.measurements.push_back({m.feature, *q});
   }

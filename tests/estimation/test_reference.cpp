@@ -65,6 +65,29 @@ TEST(Reference, Aacmm3Bars3Postures) {
   expectMatchesReference("ref-aacmm-3bars-3postures");
 }
 
+// The new families' references (models.md sections 1 and 2): the chain's identifiable set is
+// chosen by the greedy rule ("calibrate": "identifiable") and must be exactly the reference's,
+// in order; the dropped parameters too.
+void expectResolvedSetMatchesReference(const std::string& name) {
+  const Plan plan = readPlan(name);
+  const nlohmann::json expected = readExpected(name);
+  const nlohmann::json got = evaluationToJson(plan, evaluatePlan(plan));
+  ASSERT_TRUE(got.contains("calibrate_resolved"));
+  EXPECT_EQ(got["calibrate_resolved"], expected["calibrate_resolved"]);
+  EXPECT_EQ(got["calibrate_dropped"], expected["calibrate_dropped"]);
+  std::vector<std::string> order;
+  for (const ParameterInfo& p : plan.machine.mechanism->parameters()) order.push_back(p.name);
+  EXPECT_EQ(nlohmann::json(order), expected["parameter_order"]);
+}
+
+TEST(Reference, ChainPanda2Placements) {
+  expectMatchesReference("ref-chain-panda-2placements");
+  expectResolvedSetMatchesReference("ref-chain-panda-2placements");
+}
+TEST(Reference, DhBetaArm3) {
+  expectMatchesReference("ref-dh-beta-arm3");
+}
+
 // The calibration case gives u at the estimate; the evaluator's u at nominal (the readings are
 // the same, the estimate is within tens of um and mdeg of nominal) is within a few % of it.
 TEST(Reference, CalibrationCaseUncertaintyAtNominalIsCloseToTheEstimate) {

@@ -64,8 +64,9 @@ class Simulator {
  public:
   explicit Simulator(const Plan& plan, const SimulationOptions& options = {});
 
-  /// The readings of a machine with full parameter vector `p_true`. InputError (pointing at the
-  /// reading in the plan) when inverse kinematics finds no joint values for a point.
+  /// The readings of a machine with full parameter vector `p_true`. RunError (pointing at the
+  /// reading in the plan, naming the joint whose limit is in the way) when inverse kinematics
+  /// finds no joint values within the limits for a point.
   SimulatedRun simulate(const Eigen::VectorXd& p_true, NormalSource& normal) const;
 
   const std::vector<RigidTransform>& nominalPoses() const { return poses_; }

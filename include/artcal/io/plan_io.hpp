@@ -29,8 +29,11 @@ nlohmann::json readJsonFile(const std::string& path);
 
 /// Validates a plan document and converts it to internal units. `source` names it in errors.
 /// `require_placements`: a plan for check/evaluate needs at least one; a design spec may have none.
+/// Readings outside the joint limits are always refused. `check_plausibility`: also refuse
+/// readings and poses that only wrong units explain (io/plausibility.hpp); off only for tests of
+/// the numerics on such plans.
 Plan parsePlan(const nlohmann::json& document, const std::string& source,
-               bool require_placements = true);
+               bool require_placements = true, bool check_plausibility = true);
 
 /// readJsonFile + parsePlan.
 Plan loadPlan(const std::string& path, bool require_placements = true);

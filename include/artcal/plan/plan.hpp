@@ -71,7 +71,16 @@ struct DesignSpec {
   std::uint64_t seed = 1;
   int starts = 16;
   double time_limit = 60.0;  ///< s
+  /// How far inside the joint limits every planned reading stays, per joint (rad or mm):
+  /// `design.joint_margin` (deg for revolute, mm for prismatic joints), default 2 deg / 1 mm, so
+  /// that a machine a little off nominal still reaches every planned point (docs/plan-format.md).
+  Eigen::VectorXd joint_margin;
 };
+
+/// The default of `design.joint_margin`, file units: 2 deg for a revolute joint, 1 mm for a
+/// prismatic one.
+inline constexpr double kDefaultRevoluteMarginDeg = 2.0;
+inline constexpr double kDefaultPrismaticMarginMm = 1.0;
 
 struct Plan {
   std::string source;  ///< the file it came from, for messages

@@ -13,6 +13,9 @@
 // reading is a discrete design choice drawn at random for a candidate. Serial arms get
 // `diversePostures` (spread in joint space); moving a pose re-solves each reading from its
 // previous joints, so a posture keeps its identity while the optimizer refines the pose.
+// Every planned reading stays `design.joint_margin` inside the joint limits (default 2 deg /
+// 1 mm; joints that wrap, a full turn of range or more, need none): a real machine, a little off
+// its nominal parameters, must reach every planned point too (`artcal simulate`, `confirm`).
 
 #include <Eigen/Core>
 #include <optional>
@@ -32,6 +35,9 @@ class DesignSpace {
 
   const Plan& plan() const { return *plan_; }
   const DesignSpec& design() const { return *plan_->design; }
+  /// The plan's machine with each joint's limits narrowed by the design's joint margin: where
+  /// planned readings may lie.
+  const Machine& readingMachine() const { return reading_machine_; }
   const Artifact& artifact() const;
   int dimension() const { return plan_->machine.dimension(); }
   /// Numbers in one placement's pose vector.
@@ -65,6 +71,7 @@ class DesignSpace {
 
  private:
   const Plan* plan_;
+  Machine reading_machine_;
   Eigen::VectorXd lower_, upper_;
   bool has_roll_ = false;
 };

@@ -1,0 +1,142 @@
+#include "artcal/io/plausibility.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <set>
+#include <string>
+
+#include "artcal/artifact/rigid_transform.hpp"
+#include "artcal/core/error.hpp"
+
+namespace artcal {
+
+namespace {
+
+constexpr double kNoiseFactor = 100.0;      // residuals beyond 100 s_p are no noise
+constexpr double kAbsoluteFloor = 1.0;      // mm: an uncalibrated machine errs by about this
+constexpr double kArtifactFraction = 0.25;  // wrong units err by the artifact's own size
+constexpr double kPoseFloor = 10.0;         // mm: a pose entered by hand may be this rough
+
+std::string millimetres(double value) {
+  char text[64];
+  std::snprintf(text, sizeof text, "%.4g mm", value);
+  return text;
+}
+
+/// RMS distance of the artifact's features from their centroid (mm).
+double artifactSpread(const Artifact& artifact) {
+  const Eigen::VectorXd centroid = artifact.features.rowwise().mean();
+  return std::sqrt((artifact.features.colwise() - centroid).colwise().squaredNorm().mean());
+}
+
+/// The residual of a point in the artifact frame against feature i: valued coordinates only.
+double valuedDistance(const Artifact& artifact, const Eigen::VectorXd& W, int feature) {
+  const Eigen::VectorXd d = W - artifact.features.col(feature);
+  return d.head(artifact.valuedPerFeature()).norm();
+}
+
+/// The probe positions of a placement's readings at the nominal parameters; false when the
+/// machine cannot evaluate one of them (left to the numerical code to report).
+bool nominalPoints(const Plan& plan, const Placement& placement, Eigen::MatrixXd& points) {
+  const Mechanism& mech = *plan.machine.mechanism;
+  points.resize(plan.machine.dimension(), static_cast<int>(placement.measurements.size()));
+  Eigen::VectorXd x;
+  for (std::size_t i = 0; i < placement.measurements.size(); ++i) {
+    const Measurement& m = placement.measurements[i];
+    if (mech.forward(plan.machine.nominal, m.joints, x) != ForwardStatus::Ok) return false;
+    if (x.size() != points.rows() || !x.allFinite()) return false;
+    points.col(static_cast<int>(i)) = x;
+  }
+  return true;
+}
+
+/// RMS residual length of the rigid fit of `points` onto the measured features.
+double fitResidual(const Artifact& artifact, const Placement& placement,
+                   const Eigen::MatrixXd& points) {
+  Eigen::MatrixXd targets(artifact.dimension, points.cols());
+  std::set<int> distinct;
+  for (std::size_t i = 0; i < placement.measurements.size(); ++i) {
+    targets.col(static_cast<int>(i)) = artifact.features.col(placement.measurements[i].feature);
+    distinct.insert(placement.measurements[i].feature);
+  }
+  if (distinct.size() < 2) {  // one feature: the fit puts it at the mean of its postures
+    const Eigen::VectorXd mean = points.rowwise().mean();
+    return std::sqrt((points.colwise() - mean).colwise().squaredNorm().mean());
+  }
+  const RigidTransform fit = fitRigid(points, targets);
+  double sum = 0.0;
+  for (std::size_t i = 0; i < placement.measurements.size(); ++i) {
+    const double r = valuedDistance(artifact, fit.apply(points.col(static_cast<int>(i))),
+                                    placement.measurements[i].feature);
+    sum += r * r;
+  }
+  return std::sqrt(sum / static_cast<double>(points.cols()));
+}
+
+/// Largest distance between a measured feature and the mean of its probed positions, in the
+/// frame the placement's pose gives the artifact.
+double poseDisagreement(const Plan& plan, const Artifact& artifact, const Placement& placement,
+                        const Eigen::MatrixXd& points) {
+  const Pose& pose = *placement.pose;
+  const RigidTransform placed =
+      plan.machine.dimension() == 2
+          ? placePlanar(pose.center.head<2>(), pose.angle)
+          : placeSpatial(pose.center.head<3>(), pose.direction, pose.roll);
+  std::set<int> features;
+  for (const Measurement& m : placement.measurements) features.insert(m.feature);
+  double worst = 0.0;
+  for (const int feature : features) {
+    Eigen::VectorXd sum = Eigen::VectorXd::Zero(points.rows());
+    int count = 0;
+    for (std::size_t i = 0; i < placement.measurements.size(); ++i) {
+      if (placement.measurements[i].feature != feature) continue;
+      sum += points.col(static_cast<int>(i));
+      ++count;
+    }
+    worst = std::max(worst, valuedDistance(artifact, placed.apply(sum / count), feature));
+  }
+  return worst;
+}
+
+}  // namespace
+
+double plausibleResidual(const Artifact& artifact, double probe_sigma) {
+  return std::max(
+      {kNoiseFactor * probe_sigma, kAbsoluteFloor, kArtifactFraction * artifactSpread(artifact)});
+}
+
+void checkPlausibility(const Plan& plan) {
+  for (std::size_t j = 0; j < plan.placements.size(); ++j) {
+    const Placement& placement = plan.placements[j];
+    if (placement.measurements.empty()) continue;
+    const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
+    Eigen::MatrixXd points;
+    if (!nominalPoints(plan, placement, points)) continue;
+    const std::string where = "/placements/" + std::to_string(j);
+    const double threshold = plausibleResidual(artifact, plan.noise.probe);
+    const double residual = fitResidual(artifact, placement, points);
+    if (!(residual <= threshold)) {
+      throw InputError(
+          plan.source, where,
+          "the nominal machine puts these readings " + millimetres(residual) +
+              " (RMS) off the artifact's features after the best rigid fit, more than a machine "
+              "error or noise explains (" +
+              millimetres(threshold) +
+              "): check the units (joint readings in degrees, not radians; lengths in mm, not "
+              "metres) and that each reading's feature index is right");
+    }
+    if (!placement.pose) continue;
+    const double pose_threshold = std::max(threshold, kPoseFloor);
+    const double disagreement = poseDisagreement(plan, artifact, placement, points);
+    if (!(disagreement <= pose_threshold)) {
+      throw InputError(plan.source, where + "/pose",
+                       "the pose puts the artifact " + millimetres(disagreement) +
+                           " away from where the readings probe it (more than " +
+                           millimetres(pose_threshold) +
+                           "): check the pose (center in mm, angles in degrees) or leave it out");
+    }
+  }
+}
+
+}  // namespace artcal
