@@ -3,7 +3,10 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <cmath>
+#include <array>
 #include <random>
+
+#include "artcal/model/inverse_kinematics.hpp"
 
 namespace artcal {
 
@@ -24,13 +27,84 @@ double unitUniform(std::mt19937_64& rng) {
 
 }  // namespace
 
-std::vector<Eigen::VectorXd> workspaceConfigurations(const Machine& machine,
-                                                     const WorkspaceSpec& spec) {
+namespace {
+
+// Opposite corners of the box that holds the region (its box, or the cube of its outer reach).
+std::array<Eigen::VectorXd, 2> boundingBox(const Region& region, int dimension) {
+  if (region.box) {
+    const auto& [a, b] = *region.box;
+    return {a.cwiseMin(b), a.cwiseMax(b)};
+  }
+  const double r = region.reach ? (*region.reach)[1] : 0.0;
+  return {Eigen::VectorXd::Constant(dimension, -r), Eigen::VectorXd::Constant(dimension, r)};
+}
+
+// Forward kinematics at nominal works at q and puts the probe on `target` (a closed chain solved
+// from home may fail, or assemble otherwise than its inverse kinematics assumed).
+bool landsOn(const Machine& machine, const Eigen::VectorXd& q, const Eigen::VectorXd& target) {
+  Eigen::VectorXd x;
+  return machine.mechanism->forward(machine.nominal, q, x) == ForwardStatus::Ok &&
+         (x - target).norm() <= 1e-6;
+}
+
+// models.md section 5: probe positions uniform in the region, each in a random posture.
+std::vector<Eigen::VectorXd> taskSpaceConfigurations(const Machine& machine,
+                                                     const WorkspaceSpec& spec,
+                                                     WorkspaceDrops& drops) {
+  const int d = machine.dimension();
+  const auto [lo, hi] = boundingBox(spec.region, d);
+  std::mt19937_64 rng(spec.seed);
+  IkOptions options;
+  options.tilt = spec.tilt;
+  std::vector<Eigen::VectorXd> out;
+  out.reserve(static_cast<std::size_t>(spec.samples));
+  constexpr long kTriesPerSample = 1000;  // an empty region ends the sampling, not the run
+  long tries = 0;
+  for (int s = 0; s < spec.samples && tries < kTriesPerSample * spec.samples;) {
+    Eigen::VectorXd target(d);
+    for (int i = 0; i < d; ++i) target[i] = lo[i] + (hi[i] - lo[i]) * unitUniform(rng);
+    ++tries;
+    if (!spec.region.contains(target)) continue;
+    ++s;
+    const auto postures = posturesFor(machine, machine.nominal, target, 1, rng, options);
+    if (postures.empty()) {
+      ++drops.unreachable;
+    } else if (!landsOn(machine, postures.front(), target)) {
+      ++drops.failed;
+    } else {
+      out.push_back(postures.front());
+    }
+  }
+  return out;
+}
+
+// Drops (and counts) the configurations whose forward kinematics fails at nominal.
+std::vector<Eigen::VectorXd> withWorkingForwardKinematics(const Machine& machine,
+                                                          std::vector<Eigen::VectorXd> in,
+                                                          WorkspaceDrops& drops) {
+  std::vector<Eigen::VectorXd> out;
+  out.reserve(in.size());
+  Eigen::VectorXd x;
+  for (Eigen::VectorXd& q : in) {
+    if (machine.mechanism->forward(machine.nominal, q, x) == ForwardStatus::Ok && x.allFinite()) {
+      out.push_back(std::move(q));
+    } else {
+      ++drops.failed;
+    }
+  }
+  return out;
+}
+
+std::vector<Eigen::VectorXd> sampledConfigurations(const Machine& machine,
+                                                   const WorkspaceSpec& spec,
+                                                   WorkspaceDrops& drops) {
   const int n = machine.jointCount();
   std::vector<Eigen::VectorXd> out;
   switch (spec.kind) {
     case WorkspaceSpec::Kind::Configurations:
       return spec.configurations;
+    case WorkspaceSpec::Kind::TaskSpace:
+      return taskSpaceConfigurations(machine, spec, drops);
     case WorkspaceSpec::Kind::Samples: {
       std::mt19937_64 rng(spec.seed);
       out.reserve(static_cast<std::size_t>(spec.samples));
@@ -65,6 +139,20 @@ std::vector<Eigen::VectorXd> workspaceConfigurations(const Machine& machine,
       }
     }
   }
+  return out;
+}
+
+}  // namespace
+
+std::vector<Eigen::VectorXd> workspaceConfigurations(const Machine& machine,
+                                                     const WorkspaceSpec& spec,
+                                                     WorkspaceDrops* drops) {
+  WorkspaceDrops counted;
+  auto out = sampledConfigurations(machine, spec, counted);
+  // Task-space samples were checked one by one (landsOn).
+  if (spec.kind != WorkspaceSpec::Kind::TaskSpace)
+    out = withWorkingForwardKinematics(machine, std::move(out), counted);
+  if (drops) *drops = counted;
   return out;
 }
 
@@ -199,20 +287,16 @@ TipPoint tipUncertainty(const Machine& machine, const Noise& noise, const Eigen:
 std::vector<ProfilePoint> reachProfile(const Machine& machine, const Noise& noise,
                                        const Eigen::MatrixXd& V_p, int steps) {
   std::vector<ProfilePoint> profile;
-  if (machine.mechanism->modelName() != "planar2r" || steps < 2) return profile;
-  const double l1 = machine.nominal[0], l2 = machine.nominal[1], dt2 = machine.nominal[2];
-  const double inner = std::abs(l1 - l2), outer = l1 + l2;
-  const auto& limits = machine.joint_limits;
-  const double t1 = std::clamp(0.0, limits[0][0], limits[0][1]);
+  const Mechanism& mech = *machine.mechanism;
+  const auto range = mech.reachRange(machine.nominal);
+  if (!range || steps < 2) return profile;
+  const auto [inner, outer] = *range;
   for (int s = 0; s < steps; ++s) {
     const double reach = inner + (outer - inner) * s / (steps - 1);
-    const double cosine =
-        std::clamp((reach * reach - l1 * l1 - l2 * l2) / (2 * l1 * l2), -1.0, 1.0);
     std::optional<TipPoint> worst;
-    for (double sign : {1.0, -1.0}) {  // both elbow branches
-      const double t2 = sign * std::acos(cosine) - dt2;
-      if (t2 < limits[1][0] || t2 > limits[1][1]) continue;
-      const TipPoint tip = tipUncertainty(machine, noise, Eigen::Vector2d(t1, t2), V_p);
+    for (const Eigen::VectorXd& q :
+         mech.configurationsAtReach(machine.nominal, reach, machine.joint_limits)) {
+      const TipPoint tip = tipUncertainty(machine, noise, q, V_p);
       if (!worst || tip.total > worst->total) worst = tip;
     }
     if (worst) profile.push_back({reach, *worst});

@@ -15,11 +15,11 @@
 #include <set>
 #include <sstream>
 
+#include "artcal/estimation/identifiability.hpp"
 #include "artcal/io/json_node.hpp"
-#include "artcal/io/plausibility.hpp"
 #include "artcal/io/csv_readings.hpp"
-#include "artcal/model/planar2r.hpp"
-#include "artcal/model/serial_dh.hpp"
+#include "artcal/io/model_registry.hpp"
+#include "artcal/io/plausibility.hpp"
 
 namespace artcal {
 
@@ -29,57 +29,42 @@ using nlohmann::json;
 
 constexpr std::size_t kMaxPlacements = 1'000'000;
 constexpr std::size_t kMaxMeasurements = 10'000;
-constexpr std::size_t kMaxJoints = 32;
 constexpr std::size_t kMaxFeatures = 10'000;
 constexpr long kMaxWorkspace = 10'000'000;
 
-MechanismPtr parsePlanar2R(const Node& machine, Eigen::VectorXd& nominal) {
-  auto mechanism = std::make_shared<Planar2R>();
-  const Node params = machine.at("parameters");
-  params.object();
-  // Read before the comma initializer: an InputError thrown inside it would unwind through
-  // Eigen's CommaInitializer destructor, which asserts that every coefficient was given.
-  const double l1 = params.at("l1").positive();
-  const double l2 = params.at("l2").positive();
-  const double dt2 = degToRad(params.find("dt2") ? params.at("dt2").number() : 0.0);
-  nominal.resize(3);
-  nominal << l1, l2, dt2;
-  for (const auto& [key, v] : params.object().items()) {
-    if (mechanism->parameterIndex(key) < 0) {
-      params.at(key).fail("unknown parameter of planar2r (expected l1, l2, dt2)");
-    }
+// machine.calibrate: [names], "identifiable" (every parameter in the model's order) or
+// {"identifiable": [names in preferred order]} (plan-format.md; models.md section 1). The
+// identifiable forms list candidates that resolveCalibratedSet decides from the readings.
+void parseCalibrateNames(const Node& names, const Mechanism& mech, Machine& machine) {
+  const std::size_t n = names.arraySize(1, mech.parameters().size());
+  std::set<int> seen;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Node entry = names[i];
+    const std::string pname = entry.string();
+    const int index = mech.parameterIndex(pname);
+    if (index < 0) entry.fail("unknown parameter \"" + pname + "\" of " + mech.modelName());
+    if (!seen.insert(index).second) entry.fail("parameter \"" + pname + "\" named twice");
+    machine.calibrated.push_back(index);
   }
-  return mechanism;
 }
 
-MechanismPtr parseSerialDH(const Node& machine, Eigen::VectorXd& nominal,
-                           std::vector<std::string>& warnings) {
-  const Node joints = machine.at("joints");
-  const std::size_t n = joints.arraySize(1, kMaxJoints);
-  std::vector<JointKind> kinds;
-  std::vector<double> values;
-  for (std::size_t i = 0; i < n; ++i) {
-    const Node joint = joints[i];
-    joint.object();
-    joint.warnUnknown({"type", "theta", "d", "a", "alpha"}, warnings);
-    JointKind kind = JointKind::Revolute;
-    if (const auto type = joint.find("type")) {
-      const std::string t = type->string();
-      if (t == "prismatic") {
-        kind = JointKind::Prismatic;
-      } else if (t != "revolute") {
-        type->fail("unknown joint type \"" + t + "\" (expected revolute or prismatic)");
-      }
+void parseCalibrate(const Node& calibrate, const Mechanism& mech, Machine& machine) {
+  if (calibrate.value().is_string()) {
+    if (calibrate.string() != "identifiable") {
+      calibrate.fail("expected a list of parameter names, \"identifiable\" or {\"identifiable\": "
+                     "[names]}, got \"" + calibrate.string() + "\"");
     }
-    kinds.push_back(kind);
-    auto value = [&](const char* key) { return joint.find(key) ? joint.at(key).number() : 0.0; };
-    values.insert(values.end(),
-                  {degToRad(value("theta")), value("d"), value("a"), degToRad(value("alpha"))});
+    machine.calibrate_identifiable = true;
+    for (int i = 0; i < mech.parameterCount(); ++i) machine.calibrated.push_back(i);
+  } else if (calibrate.value().is_object()) {
+    if (calibrate.object().size() != 1 || !calibrate.has("identifiable")) {
+      calibrate.fail("expected {\"identifiable\": [parameter names in preferred order]}");
+    }
+    machine.calibrate_identifiable = true;
+    parseCalibrateNames(calibrate.at("identifiable"), mech, machine);
+  } else {
+    parseCalibrateNames(calibrate, mech, machine);
   }
-  const Eigen::VectorXd probe = machine.at("probe").numbers(3);
-  values.insert(values.end(), probe.data(), probe.data() + 3);
-  nominal = Eigen::Map<Eigen::VectorXd>(values.data(), static_cast<int>(values.size()));
-  return std::make_shared<SerialDH>(std::move(kinds));
 }
 
 Machine parseMachine(const Node& node, std::vector<std::string>& warnings) {
@@ -87,27 +72,15 @@ Machine parseMachine(const Node& node, std::vector<std::string>& warnings) {
   Machine machine;
   const Node model = node.at("model");
   const std::string name = model.string();
-  if (name == "planar2r") {
-    node.warnUnknown({"model", "parameters", "calibrate", "joint_limits"}, warnings);
-    machine.mechanism = parsePlanar2R(node, machine.nominal);
-  } else if (name == "serial-dh") {
-    node.warnUnknown({"model", "joints", "probe", "calibrate", "joint_limits"}, warnings);
-    machine.mechanism = parseSerialDH(node, machine.nominal, warnings);
-  } else {
-    model.fail("unknown model \"" + name + "\" (expected planar2r or serial-dh)");
-  }
+  const ModelCodec* codec = findModelCodec(name);
+  if (!codec) model.fail("unknown model \"" + name + "\" (expected " + modelNameList() + ")");
+  MachineBlock block = codec->read(node, warnings);
+  machine.mechanism = std::move(block.mechanism);
+  machine.nominal = std::move(block.nominal);
+  const std::vector<std::array<double, 2>>& default_limits = block.default_limits;
   const Mechanism& mech = *machine.mechanism;
   if (const auto calibrate = node.find("calibrate")) {
-    const std::size_t n = calibrate->arraySize(1, mech.parameters().size());
-    std::set<int> seen;
-    for (std::size_t i = 0; i < n; ++i) {
-      const Node entry = (*calibrate)[i];
-      const std::string pname = entry.string();
-      const int index = mech.parameterIndex(pname);
-      if (index < 0) entry.fail("unknown parameter \"" + pname + "\" of " + mech.modelName());
-      if (!seen.insert(index).second) entry.fail("parameter \"" + pname + "\" named twice");
-      machine.calibrated.push_back(index);
-    }
+    parseCalibrate(*calibrate, mech, machine);
   } else {
     for (int i = 0; i < mech.parameterCount(); ++i) machine.calibrated.push_back(i);
   }
@@ -121,6 +94,8 @@ Machine parseMachine(const Node& node, std::vector<std::string>& warnings) {
       const Quantity q = jointQuantity(mech.jointKind(i));
       machine.joint_limits.push_back({fromFileUnit(q, lh[0]), fromFileUnit(q, lh[1])});
     }
+  } else if (!default_limits.empty()) {
+    machine.joint_limits = default_limits;
   } else {
     for (int i = 0; i < joints; ++i) {
       if (mech.jointKind(i) == JointKind::Prismatic) {
@@ -309,24 +284,80 @@ Placement parsePlacement(const Node& node, const Plan& plan, bool require_measur
       appendCsvMeasurements(m, plan, art, placement.measurements, warnings);
       continue;
     }
-    m.warnUnknown({"feature", "joints"}, warnings);
+    m.warnUnknown({"feature", "joints", "stylus"}, warnings);
     Measurement measurement;
     measurement.feature = static_cast<int>(m.at("feature").integer(0, art.featureCount() - 1));
     measurement.joints =
         jointsFromFile(mech, m.at("joints").numbers(static_cast<std::size_t>(mech.jointCount())));
     if (explicit_limits) checkWithinJointLimits(m.at("joints"), plan.machine, measurement.joints);
+    if (const auto stylus = m.find("stylus")) {
+      measurement.stylus = static_cast<int>(stylus->integer(0, mech.stylusCount() - 1));
+    }
+    // A closed chain's forward kinematics is numerical: a reading it cannot solve at nominal is
+    // bad input, named here (models.md section 3), not a failure deep in the estimation.
+    Eigen::VectorXd x;
+    const ForwardStatus status =
+        mech.forwardStylus(measurement.stylus, plan.machine.nominal, measurement.joints, x);
+    if (status != ForwardStatus::Ok) m.at("joints").fail(forwardStatusName(status));
     placement.measurements.push_back(std::move(measurement));
   }
   return placement;
 }
 
+// A region of the machine's space: `reach` [min, max] (distance from the origin) and/or `box`
+// (two opposite corners), mm. The design's region and the task-space workspace's.
+Region parseRegion(const Node& region, int dimension, std::vector<std::string>& warnings) {
+  region.object();
+  region.warnUnknown({"reach", "box"}, warnings);
+  if (!region.has("reach") && !region.has("box")) region.fail("expected reach and/or box");
+  Region out;
+  if (const auto reach = region.find("reach")) {
+    const Eigen::VectorXd r = reach->numbers(2);
+    if (!(r[0] >= 0.0 && r[0] < r[1])) reach->fail("expected [min, max] with 0 <= min < max");
+    out.reach = std::array<double, 2>{r[0], r[1]};
+  }
+  if (const auto box = region.find("box")) {
+    box->arraySize(2, 2);
+    const auto d = static_cast<std::size_t>(dimension);
+    out.box = std::array<Eigen::VectorXd, 2>{(*box)[0].numbers(d), (*box)[1].numbers(d)};
+  }
+  return out;
+}
+
+std::uint64_t parseSeed(const Node& node) {
+  return static_cast<std::uint64_t>(node.integer(0, std::numeric_limits<long>::max()));
+}
+
+// models.md section 5: {"region": {...}, "samples": N, "seed": S, "tilt": deg}.
+WorkspaceSpec parseTaskSpaceWorkspace(const Node& node, const Machine& machine,
+                                      std::vector<std::string>& warnings) {
+  WorkspaceSpec spec;
+  spec.kind = WorkspaceSpec::Kind::TaskSpace;
+  spec.region = parseRegion(node.at("region"), machine.dimension(), warnings);
+  if (const auto samples = node.find("samples"))
+    spec.samples = static_cast<int>(samples->integer(1, kMaxWorkspace));
+  if (const auto seed = node.find("seed")) spec.seed = parseSeed(*seed);
+  if (const auto tilt = node.find("tilt")) {
+    const double deg = tilt->nonNegative();
+    if (deg > 90.0) tilt->fail("must be at most 90 deg, got " + json(deg).dump());
+    spec.tilt = degToRad(deg);
+  }
+  return spec;
+}
+
 WorkspaceSpec parseWorkspace(const Node& node, const Machine& machine,
                              std::vector<std::string>& warnings) {
   node.object();
-  node.warnUnknown({"configurations", "samples", "seed", "grid"}, warnings);
+  node.warnUnknown({"configurations", "samples", "seed", "grid", "region", "tilt"}, warnings);
+  if (node.has("region")) {
+    if (node.has("configurations") || node.has("grid"))
+      node.fail("a task-space workspace (region) takes no configurations or grid");
+    return parseTaskSpaceWorkspace(node, machine, warnings);
+  }
+  if (const auto tilt = node.find("tilt")) tilt->fail("tilt needs a task-space region");
   WorkspaceSpec spec;
   const int kinds = node.has("configurations") + node.has("samples") + node.has("grid");
-  if (kinds != 1) node.fail("expected exactly one of configurations, samples or grid");
+  if (kinds != 1) node.fail("expected exactly one of configurations, samples, grid or region");
   const auto joints = static_cast<std::size_t>(machine.jointCount());
   if (const auto configurations = node.find("configurations")) {
     spec.kind = WorkspaceSpec::Kind::Configurations;
@@ -406,20 +437,7 @@ DesignSpec parseDesign(const Node& node, const Plan& plan, std::vector<std::stri
   if (design.artifact < 0) artifact.fail("unknown artifact \"" + artifact.string() + "\"");
   design.placements = static_cast<int>(node.at("placements").integer(1, 100'000));
   if (const auto v = node.find("postures")) design.postures = static_cast<int>(v->integer(1, 100));
-  const Node region = node.at("region");
-  region.object();
-  region.warnUnknown({"reach", "box"}, warnings);
-  if (!region.has("reach") && !region.has("box")) region.fail("expected reach and/or box");
-  if (const auto reach = region.find("reach")) {
-    const Eigen::VectorXd r = reach->numbers(2);
-    if (!(r[0] >= 0.0 && r[0] < r[1])) reach->fail("expected [min, max] with 0 <= min < max");
-    design.region.reach = std::array<double, 2>{r[0], r[1]};
-  }
-  if (const auto box = region.find("box")) {
-    box->arraySize(2, 2);
-    const auto d = static_cast<std::size_t>(plan.machine.dimension());
-    design.region.box = std::array<Eigen::VectorXd, 2>{(*box)[0].numbers(d), (*box)[1].numbers(d)};
-  }
+  design.region = parseRegion(node.at("region"), plan.machine.dimension(), warnings);
   if (const auto v = node.find("criterion")) design.criterion = parseCriterion(*v);
   if (const auto v = node.find("seed"))
     design.seed = static_cast<std::uint64_t>(v->integer(0, std::numeric_limits<long>::max()));
@@ -532,6 +550,7 @@ Plan parsePlan(const nlohmann::json& document, const std::string& source, bool r
   if (const auto design = root.find("design"))
     plan.design = parseDesign(*design, plan, plan.warnings);
   if (check_plausibility) checkPlausibility(plan);  // only wrong units or a wrong pose explain
+  resolveCalibratedSet(plan);  // "calibrate": "identifiable", decided once, here
   return plan;
 }
 
@@ -562,7 +581,9 @@ nlohmann::json placementsToJson(const Plan& plan) {
       for (int i = 0; i < m.joints.size(); ++i) {
         joints.push_back(toFileUnit(jointQuantity(mech.jointKind(i)), m.joints[i]));
       }
-      measurements.push_back({{"feature", m.feature}, {"joints", joints}});
+      json entry = {{"feature", m.feature}, {"joints", joints}};
+      if (m.stylus != 0) entry["stylus"] = m.stylus;
+      measurements.push_back(entry);
     }
     p["measurements"] = measurements;
     out.push_back(p);
@@ -574,25 +595,9 @@ nlohmann::json machineToJson(const Machine& machine, const Eigen::VectorXd& para
   const Mechanism& mech = *machine.mechanism;
   json out;
   out["model"] = mech.modelName();
-  auto fileValue = [&](int i) { return toFileUnit(mech.parameters()[i].quantity, parameters[i]); };
-  if (mech.modelName() == "serial-dh") {
-    json joints = json::array();
-    for (int j = 0; j < mech.jointCount(); ++j) {
-      const int k = static_cast<const SerialDH&>(mech).parameterOffset(j);
-      joints.push_back(
-          {{"type", mech.jointKind(j) == JointKind::Revolute ? "revolute" : "prismatic"},
-           {"theta", fileValue(k)},
-           {"d", fileValue(k + 1)},
-           {"a", fileValue(k + 2)},
-           {"alpha", fileValue(k + 3)}});
-    }
-    out["joints"] = joints;
-    const int k = static_cast<const SerialDH&>(mech).probeParameterOffset();
-    out["probe"] = {fileValue(k), fileValue(k + 1), fileValue(k + 2)};
-  } else {
-    for (int i = 0; i < mech.parameterCount(); ++i)
-      out["parameters"][mech.parameters()[i].name] = fileValue(i);
-  }
+  const ModelCodec* codec = findModelCodec(mech.modelName());
+  if (!codec) throw std::logic_error("no codec registered for model " + mech.modelName());
+  codec->write(mech, parameters, out);
   json calibrate = json::array();
   for (int k : machine.calibrated) calibrate.push_back(mech.parameters()[k].name);
   out["calibrate"] = calibrate;

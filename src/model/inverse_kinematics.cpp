@@ -5,25 +5,14 @@
 #include <limits>
 #include <numbers>
 
+#include "artcal/model/closed_chain.hpp"
+#include "artcal/model/planar2r.hpp"
+
 namespace artcal {
 
 std::vector<Eigen::VectorXd> planar2rInverse(const Eigen::VectorXd& p,
                                              const Eigen::Vector2d& target) {
-  const double l1 = p[0], l2 = p[1], dt2 = p[2];
-  const double r2 = target.squaredNorm();
-  const double cosine = (r2 - l1 * l1 - l2 * l2) / (2.0 * l1 * l2);
-  if (cosine < -1.0 - 1e-12 || cosine > 1.0 + 1e-12) return {};
-  const double elbow = std::acos(std::clamp(cosine, -1.0, 1.0));
-  std::vector<Eigen::VectorXd> solutions;
-  for (double sign : {1.0, -1.0}) {
-    const double phi = sign * elbow;  // t2 + dt2
-    const double t1 = std::atan2(target.y(), target.x()) -
-                      std::atan2(l2 * std::sin(phi), l1 + l2 * std::cos(phi));
-    solutions.push_back(Eigen::Vector2d(std::remainder(t1, 2 * std::numbers::pi),
-                                        std::remainder(phi - dt2, 2 * std::numbers::pi)));
-    if (elbow == 0.0) break;
-  }
-  return solutions;
+  return Planar2R::elbowBranches(p, target);
 }
 
 void applyJointLimits(const Machine& machine, Eigen::VectorXd& q) {
@@ -40,13 +29,18 @@ void applyJointLimits(const Machine& machine, Eigen::VectorXd& q) {
 
 namespace {
 
-// Each angle moved by whole turns to the representative nearest q0 inside the limits; false
-// when some angle has none.
+// Each angle moved by whole turns to the representative nearest q0 inside the limits (a
+// prismatic joint must already be inside them); false when some joint has none.
 bool nearestRepresentativeWithinLimits(const Machine& machine, const Eigen::VectorXd& q0,
                                        Eigen::VectorXd& q) {
   constexpr double kTurn = 2 * std::numbers::pi;
   for (int i = 0; i < q.size(); ++i) {
     const auto [lo, hi] = machine.joint_limits[static_cast<std::size_t>(i)];
+    if (machine.mechanism->jointKind(i) == JointKind::Prismatic) {
+      if (q[i] < lo - 1e-12 || q[i] > hi + 1e-12) return false;
+      q[i] = std::clamp(q[i], lo, hi);
+      continue;
+    }
     const double nearest = q0[i] + std::remainder(q[i] - q0[i], kTurn);
     double best = std::numeric_limits<double>::quiet_NaN();
     for (int turns = -2; turns <= 2; ++turns) {
@@ -62,15 +56,16 @@ bool nearestRepresentativeWithinLimits(const Machine& machine, const Eigen::Vect
   return true;
 }
 
-std::optional<Eigen::VectorXd> planar2rNear(const Machine& machine, const Eigen::VectorXd& p,
-                                            const Eigen::VectorXd& target,
-                                            const Eigen::VectorXd& q0) {
+// The closed-form solution nearest q0 within the limits (Mechanism::closedFormInverse).
+std::optional<Eigen::VectorXd> closedFormNear(const Machine& machine, const Eigen::VectorXd& p,
+                                              const Eigen::VectorXd& target,
+                                              const Eigen::VectorXd& q0, int stylus) {
   std::optional<Eigen::VectorXd> best;
   double best_distance = 0.0;
-  for (Eigen::VectorXd q : planar2rInverse(p, target.head<2>())) {
+  for (Eigen::VectorXd q : machine.mechanism->closedFormInverse(p, target, stylus)) {
     if (!nearestRepresentativeWithinLimits(machine, q0, q)) continue;
     Eigen::VectorXd x;
-    forwardOrThrow(*machine.mechanism, p, q, x);
+    if (machine.mechanism->forwardStylus(stylus, p, q, x) != ForwardStatus::Ok) continue;
     if ((x - target).norm() > 1e-6) continue;
     const double distance = (q - q0).norm();
     if (!best || distance < best_distance) {
@@ -81,6 +76,33 @@ std::optional<Eigen::VectorXd> planar2rNear(const Machine& machine, const Eigen:
   return best;
 }
 
+// A model whose posture is an orientation (the hexapod): the closed form in the orientation the
+// body has at q0 (home when q0 does not assemble), so that a posture keeps its identity.
+std::optional<Eigen::VectorXd> orientedNear(const Machine& machine, const OrientedPostures& model,
+                                            const Eigen::VectorXd& p,
+                                            const Eigen::VectorXd& target,
+                                            const Eigen::VectorXd& q0) {
+  const Eigen::Matrix3d R = model.orientationOf(p, q0).value_or(model.homeOrientation());
+  Eigen::VectorXd q = model.readingsAt(p, target.head<3>(), R);
+  if (!machine.withinLimits(q)) return std::nullopt;
+  return q;
+}
+
+// Up to `attempts` random orientations within options.tilt of home, those within the limits.
+std::vector<Eigen::VectorXd> orientedCandidates(const Machine& machine,
+                                                const OrientedPostures& model,
+                                                const Eigen::VectorXd& p,
+                                                const Eigen::VectorXd& target, int attempts,
+                                                std::mt19937_64& rng, const IkOptions& options) {
+  std::vector<Eigen::VectorXd> found;
+  for (int a = 0; a < attempts; ++a) {
+    const Eigen::Matrix3d R = randomTilt(model.homeOrientation(), options.tilt, rng);
+    Eigen::VectorXd q = model.readingsAt(p, target.head<3>(), R);
+    if (machine.withinLimits(q)) found.push_back(std::move(q));
+  }
+  return found;
+}
+
 }  // namespace
 
 std::optional<Eigen::VectorXd> solveInverseKinematics(const Machine& machine,
@@ -89,12 +111,15 @@ std::optional<Eigen::VectorXd> solveInverseKinematics(const Machine& machine,
                                                       const Eigen::VectorXd& q0,
                                                       const IkOptions& options) {
   const Mechanism& mech = *machine.mechanism;
-  if (mech.modelName() == "planar2r") return planar2rNear(machine, p, target, q0);
+  if (mech.hasClosedFormInverse()) return closedFormNear(machine, p, target, q0, options.stylus);
+  if (const auto* oriented = dynamic_cast<const OrientedPostures*>(&mech)) {
+    return orientedNear(machine, *oriented, p, target, q0);
+  }
   Eigen::VectorXd q = q0;
   applyJointLimits(machine, q);
   Eigen::VectorXd x;
   Eigen::MatrixXd J;
-  forwardOrThrow(mech, p, q, x, nullptr, &J);
+  forwardOrThrow(mech, p, q, x, nullptr, &J, options.stylus);
   Eigen::VectorXd error = target - x;
   double lambda = 1e-3 * (J * J.transpose()).trace() / J.rows();
   const int d = mech.dimension();
@@ -105,7 +130,7 @@ std::optional<Eigen::VectorXd> solveInverseKinematics(const Machine& machine,
     applyJointLimits(machine, trial);
     Eigen::VectorXd x_trial;
     Eigen::MatrixXd J_trial;
-    forwardOrThrow(mech, p, trial, x_trial, nullptr, &J_trial);
+    forwardOrThrow(mech, p, trial, x_trial, nullptr, &J_trial, options.stylus);
     const Eigen::VectorXd trial_error = target - x_trial;
     if (trial_error.norm() < error.norm()) {
       q = trial;
@@ -127,7 +152,9 @@ std::vector<Eigen::VectorXd> diversePostures(const Machine& machine, const Eigen
                                              const IkOptions& options) {
   const int n = machine.jointCount();
   std::vector<Eigen::VectorXd> found;
-  for (int a = 0; a < attempts; ++a) {
+  const auto* oriented = dynamic_cast<const OrientedPostures*>(machine.mechanism.get());
+  if (oriented) found = orientedCandidates(machine, *oriented, p, target, attempts, rng, options);
+  for (int a = 0; a < (oriented ? 0 : attempts); ++a) {
     Eigen::VectorXd q0(n);
     for (int i = 0; i < n; ++i) {
       const auto [lo, hi] = machine.joint_limits[static_cast<std::size_t>(i)];
@@ -154,6 +181,24 @@ std::vector<Eigen::VectorXd> diversePostures(const Machine& machine, const Eigen
     chosen.push_back(found[static_cast<std::size_t>(best_index)]);
   }
   return chosen;
+}
+
+std::vector<Eigen::VectorXd> posturesFor(const Machine& machine, const Eigen::VectorXd& p,
+                                         const Eigen::VectorXd& target, int count,
+                                         std::mt19937_64& rng, const IkOptions& options) {
+  const Mechanism& mech = *machine.mechanism;
+  if (!mech.hasClosedFormInverse()) {
+    return diversePostures(machine, p, target, count, rng, 24, options);
+  }
+  std::vector<Eigen::VectorXd> out;
+  for (const Eigen::VectorXd& branch : mech.closedFormInverse(p, target, options.stylus)) {
+    if (auto q = solveInverseKinematics(machine, p, target, branch, options)) out.push_back(*q);
+  }
+  // More solutions than asked for: drop seeded random ones (planar2r: one elbow branch of two).
+  while (count >= 1 && static_cast<int>(out.size()) > count) {
+    out.erase(out.begin() + static_cast<long>(rng() % out.size()));
+  }
+  return out;
 }
 
 }  // namespace artcal

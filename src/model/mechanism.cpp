@@ -15,8 +15,9 @@ std::string forwardStatusName(ForwardStatus status) {
 }
 
 void forwardOrThrow(const Mechanism& mechanism, const Eigen::VectorXd& p, const Eigen::VectorXd& q,
-                    Eigen::VectorXd& x, Eigen::MatrixXd* J_x_p, Eigen::MatrixXd* J_x_q) {
-  const ForwardStatus status = mechanism.forward(p, q, x, J_x_p, J_x_q);
+                    Eigen::VectorXd& x, Eigen::MatrixXd* J_x_p, Eigen::MatrixXd* J_x_q,
+                    int stylus) {
+  const ForwardStatus status = mechanism.forwardStylus(stylus, p, q, x, J_x_p, J_x_q);
   if (status != ForwardStatus::Ok) throw KinematicsError(forwardStatusName(status));
 }
 
@@ -26,6 +27,25 @@ int Mechanism::parameterIndex(const std::string& name) const {
     if (params[i].name == name) return static_cast<int>(i);
   }
   return -1;
+}
+
+std::vector<Eigen::VectorXd> Mechanism::closedFormInverse(const Eigen::VectorXd&,
+                                                          const Eigen::VectorXd&, int) const {
+  return {};
+}
+
+std::optional<std::array<double, 2>> Mechanism::reachRange(const Eigen::VectorXd&) const {
+  return std::nullopt;
+}
+
+std::vector<Eigen::VectorXd> Mechanism::configurationsAtReach(
+    const Eigen::VectorXd&, double, const std::vector<std::array<double, 2>>&) const {
+  return {};
+}
+
+std::vector<Eigen::VectorXd> Mechanism::skeleton(const Eigen::VectorXd&,
+                                                 const Eigen::VectorXd&) const {
+  return {};
 }
 
 }  // namespace artcal

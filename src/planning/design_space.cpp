@@ -1,5 +1,6 @@
 #include "artcal/planning/design_space.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -12,10 +13,6 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 constexpr double kAngleBound = 4 * kPi;  // angles are free; the bound only serves BOBYQA
-
-bool isPlanar2r(const Machine& machine) {
-  return machine.mechanism->modelName() == "planar2r";
-}
 
 // The centre may go wherever a feature may: the region's bounding box.
 std::array<Eigen::VectorXd, 2> regionExtent(const Region& region, int dimension) {
@@ -78,10 +75,11 @@ DesignSpace::DesignSpace(const Plan& plan) : plan_(&plan) {
   if (!spec.region.reach && !spec.region.box) {
     throw InputError(plan.source, "/design/region", "expected \"reach\" and/or \"box\"");
   }
-  if (isPlanar2r(plan.machine) && spec.postures > 2) {
+  const int most_postures = plan.machine.mechanism->posturesPerPoint();
+  if (most_postures > 0 && spec.postures > most_postures) {
     throw InputError(plan.source, "/design/postures",
-                     "planar2r has two postures per point (the elbow branches), got " +
-                         std::to_string(spec.postures));
+                     plan.machine.mechanism->modelName() + " has " + std::to_string(most_postures) +
+                         " postures per point, got " + std::to_string(spec.postures));
   }
   has_roll_ = dimension() == 3 && artifact().kind == ArtifactKind::BallPlate;
   const auto [lo, hi] = regionExtent(spec.region, dimension());
@@ -178,18 +176,19 @@ Eigen::VectorXd DesignSpace::randomPose(std::mt19937_64& rng) const {
 
 namespace {
 
-// Postures of one point: planar2r the elbow branches (one drawn at random when one is asked),
-// other models spread IK solutions.
-std::vector<Eigen::VectorXd> posturesFor(const Machine& machine, const Eigen::VectorXd& target,
-                                         int count, std::mt19937_64& rng) {
-  if (!isPlanar2r(machine)) return diversePostures(machine, machine.nominal, target, count, rng);
-  std::vector<Eigen::VectorXd> out;
-  for (const Eigen::VectorXd& branch : planar2rInverse(machine.nominal, target.head<2>())) {
-    if (auto q = solveInverseKinematics(machine, machine.nominal, target, branch)) {
-      out.push_back(*q);
+// A Cartesian CMM has one posture per stylus (models.md section 4): the point read with styli
+// 0 .. count - 1; fewer when a stylus cannot reach it within the axis ranges.
+std::vector<Measurement> stylusPostures(const Machine& machine, int feature,
+                                        const Eigen::VectorXd& target, int count) {
+  std::vector<Measurement> out;
+  const int styli = std::min(count, machine.mechanism->stylusCount());
+  for (int s = 0; s < styli; ++s) {
+    IkOptions options;
+    options.stylus = s;
+    if (auto q = solveInverseKinematics(machine, machine.nominal, target, target, options)) {
+      out.push_back({feature, *q, s});
     }
   }
-  if (count == 1 && out.size() == 2) out.erase(out.begin() + static_cast<long>(rng() % 2));
   return out;
 }
 
@@ -203,7 +202,15 @@ std::optional<Placement> DesignSpace::placeWithNewPostures(const Eigen::VectorXd
   placement.artifact = design().artifact;
   placement.pose = poseOf(v);
   for (int i = 0; i < x.cols(); ++i) {
-    const auto postures = posturesFor(reading_machine_, x.col(i), design().postures, rng);
+    if (plan_->machine.mechanism->stylusCount() > 1) {
+      const auto readings = stylusPostures(reading_machine_, i, x.col(i), design().postures);
+      if (static_cast<int>(readings.size()) < design().postures) return std::nullopt;
+      placement.measurements.insert(placement.measurements.end(), readings.begin(),
+                                    readings.end());
+      continue;
+    }
+    const auto postures =
+        posturesFor(reading_machine_, reading_machine_.nominal, x.col(i), design().postures, rng);
     if (static_cast<int>(postures.size()) < design().postures) return std::nullopt;
     for (const Eigen::VectorXd& q : postures) placement.measurements.push_back({i, q});
   }
@@ -218,10 +225,12 @@ std::optional<Placement> DesignSpace::movePlacement(const Placement& previous,
   placement.artifact = previous.artifact;
   placement.pose = poseOf(v);
   for (const Measurement& m : previous.measurements) {
-    auto q =
-        solveInverseKinematics(reading_machine_, reading_machine_.nominal, x.col(m.feature), m.joints);
+    IkOptions options;
+    options.stylus = m.stylus;
+    auto q = solveInverseKinematics(reading_machine_, reading_machine_.nominal, x.col(m.feature),
+                                    m.joints, options);
     if (!q) return std::nullopt;
-    placement.measurements.push_back({m.feature, *q});
+    placement.measurements.push_back({m.feature, *q, m.stylus});
   }
   return placement;
 }

@@ -141,7 +141,7 @@ DesignCriterion::DesignCriterion(const Plan& plan, Criterion criterion, double s
   const double reach = machineReach(machine, evaluator_.workspace().configurations());
   scale_.resize(machine.calibratedCount());
   for (int k = 0; k < machine.calibratedCount(); ++k) {
-    scale_[k] = machine.calibratedInfo(k).quantity == Quantity::Angle ? reach : 1.0;
+    scale_[k] = machine.calibratedInfo(k).quantity.isAngle() ? reach : 1.0;
   }
 }
 

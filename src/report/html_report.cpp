@@ -91,15 +91,10 @@ std::vector<Eigen::MatrixXd> placedFeatures(const Plan& plan) {
   return out;
 }
 
-bool isPlanar2R(const Machine& machine) {
-  return machine.mechanism->modelName() == "planar2r";
-}
-
-/// Inner and outer reach of the planar 2R arm, |l1 - l2| and l1 + l2.
-std::pair<double, double> planarReach(const Machine& machine) {
-  const double l1 = machine.nominal[machine.mechanism->parameterIndex("l1")];
-  const double l2 = machine.nominal[machine.mechanism->parameterIndex("l2")];
-  return {std::abs(l1 - l2), l1 + l2};
+/// Inner and outer reach when the model's workspace is an annulus about its base
+/// (Mechanism::reachRange; planar2r: |l1 - l2| and l1 + l2).
+std::optional<std::array<double, 2>> reachAnnulus(const Machine& machine) {
+  return machine.mechanism->reachRange(machine.nominal);
 }
 
 /// Marks shrink and arm links fade as placements crowd the layout (every one is still drawn).
@@ -107,12 +102,14 @@ double crowding(const Plan& plan) {
   return std::clamp(std::sqrt(40.0 / std::max<double>(plan.placements.size(), 1.0)), 0.35, 1.0);
 }
 
-void drawPlanarArm(svg::Plot& plot, const Machine& machine, const Eigen::VectorXd& q,
-                   const Eigen::VectorXd& tip, double density) {
-  const double l1 = machine.nominal[machine.mechanism->parameterIndex("l1")];
-  const Eigen::Vector2d elbow(l1 * std::cos(q[0]), l1 * std::sin(q[0]));
-  plot.polyline({Eigen::Vector2d::Zero(), elbow, tip.head<2>()},
-                faint("#555555", 1.0, 0.3 * density * density), "arm links per reading");
+/// The arm's links at one reading, faint (Mechanism::skeleton; nothing for a model not drawn).
+void drawArm(svg::Plot& plot, const Machine& machine, const Eigen::VectorXd& q, View view,
+             double density) {
+  const std::vector<Eigen::VectorXd> points = machine.mechanism->skeleton(machine.nominal, q);
+  if (points.empty()) return;
+  std::vector<Eigen::Vector2d> projected;
+  for (const Eigen::VectorXd& point : points) projected.push_back(project(point, view));
+  plot.polyline(projected, faint("#555555", 1.0, 0.3 * density * density), "arm links per reading");
 }
 
 /// Cells of a regular grid over projected points: the largest value per cell (a map of the
@@ -189,7 +186,7 @@ void drawPostures(svg::Plot& plot, const Plan& plan, View view) {
   for (std::size_t j = 0; j < plan.placements.size(); ++j) {
     for (const Measurement& m : plan.placements[j].measurements) {
       const Eigen::VectorXd tip = probePosition(machine, m.joints);
-      if (isPlanar2R(machine)) drawPlanarArm(plot, machine, m.joints, tip, density);
+      drawArm(plot, machine, m.joints, view, density);
       plot.marker(project(tip, view), svg::Shape::Cross, 5.0 * density, faint("#000000", 1.0, 1.0),
                   "probe position per reading");
     }
@@ -207,8 +204,8 @@ svg::Plot layoutPlot(const ReportInput& in, const std::vector<Eigen::MatrixXd>& 
                                                : "Layout, plan view (XY)",
                  "x / mm", side ? "z / mm" : "y / mm");
   plot.setEqualAspect(true);
-  if (isPlanar2R(plan.machine)) {
-    const auto [inner, outer] = planarReach(plan.machine);
+  if (const auto annulus = reachAnnulus(plan.machine)) {
+    const auto [inner, outer] = *annulus;
     svg::Style reach = faint("#000000", 1.2, 1.0);
     plot.circle(Eigen::Vector2d::Zero(), outer, reach, "outer reach l1 + l2");
     reach.dash = svg::Dash::Dashed;
@@ -722,7 +719,7 @@ std::vector<ReportFigure> reportFigures(const ReportInput& in) {
   std::vector<ReportFigure> figures;
   const bool spatial = plan.machine.dimension() == 3;
   const std::string layout_caption =
-      isPlanar2R(plan.machine)
+      reachAnnulus(plan.machine)
           ? "Artifact placements (numbered from 0, as in the plan file and every table), each "
             "feature (circle) and each reading's probe position (cross) with the arm's links "
             "faint, inside the reach annulus."

@@ -27,6 +27,31 @@ json countingToJson(const CountingCondition& counting) {
               {"satisfied", counting.satisfied}};
   out["minimum_placements_alike"] =
       counting.minimum_alike > 0 ? json(counting.minimum_alike) : json(nullptr);
+  out["N_r_table"] = counting.N_r_table;
+  out["rigid_effective"] = counting.rigid_effective;
+  return out;
+}
+
+json calibrateSelectionToJson(const Plan& plan) {
+  json out = json::object();
+  if (!plan.calibrate_resolution) return out;
+  const auto& params = plan.machine.mechanism->parameters();
+  const auto name = [&params](int index) { return params[static_cast<std::size_t>(index)].name; };
+  const CalibratedSetResolution& resolution = *plan.calibrate_resolution;
+  json kept = json::array(), dropped = json::array(), ties = json::array();
+  for (int k : resolution.kept) kept.push_back(name(k));
+  for (std::size_t d = 0; d < resolution.dropped.size(); ++d) {
+    dropped.push_back(name(resolution.dropped[d]));
+    json names = json::array(), coefficients = json::array();
+    for (const auto& [k, c] : resolution.ties[d]) {
+      names.push_back(name(k));
+      coefficients.push_back(c);
+    }
+    ties.push_back({{"parameters", names}, {"coefficients", coefficients}});
+  }
+  out["calibrate_resolved"] = kept;
+  out["calibrate_dropped"] = dropped;
+  out["calibrate_ties"] = ties;
   return out;
 }
 
@@ -44,7 +69,8 @@ json identifiabilityToJson(const Identifiability& id) {
             {"condition_number", finiteOrNull(id.condition_number)},
             {"tolerance", id.tolerance},
             {"unidentifiable", names},
-            {"combinations", combinations}}}};
+            {"combinations", combinations},
+            {"fix", id.to_fix}}}};
 }
 
 json tipToJson(const Machine& machine, const TipSummary& tip,
@@ -62,6 +88,7 @@ json tipToJson(const Machine& machine, const TipSummary& tip,
 
 json evaluationToJson(const Plan& plan, const Evaluation& ev) {
   json out = identifiabilityToJson(ev.identifiability);
+  out.update(calibrateSelectionToJson(plan));
   out["plan"] = plan.name;
   out["identifiable"] = ev.identifiable();
   const Machine& machine = plan.machine;
@@ -85,7 +112,11 @@ json evaluationToJson(const Plan& plan, const Evaluation& ev) {
     }
     out["correlation"] = rows;
   }
-  if (ev.tip) out["tip"] = tipToJson(machine, *ev.tip, ev.workspace);
+  if (ev.tip) {
+    out["tip"] = tipToJson(machine, *ev.tip, ev.workspace);
+    out["tip"]["dropped"] = {{"unreachable", ev.workspace_drops.unreachable},
+                             {"forward_failed", ev.workspace_drops.failed}};
+  }
   if (!ev.profile.empty()) {
     json profile = json::array();
     for (const ProfilePoint& p : ev.profile) {
@@ -107,10 +138,60 @@ std::string format(const char* fmt, auto... args) {
   return buffer;
 }
 
-// Standard uncertainties read best in um for lengths and mdeg-scale decimals for angles.
-std::string uncertaintyText(Quantity q, double internal) {
-  return q == Quantity::Angle ? format("%.6f deg", radToDeg(internal))
-                              : format("%.2f um", internal * 1000.0);
+// Standard uncertainties read best in um for lengths, mdeg-scale decimals for angles and four
+// significant digits in a coefficient's own unit (e.g. um/m).
+std::string uncertaintyText(const Quantity& q, double internal) {
+  if (q == Quantity::Angle) return format("%.6f deg", radToDeg(internal));
+  if (q == Quantity::Length) return format("%.2f um", internal * 1000.0);
+  return format("%.4g %s", toFileUnit(q, internal), std::string(unitName(q)).c_str());
+}
+
+}  // namespace
+
+namespace {
+
+// Where a placement's measurements see fewer rigid directions than its artifact kind has
+// (method.md section 5, effective N(r_j)): the table value, the effective one, and why.
+std::string effectiveRigidText(const Plan& plan, const CountingCondition& c) {
+  if (c.N_r == c.N_r_table) return {};
+  std::ostringstream out;
+  out << format("  effective N(r) = %d (table %d): the measurements of", c.N_r, c.N_r_table);
+  for (std::size_t j = 0; j < c.rigid_table.size(); ++j) {
+    if (c.rigid_table[j] == c.rigid_effective[j]) continue;
+    const Artifact& artifact =
+        plan.artifacts[static_cast<std::size_t>(plan.placements[j].artifact)];
+    out << format(" /placements/%zu (%s) see %d of %d", j, artifactKindName(artifact.kind).c_str(),
+                  c.rigid_effective[j], c.rigid_table[j]);
+  }
+  out << " rigid directions\n";
+  return out.str();
+}
+
+// "calibrate": "identifiable" resolved: the kept set, the dropped parameters, and the
+// combination tying each dropped one to the kept ones (models.md section 1).
+std::string calibrateSelectionText(const Plan& plan) {
+  if (!plan.calibrate_resolution) return {};
+  const auto& params = plan.machine.mechanism->parameters();
+  const auto name = [&params](int index) { return params[static_cast<std::size_t>(index)].name; };
+  const CalibratedSetResolution& resolution = *plan.calibrate_resolution;
+  std::ostringstream out;
+  out << format("  calibrate \"identifiable\": %zu kept, %zu dropped\n    kept:",
+                resolution.kept.size(), resolution.dropped.size());
+  for (int k : resolution.kept) out << " " << name(k);
+  out << "\n";
+  for (std::size_t d = 0; d < resolution.dropped.size(); ++d) {
+    out << "    dropped " << name(resolution.dropped[d]) << ": ";
+    const auto& tie = resolution.ties[d];
+    if (tie.size() == 1) {
+      out << "not observed, or absorbed by the placements' rigid motions\n";
+      continue;
+    }
+    for (std::size_t i = 0; i < tie.size(); ++i) {
+      out << format(i == 0 ? "%+.4g %s" : "  %+.4g %s", tie[i].second, name(tie[i].first).c_str());
+    }
+    out << "   (scaled parameters)\n";
+  }
+  return out.str();
 }
 
 }  // namespace
@@ -123,7 +204,9 @@ std::string identifiabilityTable(const Plan& plan, const Identifiability& id) {
   out << format("  counting condition  N(b) - N(r) = %d - %d = %d %s N(p) = %d   %s\n", c.N_b,
                 c.N_r, c.N_b - c.N_r, c.satisfied ? ">=" : "<", c.N_p,
                 c.satisfied ? "satisfied" : "NOT satisfied");
-  if (c.minimum_alike > 0) {
+  out << effectiveRigidText(plan, c);
+  // More placements like the first help only a plan whose rank is full (method.md section 5).
+  if (c.minimum_alike > 0 && id.deficiency == 0) {
     out << format("  placements like the first needed: m >= %d\n", c.minimum_alike);
   }
   out << format("  rank of scaled N_red  %d of %d (deficiency %d, tolerance %.0e)\n", id.rank,
@@ -140,6 +223,12 @@ std::string identifiabilityTable(const Plan& plan, const Identifiability& id) {
     }
     out << "   (scaled parameters)\n";
   }
+  if (!id.to_fix.empty()) {
+    out << "  more placements like these will not help; to calibrate the rest, fix:";
+    for (const std::string& name : id.to_fix) out << " " << name;
+    out << "\n";
+  }
+  out << calibrateSelectionText(plan);
   out << (id.identifiable() ? "IDENTIFIABLE\n" : "NOT IDENTIFIABLE\n");
   return out.str();
 }
@@ -170,6 +259,12 @@ std::string evaluationTable(const Plan& plan, const Evaluation& ev) {
         jointsToFile(machine, ev.workspace[static_cast<std::size_t>(tip.worst_index)]);
     for (std::size_t i = 0; i < joints.size(); ++i) out << format(i ? ", %.2f" : "%.2f", joints[i]);
     out << "]\n" << format("  mean   S = %.2f    rms S = %.2f\n", tip.mean * 1e3, tip.rms * 1e3);
+    if (ev.workspace_drops.total() > 0) {
+      out << format("  dropped %d samples: %d unreachable within the joint limits, %d forward "
+                    "kinematics failed\n",
+                    ev.workspace_drops.total(), ev.workspace_drops.unreachable,
+                    ev.workspace_drops.failed);
+    }
   }
   if (!ev.profile.empty()) {
     out << "\nTip uncertainty against reach (seed Fig. 6; worse elbow branch)\n";

@@ -14,10 +14,23 @@
 
 namespace artcal {
 
+/// What workspaceConfigurations left out of a workspace.
+struct WorkspaceDrops {
+  int unreachable = 0;  ///< task-space samples with no posture within the joint limits
+  int failed = 0;       ///< configurations whose forward kinematics fails (closed chains)
+  int total() const { return unreachable + failed; }
+};
+
 /// The joint configurations of a workspace spec (internal units). Samples are uniform within
 /// the joint limits from a fixed generator (std::mt19937_64), identical on every platform.
+/// Task-space samples (models.md section 5) are uniform in the region (rejection from its
+/// bounding box), each in the first of up to 24 random postures (posturesFor; the hexapod: a
+/// platform orientation within spec.tilt of home) that reaches it within the joint limits.
+/// Configurations whose forward kinematics fails or lands elsewhere than the sampled point are
+/// dropped as well; `drops`, when given, counts both.
 std::vector<Eigen::VectorXd> workspaceConfigurations(const Machine& machine,
-                                                     const WorkspaceSpec& spec);
+                                                     const WorkspaceSpec& spec,
+                                                     WorkspaceDrops* drops = nullptr);
 
 struct TipPoint {
   double total = 0.0;      ///< S
@@ -70,15 +83,16 @@ class TipEvaluator {
 TipPoint tipUncertainty(const Machine& machine, const Noise& noise, const Eigen::VectorXd& q,
                         const Eigen::MatrixXd& V_p);
 
-/// One row of the planar 2R profile: the worst elbow branch at distance `reach` from the base.
+/// One row of the reach profile: the worst branch at distance `reach` from the base.
 struct ProfilePoint {
   double reach = 0.0;
   TipPoint tip;
 };
 
-/// S_m, S_q and S against reach for `planar2r` (seed Fig. 6), `steps` rows from the inner to the
-/// outer reach; both elbow branches within the joint limits, the larger value kept. Empty for
-/// other models.
+/// S_m, S_q and S against reach (seed Fig. 6) for a model whose tip uncertainty depends on the
+/// reach alone (Mechanism::reachRange; planar2r), `steps` rows from the inner to the outer reach;
+/// every branch within the joint limits (Mechanism::configurationsAtReach), the largest value
+/// kept. Empty for other models.
 std::vector<ProfilePoint> reachProfile(const Machine& machine, const Noise& noise,
                                        const Eigen::MatrixXd& V_p, int steps = 21);
 

@@ -1,8 +1,9 @@
 #pragma once
 // Inverse kinematics: joint readings that put the probe centre on a target point.
-//   planar2r: closed form, both elbow branches.
-//   any model (serial-dh): damped least squares (Levenberg-Marquardt on |f(p, q) - x*|^2), joint
-//   limits respected (revolute joints with a full turn of range wrap, others are clamped).
+//   a model with a closed form (Mechanism::closedFormInverse; planar2r: both elbow branches):
+//   the solution nearest the start within the limits.
+//   any other model (serial-dh): damped least squares (Levenberg-Marquardt on |f(p, q) - x*|^2),
+//   joint limits respected (revolute joints with a full turn of range wrap, others are clamped).
 // `diversePostures` returns genuinely different postures for the same point (the seed's o > 1):
 // many seeded starts, then a farthest-point choice in joint space.
 
@@ -11,6 +12,7 @@
 #include <random>
 #include <vector>
 
+#include "artcal/core/units.hpp"
 #include "artcal/model/machine.hpp"
 
 namespace artcal {
@@ -18,6 +20,10 @@ namespace artcal {
 struct IkOptions {
   int max_iterations = 200;
   double tolerance = 1e-10;  ///< mm, on |f(p, q) - target|
+  int stylus = 0;            ///< the stylus put on the target (Cartesian CMMs)
+  /// Models whose posture is an orientation (OrientedPostures, the hexapod): postures are drawn
+  /// within `tilt` rad of home.
+  double tilt = 15.0 * kDegree;
 };
 
 /// Both elbow branches of the planar 2R arm for a target (parameters p = l1, l2, dt2), joint
@@ -37,6 +43,14 @@ std::vector<Eigen::VectorXd> diversePostures(const Machine& machine, const Eigen
                                              const Eigen::VectorXd& target, int count,
                                              std::mt19937_64& rng, int attempts = 24,
                                              const IkOptions& options = {});
+
+/// The posture generator: up to `count` postures reading `target`. A model with a closed-form
+/// inverse gives its solutions within the limits (seeded random ones dropped when there are
+/// more than `count`: planar2r's elbow branch when one is asked); any other spreads numerical
+/// solutions (diversePostures).
+std::vector<Eigen::VectorXd> posturesFor(const Machine& machine, const Eigen::VectorXd& p,
+                                         const Eigen::VectorXd& target, int count,
+                                         std::mt19937_64& rng, const IkOptions& options = {});
 
 /// Puts q inside the joint limits: revolute joints with at least a full turn wrap, others clamp.
 void applyJointLimits(const Machine& machine, Eigen::VectorXd& q);

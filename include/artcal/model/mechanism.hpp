@@ -5,7 +5,9 @@
 // (mm, rad); which of them are calibrated is the Machine's business, not the model's.
 
 #include <Eigen/Core>
+#include <array>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -56,9 +58,51 @@ class Mechanism {
                                               Eigen::VectorXd& x, Eigen::MatrixXd* J_x_p = nullptr,
                                               Eigen::MatrixXd* J_x_q = nullptr) const = 0;
 
+  /// Styli (probe offsets) a reading may choose (a Cartesian CMM's, models.md section 4); 1 for
+  /// models with one probe.
+  virtual int stylusCount() const { return 1; }
+  /// forward() through stylus `stylus` (0 .. stylusCount() - 1); single-probe models ignore it.
+  [[nodiscard]] virtual ForwardStatus forwardStylus(int stylus, const Eigen::VectorXd& p,
+                                                    const Eigen::VectorXd& q, Eigen::VectorXd& x,
+                                                    Eigen::MatrixXd* J_x_p = nullptr,
+                                                    Eigen::MatrixXd* J_x_q = nullptr) const {
+    (void)stylus;
+    return forward(p, q, x, J_x_p, J_x_q);
+  }
+
   int parameterCount() const { return static_cast<int>(parameters().size()); }
   /// Index of a parameter by name, or -1.
   int parameterIndex(const std::string& name) const;
+
+  // Capabilities. Every numerical module asks the model, never its name; the defaults suit a
+  // general model (numerical IK, any number of postures, no reach profile, nothing drawn).
+  // How to add a family: include/artcal/io/model_registry.hpp.
+
+  /// True when closedFormInverse() gives every solution for a target.
+  virtual bool hasClosedFormInverse() const { return false; }
+  /// Every joint vector putting probe `stylus` on `target`, joint limits not applied (e.g. both
+  /// elbow branches of planar2r); empty when the target is out of reach. Models with
+  /// hasClosedFormInverse() override it.
+  virtual std::vector<Eigen::VectorXd> closedFormInverse(const Eigen::VectorXd& p,
+                                                         const Eigen::VectorXd& target,
+                                                         int stylus) const;
+  /// The most distinct postures one point can be read in (planar2r: 2, its elbow branches);
+  /// 0 when unbounded (redundant arms: any number, spread by the posture generator).
+  virtual int posturesPerPoint() const { return 0; }
+  /// [inner, outer] reach (distance of the probe from the base axis) when the tip uncertainty
+  /// depends on the reach alone, so that a profile against reach describes the whole workspace
+  /// (planar2r: |l1 - l2|, l1 + l2; seed Fig. 6); std::nullopt otherwise (no profile).
+  virtual std::optional<std::array<double, 2>> reachRange(const Eigen::VectorXd& p) const;
+  /// The configurations within `limits` that put the probe at distance `reach` from the base, one
+  /// per branch, for the reach profile (whose rows take the worst of them).
+  virtual std::vector<Eigen::VectorXd> configurationsAtReach(
+      const Eigen::VectorXd& p, double reach,
+      const std::vector<std::array<double, 2>>& limits) const;
+  /// Points to draw the mechanism by, from its base to the probe (e.g. joint-frame origins),
+  /// each of dimension(); empty when the model is not drawn (the report then draws the probe
+  /// positions only).
+  virtual std::vector<Eigen::VectorXd> skeleton(const Eigen::VectorXd& p,
+                                                const Eigen::VectorXd& q) const;
 };
 
 using MechanismPtr = std::shared_ptr<const Mechanism>;
@@ -66,6 +110,6 @@ using MechanismPtr = std::shared_ptr<const Mechanism>;
 /// forward() for callers with no way to go on without x: a failure raises KinematicsError.
 void forwardOrThrow(const Mechanism& mechanism, const Eigen::VectorXd& p, const Eigen::VectorXd& q,
                     Eigen::VectorXd& x, Eigen::MatrixXd* J_x_p = nullptr,
-                    Eigen::MatrixXd* J_x_q = nullptr);
+                    Eigen::MatrixXd* J_x_q = nullptr, int stylus = 0);
 
 }  // namespace artcal

@@ -19,6 +19,23 @@ class Planar2R final : public Mechanism {
                         Eigen::MatrixXd* J_x_p = nullptr,
                         Eigen::MatrixXd* J_x_q = nullptr) const override;
 
+  /// Both elbow branches for a target, joint limits not applied; empty when out of reach.
+  static std::vector<Eigen::VectorXd> elbowBranches(const Eigen::VectorXd& p,
+                                                    const Eigen::Vector2d& target);
+
+  bool hasClosedFormInverse() const override { return true; }
+  std::vector<Eigen::VectorXd> closedFormInverse(const Eigen::VectorXd& p,
+                                                 const Eigen::VectorXd& target,
+                                                 int stylus) const override;
+  int posturesPerPoint() const override { return 2; }
+  std::optional<std::array<double, 2>> reachRange(const Eigen::VectorXd& p) const override;
+  std::vector<Eigen::VectorXd> configurationsAtReach(
+      const Eigen::VectorXd& p, double reach,
+      const std::vector<std::array<double, 2>>& limits) const override;
+  /// Base, elbow, probe.
+  std::vector<Eigen::VectorXd> skeleton(const Eigen::VectorXd& p,
+                                        const Eigen::VectorXd& q) const override;
+
  private:
   std::vector<ParameterInfo> parameters_;
 };
