@@ -84,11 +84,20 @@ std::vector<AbsorbedRotation> frameRotationsAbsorbed(const Cartesian& cmm,
                                                      const Eigen::MatrixXd& full_information,
                                                      double tolerance) {
   // Scaled as the rank policy scales (identifiability.hpp): S = D^-1/2 N D^-1/2, y_w = D^1/2 v_w.
+  // A parameter whose information is rounding (D_i <= 1e-9 max D) is unobserved: its row is 0,
+  // not rounding blown up to 1.
   const Eigen::VectorXd d = full_information.diagonal().cwiseMax(0.0).cwiseSqrt();
+  const double observed = 1e-9 * d.maxCoeff();
   Eigen::VectorXd scale(d.size());
-  for (int i = 0; i < d.size(); ++i) scale[i] = d[i] > 0.0 ? d[i] : 1.0;
-  const Eigen::MatrixXd S =
+  for (int i = 0; i < d.size(); ++i) scale[i] = d[i] > observed ? d[i] : 1.0;
+  Eigen::MatrixXd S =
       scale.cwiseInverse().asDiagonal() * full_information * scale.cwiseInverse().asDiagonal();
+  for (int i = 0; i < d.size(); ++i) {
+    if (d[i] <= observed) {
+      S.row(i).setZero();
+      S.col(i).setZero();
+    }
+  }
   Eigen::MatrixXd Y(S.rows(), 3);
   for (int a = 0; a < 3; ++a) {
     Y.col(a) = scale.asDiagonal() * frameRotationDirection(cmm, Eigen::Vector3d::Unit(a));
