@@ -14,7 +14,8 @@ Eigen::MatrixXd DesignMatrixBuilder::probePositions(const std::vector<Measuremen
   Eigen::MatrixXd points(d, static_cast<int>(measurements.size()));
   Eigen::VectorXd x(d);
   for (std::size_t i = 0; i < measurements.size(); ++i) {
-    forwardOrThrow(*machine_->mechanism, p, measurements[i].joints, x);
+    forwardOrThrow(*machine_->mechanism, p, measurements[i].joints, x, nullptr, nullptr,
+                   measurements[i].stylus);
     points.col(static_cast<int>(i)) = x;
   }
   return points;
@@ -58,7 +59,7 @@ void DesignMatrixBuilder::build(const Artifact& artifact,
   for (std::size_t i = 0; i < measurements.size(); ++i) {
     const Measurement& m = measurements[i];
     const int row = k * static_cast<int>(i);
-    forwardOrThrow(*machine.mechanism, p, m.joints, x_, &J_x_p_, &J_x_q_);
+    forwardOrThrow(*machine.mechanism, p, m.joints, x_, &J_x_p_, &J_x_q_, m.stylus);
     W_.noalias() = r.R * x_;
     W_ += r.t;
     // dF/dp and dF/dq: the valued rows of R J (the rigid motion does not depend on p or q).

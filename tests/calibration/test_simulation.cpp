@@ -195,16 +195,51 @@ TEST(Simulator, ArtifactErrorIsTheSameInEveryPlacement) {
   EXPECT_NEAR(std::sqrt(sum2 / draws), 0.004, 0.004 * 4.0 / std::sqrt(2.0 * draws));
 }
 
-TEST(Simulator, UnreachablePointIsAnInputError) {
+TEST(Simulator, UnreachablePointIsARunErrorNamingTheReading) {
   const Plan plan = testPlan("ref-2r-5bars");
   Eigen::VectorXd truth = plan.machine.nominal;
   truth[0] = 50.0;  // l1 = 50 mm: the far balls are out of reach
   NormalSource normal(1);
   try {
     Simulator(plan).simulate(truth, normal);
-    FAIL() << "expected an InputError";
-  } catch (const InputError& e) {
+    FAIL() << "expected a RunError";
+  } catch (const RunError& e) {
     EXPECT_EQ(e.pointer().rfind("/placements/", 0), 0u) << e.pointer();
+    EXPECT_NE(std::string(e.what()).find("out of its reach"), std::string::npos) << e.what();
+  }
+}
+
+// A reading planned 0.5 deg inside the elbow's limit of 170 deg: a true dt2 of -1 deg needs the
+// elbow at 170.5 deg (the elbow limited to [0, 170] deg, so that the other branch is no way out).
+// The error names the reading and joint 2 with the reading it would need.
+TEST(Simulator, ReadingBeyondAJointLimitNamesTheJoint) {
+  Plan plan = testPlan("ref-2r-5bars");
+  plan.machine.joint_limits[1] = {0.0, degToRad(170.0)};
+  const Eigen::Vector2d q(degToRad(10.0), degToRad(169.5));
+  Eigen::VectorXd x;
+  forwardOrThrow(*plan.machine.mechanism, plan.machine.nominal, q, x);
+  Eigen::Vector2d x1 = x + 80.0 * (x.normalized().unitOrthogonal());
+  Placement placement = plan.placements[0];
+  placement.pose.reset();
+  placement.measurements = {{0, q}};
+  const auto far = planar2rInverse(plan.machine.nominal, x1);
+  ASSERT_FALSE(far.empty());
+  Eigen::VectorXd q1 = far[0];
+  applyJointLimits(plan.machine, q1);
+  placement.measurements.push_back({1, q1});
+  plan.placements = {placement};
+  Eigen::VectorXd truth = plan.machine.nominal;
+  truth[2] = degToRad(-1.0);
+  NormalSource normal(1);
+  SimulationOptions quiet;
+  quiet.noise_scale = 0.0;
+  try {
+    Simulator(plan, quiet).simulate(truth, normal);
+    FAIL() << "expected a RunError";
+  } catch (const RunError& e) {
+    EXPECT_EQ(e.pointer(), "/placements/0/measurements/0");
+    EXPECT_NE(std::string(e.what()).find("joint 2 would have to read 170.5"), std::string::npos)
+        << e.what();
   }
 }
 

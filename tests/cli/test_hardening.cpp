@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/resource.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -14,6 +15,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <numbers>
 #include <sstream>
 #include <thread>
 
@@ -190,6 +192,28 @@ std::vector<BadInput> badInputs() {
          p["workspace"] = {{"grid", {100000, 100000}}};
        }),
        "/workspace/grid", "more than 10000000 configurations"},
+      // Plausibility (issue 9): valid JSON of the right types that only wrong units explain.
+      {"reading outside joint_limits",
+       with([](json& p) {
+         p["machine"]["joint_limits"] = {{-180, 180}, {-170, 170}};
+         p["placements"][0]["measurements"][0]["joints"][1] = 175.0;
+       }),
+       "/placements/0/measurements/0/joints/1", "outside its joint_limits [-170, 170] deg"},
+      {"readings in radians", with([](json& p) {
+         for (json& placement : p["placements"])
+           for (json& m : placement["measurements"])
+             for (json& q : m["joints"]) q = q.get<double>() * std::numbers::pi / 180.0;
+       }),
+       "/placements/0", "check the units"},
+      {"machine in metres", with([](json& p) {
+         p["machine"]["parameters"]["l1"] = 0.15;
+         p["machine"]["parameters"]["l2"] = 0.1;
+       }),
+       "/placements/0", "check the units"},
+      {"pose 5 m away", with([](json& p) {
+         p["placements"][2]["pose"] = {{"center", {5000.0, 0.0}}, {"angle", 0.0}};
+       }),
+       "/placements/2/pose", "check the pose"},
   };
 }
 
@@ -651,7 +675,8 @@ TEST(NothingLost, KilledCliLeavesTheEarlierOutputIntact) {
 }
 
 // A calibration that diverges (started 1e5 mm from the truth on l1) stops and says so:
-// converged false, exit status 1, every number of its output finite.
+// converged false, every number finite. The command line no longer gets that far: readings that a
+// 1e5 mm arm puts metres off the bar are implausible input (exit 2, a hint at the units).
 TEST(NumericalFaults, DivergingCalibrationStopsWithConvergedFalse) {
   TempDir dir;
   json plan = readJson(testData("ref-2r-calibrate.json"));
@@ -659,17 +684,111 @@ TEST(NumericalFaults, DivergingCalibrationStopsWithConvergedFalse) {
   const std::string path = dir.file("diverging.json");
   writeText(path, plan.dump());
   const CliResult r = runCli(dir, "calibrate --json '" + path + "'");
-  EXPECT_EQ(r.status, 1) << r.err;
-  const json out = json::parse(r.out);
-  EXPECT_FALSE(out["converged"].get<bool>());
-  expectAllFinite(out);
-  const CliResult table = runCli(dir, "calibrate '" + path + "'");
-  EXPECT_EQ(table.status, 1);
-  expectNoNonFinite(table.out);
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_NE(r.err.find(": /placements/0: the nominal machine puts these readings"),
+            std::string::npos)
+      << r.err;
+  EXPECT_EQ(lineCount(r.err), 1u);
 
-  const Calibration calibration = calibratePlan(parsePlan(plan, "diverging.json"));
+  const Calibration calibration =
+      calibratePlan(parsePlan(plan, "diverging.json", true, /*check_plausibility=*/false));
   EXPECT_FALSE(calibration.summary.converged());
   EXPECT_TRUE(calibration.parameters.allFinite());
+  const Plan parsed = parsePlan(plan, "diverging.json", true, false);
+  expectAllFinite(calibrationToJson(parsed, parsed.placements, calibration));
+  expectNoNonFinite(calibrationTable(parsed, parsed.placements, calibration));
+}
+
+// ------------------------------------------------------------------------------ output safety
+
+/// A TRUTH file next to the plan: the simulate command's second input.
+std::string writeTruth(const TempDir& dir) {
+  const std::string truth = dir.file("truth.json");
+  writeText(truth, R"({"parameters": {"l1": 150.01, "l2": 99.99, "dt2": 0.002}})");
+  return truth;
+}
+
+/// Every command that writes a file, with its output option left for the test to fill in.
+std::vector<std::pair<std::string, std::string>> writingCommands(const TempDir& dir) {
+  const std::string plan = "'" + testData("ref-2r-5bars.json") + "'";
+  const std::string calibration = "'" + testData("ref-2r-calibrate.json") + "'";
+  const std::string spec = "'" + std::string(ARTCAL_PLANS_DIR) + "/seed-2r-5bars.spec.json'";
+  return {{"simulate", "simulate " + plan + " --truth '" + writeTruth(dir) + "' -o "},
+          {"optimize", "optimize " + spec + " --quiet --starts 1 --pool 40 --evaluations 20 -o "},
+          {"report", "report " + plan + " -o "},
+          {"calibrate --write-machine", "calibrate " + calibration + " --write-machine "}};
+}
+
+// Devices, FIFOs and directories are refused before any work: exit 2, one line naming the path,
+// the special file untouched (a rename over /dev/null would replace the device node).
+TEST(OutputSafety, DevicesFifosAndDirectoriesAreRefused) {
+  TempDir dir;
+  const std::string fifo = dir.file("fifo");
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  fs::create_directory(dir.file("folder"));
+  for (const auto& [name, command] : writingCommands(dir)) {
+    for (const auto& [target, kind] :
+         std::vector<std::pair<std::string, std::string>>{{"/dev/null", "is a device"},
+                                                          {fifo, "is a FIFO"},
+                                                          {dir.file("folder"), "is a directory"}}) {
+      SCOPED_TRACE(name + " -> " + target);
+      const CliResult r = runCli(dir, command + "'" + target + "'");
+      EXPECT_EQ(r.status, 2) << r.err;
+      EXPECT_EQ(r.err, "error: " + target + ": " + kind +
+                           ", not a regular file: refusing to replace it (use - for standard "
+                           "output)\n");
+      EXPECT_TRUE(r.out.empty()) << r.out;
+    }
+  }
+  EXPECT_TRUE(fs::is_character_file("/dev/null"));
+  EXPECT_TRUE(fs::is_fifo(fifo));
+  EXPECT_TRUE(fs::is_empty(dir.file("folder")));
+}
+
+// A symbolic link is written through: the target gets the new content (atomically, in its own
+// folder), the link stays a link. A dangling link creates its target.
+TEST(OutputSafety, SymbolicLinksAreWrittenThroughToTheirTarget) {
+  TempDir dir;
+  fs::create_directory(dir.file("real"));
+  const std::string target = dir.file("real/plan.json");
+  writeText(target, "old");
+  ::chmod(target.c_str(), 0640);
+  fs::create_symlink("real/plan.json", dir.file("link.json"));
+  fs::create_symlink(dir.file("link.json"), dir.file("link2.json"));  // a chain of two
+  const std::string simulate = writingCommands(dir)[0].second;
+  const CliResult r = runCli(dir, simulate + "'" + dir.file("link2.json") + "'");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(fs::is_symlink(dir.file("link.json")));
+  EXPECT_TRUE(fs::is_symlink(dir.file("link2.json")));
+  EXPECT_TRUE(json::parse(readText(target)).contains("simulation"));
+  EXPECT_EQ(fs::status(target).permissions() & fs::perms::all,
+            fs::perms::owner_read | fs::perms::owner_write | fs::perms::group_read);
+  for (const auto& entry : fs::directory_iterator(dir.path())) {  // no temporary left behind
+    EXPECT_EQ(entry.path().filename().string().rfind(".link", 0), std::string::npos);
+  }
+
+  fs::create_symlink("real/new.json", dir.file("dangling.json"));
+  ASSERT_EQ(runCli(dir, simulate + "'" + dir.file("dangling.json") + "'").status, 0);
+  EXPECT_TRUE(fs::is_symlink(dir.file("dangling.json")));
+  EXPECT_TRUE(json::parse(readText(dir.file("real/new.json"))).contains("simulation"));
+}
+
+// `-o -` is standard output for every command that writes a file: stdout holds the file alone
+// (JSON that parses, or the HTML), the command's summary goes to stderr.
+TEST(OutputSafety, DashMeansStandardOutputForEveryWritingCommand) {
+  TempDir dir;
+  for (const auto& [name, command] : writingCommands(dir)) {
+    SCOPED_TRACE(name);
+    const CliResult r = runCli(dir, command + "-");
+    ASSERT_EQ(r.status, 0) << r.err;
+    if (name == "report") {
+      EXPECT_EQ(r.out.rfind("<!DOCTYPE html>", 0), 0u) << r.out.substr(0, 80);
+    } else {
+      const json document = json::parse(r.out);  // the file alone, nothing else on stdout
+      EXPECT_TRUE(document.is_object());
+    }
+    EXPECT_FALSE(fs::exists(dir.file("-")));
+  }
 }
 
 }  // namespace

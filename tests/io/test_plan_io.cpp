@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <numbers>
+
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -34,8 +36,8 @@ json planarPlan() {
       "gauge": {"type": "step_gauge", "positions": [0, 20, 50], "u": 0.0005}
     },
     "placements": [
-      {"artifact": "bar80", "pose": {"center": [120.0, 40.0], "angle": 30.0},
-       "measurements": [{"feature": 0, "joints": [12.5, 95.1]},
+      {"artifact": "bar80", "pose": {"center": [171.6, 170.2], "angle": 180.0},
+       "measurements": [{"feature": 0, "joints": [32.71309177481814, 29.791234742508053]},
                         {"feature": 1, "joints": [31.0, 80.2]}]},
       {"artifact": "plate",
        "measurements": [{"feature": 2, "joints": [10, 20]}]}
@@ -61,8 +63,9 @@ json serialPlan() {
     "noise": {"probe": 0.01, "encoder": [0.001, 0.002]},
     "artifacts": {"bar": {"type": "ball_bar", "length": 300.0}},
     "placements": [
-      {"artifact": "bar", "pose": {"center": [300, 0, 100], "direction": [1, 0, 0], "roll": 0},
-       "measurements": [{"feature": 0, "joints": [10, 100]}, {"feature": 1, "joints": [20, 200]}]}
+      {"artifact": "bar", "pose": {"center": [103.8, -531.4, 200], "direction": [0, 1, 0], "roll": 0},
+       "measurements": [{"feature": 0, "joints": [10, 491.33000782790947]},
+                        {"feature": 1, "joints": [20, 200]}]}
     ],
     "workspace": {"grid": [5, 3]}
   })");
@@ -76,7 +79,7 @@ TEST(PlanIo, ValidPlanReadInInternalUnits) {
   ASSERT_EQ(plan.artifacts.size(), 3u);
   ASSERT_EQ(plan.placements.size(), 2u);
   EXPECT_NEAR(plan.placements[0].measurements[1].joints[1], degToRad(80.2), 1e-15);
-  EXPECT_NEAR(plan.placements[0].pose->angle, degToRad(30.0), 1e-15);
+  EXPECT_NEAR(plan.placements[0].pose->angle, degToRad(180.0), 1e-15);
   EXPECT_EQ(plan.workspace.kind, WorkspaceSpec::Kind::Samples);
   EXPECT_EQ(plan.workspace.samples, 64);
   ASSERT_TRUE(plan.design);
@@ -413,6 +416,46 @@ std::vector<BadRow> badRows() {
       {"design time_limit zero",
        [] { return withPlanar([](json& d) { d["design"]["time_limit"] = 0; }); },
        "/design/time_limit", "must be positive"},
+      {"design joint_margin negative",
+       [] { return withPlanar([](json& d) { d["design"]["joint_margin"] = -1; }); },
+       "/design/joint_margin", "must not be negative"},
+      {"design joint_margin per joint wrong count",
+       [] { return withPlanar([](json& d) { d["design"]["joint_margin"] = {1, 2, 3}; }); },
+       "/design/joint_margin", "expected 2 numbers, got 3"},
+      {"design joint_margin leaves no range",
+       [] { return withPlanar([](json& d) { d["design"]["joint_margin"] = 175; }); },
+       "/design/joint_margin", "leaves nothing of joint 2's range"},
+      // plausibility (issue 9; docs/hardening.md)
+      {"reading outside joint_limits",
+       [] {
+         return withPlanar(
+             [](json& d) { d["placements"][0]["measurements"][1]["joints"][1] = 171; });
+       },
+       "/placements/0/measurements/1/joints/1", "outside its joint_limits [-170, 170] deg"},
+      {"readings in radians",
+       [] {
+         return withPlanar([](json& d) {
+           for (json& m : d["placements"][0]["measurements"])
+             for (json& q : m["joints"]) q = q.get<double>() * std::numbers::pi / 180.0;
+         });
+       },
+       "/placements/0", "check the units"},
+      {"machine in metres",
+       [] {
+         return withSerial([](json& d) {
+           d["machine"]["joints"][0]["d"] = 0.2;
+           d["machine"]["joints"][0]["a"] = 0.01;
+           d["machine"]["probe"] = {0, 0, 0.05};
+           d["placements"][0]["measurements"][0]["joints"][1] = 0.49133;  // prismatic, metres
+           d["placements"][0]["measurements"][1]["joints"][1] = 0.2;
+         });
+       },
+       "/placements/0", "check the units"},
+      {"pose 5 m away",
+       [] {
+         return withPlanar([](json& d) { d["placements"][0]["pose"]["center"] = {5000, 0}; });
+       },
+       "/placements/0/pose", "check the pose"},
   };
 }
 

@@ -1,0 +1,111 @@
+// Every example plan in plans/ runs (issue 9, "plans that run"): `simulate` writes readings that
+// `calibrate` converges on, and `confirm` confirms the prediction with a few trials (1000 trials
+// are measured by hand: docs/hardening.md). A plan `optimize` wrote keeps its readings
+// `design.joint_margin` inside the joint limits, so that a machine off nominal reaches them too.
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "artcal/artcal.hpp"
+#include "cli_runner.hpp"
+
+namespace artcal {
+namespace {
+
+namespace fs = std::filesystem;
+using test_support::CliRun;
+using test_support::runCli;
+using test_support::Stderr;
+
+/// The plans of plans/ (the optimization specs are inputs of optimize, not plans).
+std::vector<std::string> examplePlans() {
+  std::vector<std::string> plans;
+  for (const auto& entry : fs::directory_iterator(ARTCAL_PLANS_DIR)) {
+    const std::string name = entry.path().filename().string();
+    if (entry.path().extension() == ".json" && name.find(".spec.") == std::string::npos) {
+      plans.push_back(entry.path().string());
+    }
+  }
+  std::sort(plans.begin(), plans.end());
+  return plans;
+}
+
+std::string tempPath(const std::string& name) {
+  return (fs::temp_directory_path() /
+          ("artcal-plans-run-" + std::to_string(::getpid()) + "-" + name))
+      .string();
+}
+
+TEST(PlansRun, ThereAreExamplePlans) {
+  EXPECT_GE(examplePlans().size(), 5u);
+}
+
+// simulate (the nominal machine as the truth, so that the test says nothing about the size of a
+// perturbation), then calibrate the simulated readings.
+TEST(PlansRun, SimulateAndCalibrateEveryPlan) {
+  const std::string truth = tempPath("truth.json");
+  std::ofstream(truth) << R"({"parameters": {}})";
+  for (const std::string& plan : examplePlans()) {
+    SCOPED_TRACE(plan);
+    const std::string out = tempPath(fs::path(plan).filename().string());
+    const CliRun simulated =
+        runCli("simulate '" + plan + "' --truth '" + truth + "' --seed 3 -o '" + out + "'",
+               Stderr::Merge);
+    ASSERT_EQ(simulated.status, 0) << simulated.out;
+    const CliRun calibrated = runCli("calibrate '" + out + "'", Stderr::Merge);
+    EXPECT_EQ(calibrated.status, 0) << calibrated.out;
+    fs::remove(out);
+  }
+  fs::remove(truth);
+}
+
+// confirm with 12 trials (the band is wide at that count; 1000 are run by hand).
+TEST(PlansRun, ConfirmEveryPlan) {
+  for (const std::string& plan : examplePlans()) {
+    SCOPED_TRACE(plan);
+    const CliRun r =
+        runCli("confirm '" + plan + "' --trials 12 --seed 1 --threads 2 --quiet", Stderr::Merge);
+    EXPECT_EQ(r.status, 0) << r.out;
+    EXPECT_EQ(r.out.find("error:"), std::string::npos) << r.out;
+  }
+}
+
+// Every reading of a plan with a design block stays the design's joint margin (default 2 deg /
+// 1 mm) inside each joint's limits; joints with a full turn of range wrap and need none.
+TEST(PlansRun, OptimizedReadingsKeepTheJointMargin) {
+  int checked = 0;
+  for (const std::string& path : examplePlans()) {
+    const Plan plan = loadPlan(path);
+    if (!plan.design) continue;
+    SCOPED_TRACE(path);
+    const Machine& machine = plan.machine;
+    for (const Placement& placement : plan.placements) {
+      for (const Measurement& m : placement.measurements) {
+        for (int i = 0; i < m.joints.size(); ++i) {
+          const auto [lo, hi] = machine.joint_limits[static_cast<std::size_t>(i)];
+          const bool revolute = machine.mechanism->jointKind(i) == JointKind::Revolute;
+          if (revolute && hi - lo >= 2 * std::numbers::pi - 1e-12) continue;
+          const double margin = plan.design->joint_margin.size() > i
+                                    ? plan.design->joint_margin[i]
+                                    : (revolute ? degToRad(kDefaultRevoluteMarginDeg)
+                                                : kDefaultPrismaticMarginMm);
+          EXPECT_GE(m.joints[i], lo + margin * (1 - 1e-9)) << "joint " << i + 1;
+          EXPECT_LE(m.joints[i], hi - margin * (1 - 1e-9)) << "joint " << i + 1;
+          ++checked;
+        }
+      }
+    }
+  }
+  EXPECT_GT(checked, 0);
+}
+
+}  // namespace
+}  // namespace artcal
