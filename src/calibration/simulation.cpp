@@ -127,12 +127,14 @@ SimulatedRun Simulator::simulate(const Eigen::VectorXd& p_true, NormalSource& no
       Measurement& m = placement.measurements[i];
       target = inverse_poses_[j].apply(artifact.feature(m.feature, c));
       for (int k = 0; k < d; ++k) target[k] += scale * plan.noise.probe * normal();
-      auto q = solveInverseKinematics(machine, p_true, target, m.joints, options_.ik);
+      IkOptions ik = options_.ik;
+      ik.stylus = m.stylus;
+      auto q = solveInverseKinematics(machine, p_true, target, m.joints, ik);
       if (!q) {
         throw RunError(plan.source,
                        "/placements/" + std::to_string(j) + "/measurements/" + std::to_string(i),
                        "the simulated machine cannot reach this reading's point: " +
-                           whyUnreachable(machine, p_true, target, m.joints, options_.ik));
+                           whyUnreachable(machine, p_true, target, m.joints, ik));
       }
       for (int k = 0; k < q->size(); ++k) (*q)[k] += scale * plan.noise.encoder[k] * normal();
       m.joints = *q;
