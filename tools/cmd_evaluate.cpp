@@ -3,6 +3,7 @@
 #include <iostream>
 
 #include "artcal/estimation/evaluator.hpp"
+#include "artcal/report/cartesian_report.hpp"
 #include "artcal/report/report.hpp"
 #include "commands.hpp"
 
@@ -44,12 +45,14 @@ void addCheckCommand(CLI::App& app, Action& action) {
           parameterInformation(plan, plan.placements, plan.machine.nominal);
       const Identifiability id =
           analyseIdentifiability(plan, plan.placements, information, args->rank_tolerance);
+      const CartesianAnswers cmm = cartesianAnswers(plan, nullptr);
       if (args->json) {
         nlohmann::json out = identifiabilityToJson(id);
+        out.update(cartesianAnswersToJson(plan, cmm));
         out["plan"] = plan.name;
         printJson(out);
       } else {
-        std::cout << identifiabilityTable(plan, id);
+        std::cout << identifiabilityTable(plan, id) << cartesianAnswersTable(plan, cmm);
       }
       return id.identifiable() ? 0 : 1;
     };
@@ -71,10 +74,13 @@ void addEvaluateCommand(CLI::App& app, Action& action) {
     action = [args] {
       const Plan plan = loadPlanReporting(args->plan);
       const Evaluation evaluation = evaluatePlan(plan, {args->rank_tolerance, args->profile_steps});
+      const CartesianAnswers cmm = cartesianAnswers(plan, &evaluation);
       if (args->json) {
-        printJson(evaluationToJson(plan, evaluation));
+        nlohmann::json out = evaluationToJson(plan, evaluation);
+        out.update(cartesianAnswersToJson(plan, cmm));
+        printJson(out);
       } else {
-        std::cout << evaluationTable(plan, evaluation);
+        std::cout << evaluationTable(plan, evaluation) << cartesianAnswersTable(plan, cmm);
       }
       return evaluation.identifiable() ? 0 : 1;
     };
