@@ -89,7 +89,8 @@ Evaluation evaluatePlan(const Plan& plan, const EvaluateOptions& options) {
   if (evaluation.identifiability.deficiency > 0) return evaluation;
   evaluation.covariance = covarianceFromInformation(evaluation.information);
   if (!evaluation.covariance) return evaluation;
-  evaluation.workspace = workspaceConfigurations(plan.machine, plan.workspace);
+  evaluation.workspace =
+      workspaceConfigurations(plan.machine, plan.workspace, &evaluation.workspace_drops);
   const TipEvaluator tip(plan.machine, plan.noise, evaluation.workspace);
   evaluation.tip = tip.summarize(evaluation.covariance->V);
   evaluation.profile =

@@ -39,6 +39,7 @@ struct Evaluation {
   std::optional<TipSummary> tip;
   std::vector<ProfilePoint> profile;       ///< planar2r only
   std::vector<Eigen::VectorXd> workspace;  ///< the configurations evaluated
+  WorkspaceDrops workspace_drops;          ///< samples left out of `workspace`
   bool identifiable() const { return identifiability.identifiable() && covariance.has_value(); }
 };
 

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "artcal/artifact/artifact.hpp"
+#include "artcal/core/units.hpp"
 #include "artcal/model/machine.hpp"
 
 namespace artcal {
@@ -42,24 +43,29 @@ struct Placement {
   std::vector<Measurement> measurements;
 };
 
-/// The joint configurations tip uncertainty is evaluated over (method.md section 4).
-struct WorkspaceSpec {
-  enum class Kind { Configurations, Samples, Grid };
-  Kind kind = Kind::Samples;
-  std::vector<Eigen::VectorXd> configurations;  ///< Kind::Configurations, internal units
-  int samples = 4096;                           ///< Kind::Samples
-  std::uint64_t seed = 1;                       ///< Kind::Samples
-  std::vector<int> grid;                        ///< Kind::Grid, points per joint
-};
-
-enum class Criterion { WorstTip, MeanTip, D, A, E };
-
-/// Where an artifact's features may lie when planning.
+/// Where an artifact's features may lie when planning; where a task-space workspace samples.
 struct Region {
   std::optional<std::array<double, 2>> reach;         ///< distance from the machine origin, mm
   std::optional<std::array<Eigen::VectorXd, 2>> box;  ///< opposite corners, mm
   bool contains(const Eigen::VectorXd& x) const;
 };
+
+/// The joint configurations tip uncertainty is evaluated over (method.md section 4).
+/// TaskSpace (models.md section 5): `samples` probe positions uniform in `region`, each turned
+/// into a configuration by the model's inverse kinematics in a random posture (an orientation
+/// within `tilt` of home for the hexapod); unreachable ones are dropped and counted.
+struct WorkspaceSpec {
+  enum class Kind { Configurations, Samples, Grid, TaskSpace };
+  Kind kind = Kind::Samples;
+  std::vector<Eigen::VectorXd> configurations;  ///< Kind::Configurations, internal units
+  int samples = 4096;                           ///< Kind::Samples, Kind::TaskSpace
+  std::uint64_t seed = 1;                       ///< Kind::Samples, Kind::TaskSpace
+  std::vector<int> grid;                        ///< Kind::Grid, points per joint
+  Region region;                                ///< Kind::TaskSpace
+  double tilt = 15.0 * kDegree;                 ///< Kind::TaskSpace, rad
+};
+
+enum class Criterion { WorstTip, MeanTip, D, A, E };
 
 /// The `design` block of an optimization spec.
 struct DesignSpec {
