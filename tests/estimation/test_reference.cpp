@@ -104,5 +104,15 @@ TEST(Reference, CalibrationCaseUncertaintyAtNominalIsCloseToTheEstimate) {
   }
 }
 
+// The hexapod (models.md section 3): all 45 parameters leave the 12 combinations of the base and
+// platform frames unseparable; "identifiable" keeps exactly the reference's 33.
+TEST(Reference, Hexapod6BarsAllParameters) {
+  expectMatchesReference("ref-hexapod-6bars");
+}
+TEST(Reference, Hexapod6BarsIdentifiable) {
+  expectMatchesReference("ref-hexapod-6bars-identifiable");
+  expectResolvedSetMatchesReference("ref-hexapod-6bars-identifiable");
+}
+
 }  // namespace
 }  // namespace artcal
