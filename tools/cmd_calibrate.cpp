@@ -1,4 +1,4 @@
-// artcal simulate / calibrate / confirm (plan-format.md, command line; method.md section 6).
+// artcal simulate / calibrate / confirm (docs/plan-format.md, command line; docs/method.md section 6).
 
 #include <unistd.h>
 

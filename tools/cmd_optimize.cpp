@@ -1,4 +1,4 @@
-// artcal optimize SPEC -o PLAN (plan-format.md, optimization spec; method.md section 7).
+// artcal optimize SPEC -o PLAN (docs/plan-format.md, optimization spec; docs/method.md section 7).
 
 #include <unistd.h>
 

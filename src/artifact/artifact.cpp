@@ -24,7 +24,7 @@ Artifact Artifact::ballBar(std::string id, int dimension, double length, double 
   a.dimension = dimension;
   a.features = Eigen::MatrixXd::Zero(dimension, 2);
   a.features(0, 1) = length;
-  // The length error moves the second ball along X (method.md section 2).
+  // The length error moves the second ball along X (docs/method.md section 2).
   if (u_length > 0.0) a.systematic.push_back({1, 0, u_length});
   return a;
 }

@@ -103,7 +103,7 @@ SimulatedRun Simulator::simulate(const Eigen::VectorXd& p_true, NormalSource& no
   const Machine& machine = plan.machine;
   const double scale = options_.noise_scale;
   SimulatedRun run;
-  // One draw per physical artifact's systematic error (method.md section 2).
+  // One draw per physical artifact's systematic error (docs/method.md section 2).
   std::vector<Eigen::VectorXd> artifact_c;
   std::vector<double> drawn;
   for (const Artifact& artifact : plan.artifacts) {

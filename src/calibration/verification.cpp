@@ -11,7 +11,7 @@ namespace artcal {
 namespace {
 
 /// Machine-frame position, its Jacobian over the covariance's parameters and the covariance of
-/// the reading's own error (probing and encoders, method.md section 2) of one reading.
+/// the reading's own error (probing and encoders, docs/method.md section 2) of one reading.
 struct ReadingModel {
   Eigen::VectorXd x;
   Eigen::MatrixXd J;

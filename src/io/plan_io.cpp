@@ -33,7 +33,7 @@ constexpr std::size_t kMaxFeatures = 10'000;
 constexpr long kMaxWorkspace = 10'000'000;
 
 // machine.calibrate: [names], "identifiable" (every parameter in the model's order) or
-// {"identifiable": [names in preferred order]} (plan-format.md; models.md section 1). The
+// {"identifiable": [names in preferred order]} (docs/plan-format.md; models.md section 1). The
 // identifiable forms list candidates that resolveCalibratedSet decides from the readings.
 void parseCalibrateNames(const Node& names, const Mechanism& mech, Machine& machine) {
   const std::size_t n = names.arraySize(1, mech.parameters().size());

@@ -49,7 +49,7 @@ double machineReach(const Machine& machine, const std::vector<Eigen::VectorXd>& 
   return reach > 0.0 ? reach : 1.0;
 }
 
-// The information of p: c eliminated with its prior (method.md section 3).
+// The information of p: c eliminated with its prior (docs/method.md section 3).
 Eigen::MatrixXd parameterPart(const Eigen::MatrixXd& information_g, const GlobalLayout& layout) {
   const int n = layout.parameters;
   const int c = layout.systematicCount();
@@ -215,7 +215,7 @@ void checkDesignCount(const Plan& plan) {
           << " rigid unknowns)";
   if (!plan.placements.empty()) message << " + " << fixed.N_b - fixed.N_r << " (fixed placements)";
   message << " = " << equations << " equations for " << N_p
-          << " parameters (counting condition, method.md section 5)";
+          << " parameters (counting condition, docs/method.md section 5)";
   if (per_placement > 0) {
     const int needed = (N_p - (fixed.N_b - fixed.N_r) + per_placement - 1) / per_placement;
     message << "; at least " << needed << " placements are needed";

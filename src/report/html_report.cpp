@@ -615,7 +615,7 @@ void writePredicted(std::ostream& out, const json& predicted, const json& evalua
   out << "</table>\n";
 }
 
-/// An optimized plan (plan-format.md, optimization spec): its design block, the search from the
+/// An optimized plan (docs/plan-format.md, optimization spec): its design block, the search from the
 /// starting designs to the optimum, and its predicted block beside the evaluation now.
 void writeDesign(std::ostream& out, const ReportInput& in) {
   if (!in.document.contains("design") && !in.document.contains("predicted")) return;

@@ -151,7 +151,7 @@ std::string uncertaintyText(const Quantity& q, double internal) {
 namespace {
 
 // Where a placement's measurements see fewer rigid directions than its artifact kind has
-// (method.md section 5, effective N(r_j)): the table value, the effective one, and why.
+// (docs/method.md section 5, effective N(r_j)): the table value, the effective one, and why.
 std::string effectiveRigidText(const Plan& plan, const CountingCondition& c) {
   if (c.N_r == c.N_r_table) return {};
   std::ostringstream out;
@@ -205,7 +205,7 @@ std::string identifiabilityTable(const Plan& plan, const Identifiability& id) {
                 c.N_r, c.N_b - c.N_r, c.satisfied ? ">=" : "<", c.N_p,
                 c.satisfied ? "satisfied" : "NOT satisfied");
   out << effectiveRigidText(plan, c);
-  // More placements like the first help only a plan whose rank is full (method.md section 5).
+  // More placements like the first help only a plan whose rank is full (docs/method.md section 5).
   if (c.minimum_alike > 0 && id.deficiency == 0) {
     out << format("  placements like the first needed: m >= %d\n", c.minimum_alike);
   }

@@ -1,5 +1,5 @@
 #pragma once
-// Calibrated artifacts (method.md sections 1 and 2): their features W*_i, which coordinates are
+// Calibrated artifacts (docs/method.md sections 1 and 2): their features W*_i, which coordinates are
 // valued, which rigid motions of a placement move those coordinates (N(r_j)), and their
 // systematic calibration errors c (W* = W*_0 + C c, prior covariance Sigma_c), shared by every
 // placement of the same physical artifact.
@@ -38,7 +38,7 @@ class Artifact {
   int featureCount() const { return static_cast<int>(features.cols()); }
   /// k: valued coordinates per feature (all of them for a ball, the first for a step-gauge face).
   int valuedPerFeature() const { return kind == ArtifactKind::StepGauge ? 1 : dimension; }
-  /// N(r_j): the rigid-motion directions that move valued coordinates (method.md section 1).
+  /// N(r_j): the rigid-motion directions that move valued coordinates (docs/method.md section 1).
   int rigidDof() const { return static_cast<int>(rigidDirections().size()); }
   /// Indices into the full rigid motion (translation, rotation) that a placement estimates.
   const std::vector<int>& rigidDirections() const;

@@ -1,5 +1,5 @@
 #pragma once
-// Rigid transforms between the machine frame and an artifact frame (method.md section 1):
+// Rigid transforms between the machine frame and an artifact frame (docs/method.md section 1):
 //   W = R x + t    (x in the machine frame, W in the artifact frame)
 // in 2-D or 3-D. Small motions are applied on the artifact side: W' = exp(delta) W, with
 // delta = (translation, rotation): 2 + 1 numbers in 2-D, 3 + 3 in 3-D.

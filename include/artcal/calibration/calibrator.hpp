@@ -1,5 +1,5 @@
 #pragma once
-// The calibrator (method.md section 6): from the readings of a plan, estimate the calibrated
+// The calibrator (docs/method.md section 6): from the readings of a plan, estimate the calibrated
 // parameters p, every placement's rigid transform r_j and the artifacts' systematic errors c by
 // minimising
 //
@@ -140,7 +140,7 @@ class Calibrator {
   /// Linearises at `state` (weights evaluated there); false when anything is non-finite.
   bool linearize(const std::vector<Placement>& placements, const CalibrationState& state,
                  Linearization& out);
-  /// The state after the global step dg, each r_j back-substituted (method.md section 3).
+  /// The state after the global step dg, each r_j back-substituted (docs/method.md section 3).
   void step(const CalibrationState& from, const Linearization& at, const Eigen::VectorXd& dg,
             const std::vector<Placement>& placements, CalibrationState& to) const;
 

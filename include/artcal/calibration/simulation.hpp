@@ -1,5 +1,5 @@
 #pragma once
-// Simulating one calibration run (method.md section 6): the readings a machine with the true
+// Simulating one calibration run (docs/method.md section 6): the readings a machine with the true
 // parameters p_true would report for a plan's planned readings.
 //
 // For placement j the artifact sits where the plan puts it: r_j fitted (Umeyama) to the planned

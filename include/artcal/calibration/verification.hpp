@@ -13,7 +13,7 @@
 // is given. The deviation of posture i from the feature mean is
 //   d_i = (J_i - Jbar) dp + (e_i - ebar),   J_i = df/dp at q_i over the covariance's parameters,
 // with dp ~ (0, V_p) the calibration's parameter error and e_i ~ (0, Sigma_i) the reading's own
-// error, Sigma_i = s_p^2 I + J_q,i Sigma_q J_q,i^T (method.md section 2: probing and encoders),
+// error, Sigma_i = s_p^2 I + J_q,i Sigma_q J_q,i^T (docs/method.md section 2: probing and encoders),
 // independent between readings. Hence
 //   E|d_i|^2 = tr((J_i - Jbar) V_p (J_i - Jbar)^T) + tr(Sigma_i) (1 - 2/n) + tr(sum_k Sigma_k)/n^2
 // and predicted_spread_rms = sqrt(mean_i E|d_i|^2). A length error's predicted u is the standard

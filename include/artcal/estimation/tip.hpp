@@ -1,5 +1,5 @@
 #pragma once
-// Tip uncertainty over the workspace (method.md section 4, seed eq. 10 and Fig. 6):
+// Tip uncertainty over the workspace (docs/method.md section 4, seed eq. 10 and Fig. 6):
 //   S_m(q)^2 = tr(J_p V_p J_p^T),  S_q(q)^2 = tr(J_q Sigma_q J_q^T),  S = sqrt(S_m^2 + S_q^2).
 // The workspace's Jacobians are prepared once. S_m^2 = tr(V_p J_p^T J_p) is then, for a new V_p,
 // one matrix-vector product with the prepared Gram matrices J_p^T J_p (their lower triangles,

@@ -1,7 +1,7 @@
 #pragma once
 // Reading a JSON document with the JSON pointer of every value at hand, so that every check of
 // the input names the exact place of a fault: InputError(file, pointer, message)
-// (plan-format.md, "Errors"). Used by the plan reader and by every model family's codec.
+// (docs/plan-format.md, "Errors"). Used by the plan reader and by every model family's codec.
 
 #include <Eigen/Core>
 #include <initializer_list>

@@ -1,5 +1,5 @@
 #pragma once
-// Reading and writing plan files (plan-format.md). Every fault in the input raises InputError
+// Reading and writing plan files (docs/plan-format.md). Every fault in the input raises InputError
 // with the file and the JSON pointer of the offending value; outputs are written to a temporary
 // file in the same folder and renamed, so that a reader never sees a half-written file.
 

@@ -1,5 +1,5 @@
 #pragma once
-// The planar2r machine block (plan-format.md): {"model": "planar2r", "parameters": {"l1": mm,
+// The planar2r machine block (docs/plan-format.md): {"model": "planar2r", "parameters": {"l1": mm,
 // "l2": mm, "dt2": deg (default 0)}}.
 
 #include "artcal/io/model_registry.hpp"

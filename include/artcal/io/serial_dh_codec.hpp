@@ -1,5 +1,5 @@
 #pragma once
-// The serial-dh machine block (plan-format.md): {"model": "serial-dh", "joints": [{"type":
+// The serial-dh machine block (docs/plan-format.md): {"model": "serial-dh", "joints": [{"type":
 // "revolute" | "prismatic", "theta": deg, "d": mm, "a": mm, "alpha": deg}, ...], "probe": [x, y,
 // z] mm}; absent DH values are 0.
 

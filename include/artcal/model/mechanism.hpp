@@ -1,5 +1,5 @@
 #pragma once
-// Mechanism models: forward kinematics x = f(p, q) with exact Jacobians (method.md section 1).
+// Mechanism models: forward kinematics x = f(p, q) with exact Jacobians (docs/method.md section 1).
 //
 // A Mechanism is immutable. Parameters p are the model's full parameter vector in internal units
 // (mm, rad); which of them are calibrated is the Machine's business, not the model's.

@@ -1,5 +1,5 @@
 #pragma once
-// The design space of the planner (method.md section 7): where one placement of the design's
+// The design space of the planner (docs/method.md section 7): where one placement of the design's
 // artifact may go and in which postures its features are probed.
 //
 // A placement is described by a short pose vector v:

@@ -1,5 +1,5 @@
 #pragma once
-// The planner (method.md section 7): places `design.placements` copies of the design's artifact
+// The planner (docs/method.md section 7): places `design.placements` copies of the design's artifact
 // (each feature probed in `design.postures` postures) so that the criterion is as small as it can
 // be. Every criterion is a length in mm, smaller is better:
 //   worst-tip  G = max_q S(q) over the plan's workspace (minimax, G-optimality)
@@ -12,7 +12,7 @@
 // the thread count):
 //  1. a random initial design drawn from a candidate pool (feasible placements, seeded);
 //  2. Fedorov exchange: each placement adds an independent term to the reduced information
-//     (method.md section 3), so the pool's terms are computed once and a swap is a sum;
+//     (docs/method.md section 3), so the pool's terms are computed once and a swap is a sum;
 //  3. continuous refinement of all poses with a derivative-free NLopt algorithm on the
 //     criterion (worst-tip: the max itself, or a p-norm smooth max), readings re-solved by IK
 //     from the starting postures; an infeasible pose gets a penalty.
@@ -111,7 +111,7 @@ class DesignCriterion {
   Eigen::VectorXd scale_, S_m2_;
 };
 
-/// Refuses a design that cannot be identifiable by counting (method.md section 5): InputError
+/// Refuses a design that cannot be identifiable by counting (docs/method.md section 5): InputError
 /// at /design/placements.
 void checkDesignCount(const Plan& plan);
 
