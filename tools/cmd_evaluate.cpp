@@ -41,13 +41,14 @@ void addCheckCommand(CLI::App& app, Action& action) {
   cmd->callback([&action, args] {
     action = [args] {
       const Plan plan = loadPlanReporting(args->plan);
-      const Eigen::MatrixXd information =
-          parameterInformation(plan, plan.placements, plan.machine.nominal);
+      const PlanInformation information =
+          planInformation(plan, plan.placements, plan.machine.nominal);
       const Identifiability id =
           analyseIdentifiability(plan, plan.placements, information, args->rank_tolerance);
       const CartesianAnswers cmm = cartesianAnswers(plan, nullptr);
       if (args->json) {
         nlohmann::json out = identifiabilityToJson(id);
+        out.update(calibrateSelectionToJson(plan));
         out.update(cartesianAnswersToJson(plan, cmm));
         out["plan"] = plan.name;
         printJson(out);

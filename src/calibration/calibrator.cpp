@@ -99,7 +99,10 @@ bool Calibrator::linearize(const std::vector<Placement>& placements, const Calib
     const Eigen::VectorXd c_j = artifactErrors(layout_, artifact, placements[j].artifact, state.c);
     builder_.build(artifact, placements[j].measurements, state.p, state.poses[j], c_j, true,
                    block_);
-    reducer_.add(block_, placements[j].artifact, &out.eliminations[j]);
+    // Rank policy (method.md section 5): only the rigid directions the measured features can
+    // see are eliminated and stepped; noise must not make an unseen one look observed.
+    reducer_.add(block_, placements[j].artifact, &out.eliminations[j],
+                 rigidRankOfFeatures(artifact, placements[j].measurements));
   }
   // The prior on c (method.md section 2): cost c^T Sigma_c^-1 c, gradient and curvature added.
   const Eigen::VectorXd prior = layout_.c_sigma.array().square().inverse();
@@ -217,7 +220,7 @@ Calibration Calibrator::run(const std::vector<Placement>& placements,
   for (const Placement& placement : placements) {
     const Artifact& artifact = artifactOf(*plan_, placement);
     rows += artifact.valuedPerFeature() * static_cast<int>(placement.measurements.size());
-    out.dof -= artifact.rigidDof();
+    out.dof -= rigidRankOfFeatures(artifact, placement.measurements);  // effective N(r_j)
   }
   out.dof += rows - layout_.parameters;
   out.chi2_per_dof = out.dof > 0 && std::isfinite(out.chi2) ? out.chi2 / out.dof : 0.0;
@@ -261,7 +264,8 @@ void Calibrator::fillDetails(const std::vector<Placement>& placements, Calibrati
     c[j] = artifactErrors(layout_, artifact, placements[j].artifact, out.systematic);
     builder_.build(artifact, placements[j].measurements, out.parameters, out.poses[j], c[j], true,
                    blocks[j]);
-    reducer_.add(blocks[j], placements[j].artifact, &eliminations[j]);
+    reducer_.add(blocks[j], placements[j].artifact, &eliminations[j],
+                 rigidRankOfFeatures(artifact, placements[j].measurements));
   }
   out.covariance = covarianceFromInformation(reducer_.parameterInformation());
   const auto global = covarianceFromInformation(reducer_.normalWithPrior());

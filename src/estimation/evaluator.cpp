@@ -43,13 +43,22 @@ Eigen::MatrixXd reduceInformation(const Plan& plan, const std::vector<Placement>
 
 }  // namespace
 
-Eigen::MatrixXd parameterInformation(const Plan& plan, const std::vector<Placement>& placements,
-                                     const Eigen::VectorXd& p) {
+PlanInformation planInformation(const Plan& plan, const std::vector<Placement>& placements,
+                                const Eigen::VectorXd& p) {
   DesignMatrixBuilder builder(plan.machine, plan.noise);
   NormalMatrixReducer reducer(GlobalLayout::of(plan));
   ObservationBlock block;
-  return reduceInformation(plan, placements, p, fitPlacements(plan, placements, p), builder,
-                           reducer, block);
+  PlanInformation out;
+  out.reduced = reduceInformation(plan, placements, p, fitPlacements(plan, placements, p), builder,
+                                  reducer, block);
+  out.unreduced_diagonal = reducer.unreducedDiagonal();
+  out.rigid_ranks = reducer.rigidRanks();
+  return out;
+}
+
+Eigen::MatrixXd parameterInformation(const Plan& plan, const std::vector<Placement>& placements,
+                                     const Eigen::VectorXd& p) {
+  return planInformation(plan, placements, p).reduced;
 }
 
 PlanEvaluator::PlanEvaluator(const Plan& plan)
@@ -83,9 +92,11 @@ std::optional<TipSummary> PlanEvaluator::tip(const std::vector<Placement>& place
 
 Evaluation evaluatePlan(const Plan& plan, const EvaluateOptions& options) {
   Evaluation evaluation;
-  evaluation.information = parameterInformation(plan, plan.placements, plan.machine.nominal);
+  PlanInformation information = planInformation(plan, plan.placements, plan.machine.nominal);
   evaluation.identifiability =
-      analyseIdentifiability(plan, plan.placements, evaluation.information, options.rank_tolerance);
+      analyseIdentifiability(plan, plan.placements, information, options.rank_tolerance);
+  evaluation.information = std::move(information.reduced);
+  evaluation.unreduced_diagonal = std::move(information.unreduced_diagonal);
   if (evaluation.identifiability.deficiency > 0) return evaluation;
   evaluation.covariance = covarianceFromInformation(evaluation.information);
   if (!evaluation.covariance) return evaluation;

@@ -1,34 +1,40 @@
 #include "artcal/estimation/identifiability.hpp"
 
+#include "artcal/estimation/evaluator.hpp"
+
 #include <Eigen/Eigenvalues>
 #include <cmath>
 #include <limits>
 
 namespace artcal {
 
-CountingCondition countingCondition(const Plan& plan, const std::vector<Placement>& placements) {
+CountingCondition countingCondition(const Plan& plan, const std::vector<Placement>& placements,
+                                    const std::vector<int>* effective_rigid) {
   CountingCondition count;
   count.N_p = plan.machine.calibratedCount();
-  for (const Placement& placement : placements) {
-    const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
-    count.N_b += artifact.valuedPerFeature() * static_cast<int>(placement.measurements.size());
-    count.N_r += artifact.rigidDof();
+  for (std::size_t j = 0; j < placements.size(); ++j) {
+    const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placements[j].artifact)];
+    count.N_b += artifact.valuedPerFeature() * static_cast<int>(placements[j].measurements.size());
+    const int table = artifact.rigidDof();
+    const int effective =
+        effective_rigid && j < effective_rigid->size() ? (*effective_rigid)[j] : table;
+    count.rigid_table.push_back(table);
+    count.rigid_effective.push_back(effective);
+    count.N_r_table += table;
+    count.N_r += effective;
   }
   count.satisfied = count.N_b - count.N_r >= count.N_p;
   if (!placements.empty()) {
     const Placement& first = placements.front();
     const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(first.artifact)];
     const int per = artifact.valuedPerFeature() * static_cast<int>(first.measurements.size()) -
-                    artifact.rigidDof();
+                    count.rigid_effective.front();
     if (per > 0) count.minimum_alike = (count.N_p + per - 1) / per;
   }
   return count;
 }
 
 namespace {
-
-// A diagonal of the information below this fraction of the largest is rounding, not information.
-constexpr double kUnobservedDiagonal = 1e-20;
 
 // Reduced row-echelon form of the rows of B (each row a null vector), pivots taken in parameter
 // order: a canonical, sparse basis of the null space.
@@ -50,24 +56,28 @@ Eigen::MatrixXd reducedRowEchelon(Eigen::MatrixXd B, double tolerance) {
 
 }  // namespace
 
-Identifiability analyseIdentifiability(const Plan& plan, const std::vector<Placement>& placements,
-                                       const Eigen::MatrixXd& information, double tolerance) {
-  Identifiability result;
-  result.counting = countingCondition(plan, placements);
-  result.tolerance = tolerance;
-  const int n = static_cast<int>(information.rows());
-  // Scale to unit diagonal; a parameter nothing observes keeps a zero row and column. "Nothing"
-  // includes rounding: a column that vanishes identically (a serial arm's last alpha with the
-  // probe on that joint's x axis) leaves a diagonal some 1e-30 of the others, which scaling
-  // would otherwise blow up to 1. Units (mm, rad) move diagonals by a few orders, never 1e20.
-  const double largest_diagonal = n > 0 ? information.diagonal().cwiseAbs().maxCoeff() : 0.0;
+Eigen::MatrixXd scaledInformation(const PlanInformation& information) {
+  const Eigen::MatrixXd& N = information.reduced;
+  const int n = static_cast<int>(N.rows());
+  // sqrt(D): a parameter nothing observes (rounding: a column that vanishes identically, e.g. a
+  // serial arm's last alpha with the probe on that joint's x axis) keeps a zero row and column.
+  const Eigen::VectorXd root = information.unreduced_diagonal.cwiseMax(0.0).cwiseSqrt();
+  const double largest = n > 0 ? root.maxCoeff() : 0.0;
   Eigen::VectorXd scale(n);
   for (int i = 0; i < n; ++i) {
-    const double d = information(i, i);
-    const bool observed = d > kUnobservedDiagonal * largest_diagonal && std::isfinite(d);
-    scale[i] = observed ? 1.0 / std::sqrt(d) : 0.0;
+    const bool observed = root[i] > kUnobservedScale * largest && std::isfinite(root[i]);
+    scale[i] = observed ? 1.0 / root[i] : 0.0;
   }
-  const Eigen::MatrixXd scaled = scale.asDiagonal() * information * scale.asDiagonal();
+  return scale.asDiagonal() * N * scale.asDiagonal();
+}
+
+Identifiability analyseIdentifiability(const Plan& plan, const std::vector<Placement>& placements,
+                                       const PlanInformation& information, double tolerance) {
+  Identifiability result;
+  result.counting = countingCondition(plan, placements, &information.rigid_ranks);
+  result.tolerance = tolerance;
+  const int n = static_cast<int>(information.reduced.rows());
+  const Eigen::MatrixXd scaled = scaledInformation(information);
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(scaled);
   const Eigen::VectorXd& lambda = eig.eigenvalues();  // ascending
   const double largest = n > 0 ? lambda[n - 1] : 0.0;
@@ -88,6 +98,9 @@ Identifiability analyseIdentifiability(const Plan& plan, const std::vector<Place
   }
   const Eigen::MatrixXd rref = reducedRowEchelon(basis, 1e-6);
   const auto& params = plan.machine.mechanism->parameters();
+  for (int k : chooseIdentifiableSet(information, tolerance).dropped) {
+    result.to_fix.push_back(params[static_cast<std::size_t>(plan.machine.calibrated[k])].name);
+  }
   for (int r = 0; r < rref.rows(); ++r) {
     const double largest_coefficient = rref.row(r).cwiseAbs().maxCoeff();
     if (largest_coefficient <= 0.0) continue;
@@ -102,6 +115,83 @@ Identifiability analyseIdentifiability(const Plan& plan, const std::vector<Place
     result.unidentifiable.push_back(std::move(combination));
   }
   return result;
+}
+
+namespace {
+
+Eigen::MatrixXd principal(const Eigen::MatrixXd& S, const std::vector<int>& set) {
+  const int n = static_cast<int>(set.size());
+  Eigen::MatrixXd out(n, n);
+  for (int a = 0; a < n; ++a) {
+    for (int b = 0; b < n; ++b) out(a, b) = S(set[a], set[b]);
+  }
+  return out;
+}
+
+double smallestEigenvalue(const Eigen::MatrixXd& M) {
+  return Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(M, Eigen::EigenvaluesOnly).eigenvalues()[0];
+}
+
+// The combination that ties a dropped parameter to the kept ones: the eigenvector of the
+// smallest eigenvalue of S over kept + {dropped}, largest coefficient magnitude 1.
+std::vector<std::pair<int, double>> tieOf(const Eigen::MatrixXd& S, std::vector<int> set) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(principal(S, set));
+  Eigen::VectorXd v = eig.eigenvectors().col(0);
+  const int last = static_cast<int>(set.size()) - 1;
+  if (v[last] < 0.0) v = -v;  // the dropped parameter (last) with a positive sign
+  v /= v.cwiseAbs().maxCoeff();
+  std::vector<std::pair<int, double>> tie;
+  // The dropped one first, then the kept ones it trades against.
+  tie.emplace_back(set[last], v[last]);
+  for (int i = 0; i < last; ++i) {
+    if (std::abs(v[i]) >= 1e-6) tie.emplace_back(set[i], v[i]);
+  }
+  return tie;
+}
+
+}  // namespace
+
+CalibratedSetChoice chooseIdentifiableSet(const PlanInformation& information, double tolerance) {
+  CalibratedSetChoice choice;
+  const Eigen::MatrixXd S = scaledInformation(information);
+  const int n = static_cast<int>(S.rows());
+  if (n == 0) return choice;
+  const double largest = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(S, Eigen::EigenvaluesOnly)
+                             .eigenvalues()[n - 1];
+  const double cutoff = tolerance * largest;
+  for (int i = 0; i < n; ++i) {
+    std::vector<int> trial = choice.kept;
+    trial.push_back(i);
+    // An unobserved parameter has a zero row and column in S (scaledInformation).
+    const bool observed = S(i, i) > 0.0;
+    if (observed && smallestEigenvalue(principal(S, trial)) > cutoff) {
+      choice.kept = std::move(trial);
+    } else {
+      choice.dropped.push_back(i);
+      choice.ties.push_back(tieOf(S, trial));
+    }
+  }
+  return choice;
+}
+
+void resolveCalibratedSet(Plan& plan) {
+  Machine& machine = plan.machine;
+  if (!machine.calibrate_identifiable || plan.placements.empty()) return;
+  const PlanInformation information = planInformation(plan, plan.placements, machine.nominal);
+  const CalibratedSetChoice choice = chooseIdentifiableSet(information);
+  const std::vector<int> listed = machine.calibrated;
+  CalibratedSetResolution resolution;
+  for (int k : choice.kept) resolution.kept.push_back(listed[static_cast<std::size_t>(k)]);
+  for (int k : choice.dropped) resolution.dropped.push_back(listed[static_cast<std::size_t>(k)]);
+  for (const auto& tie : choice.ties) {
+    std::vector<std::pair<int, double>> named;
+    for (const auto& [k, coefficient] : tie) {
+      named.emplace_back(listed[static_cast<std::size_t>(k)], coefficient);
+    }
+    resolution.ties.push_back(std::move(named));
+  }
+  machine.calibrated = resolution.kept;
+  plan.calibrate_resolution = std::move(resolution);
 }
 
 }  // namespace artcal

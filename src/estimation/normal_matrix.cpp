@@ -2,6 +2,8 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
+#include <Eigen/SVD>
+#include <cmath>
 
 namespace artcal {
 
@@ -23,6 +25,19 @@ Eigen::VectorXd PlacementElimination::rigidStep(const Eigen::VectorXd& dg) const
   return -(M_rr_pinv * (g_r + M_rg * local));
 }
 
+int rigidRankOfFeatures(const Artifact& artifact, const std::vector<Measurement>& measurements) {
+  const int k = artifact.valuedPerFeature();
+  const Eigen::VectorXd no_c;
+  Eigen::MatrixXd J(k * static_cast<int>(measurements.size()), artifact.rigidDof());
+  for (std::size_t i = 0; i < measurements.size(); ++i) {
+    artifact.rigidJacobian(artifact.feature(measurements[i].feature, no_c),
+                           J.middleRows(k * static_cast<int>(i), k));
+  }
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(J);
+  svd.setThreshold(std::sqrt(kRigidObservedTolerance));
+  return static_cast<int>(svd.rank());
+}
+
 Eigen::MatrixXd symmetricPseudoInverse(const Eigen::MatrixXd& M, double relative_tolerance) {
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(M);
   const Eigen::VectorXd& lambda = eig.eigenvalues();
@@ -39,24 +54,41 @@ namespace {
 // At most 6 rigid-motion unknowns per placement: the small matrices live on the stack.
 using RigidMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, 6, 6>;
 
-// A factor S of (A_r^T A_r)^+ = S^T S: L^-1 from the Cholesky factor when every pivot keeps a
-// fair share of its diagonal, otherwise D^+1/2 U^T from the eigen-decomposition (a rigid
-// direction that no valued coordinate sees is then not estimated).
+// A factor S of (A_r^T A_r)^+ = S^T S over the observed rigid directions only (rank policy,
+// method.md section 5): a direction is observed when its eigenvalue exceeds
+// kRigidObservedTolerance times the block's largest, never by a pivot against its own column's
+// diagonal (a column zero in exact arithmetic but carrying rounding, a step gauge's rotation,
+// would pass that test and its elimination would destroy real information about p).
+// Fast path: when the block is certainly well conditioned by that global test, S = L^-1 from the
+// Cholesky factor. The test is conservative: lambda_min >= 1 / ||L^-1||_F^2 and
+// lambda_max <= trace; otherwise the eigen-decomposition decides (S = D^+1/2 U^T).
+// `max_rank` (>= 0) keeps at most that many directions, the largest (the calibrator: the number
+// of observed directions is a property of the design, decided at the nominal readings).
 class RigidBlockRoot {
  public:
-  explicit RigidBlockRoot(const Eigen::MatrixXd& M) : llt_(RigidMatrix(M)) {
-    well_posed_ = llt_.info() == Eigen::Success;
+  RigidBlockRoot(const Eigen::MatrixXd& M, int max_rank) : llt_(RigidMatrix(M)) {
+    const int n = static_cast<int>(M.rows());
+    well_posed_ = llt_.info() == Eigen::Success && (max_rank < 0 || max_rank >= n) && n > 0;
     if (well_posed_) {
-      const auto pivots = llt_.matrixLLT().diagonal().array().square();
-      well_posed_ = (pivots > 1e-10 * M.diagonal().array()).all();
+      RigidMatrix L_inverse = RigidMatrix::Identity(n, n);
+      llt_.matrixL().solveInPlace(L_inverse);
+      const double lower_bound_smallest = 1.0 / L_inverse.squaredNorm();
+      well_posed_ = lower_bound_smallest > kRigidObservedTolerance * M.trace();
     }
-    if (well_posed_) return;
+    if (well_posed_) {
+      rank_ = n;
+      return;
+    }
     const Eigen::SelfAdjointEigenSolver<RigidMatrix> eig{RigidMatrix(M)};
-    const auto& lambda = eig.eigenvalues();
-    const double cutoff = 1e-12 * std::max(lambda.cwiseAbs().maxCoeff(), 0.0);
+    const auto& lambda = eig.eigenvalues();  // ascending
+    const double cutoff = kRigidObservedTolerance * std::max(lambda.cwiseAbs().maxCoeff(), 0.0);
     root_ = eig.eigenvectors().transpose();
-    for (int i = 0; i < lambda.size(); ++i) {
-      root_.row(i) *= lambda[i] > cutoff && lambda[i] > 0.0 ? 1.0 / std::sqrt(lambda[i]) : 0.0;
+    rank_ = 0;
+    for (int i = n - 1; i >= 0; --i) {
+      const bool observed =
+          lambda[i] > cutoff && lambda[i] > 0.0 && (max_rank < 0 || rank_ < max_rank);
+      if (observed) ++rank_;
+      root_.row(i) *= observed ? 1.0 / std::sqrt(lambda[i]) : 0.0;
     }
   }
   /// X <- S X.
@@ -73,10 +105,13 @@ class RigidBlockRoot {
     if (well_posed_) return llt_.solve(RigidMatrix::Identity(llt_.rows(), llt_.cols()));
     return root_.transpose() * root_;
   }
+  /// The observed rigid directions.
+  int rank() const { return rank_; }
 
  private:
   Eigen::LLT<RigidMatrix> llt_;
   bool well_posed_ = false;
+  int rank_ = 0;
   RigidMatrix root_;
 };
 
@@ -97,6 +132,8 @@ NormalMatrixReducer::NormalMatrixReducer(const GlobalLayout& layout) : layout_(l
 void NormalMatrixReducer::reset() {
   N_.setZero(layout_.size(), layout_.size());
   b_.setZero(layout_.size());
+  unreduced_diagonal_.setZero(layout_.parameters);
+  rigid_ranks_.clear();
   chi2_ = 0.0;
 }
 
@@ -104,7 +141,7 @@ void NormalMatrixReducer::reset() {
 //   N_red += A_g^T A_g - Y^T Y,   Y = S A_r^T A_g,   S^T S = (A_r^T A_r)^+.
 // The global columns are p (0..n_p) and the artifact's c (c_offset..): the c rows lie below p.
 void NormalMatrixReducer::add(const ObservationBlock& block, int artifact_index,
-                              PlacementElimination* elimination) {
+                              PlacementElimination* elimination, int max_rigid_rank) {
   const int n_p = layout_.parameters;
   const int n_c = static_cast<int>(block.A_c.cols());
   const int n_g = n_p + n_c;
@@ -114,7 +151,9 @@ void NormalMatrixReducer::add(const ObservationBlock& block, int artifact_index,
   const auto& A_r = block.A_r;
 
   M_rr_.noalias() = A_r.transpose().lazyProduct(A_r);
-  const RigidBlockRoot S(M_rr_);
+  const RigidBlockRoot S(M_rr_, max_rigid_rank);
+  rigid_ranks_.push_back(S.rank());
+  unreduced_diagonal_ += A_p.colwise().squaredNorm().transpose();
   M_rg_.resize(A_r.cols(), n_g);
   M_rg_.leftCols(n_p).noalias() = A_r.transpose().lazyProduct(A_p);
   if (n_c > 0) M_rg_.rightCols(n_c).noalias() = A_r.transpose() * A_c;

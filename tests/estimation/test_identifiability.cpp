@@ -20,7 +20,7 @@ using testing::seedPlanar2RPlan;
 
 Identifiability analyse(const Plan& plan) {
   return analyseIdentifiability(plan, plan.placements,
-                                parameterInformation(plan, plan.placements, plan.machine.nominal));
+                                planInformation(plan, plan.placements, plan.machine.nominal));
 }
 
 bool startsWith(const std::string& s, const std::string& prefix) {
@@ -150,9 +150,11 @@ TEST(RankTrap, ScalingAParameterDoesNotChangeTheRank) {
   // The rank test runs on the column-scaled matrix: multiplying the information of one
   // parameter by a unit change (deg <-> rad, mm <-> m) changes neither rank nor condition number.
   const Plan plan = loadTestPlan("ref-2r-5bars");
-  const Eigen::MatrixXd info = parameterInformation(plan, plan.placements, plan.machine.nominal);
+  const PlanInformation info = planInformation(plan, plan.placements, plan.machine.nominal);
   Eigen::Vector3d scale(1e3, 1.0, 180.0 / 3.141592653589793);
-  const Eigen::MatrixXd scaled = scale.asDiagonal() * info * scale.asDiagonal();
+  PlanInformation scaled = info;
+  scaled.reduced = scale.asDiagonal() * info.reduced * scale.asDiagonal();
+  scaled.unreduced_diagonal = scale.cwiseAbs2().cwiseProduct(info.unreduced_diagonal);
   const Identifiability a = analyseIdentifiability(plan, plan.placements, info);
   const Identifiability b = analyseIdentifiability(plan, plan.placements, scaled);
   EXPECT_EQ(a.rank, b.rank);

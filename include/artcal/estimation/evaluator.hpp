@@ -31,10 +31,15 @@ std::optional<ParameterCovariance> covarianceFromInformation(const Eigen::Matrix
 /// The information of p for a set of placements at parameters p (full vector), each r_j fitted.
 Eigen::MatrixXd parameterInformation(const Plan& plan, const std::vector<Placement>& placements,
                                      const Eigen::VectorXd& p);
+/// The same with what the rank policy needs (identifiability.hpp): the unreduced diagonal and
+/// each placement's observed rigid directions.
+PlanInformation planInformation(const Plan& plan, const std::vector<Placement>& placements,
+                                const Eigen::VectorXd& p);
 
 struct Evaluation {
   Identifiability identifiability;
   Eigen::MatrixXd information;                    ///< of p, internal units
+  Eigen::VectorXd unreduced_diagonal;             ///< the rank test's scale (identifiability.hpp)
   std::optional<ParameterCovariance> covariance;  ///< absent when not identifiable
   std::optional<TipSummary> tip;
   std::vector<ProfilePoint> profile;       ///< planar2r only

@@ -9,6 +9,12 @@
 // (A_r^T A_r)^+ is a pseudo-inverse: a direction of r_j that moves no valued coordinate to first
 // order (a step gauge's tilt with every face probed on its axis) is simply not estimated.
 //
+// Rank policy (method.md section 5, "Rank policy"): a rigid direction of placement j is observed
+// when its eigenvalue of A_r^T A_r exceeds kRigidObservedTolerance times the block's largest
+// eigenvalue (a singular value of A_r above 1e-5 of the largest). Unobserved directions are
+// neither eliminated nor stepped (PlacementElimination::rigidStep moves none of them). The count
+// of observed directions is the placement's effective N(r_j) (identifiability.hpp).
+//
 // The systematic errors c carry a prior (Sigma_c^-1 added to their block); eliminating them too
 // leaves the information of p alone, whose inverse is V_p (seed eq. 9).
 
@@ -19,6 +25,9 @@
 #include "artcal/plan/plan.hpp"
 
 namespace artcal {
+
+/// Relative eigenvalue below which a placement's rigid direction is not observed.
+inline constexpr double kRigidObservedTolerance = 1e-10;
 
 /// Where each artifact's systematic errors sit in g = (p, c).
 struct GlobalLayout {
@@ -46,13 +55,20 @@ class NormalMatrixReducer {
   explicit NormalMatrixReducer(const GlobalLayout& layout);
   void reset();
   /// Adds one placement of artifact `artifact_index`. When `elimination` is given it receives
-  /// what back-substitution needs.
+  /// what back-substitution needs. `max_rigid_rank` (>= 0) caps the observed rigid directions
+  /// at that many, the best observed ones (the calibrator passes the rank at the nominal
+  /// readings, so that noise cannot make an unseen direction look observed).
   void add(const ObservationBlock& block, int artifact_index,
-           PlacementElimination* elimination = nullptr);
+           PlacementElimination* elimination = nullptr, int max_rigid_rank = -1);
 
   const Eigen::MatrixXd& normal() const { return N_; }  ///< N_red over g, no prior yet
   const Eigen::VectorXd& rhs() const { return b_; }     ///< -reduced A^T e
   double chi2() const { return chi2_; }                 ///< sum of e^T e added
+  /// diag(sum_j A_pj^T A_pj): the information of each parameter before any elimination, the
+  /// scale of the parameter rank test (identifiability.hpp).
+  const Eigen::VectorXd& unreducedDiagonal() const { return unreduced_diagonal_; }
+  /// Observed rigid directions of each placement added since reset(), in order.
+  const std::vector<int>& rigidRanks() const { return rigid_ranks_; }
 
   /// N_red with the prior Sigma_c^-1 on the c block.
   Eigen::MatrixXd normalWithPrior() const;
@@ -64,10 +80,19 @@ class NormalMatrixReducer {
   Eigen::MatrixXd N_;
   Eigen::VectorXd b_;
   double chi2_ = 0.0;
+  Eigen::VectorXd unreduced_diagonal_;
+  std::vector<int> rigid_ranks_;
   std::vector<int> columns_;
   Eigen::MatrixXd A_g_, M_rr_, M_rr_pinv_, M_rg_, X_;
   Eigen::VectorXd g_r_;
 };
+
+/// The rigid directions the measured features of a placement can see, from the artifact's
+/// calibrated feature coordinates alone (rank of the stacked dW_valued/dr at W*_i, singular values
+/// above sqrt(kRigidObservedTolerance) of the largest). Noise-free: the calibrator caps each
+/// placement's observed directions at this count, so that the micrometre lever arms noise gives
+/// an unseen direction (a lone ball's rotations) are never stepped.
+int rigidRankOfFeatures(const Artifact& artifact, const std::vector<Measurement>& measurements);
 
 /// Pseudo-inverse of a small symmetric positive semi-definite matrix: eigenvalues below
 /// `relative_tolerance` times the largest count as zero.

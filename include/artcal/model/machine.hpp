@@ -15,6 +15,9 @@ struct Machine {
   MechanismPtr mechanism;
   Eigen::VectorXd nominal;      ///< every parameter of the model, internal units
   std::vector<int> calibrated;  ///< indices into nominal, in the plan's order
+  /// `"calibrate": "identifiable"`: `calibrated` lists the candidates in preferred order until
+  /// the plan's readings decide (resolveCalibratedSet, estimation/identifiability.hpp).
+  bool calibrate_identifiable = false;
   std::vector<std::array<double, 2>> joint_limits;  ///< per joint, internal units
 
   int dimension() const { return mechanism->dimension(); }

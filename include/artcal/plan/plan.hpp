@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "artcal/artifact/artifact.hpp"
@@ -88,6 +89,16 @@ struct DesignSpec {
 inline constexpr double kDefaultRevoluteMarginDeg = 2.0;
 inline constexpr double kDefaultPrismaticMarginMm = 1.0;
 
+/// `"calibrate": "identifiable"` once resolved (estimation/identifiability.hpp): the listed
+/// parameters the plan's nominal readings cannot identify (indices into the model's parameters)
+/// and, for each, the combination with the kept ones it is tied to (parameter index, coefficient
+/// in the scaled parameters).
+struct CalibratedSetResolution {
+  std::vector<int> kept;
+  std::vector<int> dropped;
+  std::vector<std::vector<std::pair<int, double>>> ties;
+};
+
 struct Plan {
   std::string source;  ///< the file it came from, for messages
   std::string name;
@@ -99,6 +110,7 @@ struct Plan {
   WorkspaceSpec workspace;
   std::optional<DesignSpec> design;
   std::vector<std::string> warnings;  ///< e.g. unknown fields ignored
+  std::optional<CalibratedSetResolution> calibrate_resolution;
 
   int artifactIndex(const std::string& id) const;
 };
