@@ -84,6 +84,19 @@ TrialResult runTrial(const Plan& plan, const Simulator& simulator, Calibrator& c
 
 }  // namespace
 
+SampleStatistics sampleStatistics(const std::vector<Eigen::VectorXd>& samples, int dimension) {
+  const auto T = static_cast<int>(samples.size());
+  SampleStatistics out{Eigen::VectorXd::Zero(dimension), Eigen::VectorXd::Zero(dimension)};
+  if (T == 0) return out;
+  for (const Eigen::VectorXd& s : samples) out.mean += s;
+  out.mean /= T;
+  if (T < 2) return out;
+  Eigen::VectorXd sum2 = Eigen::VectorXd::Zero(dimension);
+  for (const Eigen::VectorXd& s : samples) sum2 += (s - out.mean).array().square().matrix();
+  out.deviation = (sum2 / (T - 1)).cwiseSqrt();
+  return out;
+}
+
 Confirmation confirmPlan(const Plan& plan, const ConfirmationOptions& options) {
   std::string error;
   if (!options.isValid(&error)) throw std::invalid_argument("confirmation options: " + error);
@@ -136,19 +149,16 @@ Confirmation confirmPlan(const Plan& plan, const ConfirmationOptions& options) {
   const int n = plan.machine.calibratedCount();
   Confirmation out;
   out.trials = options.trials;
-  Eigen::VectorXd sum = Eigen::VectorXd::Zero(n), sum2 = Eigen::VectorXd::Zero(n);
+  std::vector<Eigen::VectorXd> errors;
   double chi2 = 0.0;
   for (const TrialResult& r : results) {
     if (!r.converged || !r.error.allFinite()) continue;
     ++out.converged_trials;
-    sum += r.error;
+    errors.push_back(r.error);
     chi2 += r.chi2_per_dof;
   }
   const int m = out.converged_trials;
-  const Eigen::VectorXd mean = m > 0 ? Eigen::VectorXd(sum / m) : Eigen::VectorXd::Zero(n);
-  for (const TrialResult& r : results) {
-    if (r.converged && r.error.allFinite()) sum2 += (r.error - mean).array().square().matrix();
-  }
+  const SampleStatistics statistics = sampleStatistics(errors, n);
   out.mean_chi2_per_dof = m > 0 ? chi2 / m : 0.0;
   out.band = confirmationBand(std::max(m, 2), n, options.level, options.allowance);
   out.confirmed = m == options.trials;
@@ -156,8 +166,8 @@ Confirmation confirmPlan(const Plan& plan, const ConfirmationOptions& options) {
     ConfirmedParameter parameter;
     parameter.name = plan.machine.calibratedInfo(k).name;
     parameter.predicted_u = predicted_u[k];
-    parameter.empirical_u = m > 1 ? std::sqrt(sum2[k] / (m - 1)) : 0.0;
-    parameter.bias = mean[k];
+    parameter.empirical_u = statistics.deviation[k];
+    parameter.bias = statistics.mean[k];
     parameter.ratio = parameter.empirical_u / parameter.predicted_u;
     parameter.inside = parameter.ratio >= out.band.low && parameter.ratio <= out.band.high;
     out.confirmed = out.confirmed && parameter.inside;

@@ -67,6 +67,27 @@ TEST(Band, CoverageFactorIsTheNormalQuantile) {
   EXPECT_NEAR(1.0 - band.low, band.high - 1.0, 1e-12);
 }
 
+// The statistics on small T, against values worked by hand: a sample deviation divided by T
+// instead of T - 1 (sqrt(1.25) = 1.118 for 1, 2, 3, 4) would fail.
+TEST(SampleStatistics, UnbiasedDeviationOnSmallSamples) {
+  const std::vector<Eigen::VectorXd> samples = {
+      Eigen::Vector2d(1.0, -2.0), Eigen::Vector2d(2.0, -2.0), Eigen::Vector2d(3.0, -2.0),
+      Eigen::Vector2d(4.0, -2.0)};
+  const SampleStatistics s = sampleStatistics(samples, 2);
+  EXPECT_DOUBLE_EQ(s.mean[0], 2.5);
+  EXPECT_DOUBLE_EQ(s.mean[1], -2.0);
+  EXPECT_NEAR(s.deviation[0], std::sqrt(5.0 / 3.0), 1e-15);  // 1.2909944
+  EXPECT_EQ(s.deviation[1], 0.0);
+  // T = 2: the deviation of {a, b} is |a - b| / sqrt(2).
+  const SampleStatistics two = sampleStatistics({Eigen::VectorXd::Constant(1, 0.5),
+                                                 Eigen::VectorXd::Constant(1, 1.5)},
+                                                1);
+  EXPECT_NEAR(two.deviation[0], 1.0 / std::sqrt(2.0), 1e-15);
+  // T = 1 and T = 0: a mean but no spread.
+  EXPECT_EQ(sampleStatistics({Eigen::VectorXd::Constant(1, 3.0)}, 1).deviation[0], 0.0);
+  EXPECT_EQ(sampleStatistics({}, 3).mean.size(), 3);
+}
+
 TEST(Confirmation, ConfirmsTheFiveBarPlanarPlan) {
   expectConfirmed(planOrReference("paper-2r-5bars", "ref-2r-5bars"), 400, 1);
 }

@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/LU>
+
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -405,6 +407,49 @@ TEST_F(OptimizeCli, RefusalsExitWithStatus2AndOneLine) {
   EXPECT_EQ(run.status, 2);
   EXPECT_NE(run.out.find("none.json: /design: missing"), std::string::npos) << run.out;
   EXPECT_FALSE(std::filesystem::exists(path("x.json")));
+}
+
+// D, A and E of a known V (calibrated l1, l2: both lengths, no scaling; no systematic error):
+// V = [[4, 1], [1, 9]] um^2 has det 35 um^4 and eigenvalues (13 +- sqrt(29)) / 2 um^2, so
+// D = det^(1/4), A = sqrt(trace / 2), E = sqrt(largest eigenvalue), all in mm.
+TEST(DesignCriterion, DAndAAndEOfAKnownCovariance) {
+  nlohmann::json doc = seedSpec(5, {{"reach", {55, 245}}});
+  doc["machine"]["calibrate"] = {"l1", "l2"};
+  const Plan plan = parsePlan(doc, "spec", false);
+  Eigen::Matrix2d V;
+  V << 4e-6, 1e-6, 1e-6, 9e-6;
+  const Eigen::MatrixXd information = V.inverse();
+  DesignCriterion d(plan, Criterion::D), a(plan, Criterion::A), e(plan, Criterion::E);
+  ASSERT_EQ(d.globalSize(), 2);
+  EXPECT_NEAR(d.value(information), std::pow(35e-12, 0.25), 1e-12);
+  EXPECT_NEAR(a.value(information), std::sqrt(13e-6 / 2), 1e-12);
+  EXPECT_NEAR(e.value(information), std::sqrt((13.0 + std::sqrt(29.0)) / 2 * 1e-6), 1e-12);
+}
+
+// A bar whose length is known to 4 um (u_length > 0): the criterion's V_p must be the
+// evaluator's, whose prior on the length error is eliminated in normal_matrix.cpp (method.md
+// section 3). Without the prior (or with it dropped from the optimizer's copy) the bar's scale
+// is free and the criterion differs.
+TEST(DesignCriterion, KeepsThePriorOfASystematicBarLength) {
+  nlohmann::json doc = seedSpec(5, {{"reach", {55, 245}}});
+  doc["machine"]["calibrate"] = {"l1", "l2"};
+  doc["artifacts"]["bar80"]["u_length"] = 0.004;
+  Plan plan = parsePlan(doc, "spec", false);
+  DesignSpace space(plan);
+  std::mt19937_64 rng(11);
+  DesignCriterion a(plan, Criterion::A);
+  ASSERT_EQ(a.globalSize(), 3);  // l1, l2 and the bar's length error
+  Eigen::MatrixXd information = Eigen::MatrixXd::Zero(3, 3);
+  for (int j = 0; j < 5; ++j) {
+    auto placed = space.randomPlacement(rng, 1000);
+    ASSERT_TRUE(placed);
+    information += a.contribution(placed->second);
+    plan.placements.push_back(placed->second);
+  }
+  const Evaluation ev = evaluatePlan(plan);
+  ASSERT_TRUE(ev.covariance);
+  const double expected = std::sqrt(ev.covariance->V.trace() / 2);
+  EXPECT_NEAR(a.value(information), expected, 1e-9 * expected);
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -697,6 +698,40 @@ TEST_F(ReportCli, ThousandPlacementReportStaysUnderTwoMegabytes) {
     ++features;
   }
   EXPECT_EQ(features, 2000u);
+}
+
+// The profile of `evaluate --json` against figures computed apart from it: each row's
+// configurations from the law of cosines here (t1 = 0, both elbow branches), S_m and S_q at them
+// from tipUncertainty, and the encoders' share against its closed form s_q sqrt(rho^2 + l2^2)
+// (method.md section 8). Swapping the kinematic and encoder columns fails.
+TEST(ProfileJson, ColumnsAreTheTipFiguresAtTheSameConfigurations) {
+  const Plan plan = loadPlan(std::string(ARTCAL_PLANS_DIR) + "/paper-2r-5bars.json");
+  const Evaluation ev = evaluatePlan(plan);
+  ASSERT_TRUE(ev.covariance);
+  const json profile = evaluationToJson(plan, ev).at("profile");
+  ASSERT_EQ(profile.size(), 20u);  // 21 steps of 50..250 mm; t2's limit (170 deg) drops 50 mm
+  const double l1 = plan.machine.nominal[0], l2 = plan.machine.nominal[1];
+  const double dt2 = plan.machine.nominal[2];
+  const double s_q = plan.noise.encoder[0];
+  ASSERT_EQ(plan.noise.encoder[1], s_q);
+  for (const json& row : profile) {
+    const double rho = row.at("reach").get<double>();
+    SCOPED_TRACE(rho);
+    std::optional<TipPoint> worst;
+    for (double sign : {1.0, -1.0}) {
+      const double c = std::clamp((rho * rho - l1 * l1 - l2 * l2) / (2 * l1 * l2), -1.0, 1.0);
+      const double t2 = sign * std::acos(c) - dt2;
+      if (t2 < plan.machine.joint_limits[1][0] || t2 > plan.machine.joint_limits[1][1]) continue;
+      const TipPoint tip =
+          tipUncertainty(plan.machine, plan.noise, Eigen::Vector2d(0.0, t2), ev.covariance->V);
+      if (!worst || tip.total > worst->total) worst = tip;
+    }
+    ASSERT_TRUE(worst);
+    EXPECT_NEAR(row.at("kinematic").get<double>(), worst->kinematic, 1e-12);
+    EXPECT_NEAR(row.at("encoder").get<double>(), s_q * std::hypot(rho, l2), 1e-12);
+    EXPECT_NEAR(row.at("total").get<double>(), std::hypot(worst->kinematic, worst->encoder),
+                1e-12);
+  }
 }
 
 }  // namespace

@@ -70,6 +70,14 @@ struct Confirmation {
   double mean_chi2_per_dof = 0.0;  ///< over converged trials: near noise_scale^2 when right
 };
 
+/// Per component: the mean and the sample standard deviation (divisor T - 1, the unbiased
+/// variance; method.md section 9) of T samples. Zero deviations when T < 2.
+struct SampleStatistics {
+  Eigen::VectorXd mean;
+  Eigen::VectorXd deviation;
+};
+SampleStatistics sampleStatistics(const std::vector<Eigen::VectorXd>& samples, int dimension);
+
 /// Two-sided coverage factor: Phi^-1(1 - level / (2 n)).
 double bonferroniFactor(double level, int n);
 /// The band for T trials and n parameters.
