@@ -218,7 +218,8 @@ TEST(Simulator, ReadingBeyondAJointLimitNamesTheJoint) {
   const Eigen::Vector2d q(degToRad(10.0), degToRad(169.5));
   Eigen::VectorXd x;
   forwardOrThrow(*plan.machine.mechanism, plan.machine.nominal, q, x);
-  Eigen::Vector2d x1 = x + 80.0 * (x.normalized().unitOrthogonal());
+  const Eigen::Vector2d across = Eigen::Vector2d(-x[1], x[0]).normalized();
+  const Eigen::Vector2d x1 = x.head<2>() + 80.0 * across;
   Placement placement = plan.placements[0];
   placement.pose.reset();
   placement.measurements = {{0, q}};
