@@ -18,12 +18,12 @@ struct ReadingModel {
   Eigen::MatrixXd Sigma;
 };
 
-ReadingModel modelReading(const Plan& plan, const Eigen::VectorXd& p, const Eigen::VectorXd& q,
+ReadingModel modelReading(const Plan& plan, const Eigen::VectorXd& p, const Measurement& m,
                           const std::vector<int>& indices) {
   const Mechanism& mech = *plan.machine.mechanism;
   ReadingModel out;
   Eigen::MatrixXd J_x_p, J_x_q;
-  forwardOrThrow(mech, p, q, out.x, &J_x_p, &J_x_q);
+  forwardOrThrow(mech, p, m.joints, out.x, &J_x_p, &J_x_q, m.stylus);
   const int d = static_cast<int>(out.x.size());
   out.J.resize(d, static_cast<int>(indices.size()));
   for (std::size_t k = 0; k < indices.size(); ++k)
@@ -134,7 +134,7 @@ PlacementVerification verifyPlacement(const Plan& plan, int index, const Eigen::
   std::map<int, FeatureAccumulator> features;
   for (int i = 0; i < count; ++i) {
     const Measurement& m = placement.measurements[static_cast<std::size_t>(i)];
-    models.push_back(modelReading(plan, p, m.joints, indices));
+    models.push_back(modelReading(plan, p, m, indices));
     features[m.feature].readings.push_back(i);
   }
   out.deviations.resize(count);

@@ -44,7 +44,9 @@ bool nominalPoints(const Plan& plan, const Placement& placement, Eigen::MatrixXd
   Eigen::VectorXd x;
   for (std::size_t i = 0; i < placement.measurements.size(); ++i) {
     const Measurement& m = placement.measurements[i];
-    if (mech.forward(plan.machine.nominal, m.joints, x) != ForwardStatus::Ok) return false;
+    if (mech.forwardStylus(m.stylus, plan.machine.nominal, m.joints, x) != ForwardStatus::Ok) {
+      return false;
+    }
     if (x.size() != points.rows() || !x.allFinite()) return false;
     points.col(static_cast<int>(i)) = x;
   }
