@@ -118,15 +118,47 @@ Eigen::VectorXd Node::numbers(std::size_t count) const {
   return v;
 }
 
+namespace {
+
+// Levenshtein distance (insertions, deletions, substitutions), for "did you mean".
+std::size_t editDistance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t above = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = above;
+    }
+  }
+  return row[b.size()];
+}
+
+}  // namespace
+
 void Node::warnUnknown(std::initializer_list<const char*> known,
-                       std::vector<std::string>& warnings) const {
+                       std::vector<std::string>& /*warnings*/) const {
   for (const auto& item : object().items()) {
     // Not a structured binding: clang 14 (the fuzz build) cannot capture one in a lambda.
     const std::string& key = item.key();
-    if (std::none_of(known.begin(), known.end(), [&](const char* k) { return key == k; })) {
-      warnings.push_back(*source_ + ": " + pointer_ + "/" + escapePointerToken(key) +
-                         ": unknown field, ignored");
+    if (key.rfind("x-", 0) == 0) continue;  // an extension
+    if (std::any_of(known.begin(), known.end(), [&](const char* k) { return key == k; })) continue;
+    // The nearest known key within a third of the name's length (at least 2 edits).
+    std::string best;
+    std::size_t best_distance = std::max<std::size_t>(2, key.size() / 3) + 1;
+    for (const char* k : known) {
+      const std::size_t d = editDistance(key, k);
+      if (d < best_distance) {
+        best = k;
+        best_distance = d;
+      }
     }
+    std::string message = "unknown field";
+    if (!best.empty()) message += " (did you mean \"" + best + "\"?)";
+    throw InputError(*source_, pointer_ + "/" + escapePointerToken(key),
+                     message + "; extensions go under keys starting with x-");
   }
 }
 

@@ -210,6 +210,14 @@ std::vector<BadInput> badInputs() {
          p["machine"]["parameters"]["l2"] = 0.1;
        }),
        "/placements/0", "check the units"},
+      {"misspelled optional field", with([](json& p) {
+         p["artifacts"]["bar80"]["u_lenght"] = 0.004;
+       }),
+       "/artifacts/bar80/u_lenght", "unknown field (did you mean \"u_length\"?)"},
+      {"misspelled machine field", with([](json& p) {
+         p["machine"]["joint_limit"] = {{-180, 180}, {-170, 170}};
+       }),
+       "/machine/joint_limit", "did you mean \"joint_limits\"?"},
       {"pose 5 m away", with([](json& p) {
          p["placements"][2]["pose"] = {{"center", {5000.0, 0.0}}, {"angle", 0.0}};
        }),

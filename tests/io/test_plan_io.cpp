@@ -95,12 +95,31 @@ TEST(PlanIo, ValidPlanReadInInternalUnits) {
   EXPECT_EQ(workspaceConfigurations(arm.machine, arm.workspace).size(), 15u);
 }
 
-TEST(PlanIo, UnknownFieldsWarnWithTheirPointer) {
+// An unknown field is an error naming it, with the nearest known key; "x-" keys are extensions.
+TEST(PlanIo, UnknownFieldsAreErrorsWithDidYouMean) {
   json doc = planarPlan();
   doc["noise"]["probbe"] = 1;
-  const Plan plan = parsePlan(doc, "table.json");
-  ASSERT_EQ(plan.warnings.size(), 1u);
-  EXPECT_NE(plan.warnings[0].find("/noise/probbe"), std::string::npos);
+  try {
+    parsePlan(doc, "table.json");
+    FAIL() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.pointer(), "/noise/probbe");
+    EXPECT_NE(std::string(e.what()).find("did you mean \"probe\"?"), std::string::npos)
+        << e.what();
+  }
+  json extended = planarPlan();
+  extended["x-lab"] = {{"operator", "K. T."}};
+  extended["artifacts"]["bar80"]["x-serial"] = "BB-80-17";
+  EXPECT_NO_THROW(parsePlan(extended, "table.json"));
+  json far = planarPlan();
+  far["machine"]["completely_unrelated"] = 1;
+  try {
+    parsePlan(far, "table.json");
+    FAIL() << "expected an InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.pointer(), "/machine/completely_unrelated");
+    EXPECT_EQ(std::string(e.what()).find("did you mean"), std::string::npos) << e.what();
+  }
 }
 
 struct BadRow {

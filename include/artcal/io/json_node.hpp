@@ -51,7 +51,10 @@ class Node {
   std::string string() const;
   /// An array of exactly `count` finite numbers.
   Eigen::VectorXd numbers(std::size_t count) const;
-  /// Warns of members not in `known`: other tools may extend the format, a typo is more likely.
+  /// Refuses members not in `known` (InputError naming the member, with "did you mean" when a
+  /// known key is a few edits away): a misspelled optional field would otherwise take its
+  /// default silently (`u_lenght`). Keys starting with "x-" are extensions, ignored
+  /// (docs/plan-format.md, "Unknown fields"). `warnings` is kept for callers; nothing is added.
   void warnUnknown(std::initializer_list<const char*> known,
                    std::vector<std::string>& warnings) const;
 
