@@ -1,4 +1,4 @@
-// artcal check PLAN / artcal evaluate PLAN (plan-format.md, command line).
+// artcal check PLAN / artcal evaluate PLAN (docs/plan-format.md, command line).
 
 #include <iostream>
 

@@ -75,7 +75,7 @@ Eigen::VectorXd artifactErrors(const GlobalLayout& layout, const Artifact& artif
 }  // namespace
 
 double Linearization::predictedReduction(const Eigen::VectorXd& dg) const {
-  // Minimising the linearised cost over every r_j for a given dg (method.md section 3) gains
+  // Minimising the linearised cost over every r_j for a given dg (docs/method.md section 3) gains
   // the rigid part plus the reduced quadratic model in dg.
   return rigid_reduction + LevenbergMarquardtStrategy::predictedReduction(N, b, dg);
 }
@@ -99,12 +99,12 @@ bool Calibrator::linearize(const std::vector<Placement>& placements, const Calib
     const Eigen::VectorXd c_j = artifactErrors(layout_, artifact, placements[j].artifact, state.c);
     builder_.build(artifact, placements[j].measurements, state.p, state.poses[j], c_j, true,
                    block_);
-    // Rank policy (method.md section 5): only the rigid directions the measured features can
+    // Rank policy (docs/method.md section 5): only the rigid directions the measured features can
     // see are eliminated and stepped; noise must not make an unseen one look observed.
     reducer_.add(block_, placements[j].artifact, &out.eliminations[j],
                  rigidRankOfFeatures(artifact, placements[j].measurements));
   }
-  // The prior on c (method.md section 2): cost c^T Sigma_c^-1 c, gradient and curvature added.
+  // The prior on c (docs/method.md section 2): cost c^T Sigma_c^-1 c, gradient and curvature added.
   const Eigen::VectorXd prior = layout_.c_sigma.array().square().inverse();
   out.cost = reducer_.chi2() + state.c.dot(prior.asDiagonal() * state.c);
   out.N = reducer_.normalWithPrior();
@@ -126,7 +126,7 @@ void Calibrator::step(const CalibrationState& from, const Linearization& at,
   to.c = from.c + dg.tail(layout_.systematicCount());
   to.poses.resize(from.poses.size());
   for (std::size_t j = 0; j < placements.size(); ++j) {
-    // Back-substitution of r_j for the global step (method.md section 3).
+    // Back-substitution of r_j for the global step (docs/method.md section 3).
     const Artifact& artifact = artifactOf(*plan_, placements[j]);
     const Eigen::VectorXd dr = at.eliminations[j].rigidStep(dg);
     to.poses[j] = from.poses[j].perturbed(artifact.expandRigidStep(dr));
@@ -174,7 +174,7 @@ Calibration Calibrator::run(const std::vector<Placement>& placements,
       break;
     }
     const double predicted = solved ? current_lin_.predictedReduction(dg) : 0.0;
-    // The weights depend on p (method.md section 2), so the reweighted Gauss-Newton fixed point
+    // The weights depend on p (docs/method.md section 2), so the reweighted Gauss-Newton fixed point
     // is where the linear model promises nothing more, not where the cost stops falling exactly.
     if (solved && strategy_.mu() <= 1.0 && predicted <= negligible(current_lin_.cost)) {
       summary.termination = TerminationType::Converged;

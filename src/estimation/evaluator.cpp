@@ -24,7 +24,7 @@ std::optional<ParameterCovariance> covarianceFromInformation(const Eigen::Matrix
 
 namespace {
 
-// Every placement's observation block, its r_j eliminated as it arrives (method.md section 3):
+// Every placement's observation block, its r_j eliminated as it arrives (docs/method.md section 3):
 // the information of p. The one loop behind parameterInformation and PlanEvaluator.
 Eigen::MatrixXd reduceInformation(const Plan& plan, const std::vector<Placement>& placements,
                                   const Eigen::VectorXd& p,

@@ -55,7 +55,7 @@ namespace {
 using RigidMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, 6, 6>;
 
 // A factor S of (A_r^T A_r)^+ = S^T S over the observed rigid directions only (rank policy,
-// method.md section 5): a direction is observed when its eigenvalue exceeds
+// docs/method.md section 5): a direction is observed when its eigenvalue exceeds
 // kRigidObservedTolerance times the block's largest, never by a pivot against its own column's
 // diagonal (a column zero in exact arithmetic but carrying rounding, a step gauge's rotation,
 // would pass that test and its elimination would destroy real information about p).
@@ -137,7 +137,7 @@ void NormalMatrixReducer::reset() {
   chi2_ = 0.0;
 }
 
-// Schur complement of r_j (method.md section 3), as symmetric rank updates without forming it:
+// Schur complement of r_j (docs/method.md section 3), as symmetric rank updates without forming it:
 //   N_red += A_g^T A_g - Y^T Y,   Y = S A_r^T A_g,   S^T S = (A_r^T A_r)^+.
 // The global columns are p (0..n_p) and the artifact's c (c_offset..): the c rows lie below p.
 void NormalMatrixReducer::add(const ObservationBlock& block, int artifact_index,

@@ -1,5 +1,5 @@
 #pragma once
-// Monte-Carlo confirmation of a plan's predicted covariance (method.md section 6): T simulated
+// Monte-Carlo confirmation of a plan's predicted covariance (docs/method.md section 6): T simulated
 // calibrations, each with
 //   p_true = nominal + perturbation * u_pred * z,  z ~ N(0, I)   (over the calibrated parameters),
 // readings from Simulator, estimates from Calibrator started at the nominal parameters. For
@@ -71,7 +71,7 @@ struct Confirmation {
 };
 
 /// Per component: the mean and the sample standard deviation (divisor T - 1, the unbiased
-/// variance; method.md section 9) of T samples. Zero deviations when T < 2.
+/// variance; docs/method.md section 9) of T samples. Zero deviations when T < 2.
 struct SampleStatistics {
   Eigen::VectorXd mean;
   Eigen::VectorXd deviation;

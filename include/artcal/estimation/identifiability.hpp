@@ -1,12 +1,12 @@
 #pragma once
-// Identifiability (method.md section 5).
+// Identifiability (docs/method.md section 5).
 //
 // The counting condition sum_j (N(b_j) - N(r_j)) >= N(p) is necessary, not sufficient. N(r_j)
 // is the effective one: the rank of the placement's rigid block (normal_matrix.hpp), which can be
 // lower than the table value of the artifact kind (a 2-D step gauge probed on its axis sees 1
 // direction, not 2), so the count is never stricter than the rank test.
 //
-// Rank policy (method.md section 5): the real test is the numerical rank of the information of
+// Rank policy (docs/method.md section 5): the real test is the numerical rank of the information of
 // p, N_red, scaled by the *unreduced* diagonal D = diag(sum_j A_pj^T A_pj):
 // S = D^-1/2 N_red D^-1/2, eigenvalues below `tolerance` times the largest mark a deficiency,
 // and their eigenvectors are the parameter combinations the plan cannot separate. A parameter

@@ -1,5 +1,5 @@
 #pragma once
-// The reduced normal matrix (method.md section 3). The global unknowns are g = (p, c): the
+// The reduced normal matrix (docs/method.md section 3). The global unknowns are g = (p, c): the
 // calibrated parameters and the artifacts' systematic errors. Each placement's rigid transform
 // r_j is eliminated by its Schur complement as the block arrives,
 //
@@ -9,7 +9,7 @@
 // (A_r^T A_r)^+ is a pseudo-inverse: a direction of r_j that moves no valued coordinate to first
 // order (a step gauge's tilt with every face probed on its axis) is simply not estimated.
 //
-// Rank policy (method.md section 5, "Rank policy"): a rigid direction of placement j is observed
+// Rank policy (docs/method.md section 5, "Rank policy"): a rigid direction of placement j is observed
 // when its eigenvalue of A_r^T A_r exceeds kRigidObservedTolerance times the block's largest
 // eigenvalue (a singular value of A_r above 1e-5 of the largest). Unobserved directions are
 // neither eliminated nor stepped (PlacementElimination::rigidStep moves none of them). The count

@@ -1,5 +1,5 @@
 #pragma once
-// The typed, validated content of a plan file (plan-format.md). Everything here is in internal
+// The typed, validated content of a plan file (docs/plan-format.md). Everything here is in internal
 // units (mm, rad); conversion happens only in plan_io. A Plan does not change during a run.
 
 #include <Eigen/Core>
@@ -16,7 +16,7 @@
 
 namespace artcal {
 
-/// Random errors (method.md section 2): probing per coordinate (mm), encoders per joint (rad or
+/// Random errors (docs/method.md section 2): probing per coordinate (mm), encoders per joint (rad or
 /// mm).
 struct Noise {
   double probe = 0.0;
@@ -51,7 +51,7 @@ struct Region {
   bool contains(const Eigen::VectorXd& x) const;
 };
 
-/// The joint configurations tip uncertainty is evaluated over (method.md section 4).
+/// The joint configurations tip uncertainty is evaluated over (docs/method.md section 4).
 /// TaskSpace (models.md section 5): `samples` probe positions uniform in `region`, each turned
 /// into a configuration by the model's inverse kinematics in a random posture (an orientation
 /// within `tilt` of home for the hexapod); unreachable ones are dropped and counted.

@@ -1,5 +1,5 @@
 #pragma once
-// Results as JSON (file units: mm, deg; the fields plan-format.md promises) and as human tables.
+// Results as JSON (file units: mm, deg; the fields docs/plan-format.md promises) and as human tables.
 // Every result has both: the table for a person, the JSON twin for a script.
 
 #include <nlohmann/json.hpp>
