@@ -174,8 +174,9 @@ Calibration Calibrator::run(const std::vector<Placement>& placements,
       break;
     }
     const double predicted = solved ? current_lin_.predictedReduction(dg) : 0.0;
-    // The weights depend on p (docs/method.md section 2), so the reweighted Gauss-Newton fixed point
-    // is where the linear model promises nothing more, not where the cost stops falling exactly.
+    // The weights depend on p (docs/method.md section 2), so the reweighted Gauss-Newton fixed
+    // point is where the linear model promises nothing more, not where the cost stops falling
+    // exactly.
     if (solved && strategy_.mu() <= 1.0 && predicted <= negligible(current_lin_.cost)) {
       summary.termination = TerminationType::Converged;
       summary.message = "predicted cost change negligible";

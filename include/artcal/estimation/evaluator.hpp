@@ -1,7 +1,7 @@
 #pragma once
 // The evaluator: plan -> observation blocks -> reduced normal matrix -> V_p -> tip uncertainty
-// (docs/method.md sections 3-5). It computes before any measurement: it needs the nominal parameters
-// and the planned readings only.
+// (docs/method.md sections 3-5). It computes before any measurement: it needs the nominal
+// parameters and the planned readings only.
 //
 // Rank policy: when the information of p is singular (identifiability.hpp), V_p does not exist.
 // The evaluation then says so (identifiable() false) and carries no uncertainties, rather than

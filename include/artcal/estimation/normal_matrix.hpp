@@ -9,9 +9,9 @@
 // (A_r^T A_r)^+ is a pseudo-inverse: a direction of r_j that moves no valued coordinate to first
 // order (a step gauge's tilt with every face probed on its axis) is simply not estimated.
 //
-// Rank policy (docs/method.md section 5, "Rank policy"): a rigid direction of placement j is observed
-// when its eigenvalue of A_r^T A_r exceeds kRigidObservedTolerance times the block's largest
-// eigenvalue (a singular value of A_r above 1e-5 of the largest). Unobserved directions are
+// Rank policy (docs/method.md section 5, "Rank policy"): a rigid direction of placement j is
+// observed when its eigenvalue of A_r^T A_r exceeds kRigidObservedTolerance times the block's
+// largest eigenvalue (a singular value of A_r above 1e-5 of the largest). Unobserved directions are
 // neither eliminated nor stepped (PlacementElimination::rigidStep moves none of them). The count
 // of observed directions is the placement's effective N(r_j) (identifiability.hpp).
 //

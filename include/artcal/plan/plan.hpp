@@ -16,8 +16,8 @@
 
 namespace artcal {
 
-/// Random errors (docs/method.md section 2): probing per coordinate (mm), encoders per joint (rad or
-/// mm).
+/// Random errors (docs/method.md section 2): probing per coordinate (mm), encoders per joint (rad
+/// or mm).
 struct Noise {
   double probe = 0.0;
   Eigen::VectorXd encoder;

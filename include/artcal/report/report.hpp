@@ -1,6 +1,6 @@
 #pragma once
-// Results as JSON (file units: mm, deg; the fields docs/plan-format.md promises) and as human tables.
-// Every result has both: the table for a person, the JSON twin for a script.
+// Results as JSON (file units: mm, deg; the fields docs/plan-format.md promises) and as human
+// tables. Every result has both: the table for a person, the JSON twin for a script.
 
 #include <nlohmann/json.hpp>
 #include <string>
