@@ -109,9 +109,7 @@ void cartesianToJson(const Cartesian& cmm, const Eigen::VectorXd& parameters, nl
 ModelCodec cartesianCodec() {
   return {"cartesian",
           [](const Node& node, std::vector<std::string>& warnings) {
-            node.warnUnknown(
-                {"model", "axes", "degree", "styli", "parameters", "calibrate", "joint_limits"},
-                warnings);
+            node.warnUnknown({"axes", "degree", "styli", "parameters"}, warnings);
             MachineBlock block;
             block.mechanism = parseCartesian(node, block.nominal, block.default_limits, warnings);
             return block;

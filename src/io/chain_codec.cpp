@@ -1,5 +1,7 @@
 #include "artcal/io/chain_codec.hpp"
 
+#include "artcal/io/model_registry.hpp"
+
 #include <memory>
 #include <set>
 
@@ -46,7 +48,7 @@ void readOriginAndOffset(const Node& joint, ChainJointType type, std::vector<dou
 }
 
 MachineBlock readChain(const Node& machine, std::vector<std::string>& warnings) {
-  machine.warnUnknown({"model", "joints", "calibrate", "joint_limits"}, warnings);
+  machine.warnUnknown({"joints"}, warnings);
   const Node joints = machine.at("joints");
   const std::size_t n = joints.arraySize(1, Chain::kMaxJoints);
   std::vector<ChainJoint> chain;
@@ -119,7 +121,7 @@ MachineBlock readChainMachine(const nlohmann::json& document, const std::string&
   const Node model = machine.at("model");
   if (model.string() != "chain") model.fail("expected the model \"chain\" (a URDF chain)");
   std::vector<std::string> warnings;  // extra fields of a plan's machine block do not matter here
-  return chainCodec().read(machine, warnings);
+  return readOwnMembers(chainCodec(), machine, warnings);
 }
 
 }  // namespace artcal

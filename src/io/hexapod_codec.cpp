@@ -28,9 +28,7 @@ ChainPose readHome(const Node& home, std::vector<std::string>& warnings) {
 }
 
 MachineBlock readHexapod(const Node& machine, std::vector<std::string>& warnings) {
-  machine.warnUnknown(
-      {"model", "base", "platform", "probe", "home", "offsets", "calibrate", "joint_limits"},
-      warnings);
+  machine.warnUnknown({"base", "platform", "probe", "home", "offsets"}, warnings);
   MachineBlock block;
   Eigen::VectorXd& p = block.nominal;
   p.setZero(Hexapod::kProbeOffset + 3);

@@ -148,11 +148,14 @@ void Node::warnUnknown(std::initializer_list<const char*> known,
     // The nearest known key within a third of the name's length (at least 2 edits).
     std::string best;
     std::size_t best_distance = std::max<std::size_t>(2, key.size() / 3) + 1;
-    for (const char* k : known) {
-      const std::size_t d = editDistance(key, k);
-      if (d < best_distance) {
-        best = k;
-        best_distance = d;
+    for (const auto& candidates :
+         {std::span<const char* const>(known.begin(), known.size()), suggestions_}) {
+      for (const char* k : candidates) {
+        const std::size_t d = editDistance(key, k);
+        if (d < best_distance) {
+          best = k;
+          best_distance = d;
+        }
       }
     }
     std::string message = "unknown field";

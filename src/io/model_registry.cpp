@@ -1,5 +1,7 @@
 #include "artcal/io/model_registry.hpp"
 
+#include <array>
+
 #include "artcal/io/cartesian_codec.hpp"
 #include "artcal/io/chain_codec.hpp"
 #include "artcal/io/hexapod_codec.hpp"
@@ -31,6 +33,16 @@ std::string modelNameList() {
     out += codecs[i].name;
   }
   return out;
+}
+
+MachineBlock readOwnMembers(const ModelCodec& codec, const Node& machine,
+                            std::vector<std::string>& warnings) {
+  static constexpr std::array<const char*, 4> kShared = {"model", "calibrate", "joint_limits",
+                                                         "covariance"};
+  nlohmann::json own = machine.object();
+  for (const char* shared : kShared) own.erase(shared);
+  const Node own_node = Node(own, machine.pointer(), machine.source()).withSuggestions(kShared);
+  return codec.read(own_node, warnings);
 }
 
 }  // namespace artcal

@@ -16,8 +16,8 @@
 #include <sstream>
 
 #include "artcal/estimation/identifiability.hpp"
-#include "artcal/io/json_node.hpp"
 #include "artcal/io/csv_readings.hpp"
+#include "artcal/io/json_node.hpp"
 #include "artcal/io/model_registry.hpp"
 #include "artcal/io/plausibility.hpp"
 
@@ -51,8 +51,10 @@ void parseCalibrateNames(const Node& names, const Mechanism& mech, Machine& mach
 void parseCalibrate(const Node& calibrate, const Mechanism& mech, Machine& machine) {
   if (calibrate.value().is_string()) {
     if (calibrate.string() != "identifiable") {
-      calibrate.fail("expected a list of parameter names, \"identifiable\" or {\"identifiable\": "
-                     "[names]}, got \"" + calibrate.string() + "\"");
+      calibrate.fail(
+          "expected a list of parameter names, \"identifiable\" or {\"identifiable\": "
+          "[names]}, got \"" +
+          calibrate.string() + "\"");
     }
     machine.calibrate_identifiable = true;
     for (int i = 0; i < mech.parameterCount(); ++i) machine.calibrated.push_back(i);
@@ -74,7 +76,7 @@ Machine parseMachine(const Node& node, std::vector<std::string>& warnings) {
   const std::string name = model.string();
   const ModelCodec* codec = findModelCodec(name);
   if (!codec) model.fail("unknown model \"" + name + "\" (expected " + modelNameList() + ")");
-  MachineBlock block = codec->read(node, warnings);
+  MachineBlock block = readOwnMembers(*codec, node, warnings);
   machine.mechanism = std::move(block.mechanism);
   machine.nominal = std::move(block.nominal);
   const std::vector<std::array<double, 2>>& default_limits = block.default_limits;
@@ -213,9 +215,9 @@ void appendCsvMeasurements(const Node& entry, const Plan& plan, const Artifact& 
   const Node csv = entry.at("csv");
   const std::filesystem::path relative(csv.string());
   if (relative.empty()) csv.fail("expected a file name");
-  const std::filesystem::path path = relative.is_absolute()
-                                         ? relative
-                                         : std::filesystem::path(plan.source).parent_path() / relative;
+  const std::filesystem::path path =
+      relative.is_absolute() ? relative
+                             : std::filesystem::path(plan.source).parent_path() / relative;
   ReadingUnits units;
   if (const auto unit = entry.find("unit")) {
     const auto named = readingUnitsFromName(unit->string());
@@ -226,7 +228,8 @@ void appendCsvMeasurements(const Node& entry, const Plan& plan, const Artifact& 
   std::vector<JointKind> kinds;
   for (int i = 0; i < mech.jointCount(); ++i) kinds.push_back(mech.jointKind(i));
   for (Eigen::VectorXd& joints : readJointCsv(path.lexically_normal().string(), kinds, units)) {
-    if (out.size() >= kMaxMeasurements) csv.fail("more than " + std::to_string(kMaxMeasurements) + " readings in one placement");
+    if (out.size() >= kMaxMeasurements)
+      csv.fail("more than " + std::to_string(kMaxMeasurements) + " readings in one placement");
     Measurement measurement;
     measurement.feature = feature;
     measurement.joints = std::move(joints);
@@ -408,7 +411,8 @@ Eigen::VectorXd parseJointMargin(const std::optional<Node>& node, const Machine&
   }
   if (node && node->value().is_array()) {
     node->numbers(static_cast<std::size_t>(joints));
-    for (int i = 0; i < joints; ++i) file_margin[i] = (*node)[static_cast<std::size_t>(i)].nonNegative();
+    for (int i = 0; i < joints; ++i)
+      file_margin[i] = (*node)[static_cast<std::size_t>(i)].nonNegative();
   } else if (node) {
     file_margin.setConstant(node->nonNegative());
   }
@@ -427,10 +431,9 @@ Eigen::VectorXd parseJointMargin(const std::optional<Node>& node, const Machine&
 
 DesignSpec parseDesign(const Node& node, const Plan& plan, std::vector<std::string>& warnings) {
   node.object();
-  node.warnUnknown(
-      {"artifact", "placements", "postures", "region", "criterion", "seed", "starts", "time_limit",
-       "joint_margin"},
-      warnings);
+  node.warnUnknown({"artifact", "placements", "postures", "region", "criterion", "seed", "starts",
+                    "time_limit", "joint_margin"},
+                   warnings);
   DesignSpec design;
   const Node artifact = node.at("artifact");
   design.artifact = plan.artifactIndex(artifact.string());
@@ -537,9 +540,9 @@ Plan parsePlan(const nlohmann::json& document, const std::string& source, bool r
     const std::size_t n = placements->arraySize(require_placements ? 1 : 0, kMaxPlacements);
     plan.placements.reserve(n);
     for (std::size_t i = 0; i < n; ++i) {
-      plan.placements.push_back(
-          parsePlacement((*placements)[i], plan, require_placements,
-                         root.at("machine").has("joint_limits"), plan.warnings));
+      plan.placements.push_back(parsePlacement((*placements)[i], plan, require_placements,
+                                               root.at("machine").has("joint_limits"),
+                                               plan.warnings));
     }
   } else if (require_placements) {
     root.at("placements");

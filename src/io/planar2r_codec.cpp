@@ -9,7 +9,7 @@ namespace artcal {
 namespace {
 
 MachineBlock readPlanar2R(const Node& machine, std::vector<std::string>& warnings) {
-  machine.warnUnknown({"model", "parameters", "calibrate", "joint_limits"}, warnings);
+  machine.warnUnknown({"parameters"}, warnings);
   MachineBlock block;
   auto mechanism = std::make_shared<Planar2R>();
   const Node params = machine.at("parameters");

@@ -31,8 +31,7 @@ DHConvention readConvention(const Node& machine) {
 
 // models.md section 2: a joint may carry a Hayati "beta" (deg); jN.beta exists only then.
 MachineBlock readSerialDH(const Node& machine, std::vector<std::string>& warnings) {
-  machine.warnUnknown({"model", "joints", "probe", "convention", "calibrate", "joint_limits"},
-                      warnings);
+  machine.warnUnknown({"joints", "probe", "convention"}, warnings);
   const DHConvention convention = readConvention(machine);
   const Node joints = machine.at("joints");
   const std::size_t n = joints.arraySize(1, SerialDH::kMaxJoints);

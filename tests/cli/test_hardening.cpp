@@ -193,8 +193,7 @@ std::vector<BadInput> badInputs() {
        }),
        "/workspace/grid", "more than 10000000 configurations"},
       // Plausibility (issue 9): valid JSON of the right types that only wrong units explain.
-      {"reading outside joint_limits",
-       with([](json& p) {
+      {"reading outside joint_limits", with([](json& p) {
          p["machine"]["joint_limits"] = {{-180, 180}, {-170, 170}};
          p["placements"][0]["measurements"][0]["joints"][1] = 175.0;
        }),
@@ -210,9 +209,8 @@ std::vector<BadInput> badInputs() {
          p["machine"]["parameters"]["l2"] = 0.1;
        }),
        "/placements/0", "check the units"},
-      {"misspelled optional field", with([](json& p) {
-         p["artifacts"]["bar80"]["u_lenght"] = 0.004;
-       }),
+      {"misspelled optional field",
+       with([](json& p) { p["artifacts"]["bar80"]["u_lenght"] = 0.004; }),
        "/artifacts/bar80/u_lenght", "unknown field (did you mean \"u_length\"?)"},
       {"misspelled machine field", with([](json& p) {
          p["machine"]["joint_limit"] = {{-180, 180}, {-170, 170}};
@@ -448,7 +446,8 @@ Plan nearlySingularPlan(double offset_deg) {
     }
     shift += offset_deg;
   }
-  return parsePlan(plan, "near-singular.json");
+  return parsePlan(plan, "near-singular.json", /*require_placements=*/true,
+                   /*check_plausibility=*/false);
 }
 
 // Near-singular plans: either "not identifiable" (with combinations) or finite uncertainties,

@@ -184,7 +184,7 @@ std::vector<BadRow> badRows() {
        "/machine/calibrate", "at least 1"},
       {"calibrate not an array",
        [] { return withPlanar([](json& d) { d["machine"]["calibrate"] = "l1"; }); },
-       "/machine/calibrate", "expected an array"},
+       "/machine/calibrate", "expected a list of parameter names"},
       {"joint_limits wrong count",
        [] { return withPlanar([](json& d) { d["machine"]["joint_limits"].erase(1); }); },
        "/machine/joint_limits", "at least 2"},

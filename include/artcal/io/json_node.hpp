@@ -7,6 +7,7 @@
 #include <initializer_list>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -57,6 +58,13 @@ class Node {
   /// (docs/plan-format.md, "Unknown fields"). `warnings` is kept for callers; nothing is added.
   void warnUnknown(std::initializer_list<const char*> known,
                    std::vector<std::string>& warnings) const;
+  /// This node with further names that warnUnknown may suggest but does not accept (members a
+  /// caller has already read and taken out of the object, e.g. a machine block's shared ones).
+  Node withSuggestions(std::span<const char* const> names) const {
+    Node node = *this;
+    node.suggestions_ = names;
+    return node;
+  }
 
  private:
   long checkRange(long v, long min, long max) const;
@@ -65,6 +73,7 @@ class Node {
   const nlohmann::json* value_;
   std::string pointer_;
   const std::string* source_;
+  std::span<const char* const> suggestions_;
 };
 
 }  // namespace artcal

@@ -22,10 +22,11 @@
 //      (tests/support/finite_difference.hpp).
 //   2. include/artcal/io/foo_codec.hpp + src/io/foo_codec.cpp: `ModelCodec fooCodec();` with
 //      read() (use Node from io/json_node.hpp: every fault names its JSON pointer; call
-//      machine.warnUnknown with "model", "calibrate", "joint_limits" and your own fields) and
+//      machine.warnUnknown with your own fields only) and
 //      write() (file units: toFileUnit(parameter quantity, value)).
 //   3. One line in the table of src/io/model_registry.cpp: `fooCodec(),` (with its #include).
-// The common part of the machine block (model, calibrate, joint_limits) is read by plan_io.
+// The common part of the machine block (model, calibrate, joint_limits, covariance) is read by
+// plan_io, which hands the codec the block without it.
 
 #include <Eigen/Core>
 #include <array>
@@ -68,5 +69,9 @@ const std::vector<ModelCodec>& modelCodecs();
 const ModelCodec* findModelCodec(const std::string& name);
 /// "planar2r, serial-dh or ..." for messages.
 std::string modelNameList();
+/// codec.read() of a machine block without the members every block shares (model, calibrate,
+/// joint_limits, covariance: plan_io reads them), so that the codec checks only its own.
+MachineBlock readOwnMembers(const ModelCodec& codec, const Node& machine,
+                            std::vector<std::string>& warnings);
 
 }  // namespace artcal
