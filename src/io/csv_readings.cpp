@@ -43,20 +43,6 @@ std::optional<double> parseNumber(std::string_view field) {
   return value;
 }
 
-std::string readWholeFile(const std::string& path) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) throw InputError(path, "", "is a directory");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path, "", "cannot be read");
-  const auto size = std::filesystem::file_size(path, ec);
-  if (!ec && size > kMaxPlanFileBytes) {
-    throw InputError(path, "", "larger than " + std::to_string(kMaxPlanFileBytes >> 20) + " MiB");
-  }
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 }  // namespace
 
 std::optional<ReadingUnits> readingUnitsFromName(const std::string& name) {
@@ -76,7 +62,7 @@ std::optional<ReadingUnits> readingUnitsFromName(const std::string& name) {
 std::vector<Eigen::VectorXd> readJointCsv(const std::string& path,
                                           const std::vector<JointKind>& kinds,
                                           const ReadingUnits& units) {
-  const std::string text = readWholeFile(path);
+  const std::string text = readInputFile(path);
   const auto joints = kinds.size();
   std::vector<Eigen::VectorXd> rows;
   std::string_view rest(text);

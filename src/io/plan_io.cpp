@@ -452,7 +452,7 @@ DesignSpec parseDesign(const Node& node, const Plan& plan, std::vector<std::stri
 
 }  // namespace
 
-nlohmann::json readJsonFile(const std::string& path) {
+std::string readInputFile(const std::string& path) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) throw InputError(path, "", "is a directory");
   std::ifstream in(path, std::ios::binary);
@@ -463,7 +463,11 @@ nlohmann::json readJsonFile(const std::string& path) {
   }
   std::ostringstream text;
   text << in.rdbuf();
-  return parseJsonText(text.str(), path);
+  return text.str();
+}
+
+nlohmann::json readJsonFile(const std::string& path) {
+  return parseJsonText(readInputFile(path), path);
 }
 
 /// InputError when arrays and objects nest deeper than kMaxJsonDepth in JSON text (strings

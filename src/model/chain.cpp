@@ -6,6 +6,8 @@
 #include <set>
 #include <stdexcept>
 
+#include "artcal/model/frame_turns.hpp"
+
 namespace artcal {
 
 namespace {
@@ -13,30 +15,6 @@ namespace {
 // Per-joint scratch kept on the stack (no allocation per call).
 using Columns = Eigen::Matrix<double, 3, Eigen::Dynamic, Eigen::ColMajor, 3, Chain::kMaxJoints>;
 using Jacobian = Eigen::Map<Eigen::Matrix<double, 3, Eigen::Dynamic>>;
-
-// R <- R Rz(angle): the x and y columns turn.
-void turnAboutZ(Eigen::Matrix3d& R, double angle) {
-  const double c = std::cos(angle), s = std::sin(angle);
-  const Eigen::Vector3d x = R.col(0), y = R.col(1);
-  R.col(0) = c * x + s * y;
-  R.col(1) = c * y - s * x;
-}
-
-// R <- R Ry(angle): the z and x columns turn.
-void turnAboutY(Eigen::Matrix3d& R, double angle) {
-  const double c = std::cos(angle), s = std::sin(angle);
-  const Eigen::Vector3d x = R.col(0), z = R.col(2);
-  R.col(0) = c * x - s * z;
-  R.col(2) = c * z + s * x;
-}
-
-// R <- R Rx(angle): the y and z columns turn.
-void turnAboutX(Eigen::Matrix3d& R, double angle) {
-  const double c = std::cos(angle), s = std::sin(angle);
-  const Eigen::Vector3d y = R.col(1), z = R.col(2);
-  R.col(1) = c * y + s * z;
-  R.col(2) = c * z - s * y;
-}
 
 std::vector<ParameterInfo> chainParameters(const std::vector<ChainJoint>& joints) {
   std::vector<ParameterInfo> out;

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "artcal/model/frame_turns.hpp"
+
 namespace artcal {
 
 namespace {
@@ -11,30 +13,6 @@ namespace {
 // Per-joint axes kept on the stack (no allocation per call).
 using Columns = Eigen::Matrix<double, 3, Eigen::Dynamic, Eigen::ColMajor, 3, SerialDH::kMaxJoints>;
 using Jacobian = Eigen::Map<Eigen::Matrix<double, 3, Eigen::Dynamic>>;
-
-// R <- R Rz(angle): only the x and y columns turn.
-void turnAboutZ(Eigen::Matrix3d& R, double angle) {
-  const double c = std::cos(angle), s = std::sin(angle);
-  const Eigen::Vector3d x = R.col(0), y = R.col(1);
-  R.col(0) = c * x + s * y;
-  R.col(1) = c * y - s * x;
-}
-
-// R <- R Rx(angle): only the y and z columns turn.
-void turnAboutX(Eigen::Matrix3d& R, double angle) {
-  const double c = std::cos(angle), s = std::sin(angle);
-  const Eigen::Vector3d y = R.col(1), z = R.col(2);
-  R.col(1) = c * y + s * z;
-  R.col(2) = c * z - s * y;
-}
-
-// R <- R Ry(angle): only the z and x columns turn.
-void turnAboutY(Eigen::Matrix3d& R, double angle) {
-  const double c = std::cos(angle), s = std::sin(angle);
-  const Eigen::Vector3d x = R.col(0), z = R.col(2);
-  R.col(0) = c * x - s * z;
-  R.col(2) = c * z + s * x;
-}
 
 std::vector<DHJoint> withoutBeta(const std::vector<JointKind>& kinds) {
   std::vector<DHJoint> out;

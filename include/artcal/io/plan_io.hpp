@@ -23,6 +23,9 @@ inline constexpr int kMaxJsonDepth = 64;
 /// kMaxJsonDepth.
 nlohmann::json parseJsonText(const std::string& text, const std::string& source);
 
+/// The whole content of an input file (plan, CSV readings); InputError when it is a directory,
+/// unreadable or larger than kMaxPlanFileBytes.
+std::string readInputFile(const std::string& path);
 /// Reads and parses a JSON file; InputError when unreadable, larger than kMaxPlanFileBytes,
 /// malformed or nested deeper than kMaxJsonDepth.
 nlohmann::json readJsonFile(const std::string& path);

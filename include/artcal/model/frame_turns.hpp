@@ -1,0 +1,34 @@
+#pragma once
+// In-place rotations of a frame about its own axes, R <- R Rx/Ry/Rz(angle): two columns turn,
+// the third stays. The serial models (serial-dh, chain) build their frames with them.
+
+#include <Eigen/Core>
+#include <cmath>
+
+namespace artcal {
+
+// R <- R Rz(angle): the x and y columns turn.
+inline void turnAboutZ(Eigen::Matrix3d& R, double angle) {
+  const double c = std::cos(angle), s = std::sin(angle);
+  const Eigen::Vector3d x = R.col(0), y = R.col(1);
+  R.col(0) = c * x + s * y;
+  R.col(1) = c * y - s * x;
+}
+
+// R <- R Ry(angle): the z and x columns turn.
+inline void turnAboutY(Eigen::Matrix3d& R, double angle) {
+  const double c = std::cos(angle), s = std::sin(angle);
+  const Eigen::Vector3d x = R.col(0), z = R.col(2);
+  R.col(0) = c * x - s * z;
+  R.col(2) = c * z + s * x;
+}
+
+// R <- R Rx(angle): the y and z columns turn.
+inline void turnAboutX(Eigen::Matrix3d& R, double angle) {
+  const double c = std::cos(angle), s = std::sin(angle);
+  const Eigen::Vector3d y = R.col(1), z = R.col(2);
+  R.col(1) = c * y + s * z;
+  R.col(2) = c * z - s * y;
+}
+
+}  // namespace artcal
