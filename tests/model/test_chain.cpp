@@ -246,7 +246,7 @@ TEST(Chain, ForwardEqualsProductOfHomogeneousTransforms) {
   Eigen::Matrix4d T = Eigen::Matrix4d::Identity();
   int reading = 0;
   for (int i = 0; i < static_cast<int>(chain.joints().size()); ++i) {
-    const ChainJoint& joint = mixedJoints()[i];
+    const ChainJoint& joint = chain.joints()[i];
     const int k = chain.parameterOffset(i);
     T = T * translation(p.segment<3>(k)) * rotZ(p[k + 5]) * rotY(p[k + 4]) * rotX(p[k + 3]);
     if (joint.type == ChainJointType::Fixed) continue;
