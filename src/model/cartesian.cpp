@@ -212,4 +212,15 @@ std::optional<Eigen::VectorXd> Cartesian::inverse(const Eigen::VectorXd& p,
   return std::nullopt;
 }
 
+std::vector<Eigen::VectorXd> Cartesian::skeleton(const Eigen::VectorXd& /*p*/,
+                                                 const Eigen::VectorXd& q) const {
+  Eigen::Vector3d at = Eigen::Vector3d::Zero();
+  std::vector<Eigen::VectorXd> points{at};
+  for (std::size_t k = 0; k < axes_.size(); ++k) {
+    at += axes_[k].direction * q[static_cast<Eigen::Index>(k)];
+    points.push_back(at);
+  }
+  return points;
+}
+
 }  // namespace artcal

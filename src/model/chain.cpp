@@ -170,4 +170,31 @@ ForwardStatus Chain::forward(const Eigen::VectorXd& p, const Eigen::VectorXd& q,
   return ForwardStatus::Ok;
 }
 
+// The frames of forward() without the Jacobians: each joint's origin, then the probe.
+std::vector<Eigen::VectorXd> Chain::skeleton(const Eigen::VectorXd& p,
+                                             const Eigen::VectorXd& q) const {
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d o = Eigen::Vector3d::Zero();
+  std::vector<Eigen::VectorXd> points{o};
+  int reading = 0;
+  for (std::size_t i = 0; i < joints_.size(); ++i) {
+    const ChainJoint& joint = joints_[i];
+    const int k = offsets_[i];
+    o += R * p.segment<3>(k);
+    points.push_back(o);
+    turnAboutZ(R, p[k + 5]);
+    turnAboutY(R, p[k + 4]);
+    turnAboutX(R, p[k + 3]);
+    if (!isMovable(joint.type)) continue;
+    const double value = q[reading++] + p[k + 6];
+    if (joint.type == ChainJointType::Revolute) {
+      R = R * axisAngleMatrix(joint.axis, value);
+    } else {
+      o += R * joint.axis * value;
+    }
+  }
+  points.push_back(o);
+  return points;
+}
+
 }  // namespace artcal

@@ -150,4 +150,37 @@ ForwardStatus SerialDH::forward(const Eigen::VectorXd& p, const Eigen::VectorXd&
   return ForwardStatus::Ok;
 }
 
+// The frames of forward() without the Jacobians, for drawings.
+std::vector<Eigen::VectorXd> SerialDH::skeleton(const Eigen::VectorXd& p,
+                                                const Eigen::VectorXd& q) const {
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d o = Eigen::Vector3d::Zero();
+  std::vector<Eigen::VectorXd> points{o};
+  for (int i = 0; i < jointCount(); ++i) {
+    const int k = offsets_[i];
+    double theta = p[k], d = p[k + 1];
+    (joints_[i].kind == JointKind::Revolute ? theta : d) += q[i];
+    const double a = p[k + 2], alpha = p[k + 3];
+    const double beta = joints_[i].has_beta ? p[k + 4] : 0.0;
+    if (convention_ == DHConvention::Standard) {
+      turnAboutZ(R, theta);
+      o += R.col(2) * d;
+      points.push_back(o);
+      o += R.col(0) * a;
+      turnAboutX(R, alpha);
+      if (beta != 0.0) turnAboutY(R, beta);
+    } else {
+      turnAboutX(R, alpha);
+      o += R.col(0) * a;
+      points.push_back(o);
+      if (beta != 0.0) turnAboutY(R, beta);
+      turnAboutZ(R, theta);
+      o += R.col(2) * d;
+    }
+    points.push_back(o);
+  }
+  points.push_back(o + R * p.segment<3>(probeParameterOffset()));
+  return points;
+}
+
 }  // namespace artcal

@@ -59,6 +59,10 @@ class Cartesian final : public Mechanism {
                                                  const Eigen::VectorXd& target,
                                                  int stylus) const override;
   int posturesPerPoint() const override { return stylusCount(); }
+  /// The axis positions for drawings: from the machine origin along each axis by its reading in
+  /// turn (direction_k u_k, the nominal geometry), ending at the quill (the styli are not drawn).
+  std::vector<Eigen::VectorXd> skeleton(const Eigen::VectorXd& p,
+                                        const Eigen::VectorXd& q) const override;
   ForwardStatus forwardStylus(int stylus, const Eigen::VectorXd& p, const Eigen::VectorXd& q,
                               Eigen::VectorXd& x, Eigen::MatrixXd* J_x_p = nullptr,
                               Eigen::MatrixXd* J_x_q = nullptr) const override;

@@ -41,6 +41,9 @@ class Chain final : public Mechanism {
   ForwardStatus forward(const Eigen::VectorXd& p, const Eigen::VectorXd& q, Eigen::VectorXd& x,
                         Eigen::MatrixXd* J_x_p = nullptr,
                         Eigen::MatrixXd* J_x_q = nullptr) const override;
+  /// The base, each joint frame's origin in turn, the probe (for drawings).
+  std::vector<Eigen::VectorXd> skeleton(const Eigen::VectorXd& p,
+                                        const Eigen::VectorXd& q) const override;
 
   /// Every joint of the chain (fixed ones included), in order.
   const std::vector<ChainJoint>& joints() const { return joints_; }

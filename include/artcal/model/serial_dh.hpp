@@ -37,6 +37,9 @@ class SerialDH final : public Mechanism {
   ForwardStatus forward(const Eigen::VectorXd& p, const Eigen::VectorXd& q, Eigen::VectorXd& x,
                         Eigen::MatrixXd* J_x_p = nullptr,
                         Eigen::MatrixXd* J_x_q = nullptr) const override;
+  /// The base, the origin of each joint frame (and the foot of its offset d), the probe.
+  std::vector<Eigen::VectorXd> skeleton(const Eigen::VectorXd& p,
+                                        const Eigen::VectorXd& q) const override;
 
   DHConvention convention() const { return convention_; }
   bool hasBeta(int joint) const { return joints_[joint].has_beta; }

@@ -1,0 +1,271 @@
+#include "artcal/report/procedure.hpp"
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <sstream>
+
+#include "artcal/artifact/rigid_transform.hpp"
+#include "artcal/core/error.hpp"
+#include "artcal/estimation/design_matrix.hpp"
+#include "artcal/model/inverse_kinematics.hpp"
+#include "artcal/report/report.hpp"
+
+namespace artcal {
+
+using nlohmann::json;
+
+namespace {
+
+/// Within this distance (mm) of its placed feature a plan's reading is taken as the target as it
+/// is; otherwise the target is solved from it.
+constexpr double kOnFeature = 1e-10;
+
+RigidTransform placementTransform(int dimension, const Pose& pose) {
+  return dimension == 2 ? placePlanar(pose.center.head<2>(), pose.angle)
+                        : placeSpatial(pose.center.head<3>(), pose.direction, pose.roll);
+}
+
+/// The pose (centre, direction, roll) of a machine-from-artifact transform x = R W + t: the
+/// inverse of placePlanar / placeSpatial (rigid_transform.hpp).
+Pose poseOf(const RigidTransform& artifact_from_machine) {
+  const RigidTransform machine = artifact_from_machine.inverse();
+  Pose pose;
+  pose.center = machine.t;
+  if (machine.dimension() == 2) {
+    pose.angle = std::atan2(machine.R(1, 0), machine.R(0, 0));
+    return pose;
+  }
+  const Eigen::Vector3d ex = machine.R.col(0);
+  const Eigen::Vector3d ey = machine.R.col(1);
+  // The zero-roll Y axis of placeSpatial; the roll turns it about ex onto ey.
+  const Eigen::Matrix3d zero_roll = placeSpatial(Eigen::Vector3d::Zero(), ex, 0.0).R.transpose();
+  const Eigen::Vector3d ey0 = zero_roll.col(1);
+  pose.direction = ex;
+  pose.roll = std::atan2(ey0.cross(ey).dot(ex), ey0.dot(ey));
+  return pose;
+}
+
+std::string readingPointer(std::size_t placement, std::size_t reading) {
+  return "/placements/" + std::to_string(placement) + "/measurements/" + std::to_string(reading);
+}
+
+ProcedureReading targetOf(const Plan& plan, const Measurement& m, const Eigen::VectorXd& position,
+                          const std::string& where) {
+  const Machine& machine = plan.machine;
+  ProcedureReading reading;
+  reading.feature = m.feature;
+  reading.stylus = m.stylus;
+  reading.position = position;
+  Eigen::VectorXd x;
+  const bool planned_ok =
+      machine.mechanism->forwardStylus(m.stylus, machine.nominal, m.joints, x) == ForwardStatus::Ok;
+  reading.planned_offset =
+      planned_ok ? (x - position).norm() : std::numeric_limits<double>::infinity();
+  if (reading.planned_offset <= kOnFeature) {
+    reading.target = m.joints;
+    return reading;
+  }
+  IkOptions options;
+  options.stylus = m.stylus;
+  options.max_iterations = 500;
+  const auto solved = solveInverseKinematics(machine, machine.nominal, position, m.joints, options);
+  if (!solved) {
+    throw RunError(plan.source, where,
+                   "no joint values within the limits put the probe on feature " +
+                       std::to_string(m.feature) + " at the placement's pose");
+  }
+  reading.target = *solved;
+  return reading;
+}
+
+std::string fixed(double value, int decimals) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "%.*f", decimals, value);
+  return buffer;
+}
+
+std::string vectorText(const Eigen::VectorXd& v, int decimals) {
+  std::string out = "[";
+  for (int i = 0; i < v.size(); ++i) out += (i ? ", " : "") + fixed(v[i], decimals);
+  return out + "]";
+}
+
+std::string jointUnit(const Machine& machine, int joint) {
+  return std::string(unitName(jointQuantity(machine.mechanism->jointKind(joint))));
+}
+
+std::string poseText(const Plan& plan, const ProcedurePlacement& placement) {
+  const Pose& pose = placement.pose;
+  std::string out = "centre " + vectorText(pose.center, 3) + " mm";
+  if (plan.machine.dimension() == 2) {
+    out += ", angle " + fixed(radToDeg(pose.angle), 3) + " deg";
+  } else {
+    out += ", direction " + vectorText(pose.direction.normalized(), 4) + ", roll " +
+           fixed(radToDeg(pose.roll), 3) + " deg";
+  }
+  return out + (placement.pose_from_plan ? "" : " (fitted to the readings)");
+}
+
+json poseToJson(const Plan& plan, const ProcedurePlacement& placement) {
+  const Pose& pose = placement.pose;
+  json out = {
+      {"center", std::vector<double>(pose.center.data(), pose.center.data() + pose.center.size())}};
+  if (plan.machine.dimension() == 2) {
+    out["angle"] = radToDeg(pose.angle);
+  } else {
+    const Eigen::Vector3d d = pose.direction.normalized();
+    out["direction"] = {d.x(), d.y(), d.z()};
+    out["roll"] = radToDeg(pose.roll);
+  }
+  out["source"] = placement.pose_from_plan ? "plan" : "readings";
+  return out;
+}
+
+}  // namespace
+
+Eigen::MatrixXd placedFeatures(const Artifact& artifact, const Pose& pose) {
+  const RigidTransform machine_from_artifact =
+      placementTransform(artifact.dimension, pose).inverse();
+  Eigen::MatrixXd out(artifact.dimension, artifact.featureCount());
+  for (int i = 0; i < artifact.featureCount(); ++i) {
+    out.col(i) = machine_from_artifact.apply(artifact.features.col(i));
+  }
+  return out;
+}
+
+Procedure operatorProcedure(const Plan& plan) {
+  const std::vector<RigidTransform> fitted =
+      fitPlacements(plan, plan.placements, plan.machine.nominal);
+  Procedure procedure;
+  for (std::size_t j = 0; j < plan.placements.size(); ++j) {
+    const Placement& placement = plan.placements[j];
+    const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
+    ProcedurePlacement out;
+    out.artifact = placement.artifact;
+    out.pose_from_plan = placement.pose.has_value();
+    out.pose = placement.pose ? *placement.pose : poseOf(fitted[j]);
+    const Eigen::MatrixXd features = placedFeatures(artifact, out.pose);
+    std::map<int, int> postures;
+    for (std::size_t k = 0; k < placement.measurements.size(); ++k) {
+      const Measurement& m = placement.measurements[k];
+      ProcedureReading reading = targetOf(plan, m, features.col(m.feature), readingPointer(j, k));
+      reading.posture = postures[m.feature]++;
+      out.readings.push_back(std::move(reading));
+    }
+    procedure.placements.push_back(std::move(out));
+  }
+  return procedure;
+}
+
+json procedureToJson(const Plan& plan, const Procedure& procedure) {
+  const Machine& machine = plan.machine;
+  json units = json::array();
+  for (int i = 0; i < machine.jointCount(); ++i) units.push_back(jointUnit(machine, i));
+  json placements = json::array();
+  int readings_total = 0;
+  for (std::size_t j = 0; j < procedure.placements.size(); ++j) {
+    const ProcedurePlacement& placement = procedure.placements[j];
+    const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
+    json readings = json::array();
+    for (std::size_t k = 0; k < placement.readings.size(); ++k) {
+      const ProcedureReading& r = placement.readings[k];
+      readings.push_back({{"reading", k},
+                          {"feature", r.feature},
+                          {"posture", r.posture},
+                          {"stylus", r.stylus},
+                          {"position", std::vector<double>(r.position.data(),
+                                                           r.position.data() + r.position.size())},
+                          {"joints", jointsToFile(machine, r.target)},
+                          {"planned_offset", finiteOrNull(r.planned_offset)}});
+      ++readings_total;
+    }
+    placements.push_back({{"placement", j},
+                          {"artifact", artifact.id},
+                          {"kind", artifactKindName(artifact.kind)},
+                          {"pose", poseToJson(plan, placement)},
+                          {"readings", readings}});
+  }
+  return {{"plan", plan.name},
+          {"model", machine.mechanism->modelName()},
+          {"dimension", machine.dimension()},
+          {"joint_units", units},
+          {"readings", readings_total},
+          {"placements", placements}};
+}
+
+std::string procedureTable(const Plan& plan, const Procedure& procedure) {
+  const Machine& machine = plan.machine;
+  const bool styli = machine.mechanism->stylusCount() > 1;
+  std::ostringstream out;
+  std::size_t readings = 0;
+  for (const auto& placement : procedure.placements) readings += placement.readings.size();
+  out << "Procedure for plan " << plan.name << ": " << procedure.placements.size()
+      << " placements, " << readings << " readings, in measuring order\n";
+  std::string header = "  reading  feature  posture" + std::string(styli ? "  stylus" : "");
+  header += "  feature position mm" + std::string(machine.dimension() == 2 ? 6 : 16, ' ');
+  for (int i = 0; i < machine.jointCount(); ++i) {
+    char column[48];
+    std::snprintf(column, sizeof column, "%9s%d %-3s", "q", i + 1, jointUnit(machine, i).c_str());
+    header += column;
+  }
+  for (std::size_t j = 0; j < procedure.placements.size(); ++j) {
+    const ProcedurePlacement& placement = procedure.placements[j];
+    const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
+    out << "\nPlacement " << j << ": " << artifact.id << " (" << artifactKindName(artifact.kind)
+        << ") at " << poseText(plan, placement) << "\n"
+        << header << "\n";
+    for (std::size_t k = 0; k < placement.readings.size(); ++k) {
+      const ProcedureReading& r = placement.readings[k];
+      char row[96];
+      std::snprintf(row, sizeof row, "  %7zu  %7d  %7d", k, r.feature, r.posture);
+      out << row;
+      if (styli) out << "  " << std::string(6 - std::to_string(r.stylus).size(), ' ') << r.stylus;
+      const std::string position = vectorText(r.position, 3);
+      const std::size_t width = machine.dimension() == 2 ? 25 : 35;
+      out << "  " << position
+          << std::string(position.size() < width ? width - position.size() : 1, ' ');
+      const std::vector<double> joints = jointsToFile(machine, r.target);
+      for (const double value : joints) {
+        std::snprintf(row, sizeof row, "%14.4f", value);
+        out << row;
+      }
+      out << "\n";
+    }
+  }
+  return out.str();
+}
+
+std::string procedureCsv(const Plan& plan, const Procedure& procedure) {
+  const Machine& machine = plan.machine;
+  const char* axes[] = {"x", "y", "z"};
+  std::ostringstream out;
+  out << "placement,artifact,reading,feature,posture,stylus";
+  for (int d = 0; d < machine.dimension(); ++d) out << "," << axes[d] << "_mm";
+  for (int i = 0; i < machine.jointCount(); ++i)
+    out << ",q" << i + 1 << "_" << jointUnit(machine, i);
+  out << "\n";
+  char number[40];
+  for (std::size_t j = 0; j < procedure.placements.size(); ++j) {
+    const ProcedurePlacement& placement = procedure.placements[j];
+    const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
+    for (std::size_t k = 0; k < placement.readings.size(); ++k) {
+      const ProcedureReading& r = placement.readings[k];
+      out << j << "," << artifact.id << "," << k << "," << r.feature << "," << r.posture << ","
+          << r.stylus;
+      for (int d = 0; d < r.position.size(); ++d) {
+        std::snprintf(number, sizeof number, ",%.17g", r.position[d]);
+        out << number;
+      }
+      for (const double value : jointsToFile(machine, r.target)) {
+        std::snprintf(number, sizeof number, ",%.17g", value);
+        out << number;
+      }
+      out << "\n";
+    }
+  }
+  return out.str();
+}
+
+}  // namespace artcal

@@ -1,0 +1,166 @@
+// artcal procedure (docs/plan-format.md "artcal procedure"): for every plan in plans/ each reading
+// is listed with target joint values on which the nominal forward kinematics lands on the
+// feature, placed by the listed pose, to 1e-9 mm. The placed features are computed here from the
+// artifact's coordinates and the pose (centre, angle / direction, roll), not by the library.
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "artcal/io/plan_io.hpp"
+#include "cli_runner.hpp"
+
+namespace artcal {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+using test_support::runCli;
+
+/// Artifact-frame point W placed by a pose: x = R W + centre, R's columns the artifact's axes.
+Eigen::VectorXd placeByPose(const json& pose, const Eigen::VectorXd& W) {
+  const std::vector<double> c = pose.at("center");
+  if (W.size() == 2) {
+    const double a = degToRad(pose.at("angle").get<double>());
+    return Eigen::Vector2d(std::cos(a) * W[0] - std::sin(a) * W[1] + c[0],
+                           std::sin(a) * W[0] + std::cos(a) * W[1] + c[1]);
+  }
+  const std::vector<double> d = pose.at("direction");
+  const Eigen::Vector3d ex = Eigen::Vector3d(d[0], d[1], d[2]).normalized();
+  // Zero roll: Y horizontal (z x X), or the machine's y for a vertical X (plan-format.md).
+  Eigen::Vector3d ey0 = Eigen::Vector3d::UnitZ().cross(ex);
+  ey0 = ey0.norm() < 1e-9 ? Eigen::Vector3d::UnitY() : ey0.normalized();
+  const double roll = degToRad(pose.at("roll").get<double>());
+  // Rodrigues: ey0 turned by roll about ex.
+  const Eigen::Vector3d ey = ey0 * std::cos(roll) + ex.cross(ey0) * std::sin(roll) +
+                             ex * ex.dot(ey0) * (1 - std::cos(roll));
+  const Eigen::Vector3d ez = ex.cross(ey);
+  return ex * W[0] + ey * W[1] + ez * W[2] + Eigen::Vector3d(c[0], c[1], c[2]);
+}
+
+Eigen::VectorXd jointsFromFile(const Machine& machine, const json& joints) {
+  Eigen::VectorXd q(machine.jointCount());
+  for (int i = 0; i < q.size(); ++i) {
+    q[i] = fromFileUnit(jointQuantity(machine.mechanism->jointKind(i)), joints.at(i).get<double>());
+  }
+  return q;
+}
+
+std::vector<std::string> plansWithReadings() {
+  std::vector<std::string> out;
+  for (const auto& entry : fs::directory_iterator(ARTCAL_PLANS_DIR)) {
+    const std::string name = entry.path().filename().string();
+    if (entry.path().extension() != ".json" || name.ends_with(".spec.json") ||
+        name.ends_with(".machine.json")) {
+      continue;
+    }
+    out.push_back(entry.path().string());
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+// The drawing's skeleton (Mechanism::skeleton) starts at the machine origin and, for the arms,
+// ends at the probe; a CMM's ends at its quill, each segment along one axis.
+void expectSkeletonEndsAtTheProbe(const Machine& machine, const Eigen::VectorXd& q,
+                                  const Eigen::VectorXd& x) {
+  const std::vector<Eigen::VectorXd> skeleton = machine.mechanism->skeleton(machine.nominal, q);
+  const std::string model = machine.mechanism->modelName();
+  if (model == "hexapod") return;  // legs and platform: not a path to the probe
+  ASSERT_GE(skeleton.size(), 2u) << model;
+  EXPECT_LT(skeleton.front().norm(), 1e-12) << model;
+  if (model == "cartesian") {
+    ASSERT_EQ(skeleton.size(), static_cast<std::size_t>(machine.jointCount()) + 1);
+    for (int k = 0; k < machine.jointCount(); ++k) {
+      EXPECT_NEAR((skeleton[k + 1] - skeleton[k]).norm(), std::abs(q[k]), 1e-9);
+    }
+    return;
+  }
+  EXPECT_LT((skeleton.back() - x).norm(), 1e-9) << model;
+}
+
+void expectReadingsOnFeatures(const std::string& path) {
+  SCOPED_TRACE(path);
+  const Plan plan = loadPlan(path);
+  const json document = readJsonFile(path);
+  const auto run = runCli("procedure --json " + path);
+  ASSERT_EQ(run.status, 0);
+  const json procedure = json::parse(run.out);
+  const Machine& machine = plan.machine;
+  ASSERT_EQ(procedure.at("placements").size(), plan.placements.size());
+  for (std::size_t j = 0; j < plan.placements.size(); ++j) {
+    const Placement& placement = plan.placements[j];
+    const json& listed = procedure["placements"][j];
+    const json& pose = listed.at("pose");
+    if (placement.pose) {  // the plan's own pose, as written
+      const json& written = document["placements"][j]["pose"];
+      EXPECT_EQ(pose.at("source"), "plan");
+      EXPECT_EQ(pose.at("center"), written.at("center"));
+    }
+    const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
+    EXPECT_EQ(listed.at("artifact"), artifact.id);
+    ASSERT_EQ(listed.at("readings").size(), placement.measurements.size());
+    for (std::size_t k = 0; k < placement.measurements.size(); ++k) {
+      const json& reading = listed["readings"][k];
+      const Measurement& m = placement.measurements[k];
+      ASSERT_EQ(reading.at("feature").get<int>(), m.feature);
+      ASSERT_EQ(reading.at("stylus").get<int>(), m.stylus);
+      const Eigen::VectorXd feature = placeByPose(pose, artifact.features.col(m.feature));
+      const Eigen::VectorXd q = jointsFromFile(machine, reading.at("joints"));
+      EXPECT_TRUE(machine.withinLimits(q)) << "placement " << j << " reading " << k;
+      Eigen::VectorXd x;
+      ASSERT_EQ(machine.mechanism->forwardStylus(m.stylus, machine.nominal, q, x),
+                ForwardStatus::Ok);
+      EXPECT_LT((x - feature).norm(), 1e-9) << "placement " << j << " reading " << k;
+      expectSkeletonEndsAtTheProbe(machine, q, x);
+    }
+  }
+}
+
+TEST(Procedure, EveryReadingOfEveryPlanLandsOnItsPlacedFeature) {
+  const std::vector<std::string> plans = plansWithReadings();
+  ASSERT_GE(plans.size(), 20u);
+  for (const std::string& path : plans) expectReadingsOnFeatures(path);
+}
+
+TEST(Procedure, PosturesCountTheReadingsOfEachFeature) {
+  // The 6-axis arm reads each ball of each bar in 3 postures: 0, 1, 2 per feature.
+  const std::string path = std::string(ARTCAL_PLANS_DIR) + "/aacmm-6axis-3bars.json";
+  const json procedure = json::parse(runCli("procedure --json " + path).out);
+  for (const json& placement : procedure.at("placements")) {
+    std::map<int, std::vector<int>> postures;
+    for (const json& r : placement.at("readings")) {
+      postures[r.at("feature").get<int>()].push_back(r.at("posture").get<int>());
+    }
+    EXPECT_EQ(postures.size(), 2u);
+    for (const auto& [feature, seen] : postures) EXPECT_EQ(seen, (std::vector<int>{0, 1, 2}));
+  }
+}
+
+TEST(Procedure, CsvHasOneRowPerReadingWithUnitsInTheHeader) {
+  const std::string path = std::string(ARTCAL_PLANS_DIR) + "/paper-2r-5bars.json";
+  const auto run = runCli("procedure --csv " + path);
+  ASSERT_EQ(run.status, 0);
+  std::istringstream lines(run.out);
+  std::string header, line;
+  std::getline(lines, header);
+  EXPECT_EQ(header, "placement,artifact,reading,feature,posture,stylus,x_mm,y_mm,q1_deg,q2_deg");
+  int rows = 0;
+  while (std::getline(lines, line)) ++rows;
+  EXPECT_EQ(rows, 10);
+  const auto table = runCli("procedure " + path);
+  EXPECT_EQ(table.status, 0);
+  EXPECT_NE(table.out.find("Placement 4: bar80 (ball_bar) at centre"), std::string::npos);
+}
+
+TEST(Procedure, BadInputIsExitStatusTwoWithOneLine) {
+  const auto run = runCli("procedure /nonexistent/plan.json", test_support::Stderr::Only);
+  EXPECT_EQ(run.status, 2);
+  EXPECT_EQ(run.out.rfind("error: /nonexistent/plan.json", 0), 0u) << run.out;
+}
+
+}  // namespace
+}  // namespace artcal
