@@ -11,6 +11,7 @@
 #include "artcal/core/error.hpp"
 #include "artcal/io/output_file.hpp"
 #include "artcal/io/plan_io.hpp"
+#include "artcal/planning/design_identifiability.hpp"
 #include "artcal/planning/optimizer.hpp"
 #include "artcal/report/report.hpp"
 #include "commands.hpp"
@@ -113,29 +114,93 @@ std::string summaryTable(const Plan& plan, const OptimizerSummary& summary,
   return out.str();
 }
 
+// `"calibrate": "identifiable"` in a spec: resolved on random placements of the design space
+// (planning/design_identifiability.hpp), from the listed candidates, not from the spec's fixed
+// placements alone (which parsePlan resolved on). Returns how many placements decided.
+int resolveOnDesigns(Plan& spec, std::uint64_t seed) {
+  if (!spec.machine.calibrate_identifiable) return 0;
+  if (spec.calibrate_resolution) spec.machine.calibrated = spec.calibrate_resolution->listed;
+  spec.calibrate_resolution.reset();
+  const std::optional<DesignIdentifiability> by_designs = identifiableByDesigns(spec, seed);
+  if (!by_designs) return 0;  // no feasible placement: the search says why
+  spec.machine.calibrated = by_designs->resolution.kept;
+  spec.calibrate_resolution = by_designs->resolution;
+  return by_designs->candidates;
+}
+
+// No design identifies the calibrated set (docs/plan-format.md: exit 1, one line). The advice
+// comes from the union of random placements of the design space: the parameters to fix when
+// even the union cannot separate them, otherwise more placements or postures.
+int refuseUnidentifiable(const Plan& spec, std::uint64_t seed, const std::string& source,
+                         const std::string& why) {
+  const std::optional<DesignIdentifiability> by_designs = identifiableByDesigns(spec, seed);
+  std::cerr << "error: " << source;
+  if (by_designs && !by_designs->resolution.dropped.empty()) {
+    std::cerr << ": /machine/calibrate: " << why << "; no design of this space can identify "
+              << by_designs->resolution.dropped.size() << " of the "
+              << spec.machine.calibratedCount() << " calibrated parameters ("
+              << by_designs->candidates
+              << " random placements together cannot, docs/method.md section 5): "
+              << calibrateFixText(spec, by_designs->resolution) << std::endl;
+  } else {
+    std::cerr << ": /design/placements: " << why;
+    if (by_designs) {
+      std::cerr << "; " << by_designs->candidates
+                << " random placements together identify every calibrated parameter: more "
+                   "placements or postures may";
+    }
+    std::cerr << std::endl;
+  }
+  return 1;
+}
+
+std::string resolutionLine(const Plan& plan, int candidates) {
+  if (!plan.calibrate_resolution) return {};
+  const auto& params = plan.machine.mechanism->parameters();
+  std::ostringstream out;
+  out << "  calibrate \"identifiable\" resolved on " << candidates
+      << " random placements of the design space: " << plan.calibrate_resolution->kept.size()
+      << " kept";
+  if (!plan.calibrate_resolution->dropped.empty()) out << ", fixed at nominal:";
+  for (int k : plan.calibrate_resolution->dropped) {
+    out << " " << params[static_cast<std::size_t>(k)].name;
+  }
+  out << "\n";
+  return out.str();
+}
+
 int runOptimize(const OptimizeArguments& args) {
   checkOutputPath(args.output);  // refused before the search, not after it
   const nlohmann::json spec_document = readJsonFile(args.spec);
-  const Plan spec = parsePlan(spec_document, args.spec, /*require_placements=*/false);
+  Plan spec = parsePlan(spec_document, args.spec, /*require_placements=*/false);
   for (const std::string& warning : spec.warnings) std::cerr << "warning: " << warning << "\n";
   if (!spec.design) {
     throw InputError(args.spec, "/design", "missing: an optimization spec needs a design block");
   }
   const OptimizerOptions options = optionsFrom(spec, args);
+  const int resolved_on = resolveOnDesigns(spec, options.seed);
   const OptimizerSummary summary = optimizePlan(spec, options);
   if (options.progress) std::fprintf(stderr, "\n");
   if (summary.best_start < 0) {
-    std::cerr << "error: " << args.spec << ": " << summary.message << std::endl;
-    return 1;
+    return refuseUnidentifiable(spec, options.seed, args.spec, summary.message);
   }
   Plan plan = spec;
   for (const Placement& p : summary.placements) plan.placements.push_back(p);
   const Evaluation evaluation = evaluatePlan(plan);
+  // The rank policy re-checks the optimizer's pick (a finite criterion is not a full rank).
+  if (!evaluation.identifiability.identifiable()) {
+    return refuseUnidentifiable(spec, options.seed, args.spec,
+                                "the optimized design is not identifiable");
+  }
   nlohmann::json document = spec_document;
   document["placements"] = placementsToJson(plan);
   nlohmann::json predicted = evaluationToJson(plan, evaluation);
   predicted.erase("plan");
   predicted["optimization"] = optimizationToJson(spec, options, summary);
+  if (plan.calibrate_resolution) {
+    predicted["calibrate_resolved_on"] = {{"random_placements", resolved_on},
+                                          {"seed", options.seed}};
+  }
   document["predicted"] = predicted;
   writeJsonOutput(args.output, document);
   std::ostream& summary_out = summaryStream(args.output);
@@ -145,7 +210,8 @@ int runOptimize(const OptimizeArguments& args) {
     out["seconds"] = summary.seconds;
     summary_out << out.dump(2) << std::endl;
   } else {
-    summary_out << summaryTable(spec, summary, evaluation, args.output);
+    summary_out << summaryTable(spec, summary, evaluation, args.output)
+                << resolutionLine(plan, resolved_on);
   }
   return 0;
 }

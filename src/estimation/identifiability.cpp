@@ -174,13 +174,13 @@ CalibratedSetChoice chooseIdentifiableSet(const PlanInformation& information, do
   return choice;
 }
 
-void resolveCalibratedSet(Plan& plan) {
-  Machine& machine = plan.machine;
-  if (!machine.calibrate_identifiable || plan.placements.empty()) return;
-  const PlanInformation information = planInformation(plan, plan.placements, machine.nominal);
+CalibratedSetResolution resolveListedSet(const Plan& plan,
+                                         const std::vector<Placement>& placements) {
+  const PlanInformation information = planInformation(plan, placements, plan.machine.nominal);
   const CalibratedSetChoice choice = chooseIdentifiableSet(information);
-  const std::vector<int> listed = machine.calibrated;
+  const std::vector<int>& listed = plan.machine.calibrated;
   CalibratedSetResolution resolution;
+  resolution.listed = listed;
   for (int k : choice.kept) resolution.kept.push_back(listed[static_cast<std::size_t>(k)]);
   for (int k : choice.dropped) resolution.dropped.push_back(listed[static_cast<std::size_t>(k)]);
   for (const auto& tie : choice.ties) {
@@ -190,7 +190,13 @@ void resolveCalibratedSet(Plan& plan) {
     }
     resolution.ties.push_back(std::move(named));
   }
-  machine.calibrated = resolution.kept;
+  return resolution;
+}
+
+void resolveCalibratedSet(Plan& plan) {
+  if (!plan.machine.calibrate_identifiable || plan.placements.empty()) return;
+  CalibratedSetResolution resolution = resolveListedSet(plan, plan.placements);
+  plan.machine.calibrated = resolution.kept;
   plan.calibrate_resolution = std::move(resolution);
 }
 

@@ -167,6 +167,19 @@ std::string effectiveRigidText(const Plan& plan, const CountingCondition& c) {
   return out.str();
 }
 
+// How a dropped parameter is tied to the kept ones: "not observed, ..." when alone, otherwise
+// the combination the plan cannot tell from zero (scaled parameters).
+std::string tieText(const Plan& plan, const std::vector<std::pair<int, double>>& tie) {
+  const auto& params = plan.machine.mechanism->parameters();
+  if (tie.size() == 1) return "not observed, or absorbed by the placements' rigid motions";
+  std::string out;
+  for (std::size_t i = 0; i < tie.size(); ++i) {
+    out += format(i == 0 ? "%+.4g %s" : "  %+.4g %s", tie[i].second,
+                  params[static_cast<std::size_t>(tie[i].first)].name.c_str());
+  }
+  return out + "   (scaled parameters)";
+}
+
 // "calibrate": "identifiable" resolved: the kept set, the dropped parameters, and the
 // combination tying each dropped one to the kept ones (models.md section 1).
 std::string calibrateSelectionText(const Plan& plan) {
@@ -180,16 +193,8 @@ std::string calibrateSelectionText(const Plan& plan) {
   for (int k : resolution.kept) out << " " << name(k);
   out << "\n";
   for (std::size_t d = 0; d < resolution.dropped.size(); ++d) {
-    out << "    dropped " << name(resolution.dropped[d]) << ": ";
-    const auto& tie = resolution.ties[d];
-    if (tie.size() == 1) {
-      out << "not observed, or absorbed by the placements' rigid motions\n";
-      continue;
-    }
-    for (std::size_t i = 0; i < tie.size(); ++i) {
-      out << format(i == 0 ? "%+.4g %s" : "  %+.4g %s", tie[i].second, name(tie[i].first).c_str());
-    }
-    out << "   (scaled parameters)\n";
+    out << "    dropped " << name(resolution.dropped[d]) << ": "
+        << tieText(plan, resolution.ties[d]) << "\n";
   }
   return out.str();
 }
@@ -230,6 +235,20 @@ std::string identifiabilityTable(const Plan& plan, const Identifiability& id) {
   }
   out << calibrateSelectionText(plan);
   out << (id.identifiable() ? "IDENTIFIABLE\n" : "NOT IDENTIFIABLE\n");
+  return out.str();
+}
+
+std::string calibrateFixText(const Plan& plan, const CalibratedSetResolution& resolution) {
+  const auto& params = plan.machine.mechanism->parameters();
+  const auto name = [&params](int index) { return params[static_cast<std::size_t>(index)].name; };
+  std::ostringstream out;
+  out << "fix (keep at nominal):";
+  for (std::size_t d = 0; d < resolution.dropped.size(); ++d) {
+    out << (d == 0 ? " " : "; ") << name(resolution.dropped[d]) << " ("
+        << tieText(plan, resolution.ties[d]) << ")";
+  }
+  out << "; calibrate the " << resolution.kept.size() << " others:";
+  for (int k : resolution.kept) out << " " << name(k);
   return out.str();
 }
 

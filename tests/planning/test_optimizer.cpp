@@ -6,6 +6,7 @@
 
 #include <Eigen/LU>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -407,6 +408,49 @@ TEST_F(OptimizeCli, RefusalsExitWithStatus2AndOneLine) {
   EXPECT_EQ(run.status, 2);
   EXPECT_NE(run.out.find("none.json: /design: missing"), std::string::npos) << run.out;
   EXPECT_FALSE(std::filesystem::exists(path("x.json")));
+}
+
+// j1.theta turns the whole arm about the base z axis: every placement's rigid motion absorbs
+// it, so no design identifies it (docs/method.md section 5). optimize says which to fix, exit 1.
+TEST_F(OptimizeCli, AnUnidentifiableSetNamesTheParametersToFix) {
+  nlohmann::json doc = aacmmSpec(2);
+  doc["machine"]["calibrate"].insert(doc["machine"]["calibrate"].begin(), "j1.theta");
+  const CliRun run =
+      runCli("optimize " + write("theta.json", doc) + " -o " + path("x.json") + kSmall);
+  EXPECT_EQ(run.status, 1);
+  EXPECT_EQ(std::count(run.out.begin(), run.out.end(), '\n'), 1) << run.out;
+  EXPECT_NE(run.out.find("theta.json: /machine/calibrate: "), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("fix (keep at nominal): j1.theta (not observed, or absorbed by the "
+                         "placements' rigid motions); calibrate the 21 others: j1.a "),
+            std::string::npos)
+      << run.out;
+  EXPECT_FALSE(std::filesystem::exists(path("x.json")));
+}
+
+// "identifiable" in a spec is resolved on the design space, not kept whole. The independent
+// argument (standard DH, probe (150, 0, 0) on x6, alpha6 = a6 = d6 = 0): j1.theta and j1.d are
+// a rotation about and a translation along the base z axis (rigid motions); the tip is
+// Rz(q6 + theta6) [(a6, 0, d6) + Rx(alpha6) probe], where Rx(alpha6) leaves a probe on x6 in
+// place (alpha6 unobserved), probe.x moves it as a6 does, probe.z as d6, probe.y as theta6
+// (150 mm lever): in the model's order j6's parameters come first and the probe's are dropped.
+TEST_F(OptimizeCli, IdentifiableInASpecIsResolvedOnItsDesigns) {
+  nlohmann::json doc = aacmmSpec(2);
+  doc["machine"]["calibrate"] = "identifiable";
+  const CliRun run =
+      runCli("optimize " + write("ident.json", doc) + " -o " + path("p.json") + kSmall);
+  ASSERT_EQ(run.status, 0) << run.out;
+  EXPECT_NE(run.out.find("calibrate \"identifiable\" resolved on "), std::string::npos) << run.out;
+  const nlohmann::json plan = readJsonFile(path("p.json"));
+  const nlohmann::json dropped = {"j1.theta", "j1.d", "j6.alpha", "probe.x", "probe.y", "probe.z"};
+  EXPECT_EQ(plan["predicted"]["calibrate_dropped"], dropped);
+  EXPECT_EQ(plan["predicted"]["calibrate_resolved"].size(), 21u);
+  EXPECT_EQ(plan["machine"]["calibrate"], "identifiable");
+  // Read again, the plan resolves "identifiable" on its own placements to the same set.
+  const CliRun check = runCli("check --json " + path("p.json"));
+  ASSERT_EQ(check.status, 0) << check.out;
+  const nlohmann::json checked = nlohmann::json::parse(check.out);
+  EXPECT_EQ(checked["calibrate_resolved"], plan["predicted"]["calibrate_resolved"]);
+  EXPECT_EQ(checked["calibrate_dropped"], dropped);
 }
 
 // D, A and E of a known V (calibrated l1, l2: both lengths, no scaling; no systematic error):

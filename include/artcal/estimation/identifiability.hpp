@@ -97,6 +97,11 @@ struct CalibratedSetChoice {
 CalibratedSetChoice chooseIdentifiableSet(const PlanInformation& information,
                                           double tolerance = kDefaultRankTolerance);
 
+/// Which of the plan's listed parameters (machine.calibrated, in preferred order) the nominal
+/// readings of `placements` identify (chooseIdentifiableSet), as model parameter indices.
+CalibratedSetResolution resolveListedSet(const Plan& plan,
+                                         const std::vector<Placement>& placements);
+
 /// Resolves the plan's `"calibrate": "identifiable"` once, at its nominal readings: sets
 /// machine.calibrated to the kept parameters and records the dropped ones and their ties in
 /// plan.calibrate_resolution. Does nothing unless machine.calibrate_identifiable; a plan without

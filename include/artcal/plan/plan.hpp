@@ -94,6 +94,7 @@ inline constexpr double kDefaultPrismaticMarginMm = 1.0;
 /// and, for each, the combination with the kept ones it is tied to (parameter index, coefficient
 /// in the scaled parameters).
 struct CalibratedSetResolution {
+  std::vector<int> listed;  ///< the candidates in preferred order, before the resolution
   std::vector<int> kept;
   std::vector<int> dropped;
   std::vector<std::vector<std::pair<int, double>>> ties;

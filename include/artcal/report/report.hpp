@@ -28,5 +28,8 @@ nlohmann::json evaluationToJson(const Plan& plan, const Evaluation& evaluation);
 
 std::string identifiabilityTable(const Plan& plan, const Identifiability& identifiability);
 std::string evaluationTable(const Plan& plan, const Evaluation& evaluation);
+/// One line: the dropped parameters to fix, each with its tie, and the kept ones to calibrate
+/// (the `fix:` advice for a set no plan or design identifies).
+std::string calibrateFixText(const Plan& plan, const CalibratedSetResolution& resolution);
 
 }  // namespace artcal
