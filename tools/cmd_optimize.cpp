@@ -15,6 +15,7 @@
 #include "artcal/planning/optimizer.hpp"
 #include "artcal/report/report.hpp"
 #include "commands.hpp"
+#include "optimize_sweep.hpp"
 
 namespace artcal::cli {
 
@@ -32,6 +33,7 @@ struct OptimizeArguments {
   std::optional<int> starts;
   std::optional<double> time_limit;
   std::optional<long> seed;
+  SweepArguments sweep;  ///< --placements A..B: every count, -o is a directory
 };
 
 double toMicrometres(double mm) {
@@ -170,7 +172,8 @@ std::string resolutionLine(const Plan& plan, int candidates) {
 }
 
 int runOptimize(const OptimizeArguments& args) {
-  checkOutputPath(args.output);  // refused before the search, not after it
+  const bool sweep = !args.sweep.range.empty();
+  if (!sweep) checkOutputPath(args.output);  // refused before the search, not after it
   const nlohmann::json spec_document = readJsonFile(args.spec);
   Plan spec = parsePlan(spec_document, args.spec, /*require_placements=*/false);
   for (const std::string& warning : spec.warnings) std::cerr << "warning: " << warning << "\n";
@@ -179,6 +182,12 @@ int runOptimize(const OptimizeArguments& args) {
   }
   const OptimizerOptions options = optionsFrom(spec, args);
   const int resolved_on = resolveOnDesigns(spec, options.seed);
+  if (sweep) {
+    SweepArguments sweep_args = args.sweep;
+    sweep_args.directory = args.output;
+    sweep_args.json = args.json;
+    return runPlacementSweep(spec_document, spec, options, sweep_args);
+  }
   const OptimizerSummary summary = optimizePlan(spec, options);
   if (options.progress) std::fprintf(stderr, "\n");
   if (summary.best_start < 0) {
@@ -244,6 +253,13 @@ void addOptimizeCommand(CLI::App& app, Action& action) {
                   "refinement evaluations per start; 0: automatic")
       ->check(CLI::Range(0, 10000000))
       ->capture_default_str();
+  cmd->add_option("--placements", args->sweep.range,
+                  "A..B: optimize every count from A to B placements (seeding each count with "
+                  "the design for the one before); -o is then a directory for the plans and "
+                  "the summary");
+  cmd->add_option("--target-tip", args->sweep.target,
+                  "with --placements: the criterion to reach, mm (overrides design.target_tip)")
+      ->check(CLI::PositiveNumber);
   cmd->add_option("--algorithm", args->algorithm, "continuous refinement (NLopt)")
       ->check(CLI::IsMember({"sbplx", "bobyqa", "neldermead", "cobyla", "none"}))
       ->capture_default_str();
