@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -30,19 +31,29 @@ void writeJson(const fs::path& path, const json& document) {
   std::ofstream(path) << document.dump(1);
 }
 
-/// The imported machine block with the 19 parameters a 6-axis arm's ball-bar data determine
-/// well (condition number 368). "identifiable" as import-urdf writes it also keeps the first
-/// joint's roll, pitch and yaw, a rotation of the whole base that the placements' rigid motions
-/// absorb (condition number 5e6; the calibrator then stalls), so the user lists the set.
+/// The 19 parameters a 6-axis arm's ball-bar data determine (condition number 368): what
+/// `"calibrate": "identifiable"`, as import-urdf writes it, resolves to on the plan below.
+const std::vector<std::string> kIdentifiable = {
+    "shoulder_lift_joint.x", "shoulder_lift_joint.y", "shoulder_lift_joint.pitch",
+    "elbow_joint.x",         "elbow_joint.z",         "elbow_joint.roll",
+    "elbow_joint.yaw",       "wrist_1_joint.x",       "wrist_1_joint.z",
+    "wrist_1_joint.roll",    "wrist_2_joint.x",       "wrist_2_joint.z",
+    "wrist_2_joint.roll",    "wrist_2_joint.yaw",     "wrist_3_joint.x",
+    "wrist_3_joint.y",       "wrist_3_joint.roll",    "wrist_3_joint.pitch",
+    "ball_joint.x"};
+
+/// The parameters that move every probed point by one and the same rigid motion (the base
+/// joint's origin and offset) or not at all (the ball's rotation: the probe is the ball link's
+/// origin): no ball-bar plan can see them, the placements' rigid motions absorb them.
+const std::vector<std::string> kRigidOrUnseen = {
+    "shoulder_pan_joint.x",      "shoulder_pan_joint.y",
+    "shoulder_pan_joint.z",      "shoulder_pan_joint.roll",
+    "shoulder_pan_joint.pitch",  "shoulder_pan_joint.yaw",
+    "shoulder_pan_joint.offset", "ball_joint.roll",
+    "ball_joint.pitch",          "ball_joint.yaw"};
+
 json machineWithCalibrated(json machine) {
-  machine["calibrate"] = {
-      "shoulder_lift_joint.x", "shoulder_lift_joint.y", "shoulder_lift_joint.pitch",
-      "elbow_joint.x",         "elbow_joint.z",         "elbow_joint.roll",
-      "elbow_joint.yaw",       "wrist_1_joint.x",       "wrist_1_joint.z",
-      "wrist_1_joint.roll",    "wrist_2_joint.x",       "wrist_2_joint.z",
-      "wrist_2_joint.roll",    "wrist_2_joint.yaw",     "wrist_3_joint.x",
-      "wrist_3_joint.y",       "wrist_3_joint.roll",    "wrist_3_joint.pitch",
-      "ball_joint.x"};
+  EXPECT_EQ(machine["calibrate"], "identifiable");  // as import-urdf writes it
   return machine;
 }
 
@@ -89,6 +100,37 @@ json planOf(const json& machine, const fs::path& scratch) {
   return plan;
 }
 
+// Independent of the estimation code (forward kinematics and a rigid fit only): perturbing each
+// of kRigidOrUnseen by 0.01 (mm or rad) moves all the plan's probed points by one rigid motion.
+void expectRigidOrUnseen(const Plan& plan) {
+  const Machine& machine = plan.machine;
+  std::vector<Eigen::VectorXd> joints;
+  for (const Placement& p : plan.placements) {
+    for (const Measurement& m : p.measurements) joints.push_back(m.joints);
+  }
+  const auto points = [&](const Eigen::VectorXd& parameters) {
+    Eigen::MatrixXd out(3, static_cast<int>(joints.size()));
+    Eigen::VectorXd x;
+    for (std::size_t i = 0; i < joints.size(); ++i) {
+      forwardOrThrow(*machine.mechanism, parameters, joints[i], x);
+      out.col(static_cast<int>(i)) = x;
+    }
+    return out;
+  };
+  const Eigen::MatrixXd nominal = points(machine.nominal);
+  for (const std::string& name : kRigidOrUnseen) {
+    Eigen::VectorXd perturbed = machine.nominal;
+    perturbed[machine.mechanism->parameterIndex(name)] += 0.01;
+    const Eigen::MatrixXd moved = points(perturbed);
+    const RigidTransform fit = fitRigid(moved, nominal);
+    double residual = 0.0;
+    for (int i = 0; i < moved.cols(); ++i) {
+      residual = std::max(residual, (fit.apply(moved.col(i)) - nominal.col(i)).norm());
+    }
+    EXPECT_LT(residual, 1e-9) << name << " moves the points by " << (moved - nominal).norm();
+  }
+}
+
 TEST(OtherRobot, Ur5FromItsUrdfCalibratedAndVerifiedWithTheSameCommands) {
   const fs::path scratch = fs::temp_directory_path() / ("artcal-ur5-" + std::to_string(::getpid()));
   fs::remove_all(scratch);
@@ -99,6 +141,23 @@ TEST(OtherRobot, Ur5FromItsUrdfCalibratedAndVerifiedWithTheSameCommands) {
       runCli("import-urdf " + urdf + " --base base_link --tip ball_link -o " + machine).status, 0);
   const std::string plan = (scratch / "plan.json").string();
   writeJson(plan, planOf(readJson(machine), scratch));
+  // "identifiable" keeps the 19 and drops the base joint's origin and offset and the ball's
+  // rotation, which the independent check below shows to be rigid motions of every point.
+  const auto checked = runCli("check --json " + plan);
+  ASSERT_EQ(checked.status, 0) << checked.out;
+  const json resolution = json::parse(checked.out);
+  EXPECT_EQ(resolution["calibrate_resolved"], json(kIdentifiable));
+  for (const std::string& name : kRigidOrUnseen) {
+    const json& dropped = resolution["calibrate_dropped"];
+    EXPECT_NE(std::find(dropped.begin(), dropped.end(), name), dropped.end()) << name;
+  }
+  expectRigidOrUnseen(loadPlan(plan));
+  // The resolved set, listed: on readings with the machine's errors (0.3 mm here) "identifiable"
+  // still keeps the base rotation (a bar's roll about its axis is no rigid unknown, and the
+  // errors give the base rotation about that axis a lever arm of their size; issue 9, open).
+  json listed = readJson(plan);
+  listed["machine"]["calibrate"] = kIdentifiable;
+  writeJson(plan, listed);
   // The truth: a few tenths of a millimetre and a few hundredths of a degree off nominal.
   const json truth = {{"parameters",
                        {{"shoulder_lift_joint.x", 0.3},
