@@ -92,4 +92,26 @@ std::optional<Eigen::Matrix3d> Hexapod::orientationOf(const Eigen::VectorXd& p,
   return pose.R;
 }
 
+std::vector<Eigen::VectorXd> Hexapod::skeleton(const Eigen::VectorXd& p,
+                                               const Eigen::VectorXd& q) const {
+  ChainPose pose;
+  if (solvePose(p, q, pose) != ForwardStatus::Ok) return {};
+  auto base = [&](int i) -> Eigen::VectorXd { return p.segment<3>(baseOffset(i % kLegs)); };
+  auto platform = [&](int i) -> Eigen::VectorXd {
+    return pose.t + pose.R * p.segment<3>(platformOffset(i % kLegs));
+  };
+  std::vector<Eigen::VectorXd> points;
+  for (int i = 0; i <= kLegs; ++i) points.push_back(base(i));
+  points.push_back(platform(0));
+  for (int i = 1; i < kLegs; ++i) {
+    points.push_back(platform(i));
+    points.push_back(base(i));
+    points.push_back(platform(i));
+  }
+  points.push_back(platform(0));
+  points.push_back(pose.t);
+  points.push_back(pose.t + pose.R * p.segment<3>(kProbeOffset));
+  return points;
+}
+
 }  // namespace artcal

@@ -4,12 +4,20 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <Eigen/QR>
 #include <cmath>
+#include <map>
 #include <numbers>
 #include <random>
+#include <regex>
+#include <sstream>
 
 #include "artcal/core/units.hpp"
+#include "artcal/estimation/evaluator.hpp"
+#include "artcal/io/plan_io.hpp"
 #include "artcal/model/hexapod.hpp"
+#include "artcal/report/html_report.hpp"
+#include "artcal/report/report.hpp"
 #include "finite_difference.hpp"
 
 namespace artcal {
@@ -178,6 +186,118 @@ TEST(ClosedChain, RetractTurnsByTheExactExponential) {
   planar << 0.5, -0.5;
   retractPose(pose, planar);
   EXPECT_EQ(pose.t, Eigen::Vector3d(1.5, 1.5, 3.0));
+}
+
+/// The points (px) of every <polyline> in an SVG with exactly `count` points, in order.
+std::vector<std::vector<Eigen::Vector2d>> polylinesOf(const std::string& svg, std::size_t count) {
+  static const std::regex kPolyline("<polyline points=\"([^\"]*)\"");
+  std::vector<std::vector<Eigen::Vector2d>> out;
+  for (std::sregex_iterator it(svg.begin(), svg.end(), kPolyline), end; it != end; ++it) {
+    std::istringstream points((*it)[1].str());
+    std::vector<Eigen::Vector2d> polyline;
+    for (std::string pair; points >> pair;) {
+      const std::size_t comma = pair.find(',');
+      polyline.emplace_back(std::stod(pair.substr(0, comma)), std::stod(pair.substr(comma + 1)));
+    }
+    if (polyline.size() == count) out.push_back(polyline);
+  }
+  return out;
+}
+
+/// Pixel -> mm of an equal-aspect view (px = a + s x, py = b - s y), fitted by least squares to
+/// known points (mm) and where they were drawn (px).
+struct ViewScale {
+  double a = 0, b = 0, s = 1;
+  Eigen::Vector2d toMm(const Eigen::Vector2d& px) const {
+    return {(px.x() - a) / s, (b - px.y()) / s};
+  }
+};
+
+ViewScale fitView(const std::vector<Eigen::Vector2d>& mm, const std::vector<Eigen::Vector2d>& px) {
+  // Unknowns (a, b, s): rows px.x = a + s x and px.y = b - s y.
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(2 * static_cast<int>(mm.size()), 3);
+  Eigen::VectorXd rhs(A.rows());
+  for (std::size_t k = 0; k < mm.size(); ++k) {
+    const int r = 2 * static_cast<int>(k);
+    A.row(r) << 1, 0, mm[k].x();
+    A.row(r + 1) << 0, 1, -mm[k].y();
+    rhs[r] = px[k].x();
+    rhs[r + 1] = px[k].y();
+  }
+  const Eigen::Vector3d abs = A.colPivHouseholderQr().solve(rhs);
+  return {abs[0], abs[1], abs[2]};
+}
+
+// The report's layout (html_report.hpp) draws the machine at each reading through
+// Mechanism::skeleton, in plan (XY) and side (XZ) views: one polyline of 26 points per reading
+// (base hexagon, legs, platform hexagon, platform centre, probe). Checked against the plan
+// file's numbers, not the model: each view's pixel scale is fitted to the file's base joints
+// (equal aspect); the two views together give each point in 3-D; every leg is as long as its
+// reading, the platform joints are a rigid copy of the file's (pairwise distances), and the
+// probe lies |probe| from the platform centre. Pixels are written to 0.1 px (~0.2 mm here).
+TEST(HexapodLayout, LegsAndPlatformAtEveryReadingInPlanAndSideViews) {
+  const std::string path = std::string(ARTCAL_TEST_DATA) + "/ref-hexapod-6bars.json";
+  const Plan plan = loadPlan(path);
+  const nlohmann::json file = readJsonFile(path);
+  const nlohmann::json& machine = file.at("machine");
+  const Evaluation ev = evaluatePlan(plan);
+  const nlohmann::json ev_json = evaluationToJson(plan, ev);
+  std::map<std::string, std::string> svgs;
+  for (const ReportFigure& f : reportFigures({plan, file, ev, ev_json})) svgs[f.name] = f.svg;
+  ASSERT_TRUE(svgs.count("layout") && svgs.count("layout-side"));
+  constexpr std::size_t kPoints = 26;  // 7 base, a1, 5 x (a, b, a), a1, centre, probe
+  const auto top = polylinesOf(svgs["layout"], kPoints);
+  const auto side = polylinesOf(svgs["layout-side"], kPoints);
+  std::vector<const nlohmann::json*> readings;
+  for (const nlohmann::json& placement : file.at("placements")) {
+    for (const nlohmann::json& m : placement.at("measurements")) readings.push_back(&m);
+  }
+  ASSERT_EQ(top.size(), readings.size());
+  ASSERT_EQ(side.size(), readings.size());
+  auto point = [](const nlohmann::json& xyz) { return Eigen::Vector3d(xyz[0], xyz[1], xyz[2]); };
+  std::vector<Eigen::Vector3d> base, platform;
+  for (std::size_t i = 0; i < 6; ++i) {
+    base.push_back(point(machine.at("base")[i]));
+    platform.push_back(point(machine.at("platform")[i]));
+  }
+  // Scales from reading 0's base joints; the side view's y offset from z = 0 of the base.
+  std::vector<Eigen::Vector2d> base_xy, base_xz, top_px, side_px;
+  for (std::size_t i = 0; i < 6; ++i) {
+    base_xy.emplace_back(base[i].x(), base[i].y());
+    base_xz.emplace_back(base[i].x(), base[i].z());
+    top_px.push_back(top[0][i]);
+    side_px.push_back(side[0][i]);
+  }
+  const ViewScale plan_view = fitView(base_xy, top_px);
+  ViewScale side_view = plan_view;        // the same mm per px and x offset are not assumed:
+  side_view = fitView(base_xz, side_px);  // z = 0 leaves s to x alone, which suffices
+  const Eigen::Vector3d probe = point(machine.at("probe"));
+  constexpr double kTol = 0.5;  // mm: 0.1 px in views of about 0.5 px/mm, summed over points
+  for (std::size_t r = 0; r < readings.size(); ++r) {
+    SCOPED_TRACE(r);
+    std::vector<Eigen::Vector3d> x;
+    for (std::size_t k = 0; k < kPoints; ++k) {
+      const Eigen::Vector2d xy = plan_view.toMm(top[r][k]), xz = side_view.toMm(side[r][k]);
+      EXPECT_NEAR(xy.x(), xz.x(), kTol);
+      x.emplace_back(xy.x(), xy.y(), xz.y());
+    }
+    const nlohmann::json& q = readings[r]->at("joints");
+    std::vector<Eigen::Vector3d> a{x[7]};
+    for (std::size_t i = 1; i < 6; ++i) a.push_back(x[5 + 3 * i]);
+    for (std::size_t i = 0; i < 6; ++i) {
+      EXPECT_LT((x[i] - base[i]).norm(), kTol) << "base joint " << i;
+      EXPECT_NEAR((a[i] - base[i]).norm(), q[i].get<double>(), kTol) << "leg " << i;
+      for (std::size_t j = 0; j < i; ++j) {
+        EXPECT_NEAR((a[i] - a[j]).norm(), (platform[i] - platform[j]).norm(), kTol);
+      }
+    }
+    for (std::size_t i = 1; i < 6; ++i) {  // each leg drawn out and back: a_i b_i a_i
+      EXPECT_LT((x[6 + 3 * i] - base[i]).norm(), kTol);
+      EXPECT_LT((x[7 + 3 * i] - a[i]).norm(), kTol);
+    }
+    EXPECT_LT((x[23] - a[0]).norm(), kTol);
+    EXPECT_NEAR((x[25] - x[24]).norm(), probe.norm(), kTol);
+  }
 }
 
 }  // namespace

@@ -62,6 +62,13 @@ class Hexapod final : public ClosedChainMechanism, public OrientedPostures {
   std::optional<Eigen::Matrix3d> orientationOf(const Eigen::VectorXd& p,
                                                const Eigen::VectorXd& q) const override;
 
+  /// One polyline through the whole machine at reading q (the pose by solvePose): the
+  /// base hexagon b1..b6 b1, leg 1 up to a1, the platform hexagon a1..a6 a1 with each leg i >= 2
+  /// drawn out and back from a_i (a_i b_i a_i), then the platform centre t and the probe centre.
+  /// Empty when forward kinematics fails.
+  std::vector<Eigen::VectorXd> skeleton(const Eigen::VectorXd& p,
+                                        const Eigen::VectorXd& q) const override;
+
  private:
   ChainPose home_;
   double platform_radius_;
