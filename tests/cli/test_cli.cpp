@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace {
 
@@ -185,6 +186,138 @@ TEST_F(Cli, UsageErrorsExitTwo) {
   EXPECT_EQ(run("").status, 2);
   EXPECT_EQ(run("check").status, 2);
   EXPECT_EQ(run("evaluate --no-such-flag '" + data("ref-2r-5bars") + "'").status, 2);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Every ```console block of README.md and docs/*.md is reproduced byte for byte. A block's `$ `
+// lines run in order in one shell (so `echo $?` sees the command before it, stderr merged into
+// stdout) from a scratch folder holding a copy of plans/, the repository's tests/data and
+// build/tools/artcal (the binary under test): nothing in the repository is written. In the
+// expected output a line `...` (indented or not) stands for any number of lines, and a line ending
+// in `...` for one line starting with what comes before the dots. A block is checked when all
+// its commands are `build/tools/artcal ...` (optionally piped into jq) or `echo $?`, apart from
+// `artcal optimize`, a search bounded in seconds whose output depends on the machine's load.
+
+struct ConsoleBlock {
+  std::string where;  // file:line
+  std::vector<std::string> lines;
+};
+
+std::vector<ConsoleBlock> consoleBlocks(const fs::path& file, const std::string& label) {
+  std::ifstream in(file);
+  std::vector<ConsoleBlock> blocks;
+  std::string line;
+  int number = 0;
+  bool inside = false;
+  while (std::getline(in, line)) {
+    ++number;
+    if (!inside && line == "```console") {
+      inside = true;
+      blocks.push_back({label + ":" + std::to_string(number), {}});
+    } else if (inside && line == "```") {
+      inside = false;
+    } else if (inside) {
+      blocks.back().lines.push_back(line);
+    }
+  }
+  return blocks;
+}
+
+bool checkedCommand(const std::string& command) {
+  if (command == "echo $?") return true;
+  const std::string artcal = "build/tools/artcal ";
+  return command.rfind(artcal, 0) == 0 && command.rfind(artcal + "optimize", 0) != 0;
+}
+
+std::string singleQuoted(const std::string& text) {
+  std::string out = "'";
+  for (char c : text) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+
+// The shell script that prints each `$ command` line and then its output.
+std::string consoleScript(const std::vector<std::string>& lines) {
+  std::string script = "status=0\n";
+  for (const std::string& line : lines) {
+    if (line.rfind("$ ", 0) != 0) continue;
+    script += "printf '%s\\n' " + singleQuoted(line) + "\n(exit $status); " + line.substr(2) +
+              " 2>&1; status=$?\n";
+  }
+  return script;
+}
+
+bool lineMatches(const std::string& expected, const std::string& actual) {
+  const std::string dots = "...";
+  if (expected.size() > dots.size() && expected.ends_with(dots)) {
+    return actual.rfind(expected.substr(0, expected.size() - dots.size()), 0) == 0;
+  }
+  return expected == actual;
+}
+
+bool isElision(const std::string& line) {
+  return line.find_first_not_of(' ') != std::string::npos &&
+         line.substr(line.find_first_not_of(' ')) == "...";
+}
+
+// Expected lines against actual ones, `...` lines matching any run of lines.
+bool blockMatches(const std::vector<std::string>& expected, std::size_t e,
+                  const std::vector<std::string>& actual, std::size_t a) {
+  if (e == expected.size()) return a == actual.size();
+  if (isElision(expected[e])) {
+    for (std::size_t skip = a; skip <= actual.size(); ++skip) {
+      if (blockMatches(expected, e + 1, actual, skip)) return true;
+    }
+    return false;
+  }
+  return a < actual.size() && lineMatches(expected[e], actual[a]) &&
+         blockMatches(expected, e + 1, actual, a + 1);
+}
+
+std::vector<std::string> splitLines(const std::string& text) {
+  std::vector<std::string> lines;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  return lines;
+}
+
+TEST_F(Cli, ConsoleBlocksOfTheDocumentsAreReproduced) {
+  const fs::path root = fs::path(ARTCAL_PLANS_DIR).parent_path();
+  fs::create_directories(dir_ / "build" / "tools");
+  fs::create_symlink(ARTCAL_CLI, dir_ / "build" / "tools" / "artcal");
+  fs::copy(root / "plans", dir_ / "plans", fs::copy_options::recursive);
+  fs::create_directories(dir_ / "tests");
+  fs::create_directory_symlink(root / "tests" / "data", dir_ / "tests" / "data");
+  std::vector<ConsoleBlock> blocks = consoleBlocks(root / "README.md", "README.md");
+  for (const auto& entry : fs::directory_iterator(root / "docs")) {
+    if (entry.path().extension() != ".md") continue;
+    for (ConsoleBlock& block :
+         consoleBlocks(entry.path(), "docs/" + entry.path().filename().string())) {
+      blocks.push_back(std::move(block));
+    }
+  }
+  int checked = 0;
+  for (const ConsoleBlock& block : blocks) {
+    bool runnable = true;
+    for (const std::string& line : block.lines) {
+      if (line.rfind("$ ", 0) == 0 && !checkedCommand(line.substr(2))) runnable = false;
+    }
+    if (!runnable) continue;
+    ++checked;
+    std::ofstream(dir_ / "block.sh") << consoleScript(block.lines);
+    const std::string command = "cd " + singleQuoted(dir_.string()) + " && sh block.sh";
+    FILE* pipe = popen(command.c_str(), "r");
+    ASSERT_NE(pipe, nullptr);
+    std::string output;
+    char buffer[4096];
+    for (std::size_t n; (n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0;) {
+      output.append(buffer, n);
+    }
+    pclose(pipe);
+    EXPECT_TRUE(blockMatches(block.lines, 0, splitLines(output), 0))
+        << block.where << ": the block differs from what the commands print now:\n"
+        << output;
+  }
+  EXPECT_GE(checked, 5) << "README.md's walk-through blocks are no longer found";
 }
 
 }  // namespace
