@@ -104,12 +104,18 @@ bool Calibrator::linearize(const std::vector<Placement>& placements, const Calib
     reducer_.add(block_, placements[j].artifact, &out.eliminations[j],
                  rigidRankOfFeatures(artifact, placements[j].measurements));
   }
-  // The prior on c (docs/method.md section 2): cost c^T Sigma_c^-1 c, gradient and curvature added.
-  const Eigen::VectorXd prior = layout_.c_sigma.array().square().inverse();
-  out.cost = reducer_.chi2() + state.c.dot(prior.asDiagonal() * state.c);
+  // The priors as whitened rows (docs/method.md section 3): on c, cost c^T Sigma_c^-1 c; on p,
+  // (p - p0)^T Sigma_p0^-1 (p - p0) about the nominal values; gradient and curvature added.
+  const Eigen::VectorXd prior_c = layout_.c_sigma.array().square().inverse();
+  const Eigen::VectorXd offset_p =
+      plan.machine.calibratedValues(state.p) - plan.machine.calibratedValues(plan.machine.nominal);
+  const Eigen::VectorXd& prior_p = layout_.p_prior_weight;
+  out.cost = reducer_.chi2() + state.c.dot(prior_c.asDiagonal() * state.c) +
+             offset_p.dot(prior_p.asDiagonal() * offset_p);
   out.N = reducer_.normalWithPrior();
   out.b = reducer_.rhs();
-  out.b.tail(layout_.systematicCount()) -= prior.asDiagonal() * state.c;
+  out.b.tail(layout_.systematicCount()) -= prior_c.asDiagonal() * state.c;
+  out.b.head(layout_.parameters) -= prior_p.asDiagonal() * offset_p;
   out.rigid_reduction = 0.0;
   for (const PlacementElimination& e : out.eliminations) {
     out.rigid_reduction += e.g_r.dot(e.M_rr_pinv * e.g_r);
@@ -223,7 +229,7 @@ Calibration Calibrator::run(const std::vector<Placement>& placements,
     rows += artifact.valuedPerFeature() * static_cast<int>(placement.measurements.size());
     out.dof -= rigidRankOfFeatures(artifact, placement.measurements);  // effective N(r_j)
   }
-  out.dof += rows - layout_.parameters;
+  out.dof += rows + layout_.priorRows() - layout_.parameters;  // a prior is one row each
   out.chi2_per_dof = out.dof > 0 && std::isfinite(out.chi2) ? out.chi2 / out.dof : 0.0;
   if (options_.details && finite) fillDetails(placements, out);
   return out;

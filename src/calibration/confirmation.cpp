@@ -63,8 +63,15 @@ TrialResult runTrial(const Plan& plan, const Simulator& simulator, Calibrator& c
   const Machine& machine = plan.machine;
   NormalSource normal(trialSeed(options.seed, static_cast<std::uint64_t>(trial)));
   Eigen::VectorXd shift(machine.calibratedCount());
-  for (int k = 0; k < shift.size(); ++k)
-    shift[k] = options.perturbation * predicted_u[k] * normal();
+  const Eigen::VectorXd prior_sigma = machine.prior_sigma.size() > 0
+                                          ? machine.calibratedValues(machine.prior_sigma)
+                                          : Eigen::VectorXd::Zero(shift.size());
+  for (int k = 0; k < shift.size(); ++k) {
+    // A parameter with a prior is drawn from it (confirmation.hpp).
+    const double scale =
+        prior_sigma[k] > 0.0 ? prior_sigma[k] : options.perturbation * predicted_u[k];
+    shift[k] = scale * normal();
+  }
   const Eigen::VectorXd p_true =
       machine.withCalibrated(machine.nominal, machine.calibratedValues(machine.nominal) + shift);
   TrialResult result;

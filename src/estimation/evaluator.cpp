@@ -30,7 +30,7 @@ Eigen::MatrixXd reduceInformation(const Plan& plan, const std::vector<Placement>
                                   const Eigen::VectorXd& p,
                                   const std::vector<RigidTransform>& poses,
                                   DesignMatrixBuilder& builder, NormalMatrixReducer& reducer,
-                                  ObservationBlock& block) {
+                                  ObservationBlock& block, ParameterPrior prior) {
   reducer.reset();
   const Eigen::VectorXd no_c;
   for (std::size_t j = 0; j < placements.size(); ++j) {
@@ -38,7 +38,7 @@ Eigen::MatrixXd reduceInformation(const Plan& plan, const std::vector<Placement>
     builder.build(artifact, placements[j].measurements, p, poses[j], no_c, false, block);
     reducer.add(block, placements[j].artifact);
   }
-  return reducer.parameterInformation();
+  return reducer.parameterInformation(prior);
 }
 
 }  // namespace
@@ -49,8 +49,9 @@ PlanInformation planInformation(const Plan& plan, const std::vector<Placement>& 
   NormalMatrixReducer reducer(GlobalLayout::of(plan));
   ObservationBlock block;
   PlanInformation out;
+  // The readings' own information decides identifiability; the prior only narrows V_p.
   out.reduced = reduceInformation(plan, placements, p, fitPlacements(plan, placements, p), builder,
-                                  reducer, block);
+                                  reducer, block, ParameterPrior::Excluded);
   out.unreduced_diagonal = reducer.unreducedDiagonal();
   out.rigid_ranks = reducer.rigidRanks();
   return out;
@@ -58,7 +59,7 @@ PlanInformation planInformation(const Plan& plan, const std::vector<Placement>& 
 
 Eigen::MatrixXd parameterInformation(const Plan& plan, const std::vector<Placement>& placements,
                                      const Eigen::VectorXd& p) {
-  return planInformation(plan, placements, p).reduced;
+  return addParameterPrior(planInformation(plan, placements, p).reduced, GlobalLayout::of(plan));
 }
 
 PlanEvaluator::PlanEvaluator(const Plan& plan)
@@ -78,8 +79,8 @@ const Eigen::MatrixXd& PlanEvaluator::information(const std::vector<Placement>& 
     fitted = fitPlacements(plan, placements, plan.machine.nominal);
     poses = &fitted;
   }
-  information_ =
-      reduceInformation(plan, placements, plan.machine.nominal, *poses, builder_, reducer_, block_);
+  information_ = reduceInformation(plan, placements, plan.machine.nominal, *poses, builder_,
+                                   reducer_, block_, ParameterPrior::Included);
   return information_;
 }
 
@@ -95,7 +96,7 @@ Evaluation evaluatePlan(const Plan& plan, const EvaluateOptions& options) {
   PlanInformation information = planInformation(plan, plan.placements, plan.machine.nominal);
   evaluation.identifiability =
       analyseIdentifiability(plan, plan.placements, information, options.rank_tolerance);
-  evaluation.information = std::move(information.reduced);
+  evaluation.information = addParameterPrior(information.reduced, GlobalLayout::of(plan));
   evaluation.unreduced_diagonal = std::move(information.unreduced_diagonal);
   if (evaluation.identifiability.deficiency > 0) return evaluation;
   evaluation.covariance = covarianceFromInformation(evaluation.information);

@@ -69,6 +69,31 @@ void parseCalibrate(const Node& calibrate, const Mechanism& mech, Machine& machi
   }
 }
 
+// machine.prior (docs/plan-format.md): {"default": {"length": mm, "angle": deg}, "NAME": value
+// in the parameter's file unit, ...}: the standard deviation of each nominal value, > 0.
+Eigen::VectorXd parsePrior(const Node& prior, const Mechanism& mech) {
+  Eigen::VectorXd sigma = Eigen::VectorXd::Zero(mech.parameterCount());
+  if (const auto defaults = prior.find("default")) {
+    std::vector<std::string> ignored;
+    defaults->warnUnknown({"length", "angle"}, ignored);
+    const auto length = defaults->find("length");
+    const auto angle = defaults->find("angle");
+    for (int i = 0; i < mech.parameterCount(); ++i) {
+      const bool is_angle = mech.parameters()[static_cast<std::size_t>(i)].quantity.isAngle();
+      if (is_angle && angle) sigma[i] = degToRad(angle->positive());
+      if (!is_angle && length) sigma[i] = length->positive();
+    }
+  }
+  for (const auto& [name, value] : prior.object().items()) {
+    if (name == "default" || name.starts_with("x-")) continue;
+    const int index = mech.parameterIndex(name);
+    if (index < 0) prior.at(name).fail("unknown parameter \"" + name + "\" of " + mech.modelName());
+    const Quantity q = mech.parameters()[static_cast<std::size_t>(index)].quantity;
+    sigma[index] = fromFileUnit(q, prior.at(name).positive());
+  }
+  return sigma;
+}
+
 Machine parseMachine(const Node& node, std::vector<std::string>& warnings) {
   node.object();
   Machine machine;
@@ -86,6 +111,7 @@ Machine parseMachine(const Node& node, std::vector<std::string>& warnings) {
   } else {
     for (int i = 0; i < mech.parameterCount(); ++i) machine.calibrated.push_back(i);
   }
+  if (const auto prior = node.find("prior")) machine.prior_sigma = parsePrior(*prior, mech);
   const int joints = mech.jointCount();
   if (const auto limits = node.find("joint_limits")) {
     limits->arraySize(static_cast<std::size_t>(joints), static_cast<std::size_t>(joints));
@@ -615,6 +641,15 @@ nlohmann::json machineToJson(const Machine& machine, const Eigen::VectorXd& para
         {toFileUnit(q, machine.joint_limits[j][0]), toFileUnit(q, machine.joint_limits[j][1])});
   }
   out["joint_limits"] = limits;
+  if (machine.prior_sigma.size() > 0) {
+    json prior = json::object();
+    for (int i = 0; i < mech.parameterCount(); ++i) {
+      const ParameterInfo& info = mech.parameters()[static_cast<std::size_t>(i)];
+      if (machine.prior_sigma[i] > 0.0)
+        prior[info.name] = toFileUnit(info.quantity, machine.prior_sigma[i]);
+    }
+    out["prior"] = prior;
+  }
   return out;
 }
 

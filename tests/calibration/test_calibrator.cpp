@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Cholesky>
+#include <Eigen/LU>
 #include <array>
 #include <cstdio>
 #include <fstream>
@@ -17,6 +18,7 @@
 #include "artcal/io/truth_io.hpp"
 #include "artcal/report/calibration_report.hpp"
 #include "cli_runner.hpp"
+#include "plan_builders.hpp"
 
 namespace artcal {
 namespace {
@@ -55,6 +57,52 @@ std::vector<Placement> exactReadings(const Plan& plan, const Eigen::VectorXd& tr
 }
 
 // ------------------------------------------------------------------------------------------ LM
+
+// A parameter prior (machine.prior, docs/method.md section 3) is a whitened row per parameter:
+// V_p = (N_red + Sigma_p0^-1)^-1 against the dense inverse, and identifiability is the readings'.
+TEST(ParameterPrior, AddsItsInverseVarianceToTheInformation) {
+  Plan plan =
+      testing::seedPlanar2RPlan(0.002);  // with a systematic c: the prior must sit beside it
+  plan.placements = testing::randomPlanarBars(plan, 5, 21);
+  const Eigen::MatrixXd N0 = parameterInformation(plan, plan.placements, plan.machine.nominal);
+  const Eigen::Vector3d sigma(0.004, 0.0, 2e-5);  // l2 without a prior
+  plan.machine.prior_sigma = sigma;
+  const PlanInformation with = planInformation(plan, plan.placements, plan.machine.nominal);
+  EXPECT_LT((with.reduced - N0).cwiseAbs().maxCoeff(), 1e-9 * N0.cwiseAbs().maxCoeff());
+  Eigen::Matrix3d expected = N0;
+  expected(0, 0) += 1.0 / (sigma[0] * sigma[0]);
+  expected(2, 2) += 1.0 / (sigma[2] * sigma[2]);
+  const Evaluation evaluation = evaluatePlan(plan);
+  ASSERT_TRUE(evaluation.covariance);
+  const Eigen::Matrix3d V = expected.inverse();
+  EXPECT_LT((evaluation.covariance->V - V).cwiseAbs().maxCoeff(), 1e-9 * V.cwiseAbs().maxCoeff());
+  EXPECT_LT(evaluation.covariance->u[0], sigma[0]);
+  EXPECT_EQ(GlobalLayout::of(plan).priorRows(), 2);
+}
+
+// The calibrator's cost has the prior rows too: a prior far tighter than the data holds a
+// parameter at its nominal value, and a simulated offset goes into the others' estimates.
+TEST(ParameterPrior, TightHoldsAParameterAtNominalInTheCalibration) {
+  Plan plan = testing::seedPlanar2RPlan(0.0);
+  plan.placements = testing::randomPlanarBars(plan, 5, 21);
+  Eigen::VectorXd p_true = plan.machine.nominal;
+  p_true[0] += 0.2;  // l1 0.2 mm off: many u
+  SimulationOptions exact;
+  exact.noise_scale = 0.0;
+  const Simulator simulator(plan, exact);
+  NormalSource normal(3);
+  plan.placements = simulator.simulate(p_true, normal).placements;
+  plan.machine.prior_sigma = Eigen::Vector3d(1e-7, 0.0, 0.0);
+  const Calibration held = calibratePlan(plan);
+  ASSERT_TRUE(held.summary.converged());
+  EXPECT_LT(std::abs(held.parameters[0] - plan.machine.nominal[0]), 1e-5);
+  EXPECT_GT(held.chi2, 10.0);  // the readings disagree with l1 at nominal
+  plan.machine.prior_sigma = Eigen::Vector3d(10.0, 0.0, 0.0);
+  const Calibration free = calibratePlan(plan);
+  ASSERT_TRUE(free.summary.converged());
+  // A 10 mm prior pulls by about offset * u(l1)^2 / sigma^2 ~ 1e-7 mm; convergence stops ~1e-6.
+  EXPECT_NEAR(free.parameters[0], p_true[0], 1e-5);
+}
 
 TEST(LevenbergMarquardt, SmallDampingGivesTheGaussNewtonStep) {
   Eigen::MatrixXd N(2, 2);

@@ -95,6 +95,26 @@ TEST(PlanIo, ValidPlanReadInInternalUnits) {
   EXPECT_EQ(workspaceConfigurations(arm.machine, arm.workspace).size(), 15u);
 }
 
+// machine.prior: defaults by kind (mm, deg), a named parameter in its own file unit, written back.
+TEST(PlanIo, ParameterPriorReadInInternalUnitsAndWrittenBack) {
+  json doc = planarPlan();
+  doc["machine"]["prior"] = {{"default", {{"length", 0.5}, {"angle", 0.1}}}, {"l2", 0.02}};
+  const Plan plan = parsePlan(doc, "table.json");
+  ASSERT_EQ(plan.machine.prior_sigma.size(), 3);
+  EXPECT_DOUBLE_EQ(plan.machine.prior_sigma[0], 0.5);
+  EXPECT_DOUBLE_EQ(plan.machine.prior_sigma[1], 0.02);
+  EXPECT_NEAR(plan.machine.prior_sigma[2], 0.1 * std::numbers::pi / 180.0, 1e-18);
+  const json written = machineToJson(plan.machine, plan.machine.nominal);
+  EXPECT_DOUBLE_EQ(written["prior"]["dt2"].get<double>(), 0.1);
+  EXPECT_DOUBLE_EQ(written["prior"]["l2"].get<double>(), 0.02);
+  for (const json& bad :
+       {json{{"l3", 0.1}}, json{{"l1", -0.1}}, json{{"default", {{"lenght", 1}}}}}) {
+    json wrong = planarPlan();
+    wrong["machine"]["prior"] = bad;
+    EXPECT_THROW(parsePlan(wrong, "table.json"), InputError) << bad.dump();
+  }
+}
+
 // An unknown field is an error naming it, with the nearest known key; "x-" keys are extensions.
 TEST(PlanIo, UnknownFieldsAreErrorsWithDidYouMean) {
   json doc = planarPlan();

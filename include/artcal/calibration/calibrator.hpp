@@ -14,8 +14,9 @@
 //
 // The reported u is sqrt(diag V_p), V_p the inverse of the reduced information at the estimate
 // with the declared noise model (c eliminated with its prior); u_posterior = u sqrt(chi2/dof).
-// dof = (valued coordinates observed) - N(p) - sum_j N(r_j): each c has one prior
-// pseudo-observation and one unknown.
+// dof = (valued coordinates observed) + (parameters with a prior) - N(p) - sum_j N(r_j): each c
+// has one prior pseudo-observation and one unknown; a machine.prior adds one row per parameter
+// (centred on the nominal value) to the cost.
 
 #include <Eigen/Core>
 #include <optional>

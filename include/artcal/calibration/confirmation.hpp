@@ -6,6 +6,10 @@
 // every calibrated parameter the empirical standard deviation of (estimate - true) (sample
 // standard deviation, T - 1 degrees of freedom) is compared with the predicted u = sqrt(diag V_p)
 // of evaluatePlan at nominal: ratio = empirical / predicted.
+// A parameter with a prior (machine.prior, nominal tolerance sigma_0) is drawn from that prior
+// instead, p_true = nominal + sigma_0 z: V_p = (N_red + Sigma_p0^-1)^-1 is the covariance of
+// estimate - true for a machine that is distributed as its prior says (docs/method.md section 3),
+// not for one held at a fixed offset (the prior would then bias every estimate alike).
 //
 // The band. With Gaussian errors, the relative standard error of a sample standard deviation is
 // about 1 / sqrt(2 (T - 1)). Each of the n ratios must lie within

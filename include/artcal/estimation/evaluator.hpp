@@ -28,7 +28,8 @@ struct ParameterCovariance {
 /// Inverse of a (positive definite) information matrix; std::nullopt when it is not.
 std::optional<ParameterCovariance> covarianceFromInformation(const Eigen::MatrixXd& information);
 
-/// The information of p for a set of placements at parameters p (full vector), each r_j fitted.
+/// The information of p for a set of placements at parameters p (full vector), each r_j fitted,
+/// the machine's parameter prior included (its inverse is V_p).
 Eigen::MatrixXd parameterInformation(const Plan& plan, const std::vector<Placement>& placements,
                                      const Eigen::VectorXd& p);
 /// The same with what the rank policy needs (identifiability.hpp): the unreduced diagonal and

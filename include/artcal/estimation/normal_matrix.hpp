@@ -16,7 +16,10 @@
 // of observed directions is the placement's effective N(r_j) (identifiability.hpp).
 //
 // The systematic errors c carry a prior (Sigma_c^-1 added to their block); eliminating them too
-// leaves the information of p alone, whose inverse is V_p (seed eq. 9).
+// leaves the information of p alone, whose inverse is V_p (seed eq. 9). A machine's parameter
+// prior (`machine.prior`, nominal tolerances, docs/method.md section 3 "Priors") enters the same
+// way as whitened prior rows: Sigma_p0^-1 added to the p block. Both are added in one place,
+// addPriors / parameterInformation below, which evaluate, optimize and calibrate all use.
 
 #include <Eigen/Core>
 #include <vector>
@@ -34,10 +37,30 @@ struct GlobalLayout {
   int parameters = 0;                ///< N(p)
   std::vector<int> artifact_offset;  ///< per artifact: first index of its c in g
   Eigen::VectorXd c_sigma;           ///< prior standard deviation of every c, in g order
+  /// Sigma_p0^-1 of each calibrated parameter (1 / tolerance^2; 0 where it has no prior).
+  Eigen::VectorXd p_prior_weight;
   int size() const { return parameters + static_cast<int>(c_sigma.size()); }
+  /// Number of calibrated parameters with a prior (each adds one whitened row).
+  int priorRows() const { return static_cast<int>((p_prior_weight.array() > 0.0).count()); }
   int systematicCount() const { return static_cast<int>(c_sigma.size()); }
   static GlobalLayout of(const Plan& plan);
 };
+
+/// Whether the machine's parameter prior is part of an information matrix.
+enum class ParameterPrior { Included, Excluded };
+
+/// N over g = (p, c) with the priors added to its diagonal: Sigma_c^-1 on c, Sigma_p0^-1 on p.
+Eigen::MatrixXd addPriors(const Eigen::MatrixXd& information_g, const GlobalLayout& layout);
+
+/// The information of p with the parameter prior Sigma_p0^-1 added (whitened prior rows).
+Eigen::MatrixXd addParameterPrior(const Eigen::MatrixXd& information_p, const GlobalLayout& layout);
+
+/// The information of p from N over g (docs/method.md section 3): the priors added (the parameter
+/// prior only when Included), then c eliminated by its Schur complement. The one elimination of
+/// the systematic errors behind evaluate, the optimizer's criteria and the calibrator.
+Eigen::MatrixXd parameterInformation(const Eigen::MatrixXd& information_g,
+                                     const GlobalLayout& layout,
+                                     ParameterPrior prior = ParameterPrior::Included);
 
 /// What eliminating r_j leaves to recover it after the global step (calibrator).
 struct PlacementElimination {
@@ -70,10 +93,12 @@ class NormalMatrixReducer {
   /// Observed rigid directions of each placement added since reset(), in order.
   const std::vector<int>& rigidRanks() const { return rigid_ranks_; }
 
-  /// N_red with the prior Sigma_c^-1 on the c block.
+  /// N_red with the priors: Sigma_c^-1 on the c block, Sigma_p0^-1 on the p block.
   Eigen::MatrixXd normalWithPrior() const;
-  /// The information of p alone: c eliminated (with its prior) by its Schur complement.
-  Eigen::MatrixXd parameterInformation() const;
+  /// The information of p alone: c eliminated (with its prior) by its Schur complement, plus
+  /// the parameter prior unless `prior` says Excluded (the readings' own information, for the
+  /// identifiability tests).
+  Eigen::MatrixXd parameterInformation(ParameterPrior prior = ParameterPrior::Included) const;
 
  private:
   GlobalLayout layout_;

@@ -19,6 +19,10 @@ struct Machine {
   /// the plan's readings decide (resolveCalibratedSet, estimation/identifiability.hpp).
   bool calibrate_identifiable = false;
   std::vector<std::array<double, 2>> joint_limits;  ///< per joint, internal units
+  /// `machine.prior` (docs/plan-format.md): the standard deviation of each parameter's nominal
+  /// value (its tolerance), internal units, one per parameter of the model; 0 (or an empty
+  /// vector) means no prior. Enters N_red as Sigma_p0^-1 (estimation/normal_matrix.hpp).
+  Eigen::VectorXd prior_sigma;
 
   int dimension() const { return mechanism->dimension(); }
   int jointCount() const { return mechanism->jointCount(); }
