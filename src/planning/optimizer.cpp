@@ -23,6 +23,10 @@ namespace artcal {
 namespace {
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
+// Exchange: candidates refuted by the full criterion before a slot is left as it is.
+constexpr int kExchangeConfirmations = 24;
+// Refinement: runs on the active-set bound, each followed by the full criterion at its optimum.
+constexpr int kRefineRounds = 4;
 
 using Clock = std::chrono::steady_clock;
 
@@ -162,6 +166,52 @@ double DesignCriterion::value(const Eigen::MatrixXd& information_g) {
 
 double DesignCriterion::smoothValue(const Eigen::MatrixXd& information_g) {
   return evaluate(information_g, smooth_power_);
+}
+
+double DesignCriterion::worstOver(const Eigen::MatrixXd& V, const TipEvaluator& tip) {
+  tip.kinematicVariance(V, S_m2_);
+  return std::sqrt((S_m2_.array() + tip.encoderVariance().array()).maxCoeff());
+}
+
+void DesignCriterion::resetActive() {
+  active_.clear();
+  active_tip_.reset();
+}
+
+double DesignCriterion::activeValue(const Eigen::MatrixXd& information_g) {
+  if (criterion_ != Criterion::WorstTip || !active_tip_) return value(information_g);
+  const auto covariance = covarianceFromInformation(parameterPart(information_g, layout_));
+  if (!covariance) return kInfinity;
+  return worstOver(covariance->V, *active_tip_);
+}
+
+double DesignCriterion::activate(const Eigen::MatrixXd& information_g) {
+  if (criterion_ != Criterion::WorstTip) return value(information_g);
+  const auto covariance = covarianceFromInformation(parameterPart(information_g, layout_));
+  if (!covariance) return kInfinity;
+  const TipEvaluator& tip = evaluator_.workspace();
+  tip.kinematicVariance(covariance->V, S_m2_);
+  const Eigen::VectorXd S2 = S_m2_ + tip.encoderVariance();
+  double active_worst = 0.0;
+  for (int g : active_) active_worst = std::max(active_worst, S2[g]);
+  // The few worst configurations above the active set's worst join it (a handful at a time:
+  // neighbours of a new worst point tend to be next).
+  constexpr int kJoinAtOnce = 4;
+  std::vector<int> above;
+  for (int g = 0; g < S2.size(); ++g) {
+    if (S2[g] > active_worst * (1.0 + 1e-12)) above.push_back(g);
+  }
+  const auto count = std::min<std::size_t>(above.size(), kJoinAtOnce);
+  std::partial_sort(above.begin(), above.begin() + static_cast<long>(count), above.end(),
+                    [&](int a, int b) { return S2[a] > S2[b] || (S2[a] == S2[b] && a < b); });
+  if (count > 0) {
+    active_.insert(active_.end(), above.begin(), above.begin() + static_cast<long>(count));
+    std::vector<Eigen::VectorXd> configurations;
+    for (int g : active_)
+      configurations.push_back(tip.configurations()[static_cast<std::size_t>(g)]);
+    active_tip_.emplace(plan_->machine, plan_->noise, std::move(configurations));
+  }
+  return std::sqrt(S2.maxCoeff());
 }
 
 double DesignCriterion::evaluate(const Eigen::MatrixXd& information_g, double power) {
@@ -343,21 +393,32 @@ double Search::exchange(std::vector<int>& chosen, Eigen::MatrixXd& total, double
       }
       const Eigen::MatrixXd without =
           total - pool_[static_cast<std::size_t>(chosen[slot])].information;
-      int best = -1;
-      double best_value = value * (1.0 - 1e-9);
-      for (std::size_t c = 0; c < pool_.size(); ++c) {
-        if (std::find(chosen.begin(), chosen.end(), static_cast<int>(c)) != chosen.end()) continue;
-        const double v = criterion.value(without + pool_[c].information);
-        if (v < best_value) {
-          best_value = v;
-          best = static_cast<int>(c);
+      // Candidates ranked by the active-set bound, the best one confirmed by the full criterion;
+      // a refuted one has grown the active set, so the ranking is redone (a bound never above G
+      // means no candidate is missed that the full criterion would accept).
+      for (int attempt = 0; attempt < kExchangeConfirmations; ++attempt) {
+        int best = -1;
+        double best_bound = value * (1.0 - 1e-9);
+        for (std::size_t c = 0; c < pool_.size(); ++c) {
+          if (std::find(chosen.begin(), chosen.end(), static_cast<int>(c)) != chosen.end()) {
+            continue;
+          }
+          const double v = criterion.activeValue(without + pool_[c].information);
+          if (v < best_bound) {
+            best_bound = v;
+            best = static_cast<int>(c);
+          }
         }
-      }
-      if (best >= 0) {
-        chosen[slot] = best;
-        total = without + pool_[static_cast<std::size_t>(best)].information;
-        value = best_value;
-        improved = true;
+        if (best < 0) break;
+        const Eigen::MatrixXd swapped = without + pool_[static_cast<std::size_t>(best)].information;
+        const double confirmed = criterion.activate(swapped);
+        if (confirmed < value * (1.0 - 1e-9)) {
+          chosen[slot] = best;
+          total = swapped;
+          value = confirmed;
+          improved = true;
+          break;
+        }
       }
     }
     if (!improved) break;
@@ -469,7 +530,8 @@ double Search::refine(std::vector<Placement>& placements, std::vector<Eigen::Vec
   auto objective = [&](const double* x) {
     const double violation = informationAt(x, total);
     if (violation > 0.0) return penalty_base * (1.0 + violation);
-    const double v = criterion.smoothValue(total);
+    const double v =
+        options_.smooth_power > 0.0 ? criterion.smoothValue(total) : criterion.activeValue(total);
     return std::isfinite(v) ? v : penalty_base;
   };
   NloptProblem problem;
@@ -491,12 +553,21 @@ double Search::refine(std::vector<Placement>& placements, std::vector<Eigen::Vec
   }
   problem.evaluations = options_.refine_evaluations > 0 ? options_.refine_evaluations
                                                         : std::min(300 * static_cast<int>(n), 6000);
-  problem.seconds = std::max(remaining(), 1e-3);
-  minimizeDerivativeFree(problem, objective, x);
+  // Rounds: the optimum of the active-set bound is checked with the full max; where they
+  // differ the active set has grown and the search goes on from there.
+  double refined = kInfinity;
+  for (int round = 0; round < kRefineRounds && remaining() > 0.0; ++round) {
+    problem.seconds = std::max(remaining(), 1e-3);
+    minimizeDerivativeFree(problem, objective, x);
+    if (informationAt(x.data(), total) > 0.0) break;
+    const double bound = criterion.activeValue(total);
+    refined = criterion.activate(total);
+    if (options_.smooth_power > 0.0 || !(refined > bound * (1.0 + 1e-9))) break;
+  }
   if (remaining() <= 0.0) timed_out_ = true;
   // Keep the refined design only when it is feasible and truly better (the max, not the proxy).
   if (informationAt(x.data(), total) > 0.0) return value;
-  const double refined = criterion.value(total);
+  refined = criterion.value(total);
   if (!(refined < value)) return value;
   for (int j = 0; j < m; ++j) {
     const Slot& slot = slotAt(x.data(), j);
@@ -522,7 +593,8 @@ void Search::runStart(int start, DesignCriterion& criterion) {
   Eigen::MatrixXd total = fixed_;
   for (int c : chosen) total += pool_[static_cast<std::size_t>(c)].information;
   StartResult& result = results_[static_cast<std::size_t>(start)];
-  result.initial = criterion.value(total);
+  criterion.resetActive();
+  result.initial = criterion.activate(total);
   result.exchanged = exchange(chosen, total, result.initial, criterion);
   std::vector<Placement> placements;
   std::vector<Eigen::VectorXd> poses;

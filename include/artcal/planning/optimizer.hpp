@@ -1,7 +1,7 @@
 #pragma once
-// The planner (docs/method.md section 7): places `design.placements` copies of the design's artifact
-// (each feature probed in `design.postures` postures) so that the criterion is as small as it can
-// be. Every criterion is a length in mm, smaller is better:
+// The planner (docs/method.md section 7): places `design.placements` copies of the design's
+// artifact (each feature probed in `design.postures` postures) so that the criterion is as small as
+// it can be. Every criterion is a length in mm, smaller is better:
 //   worst-tip  G = max_q S(q) over the plan's workspace (minimax, G-optimality)
 //   mean-tip   sqrt(mean_q S(q)^2)  (the root of the I criterion)
 //   D          det(V_s)^(1/(2 N_p)),  A  sqrt(tr V_s / N_p),  E  sqrt(lambda_max(V_s))
@@ -98,8 +98,24 @@ class DesignCriterion {
   double smoothValue(const Eigen::MatrixXd& information_g);
   int globalSize() const { return layout_.size(); }
 
+  // Active set (worst-tip; docs/optimize.md, "How it searches"): the max of S over a few
+  // configurations where designs were found worst is a lower bound of G that costs a fraction
+  // of the full workspace. The search ranks designs by it and confirms each decision with the
+  // full max (activate), which adds the configurations that were missing, so a design is only
+  // ever accepted on its true G. Other criteria: activeValue() = value().
+
+  /// Empties the active set (each start begins afresh: the plan must not depend on threads).
+  void resetActive();
+  /// The criterion over the active set (worst-tip), or value() when it is empty or unused.
+  double activeValue(const Eigen::MatrixXd& information_g);
+  /// value(), after adding to the active set the configurations where this design is worse
+  /// than anywhere in it (the few worst of them).
+  double activate(const Eigen::MatrixXd& information_g);
+  int activeSize() const { return static_cast<int>(active_.size()); }
+
  private:
   double evaluate(const Eigen::MatrixXd& information_g, double power);
+  double worstOver(const Eigen::MatrixXd& V, const TipEvaluator& tip);
   const Plan* plan_;
   Criterion criterion_;
   double smooth_power_;
@@ -109,6 +125,8 @@ class DesignCriterion {
   NormalMatrixReducer reducer_;
   ObservationBlock block_;
   Eigen::VectorXd scale_, S_m2_;
+  std::vector<int> active_;  ///< indices into the workspace configurations
+  std::optional<TipEvaluator> active_tip_;
 };
 
 /// Refuses a design that cannot be identifiable by counting (docs/method.md section 5): InputError
