@@ -167,6 +167,13 @@ std::string effectiveRigidText(const Plan& plan, const CountingCondition& c) {
   return out.str();
 }
 
+// One term "+c name" of a combination; "-" for a coefficient that could not be computed (a plan
+// whose information overflowed): tables never print nan or inf (docs/plan-format.md).
+std::string termText(bool first, double coefficient, const std::string& name) {
+  const std::string number = std::isfinite(coefficient) ? format("%+.4g", coefficient) : "-";
+  return (first ? "" : "  ") + number + " " + name;
+}
+
 // How a dropped parameter is tied to the kept ones: "not observed, ..." when alone, otherwise
 // the combination the plan cannot tell from zero (scaled parameters).
 std::string tieText(const Plan& plan, const std::vector<std::pair<int, double>>& tie) {
@@ -174,8 +181,7 @@ std::string tieText(const Plan& plan, const std::vector<std::pair<int, double>>&
   if (tie.size() == 1) return "not observed, or absorbed by the placements' rigid motions";
   std::string out;
   for (std::size_t i = 0; i < tie.size(); ++i) {
-    out += format(i == 0 ? "%+.4g %s" : "  %+.4g %s", tie[i].second,
-                  params[static_cast<std::size_t>(tie[i].first)].name.c_str());
+    out += termText(i == 0, tie[i].second, params[static_cast<std::size_t>(tie[i].first)].name);
   }
   return out + "   (scaled parameters)";
 }
@@ -223,8 +229,7 @@ std::string identifiabilityTable(const Plan& plan, const Identifiability& id) {
     const Combination& comb = id.unidentifiable[k];
     out << "  unidentifiable #" << k + 1 << ":  ";
     for (std::size_t i = 0; i < comb.names.size(); ++i) {
-      out << format(i == 0 ? "%+.4g %s" : "  %+.4g %s", comb.coefficients[i],
-                    comb.names[i].c_str());
+      out << termText(i == 0, comb.coefficients[i], comb.names[i]);
     }
     out << "   (scaled parameters)\n";
   }

@@ -475,6 +475,21 @@ TEST(NumericalFaults, NearSingularPlansNeverGiveNonFiniteOutput) {
   EXPECT_GT(answered_with_numbers, 0);
 }
 
+// An encoder noise of 1e160 deg passes every plausibility rule (a noise is a user's statement),
+// but its square overflows: the whitened readings and the information are NaN. The answer is
+// "not identifiable" with every coefficient shown as "-", never nan or inf (plan-format.md).
+TEST(NumericalFaults, OverflowingNoiseNeverPrintsNanOrInf) {
+  json document = validPlan();
+  document["noise"]["encoder"] = 1e160;
+  const Plan plan = parsePlan(document, "plan.json");
+  const Evaluation evaluation = evaluatePlan(plan);
+  EXPECT_FALSE(evaluation.identifiable());
+  const std::string table = evaluationTable(plan, evaluation);
+  expectNoNonFinite(table);
+  EXPECT_NE(table.find("unidentifiable #1:  - l1"), std::string::npos) << table;
+  expectAllFinite(json::parse(evaluationToJson(plan, evaluation).dump()));
+}
+
 /// Every length of a plan document times k, and the probe noise times k (angles unchanged).
 void scaleLengths(json& plan, double k) {
   json& machine = plan["machine"];
