@@ -2,8 +2,8 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
-#include <cmath>
 #include <array>
+#include <cmath>
 #include <random>
 
 #include "artcal/model/inverse_kinematics.hpp"
@@ -18,6 +18,13 @@ constexpr int kGramMaxParameters = 40;
 // A Gram entry whose spread over the workspace is below this (relative to its columns' scale)
 // is a constant of the model: rounding, not geometry.
 constexpr double kConstantGram = 1e-13;
+// Factored form (tip.hpp): the basis is sought only with this many configurations per entry of
+// vec(J_p) (it pays for itself on large workspaces), from a spread subset of twice that size;
+// eigenvalues of the subset's scaled Gram below kFactorRank of the largest are rounding; every
+// configuration must lie in the basis to kFactorResidual of its norm, or the form is not used.
+constexpr int kFactorMinSamplesPerEntry = 4;
+constexpr double kFactorRank = 1e-12;
+constexpr double kFactorResidual = 1e-10;
 
 // Uniform in [0, 1) from the top 53 bits: the same on every platform, unlike
 // std::uniform_real_distribution.
@@ -176,6 +183,68 @@ TipEvaluator::TipEvaluator(const Machine& machine, const Noise& noise,
     S_q2_[g] = (J_x_q.colwise().squaredNorm().transpose().array() * sigma_q2.array()).sum();
   }
   if (n_p <= kGramMaxParameters) prepareGram(n_p);
+  const long per_configuration = gram_constant_.size() > 0
+                                     ? static_cast<long>(gram_rows_.size())
+                                     : static_cast<long>(dimension_) * n_p * n_p;
+  if (prepareFactored(n_p, per_configuration)) {
+    gram_.resize(0, 0);
+    gram_rows_.clear();
+    gram_constant_.resize(0);
+  }
+}
+
+// The factored form (tip.hpp): vec(J_g), entry (row, parameter a) at a * dimension + row, scaled
+// per entry; an orthonormal basis U of their span from the eigenvectors of a subset's Gram; then
+// c_g = U^T vec(J_g) for every configuration, checked: |vec(J_g) - U c_g| within kFactorResidual.
+// Kept when r^2 operations per configuration beat `cost_to_beat`.
+bool TipEvaluator::prepareFactored(int n_p, long cost_to_beat) {
+  const int m = dimension_ * n_p;
+  const int count = size();
+  if (m == 0 || count < kFactorMinSamplesPerEntry * m) return false;
+  const auto vecJ = [&](int g) { return J_p_.middleRows(g * dimension_, dimension_).reshaped(); };
+  const int subset = 2 * m;
+  Eigen::MatrixXd Y(m, subset);
+  for (int k = 0; k < subset; ++k) {
+    Y.col(k) = vecJ(static_cast<int>(static_cast<long>(k) * count / subset));
+  }
+  Eigen::VectorXd scale = Y.rowwise().norm() / std::sqrt(static_cast<double>(subset));
+  for (double& s : scale) s = s > 0.0 ? s : 1.0;
+  Y = scale.cwiseInverse().asDiagonal() * Y;
+  Eigen::MatrixXd K = Eigen::MatrixXd::Zero(m, m);
+  K.selfadjointView<Eigen::Lower>().rankUpdate(Y);
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(K);
+  if (eig.info() != Eigen::Success) return false;
+  const Eigen::VectorXd& lambda = eig.eigenvalues();  // ascending
+  const int r = static_cast<int>((lambda.array() > kFactorRank * lambda[m - 1]).count());
+  if (static_cast<long>(r) * r >= cost_to_beat) return false;
+  const Eigen::MatrixXd U = eig.eigenvectors().rightCols(r);
+  const double floor = 1e-3 * Y.colwise().norm().maxCoeff();
+  Eigen::MatrixXd C(r, count);
+  Eigen::VectorXd y(m);
+  for (int g = 0; g < count; ++g) {
+    y = scale.cwiseInverse().asDiagonal() * vecJ(g);
+    C.col(g).noalias() = U.transpose() * y;
+    const double residual = (y - U * C.col(g)).norm();
+    if (!(residual <= kFactorResidual * std::max(y.norm(), floor))) return false;
+  }
+  factor_coefficients_ = std::move(C);
+  factor_rows_.assign(static_cast<std::size_t>(dimension_), Eigen::MatrixXd(r, n_p));
+  for (int row = 0; row < dimension_; ++row) {
+    for (int a = 0; a < n_p; ++a) {
+      const int e = a * dimension_ + row;
+      factor_rows_[static_cast<std::size_t>(row)].col(a) = scale[e] * U.row(e).transpose();
+    }
+  }
+  return true;
+}
+
+// S_m^2 = tr(J V J^T) with J = sum_i c_i B_i: c^T W c, W_ii' = sum_rows B_i,row V B_i',row^T.
+void TipEvaluator::factoredVariance(const Eigen::MatrixXd& V_p, Eigen::VectorXd& S_m2) const {
+  const Eigen::Index r = factor_coefficients_.rows();
+  factor_W_.setZero(r, r);
+  for (const Eigen::MatrixXd& B : factor_rows_) factor_W_.noalias() += B * V_p * B.transpose();
+  factor_WC_.noalias() = factor_W_ * factor_coefficients_;
+  S_m2 = factor_coefficients_.cwiseProduct(factor_WC_).colwise().sum().transpose();
 }
 
 // Column g: the lower triangle of J_g^T J_g column by column, off-diagonal entries doubled, so
@@ -225,6 +294,10 @@ Eigen::MatrixXd covarianceRoot(const Eigen::MatrixXd& V) {
 void TipEvaluator::kinematicVariance(const Eigen::MatrixXd& V_p, Eigen::VectorXd& S_m2) const {
   // S_m^2 = tr(J V J^T) = |J L|_F^2 with V = L L^T: one product over the whole workspace, with a
   // triangular L (half the work of a full one).
+  if (factor_coefficients_.size() > 0) {
+    factoredVariance(V_p, S_m2);
+    return;
+  }
   if (gram_constant_.size() > 0) {
     const int n_p = static_cast<int>(V_p.rows());
     packed_V_.resize(gram_constant_.size());

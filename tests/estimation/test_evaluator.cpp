@@ -6,6 +6,7 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <numbers>
 
 #include "artcal/artcal.hpp"
@@ -272,28 +273,49 @@ TEST(Evaluator, PreparedEvaluationMatchesThePlainOne) {
   EXPECT_EQ(again->worst.total, tip->worst.total);
 }
 
-// S_m^2 over the workspace (Gram form up to 40 parameters, triangular product beyond) equals
-// tr(J_p V J_p^T) configuration by configuration.
-void expectKinematicVarianceMatchesDirectTrace(const Machine& machine, const Noise& noise) {
+// S_m^2 over the workspace (Gram form up to 40 parameters, triangular product beyond, the
+// factored form where the Jacobians span few matrices) equals tr(J_p V J_p^T) configuration by
+// configuration.
+void expectKinematicVarianceMatchesDirectTrace(const Machine& machine, const Noise& noise,
+                                               int samples = 50, double tolerance = 1e-12) {
   WorkspaceSpec spec;
-  spec.samples = 50;
-  TipEvaluator tip(machine, noise, workspaceConfigurations(machine, spec));
+  spec.samples = samples;
+  const TipEvaluator tip(machine, noise, workspaceConfigurations(machine, spec));
   const int n = machine.calibratedCount();
   Eigen::MatrixXd B = Eigen::MatrixXd::Random(n, n);
   const Eigen::MatrixXd V = 1e-6 * (B * B.transpose() + Eigen::MatrixXd::Identity(n, n));
   Eigen::VectorXd S_m2;
   tip.kinematicVariance(V, S_m2);
-  ASSERT_EQ(S_m2.size(), 50);
-  for (int g = 0; g < 50; ++g) {
+  ASSERT_EQ(S_m2.size(), samples);
+  for (int g = 0; g < samples; g += std::max(1, samples / 50)) {
     Eigen::VectorXd x;
     Eigen::MatrixXd J_x_p;
     forwardOrThrow(*machine.mechanism, machine.nominal,
                    tip.configurations()[static_cast<std::size_t>(g)], x, &J_x_p);
     const Eigen::MatrixXd J = J_x_p(Eigen::all, machine.calibrated);
     const double direct = (J * V * J.transpose()).trace();
-    EXPECT_NEAR(S_m2[g], direct, 1e-12 * direct) << g;
+    EXPECT_NEAR(S_m2[g], direct, tolerance * direct) << g;
     EXPECT_NEAR(tip.at(g, V).kinematic, std::sqrt(direct), 1e-12 * std::sqrt(direct));
   }
+}
+
+TEST(TipEvaluator, FactoredFormOfACartesianCmmMatchesTheDirectTrace) {
+  // Degree 3, 50 calibrated coefficients: the Jacobians are polynomials of the three readings and
+  // span few matrices, so the factored form is used (r^2 well below 3 x 50^2).
+  const Plan plan = loadPlan(std::string(ARTCAL_PLANS_DIR) + "/cmm-plate-3planes-2styli.json");
+  ASSERT_GT(plan.machine.calibratedCount(), 40);
+  WorkspaceSpec spec;
+  spec.samples = 1000;
+  const TipEvaluator tip(plan.machine, plan.noise, workspaceConfigurations(plan.machine, spec));
+  EXPECT_GT(tip.factorRank(), 0);
+  EXPECT_LT(tip.factorRank(), 40);
+  expectKinematicVarianceMatchesDirectTrace(plan.machine, plan.noise, 1000, 1e-10);
+  // A serial arm's Jacobians span many matrices: its Gram form stays cheaper.
+  const Plan six = aacmmPlan();
+  spec.samples = 4 * 63 + 1;
+  EXPECT_EQ(
+      TipEvaluator(six.machine, six.noise, workspaceConfigurations(six.machine, spec)).factorRank(),
+      0);
 }
 
 TEST(TipEvaluator, KinematicVarianceMatchesTheDirectTrace) {

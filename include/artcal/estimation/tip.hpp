@@ -5,6 +5,10 @@
 // one matrix-vector product with the prepared Gram matrices J_p^T J_p (their lower triangles,
 // N(p)(N(p)+1)/2 numbers per configuration); for many parameters, where those would take too
 // much memory, the product (J_p stacked) * chol(V_p), whose row norms give S_m.
+// When the Jacobians span a space of few matrices over the workspace, J_p(q) = sum_i c_i(q) B_i
+// (a Cartesian CMM's are polynomials of the readings: about 20 basis matrices for 50
+// parameters), S_m^2 = c^T W c with W_ii' = tr(B_i V_p B_i'^T): r numbers per configuration,
+// the basis found once from a subset, checked on every configuration to 1e-10.
 
 #include <Eigen/Core>
 #include <optional>
@@ -54,6 +58,8 @@ class TipEvaluator {
   const std::vector<Eigen::VectorXd>& configurations() const { return configurations_; }
   /// J_p stacked: (dimension * size) x N(p), configuration g in rows [g*dim, (g+1)*dim).
   const Eigen::MatrixXd& stackedJacobian() const { return J_p_; }
+  /// r, the number of basis matrices of the factored form (above); 0 when it is not used.
+  int factorRank() const { return static_cast<int>(factor_coefficients_.rows()); }
   /// S_q^2 per configuration.
   const Eigen::VectorXd& encoderVariance() const { return S_q2_; }
 
@@ -64,6 +70,8 @@ class TipEvaluator {
 
  private:
   void prepareGram(int n_p);
+  bool prepareFactored(int n_p, long cost_to_beat);
+  void factoredVariance(const Eigen::MatrixXd& V_p, Eigen::VectorXd& S_m2) const;
   int dimension_;
   std::vector<Eigen::VectorXd> configurations_;
   Eigen::MatrixXd J_p_;
@@ -74,6 +82,11 @@ class TipEvaluator {
   std::vector<int> gram_rows_;
   Eigen::VectorXd gram_constant_;
   Eigen::VectorXd S_q2_;
+  /// Factored form: coefficients c(q) per configuration (column) and, per tip coordinate, the
+  /// basis matrices' rows (r x N(p)); empty when not used.
+  Eigen::MatrixXd factor_coefficients_;
+  std::vector<Eigen::MatrixXd> factor_rows_;
+  mutable Eigen::MatrixXd factor_W_, factor_WC_;
   mutable Eigen::VectorXd packed_V_, packed_varying_;
   mutable Eigen::MatrixXd scratch_;
   mutable Eigen::VectorXd S_m2_;
