@@ -9,7 +9,9 @@
 #include "artcal/estimation/evaluator.hpp"
 #include "artcal/io/output_file.hpp"
 #include "artcal/io/plan_io.hpp"
+#include "artcal/io/truth_io.hpp"
 #include "artcal/report/calibration_report.hpp"
+#include "artcal/report/cartesian_report.hpp"
 #include "artcal/report/html_report.hpp"
 #include "artcal/report/report.hpp"
 #include "commands.hpp"
@@ -41,6 +43,29 @@ void writeSvgFiles(const std::string& dir, const std::vector<ReportFigure>& figu
     writeOutputFile((std::filesystem::path(dir) / (figure.name + ".svg")).string(),
                     "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n" + figure.svg);
   }
+}
+
+/// A Cartesian CMM's error functions along its axes (cartesian_report.hpp): the predicted bands
+/// at nominal, or after a calibration the estimate with its band and, for readings simulated by
+/// `artcal simulate` (its `simulation` block names the true parameters), against the truth.
+void addErrorFunctionFigures(const Plan& plan, const nlohmann::json& document,
+                             const std::string& path, const Evaluation& evaluation,
+                             const std::optional<Calibration>& calibration,
+                             std::vector<ReportFigure>& figures) {
+  if (!cartesianOf(plan)) return;
+  std::vector<ReportFigure> more;
+  if (calibration && calibration->covariance) {
+    std::optional<Eigen::VectorXd> truth;
+    if (document.contains("simulation") && document["simulation"].contains("parameters")) {
+      const nlohmann::json record = {{"parameters", document["simulation"]["parameters"]}};
+      truth = parseTruth(record, path, plan);
+    }
+    more = errorFunctionFigures(plan, calibration->covariance->V, calibration->parameters, true,
+                                truth ? &*truth : nullptr);
+  } else if (evaluation.covariance) {
+    more = errorFunctionFigures(plan, evaluation.covariance->V, plan.machine.nominal, false);
+  }
+  figures.insert(figures.end(), more.begin(), more.end());
 }
 
 /// What was written: the JSON twin of the table printed.
@@ -113,12 +138,13 @@ void addReportCommand(CLI::App& app, Action& action) {
       const nlohmann::json evaluation_json = evaluationToJson(plan, evaluation);
       std::optional<nlohmann::json> calibration_json;
       std::optional<bool> converged;
+      std::optional<Calibration> calibration;
       if (wantsCalibration(*args, document)) {
         CalibrationOptions options;
         options.flag_threshold = args->flag_threshold;
-        const Calibration calibration = calibratePlan(plan, options);
-        calibration_json = calibrationToJson(plan, plan.placements, calibration);
-        converged = calibration.summary.converged();
+        calibration = calibratePlan(plan, options);
+        calibration_json = calibrationToJson(plan, plan.placements, *calibration);
+        converged = calibration->summary.converged();
       }
       const ReportInput input{plan,
                               document,
@@ -126,7 +152,8 @@ void addReportCommand(CLI::App& app, Action& action) {
                               evaluation_json,
                               calibration_json ? &*calibration_json : nullptr,
                               args->flag_threshold};
-      const std::vector<ReportFigure> figures = reportFigures(input);
+      std::vector<ReportFigure> figures = reportFigures(input);
+      addErrorFunctionFigures(plan, document, args->plan, evaluation, calibration, figures);
       const std::string html = htmlReport(input, figures);
       writeOutputFile(args->output, html);
       if (!args->svg_dir.empty()) writeSvgFiles(args->svg_dir, figures);

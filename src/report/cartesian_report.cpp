@@ -5,6 +5,8 @@
 #include <map>
 #include <sstream>
 
+#include "artcal/report/svg.hpp"
+
 namespace artcal {
 
 namespace {
@@ -55,6 +57,105 @@ std::vector<int> notCalibrated(const Plan& plan) {
     if (std::find(calibrated.begin(), calibrated.end(), i) == calibrated.end()) out.push_back(i);
   }
   return out;
+}
+
+constexpr const char* kMicro = "\xC2\xB5";  // µ
+
+// The three functions of one plot differ by line style and marker shape (greyscale printing).
+constexpr svg::Dash kDashes[] = {svg::Dash::Solid, svg::Dash::Dashed, svg::Dash::Dotted};
+constexpr svg::Shape kShapes[] = {svg::Shape::Circle, svg::Shape::Square, svg::Shape::Triangle};
+
+std::string joined(const std::vector<double>& values) {
+  std::string out;
+  for (const double v : values) {
+    if (!out.empty()) out += ' ';
+    out += format("%.17g", v);
+  }
+  return out;
+}
+
+// One curve of a function: polyline through (position, value) with its numbers as attributes.
+void drawCurve(svg::Plot& plot, const ErrorFunctionProfile& f, const std::vector<double>& position,
+               const std::vector<double>& value, const char* curve, const svg::Style& style,
+               const std::string& legend) {
+  std::vector<Eigen::Vector2d> points;
+  for (std::size_t i = 0; i < position.size(); ++i) points.emplace_back(position[i], value[i]);
+  plot.polyline(points, style, legend,
+                {{"data-function", f.name},
+                 {"data-curve", curve},
+                 {"data-position", joined(position)},
+                 {"data-value", joined(value)}});
+}
+
+// e(u) +- u_e(u) of the translations (rotations) of one axis, table units.
+svg::Plot bandPlot(const CartesianAxis& axis, const std::vector<ErrorFunctionProfile>& functions,
+                   bool rotations, bool calibrated) {
+  const std::string unit = std::string(kMicro) + (rotations ? "m/m" : "m");
+  svg::Plot plot("error-functions-" + axis.name + (rotations ? "-rotations" : "-translations"),
+                 std::string(calibrated ? "Calibrated " : "Predicted u of ") + "axis " + axis.name +
+                     (rotations ? " rotations" : " translations"),
+                 axis.name + " reading / mm", (calibrated ? "e(u) +- u / " : "+- u / ") + unit);
+  int shown = 0;
+  for (const ErrorFunctionProfile& f : functions) {
+    if (f.rotation != rotations) continue;
+    const int k = shown++;
+    std::vector<double> centre, lower, upper;
+    for (std::size_t i = 0; i < f.position.size(); ++i) {
+      centre.push_back(tableValue(f.rotation, f.value[i]));
+      lower.push_back(centre.back() - tableValue(f.rotation, f.u[i]));
+      upper.push_back(centre.back() + tableValue(f.rotation, f.u[i]));
+    }
+    svg::Style style;
+    style.dash = kDashes[k];
+    style.width = 1.2;
+    const std::string legend = f.name + " (" + f.meaning + ")";
+    drawCurve(plot, f, f.position, lower, "lower", style, legend);
+    drawCurve(plot, f, f.position, upper, "upper", style, {});
+    if (calibrated) {
+      svg::Style thick = style;
+      thick.width = 2.0;
+      drawCurve(plot, f, f.position, centre, "centre", thick, {});
+      for (std::size_t i = 0; i < f.position.size(); ++i) {
+        svg::Style mark;
+        mark.fill = "#ffffff";
+        plot.marker({f.position[i], centre[i]}, kShapes[k], 4.0, mark);
+      }
+    }
+  }
+  return plot;
+}
+
+// (estimate - truth) / u_e of every function of one axis; points where u_e vanishes are left out.
+svg::Plot recoveryPlot(const CartesianAxis& axis, const std::vector<ErrorFunctionProfile>& estimate,
+                       const std::vector<ErrorFunctionProfile>& truth) {
+  svg::Plot plot("error-functions-" + axis.name + "-recovery",
+                 "Axis " + axis.name + ": estimate minus truth in standard uncertainties",
+                 axis.name + " reading / mm", "(estimate - truth) / u");
+  int shown = 0;
+  for (std::size_t j = 0; j < estimate.size(); ++j) {
+    const ErrorFunctionProfile& f = estimate[j];
+    const double largest = *std::max_element(f.u.begin(), f.u.end());
+    if (!(largest > 0.0)) continue;  // no calibrated degree
+    const int k = shown++;
+    std::vector<double> position, ratio;
+    for (std::size_t i = 0; i < f.position.size(); ++i) {
+      if (f.u[i] <= 1e-9 * largest) continue;
+      position.push_back(f.position[i]);
+      ratio.push_back((f.value[i] - truth[j].value[i]) / f.u[i]);
+    }
+    svg::Style style;
+    style.dash = kDashes[k % 3];
+    style.width = f.rotation ? 1.2 : 2.0;
+    drawCurve(plot, f, position, ratio, "recovery", style, f.name);
+  }
+  svg::Style limit;
+  limit.stroke = "#777777";
+  limit.dash = svg::Dash::Dashed;
+  limit.width = 1.0;
+  for (const double y : {-3.0, 3.0}) {
+    plot.polyline({{axis.range[0], y}, {axis.range[1], y}}, limit, y > 0 ? "+-3 u" : "");
+  }
+  return plot;
 }
 
 }  // namespace
@@ -185,6 +286,46 @@ std::string cartesianAnswersTable(const Plan& plan, const CartesianAnswers& answ
     out << line;
   }
   return out.str();
+}
+
+std::vector<ReportFigure> errorFunctionFigures(const Plan& plan, const Eigen::MatrixXd& V,
+                                               const Eigen::VectorXd& p, bool calibrated,
+                                               const Eigen::VectorXd* truth, int steps) {
+  std::vector<ReportFigure> figures;
+  const Cartesian* cmm = cartesianOf(plan);
+  if (!cmm) return figures;
+  const auto profiles = errorFunctionProfiles(*cmm, plan.machine, V, p, steps);
+  std::vector<ErrorFunctionProfile> truths;
+  if (truth) truths = errorFunctionProfiles(*cmm, plan.machine, V, *truth, steps);
+  const std::string band = calibrated
+                               ? "the calibrated estimate e(u) (markers) between e - u and e + u"
+                               : "the band +- u of the predicted standard uncertainty";
+  for (int k = 0; k < cmm->jointCount(); ++k) {
+    const CartesianAxis& axis = cmm->axes()[static_cast<std::size_t>(k)];
+    const auto first = static_cast<std::ptrdiff_t>(k * kAxisErrorCount);
+    const std::vector<ErrorFunctionProfile> functions(profiles.begin() + first,
+                                                      profiles.begin() + first + kAxisErrorCount);
+    for (const bool rotations : {false, true}) {
+      const std::string name =
+          "error-functions-" + axis.name + (rotations ? "-rotations" : "-translations");
+      figures.push_back({name,
+                         "Axis " + axis.name +
+                             (rotations ? " rotations (um/m)" : " translations (um)") +
+                             " along the axis: " + band + " of each error function.",
+                         bandPlot(axis, functions, rotations, calibrated).render()});
+    }
+    if (truth) {
+      const std::vector<ErrorFunctionProfile> true_functions(
+          truths.begin() + first, truths.begin() + first + kAxisErrorCount);
+      figures.push_back({"error-functions-" + axis.name + "-recovery",
+                         "Axis " + axis.name +
+                             ": the calibrated error functions minus those of the simulated "
+                             "machine, in standard uncertainties (within +-3 where the "
+                             "calibration recovers them).",
+                         recoveryPlot(axis, functions, true_functions).render()});
+    }
+  }
+  return figures;
 }
 
 }  // namespace artcal

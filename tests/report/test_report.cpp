@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <optional>
 #include <random>
 #include <regex>
@@ -18,6 +19,8 @@
 #include <sstream>
 
 #include "artcal/artcal.hpp"
+#include "artcal/model/cartesian.hpp"
+#include "artcal/report/cartesian_report.hpp"
 
 namespace artcal {
 namespace {
@@ -729,8 +732,155 @@ TEST(ProfileJson, ColumnsAreTheTipFiguresAtTheSameConfigurations) {
     ASSERT_TRUE(worst);
     EXPECT_NEAR(row.at("kinematic").get<double>(), worst->kinematic, 1e-12);
     EXPECT_NEAR(row.at("encoder").get<double>(), s_q * std::hypot(rho, l2), 1e-12);
-    EXPECT_NEAR(row.at("total").get<double>(), std::hypot(worst->kinematic, worst->encoder),
-                1e-12);
+    EXPECT_NEAR(row.at("total").get<double>(), std::hypot(worst->kinematic, worst->encoder), 1e-12);
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// A Cartesian CMM's error functions drawn along their axes (cartesian_report.hpp).
+
+/// The numbers of the curve of `function` (data-curve `curve`) in a figure: positions, values.
+std::pair<std::vector<double>, std::vector<double>> curveNumbers(const std::string& svg,
+                                                                 const std::string& function,
+                                                                 const std::string& curve) {
+  const std::regex pattern(
+      "data-function=\"" + std::regex_replace(function, std::regex("\\."), "\\.") +
+      "\" data-curve=\"" + curve + "\" data-position=\"([^\"]*)\" data-value=\"([^\"]*)\"");
+  std::smatch m;
+  if (!std::regex_search(svg, m, pattern)) return {};
+  const auto numbers = [](const std::string& text) {
+    std::vector<double> out;
+    std::istringstream in(text);
+    for (double v; in >> v;) out.push_back(v);
+    return out;
+  };
+  return {numbers(m[1]), numbers(m[2])};
+}
+
+/// P_1..P_3 written out (not Bonnet's recursion, which the model uses).
+double legendreExplicit(int n, double s) {
+  switch (n) {
+    case 1:
+      return s;
+    case 2:
+      return 0.5 * (3.0 * s * s - 1.0);
+    default:
+      return 0.5 * (5.0 * s * s * s - 3.0 * s);
+  }
+}
+
+struct CmmCurvesCase {
+  Plan plan = loadPlan(std::string(ARTCAL_PLANS_DIR) + "/cmm-plate-3planes.json");
+  const Cartesian& cmm = *cartesianOf(plan);
+  Eigen::MatrixXd V;
+  Eigen::VectorXd estimate, truth;
+
+  CmmCurvesCase() {
+    const int n = plan.machine.calibratedCount();
+    std::mt19937_64 rng(7);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    Eigen::MatrixXd B(n, n);
+    for (int i = 0; i < n * n; ++i) B.data()[i] = unit(rng);
+    V = 1e-12 * (B * B.transpose() + Eigen::MatrixXd::Identity(n, n));  // (um)^2 scale
+    estimate = truth = plan.machine.nominal;
+    for (const int i : plan.machine.calibrated) {
+      estimate[i] = 2e-3 * unit(rng);
+      truth[i] = estimate[i] + 1e-6 * unit(rng);
+    }
+  }
+  // e(u) and u_e(u) of `function` of axis `k` at reading `u`, independently of the code.
+  std::pair<double, double> expected(int k, AxisError error, double u,
+                                     const Eigen::VectorXd& p) const {
+    const auto& range = cmm.axes()[static_cast<std::size_t>(k)].range;
+    const double s = (2.0 * u - range[0] - range[1]) / (range[1] - range[0]);
+    const auto& calibrated = plan.machine.calibrated;
+    Eigen::VectorXd g = Eigen::VectorXd::Zero(plan.machine.calibratedCount());
+    double value = 0.0;
+    for (int n = 1; n <= 3; ++n) {
+      const int i = cmm.parameterIndex(k, error, n);
+      value += legendreExplicit(n, s) * p[i];
+      const auto at = std::find(calibrated.begin(), calibrated.end(), i);
+      if (at != calibrated.end()) g[at - calibrated.begin()] = legendreExplicit(n, s);
+    }
+    return {value, std::sqrt(g.dot(V * g))};
+  }
+};
+
+TEST(ErrorFunctionFigures, CurvesAreTheLegendreSeriesAndTheirBands) {
+  const CmmCurvesCase c;
+  ASSERT_EQ(c.cmm.degree(), 3);
+  const auto figures = errorFunctionFigures(c.plan, c.V, c.estimate, true, &c.truth, 11);
+  ASSERT_EQ(figures.size(), 9u);  // per axis: translations, rotations, recovery
+  std::map<std::string, std::string> by_name;
+  for (const ReportFigure& f : figures) {
+    EXPECT_EQ(xmlFault(f.svg), std::nullopt) << f.name;
+    by_name[f.name] = f.svg;
+  }
+  int checked = 0;
+  for (int k = 0; k < 3; ++k) {
+    const std::string axis = c.cmm.axes()[static_cast<std::size_t>(k)].name;
+    for (int e = 0; e < kAxisErrorCount; ++e) {
+      const auto error = static_cast<AxisError>(e);
+      const bool rotation = e >= 3;
+      const double scale = rotation ? 1e6 : 1e3;  // um/m, um
+      const std::string name = axis + "." + axisErrorName(error);
+      const std::string& band =
+          by_name.at("error-functions-" + axis + (rotation ? "-rotations" : "-translations"));
+      const auto [position, centre] = curveNumbers(band, name, "centre");
+      const auto [position_up, upper] = curveNumbers(band, name, "upper");
+      const auto [position_low, lower] = curveNumbers(band, name, "lower");
+      const auto [position_rec, recovery] =
+          curveNumbers(by_name.at("error-functions-" + axis + "-recovery"), name, "recovery");
+      ASSERT_EQ(position.size(), 11u) << name;
+      ASSERT_EQ(upper.size(), 11u) << name;
+      ASSERT_EQ(lower.size(), 11u) << name;
+      for (std::size_t i = 0; i < position.size(); ++i) {
+        const auto [value, u] = c.expected(k, error, position[i], c.estimate);
+        const double true_value = c.expected(k, error, position[i], c.truth).first;
+        EXPECT_NEAR(centre[i], scale * value, 1e-9 * scale * (std::abs(value) + u)) << name;
+        EXPECT_NEAR(upper[i] - centre[i], scale * u, 1e-9 * scale * u) << name;
+        EXPECT_NEAR(centre[i] - lower[i], scale * u, 1e-9 * scale * u) << name;
+        const auto at = std::find(position_rec.begin(), position_rec.end(), position[i]);
+        if (at == position_rec.end()) continue;  // u = 0 there: no ratio
+        EXPECT_NEAR(recovery[static_cast<std::size_t>(at - position_rec.begin())],
+                    (value - true_value) / u, 1e-7)
+            << name;
+        ++checked;
+      }
+    }
+  }
+  EXPECT_GT(checked, 100);
+  // At nominal (evaluate): the band alone, symmetric about 0, no estimate and no recovery.
+  const auto predicted = errorFunctionFigures(c.plan, c.V, c.plan.machine.nominal, false);
+  ASSERT_EQ(predicted.size(), 6u);
+  const auto [position, upper] = curveNumbers(predicted[0].svg, "y.tx", "upper");
+  const auto [position_low, lower] = curveNumbers(predicted[0].svg, "y.tx", "lower");
+  ASSERT_EQ(upper.size(), 21u);
+  EXPECT_EQ(curveNumbers(predicted[0].svg, "y.tx", "centre").first.size(), 0u);
+  for (std::size_t i = 0; i < upper.size(); ++i) {
+    EXPECT_NEAR(upper[i], 1e3 * c.expected(0, AxisError::Tx, position[i], c.estimate).second,
+                1e-9 * upper[i]);
+    EXPECT_EQ(lower[i], -upper[i]);
+  }
+}
+
+TEST_F(ReportCli, CartesianReportDrawsTheErrorFunctions) {
+  const fs::path html_path = dir_ / "r.html", svg_dir = dir_ / "svg";
+  const CliRun r = run("report \"" + data("ref-cartesian-plate.json") + "\" -o \"" +
+                       html_path.string() + "\" --svg \"" + svg_dir.string() + "\" --json");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const json summary = json::parse(r.out);
+  std::set<std::string> names;
+  for (const json& f : summary.at("figures")) names.insert(f.at("name").get<std::string>());
+  const Plan plan = loadPlan(data("ref-cartesian-plate.json"));
+  for (const CartesianAxis& axis : cartesianOf(plan)->axes()) {
+    for (const char* kind : {"-translations", "-rotations"}) {
+      const std::string name = "error-functions-" + axis.name + kind;
+      ASSERT_TRUE(names.count(name)) << name;
+      const std::string svg = slurp(svg_dir / (name + ".svg"));
+      EXPECT_EQ(xmlFault(svg), std::nullopt) << name;
+      EXPECT_NE(svg.find("data-curve=\"upper\""), std::string::npos) << name;
+    }
   }
 }
 

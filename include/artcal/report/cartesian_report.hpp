@@ -12,6 +12,7 @@
 #include "artcal/estimation/error_functions.hpp"
 #include "artcal/estimation/evaluator.hpp"
 #include "artcal/plan/plan.hpp"
+#include "artcal/report/html_report.hpp"
 
 namespace artcal {
 
@@ -37,5 +38,17 @@ CartesianAnswers cartesianAnswers(const Plan& plan, const Evaluation* evaluation
 /// {"frame_rotations_absorbed": [...], "unseparated_functions": [...], "error_functions": [...]}
 nlohmann::json cartesianAnswersToJson(const Plan& plan, const CartesianAnswers& answers);
 std::string cartesianAnswersTable(const Plan& plan, const CartesianAnswers& answers);
+
+/// The error functions drawn along their axes (`artcal report`, docs/report.md), from
+/// errorFunctionProfiles of V_p and p. Per axis, "error-functions-<axis>-translations" (um) and
+/// "error-functions-<axis>-rotations" (um/m): each function's band e(u) +- u_e(u), e = 0 for a
+/// plan at nominal (evaluate), the estimate after a calibration (`calibrated`). With `truth`
+/// (the simulated machine's full parameter vector), also "error-functions-<axis>-recovery":
+/// (estimate - truth) / u_e along the axis against +-3. Every curve carries data-function,
+/// data-curve (lower, centre, upper, recovery), data-position (mm) and data-value (plotted unit).
+std::vector<ReportFigure> errorFunctionFigures(const Plan& plan, const Eigen::MatrixXd& V,
+                                               const Eigen::VectorXd& p, bool calibrated,
+                                               const Eigen::VectorXd* truth = nullptr,
+                                               int steps = 21);
 
 }  // namespace artcal
