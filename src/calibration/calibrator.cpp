@@ -198,6 +198,15 @@ Calibration Calibrator::run(const std::vector<Placement>& placements,
       }
     }
     if (!accepted) {
+      // Rejected, yet neither the model's step nor the actual change exceeds what the cost can
+      // resolve: a stationary point within rounding (the reweighted fixed point, where the model
+      // omits dW/dp), which damping further cannot improve. Convergence, not failure.
+      const double resolvable = negligible(current_lin_.cost);
+      if (solved && predicted <= resolvable && std::abs(actual) <= resolvable) {
+        summary.termination = TerminationType::Converged;
+        summary.message = "cost stationary within rounding";
+        break;
+      }
       strategy_.stepRejected();
       if (strategy_.exhausted()) {
         summary.termination = TerminationType::Failure;

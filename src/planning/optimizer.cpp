@@ -53,17 +53,6 @@ double machineReach(const Machine& machine, const std::vector<Eigen::VectorXd>& 
   return reach > 0.0 ? reach : 1.0;
 }
 
-// The information of p: c eliminated with its prior (docs/method.md section 3).
-Eigen::MatrixXd parameterPart(const Eigen::MatrixXd& information_g, const GlobalLayout& layout) {
-  const int n = layout.parameters;
-  const int c = layout.systematicCount();
-  if (c == 0) return information_g;
-  Eigen::MatrixXd N_cc = information_g.bottomRightCorner(c, c);
-  N_cc.diagonal() += layout.c_sigma.array().square().inverse().matrix();
-  const Eigen::MatrixXd N_cp = information_g.bottomLeftCorner(c, n);
-  return information_g.topLeftCorner(n, n) - N_cp.transpose() * N_cc.ldlt().solve(N_cp);
-}
-
 }  // namespace
 
 std::string refineAlgorithmName(RefineAlgorithm algorithm) {
@@ -180,14 +169,14 @@ void DesignCriterion::resetActive() {
 
 double DesignCriterion::activeValue(const Eigen::MatrixXd& information_g) {
   if (criterion_ != Criterion::WorstTip || !active_tip_) return value(information_g);
-  const auto covariance = covarianceFromInformation(parameterPart(information_g, layout_));
+  const auto covariance = covarianceFromInformation(parameterInformation(information_g, layout_));
   if (!covariance) return kInfinity;
   return worstOver(covariance->V, *active_tip_);
 }
 
 double DesignCriterion::activate(const Eigen::MatrixXd& information_g) {
   if (criterion_ != Criterion::WorstTip) return value(information_g);
-  const auto covariance = covarianceFromInformation(parameterPart(information_g, layout_));
+  const auto covariance = covarianceFromInformation(parameterInformation(information_g, layout_));
   if (!covariance) return kInfinity;
   const TipEvaluator& tip = evaluator_.workspace();
   tip.kinematicVariance(covariance->V, S_m2_);
@@ -215,7 +204,7 @@ double DesignCriterion::activate(const Eigen::MatrixXd& information_g) {
 }
 
 double DesignCriterion::evaluate(const Eigen::MatrixXd& information_g, double power) {
-  const auto covariance = covarianceFromInformation(parameterPart(information_g, layout_));
+  const auto covariance = covarianceFromInformation(parameterInformation(information_g, layout_));
   if (!covariance) return kInfinity;
   const Eigen::MatrixXd& V = covariance->V;
   const TipEvaluator& tip = evaluator_.workspace();
