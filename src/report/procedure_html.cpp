@@ -18,6 +18,10 @@ namespace {
 
 enum class ProcedureView { Plan, Side, Oblique };
 
+/// Beyond this many placements the procedure has tables only: drawings of every posture of a
+/// thousand placements would make the page tens of megabytes (docs/report.md).
+constexpr std::size_t kMaxDrawnPlacements = 60;
+
 /// Projection of a machine point: plan (x, y), side (x, z), or an oblique view from the
 /// (+x, -y, +z) side (isometric axes: x and y at -/+30 deg from the horizontal, z up).
 Eigen::Vector2d projectPoint(const Eigen::VectorXd& x, ProcedureView view) {
@@ -153,31 +157,36 @@ std::string procedureHtml(const Plan& plan, const Procedure& procedure) {
       !plan.machine.mechanism
            ->skeleton(plan.machine.nominal, plan.placements[0].measurements[0].joints)
            .empty();
+  const bool draw = procedure.placements.size() <= kMaxDrawnPlacements;
   out << "<h2>Procedure</h2>\n<p>The placements in measuring order. For each: where the artifact "
          "goes (its centre in the machine frame, "
       << (spatial ? "its X axis direction and its roll about it" : "the direction of its X axis")
       << "), and for each reading the feature, the posture (the k-th reading of that feature, "
          "from 0) and the target joint values on the nominal machine. "
-      << (drawn ? "The drawings show the mechanism in each posture (line style by posture), "
-                  "each probe position (cross) and the artifact's features (circles, numbered)."
-                : "The drawings show each probe position (cross) and the artifact's features "
-                  "(circles, numbered); this model has no drawing of its links.")
+      << (!draw   ? "No drawings: more than 60 placements (tables only)."
+          : drawn ? "The drawings show the mechanism in each posture (line style by posture), "
+                    "each probe position (cross) and the artifact's features (circles, numbered)."
+                  : "The drawings show each probe position (cross) and the artifact's features "
+                    "(circles, numbered); this model has no drawing of its links.")
       << " Same as <code>artcal procedure</code>.</p>\n";
   for (std::size_t j = 0; j < procedure.placements.size(); ++j) {
     const ProcedurePlacement& placement = procedure.placements[j];
     const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
     out << "<section class=\"placement\">\n<h3>Placement " << j << ": " << svg::escape(artifact.id)
         << " (" << artifactKindName(artifact.kind) << ")</h3>\n"
-        << "<p>" << svg::escape(poseLine(plan, placement)) << "</p>\n<div class=\"views\">\n";
-    if (spatial) {
-      for (const ProcedureView view :
-           {ProcedureView::Plan, ProcedureView::Side, ProcedureView::Oblique}) {
-        out << placementView(plan, placement, j, view, 300.0);
+        << "<p>" << svg::escape(poseLine(plan, placement)) << "</p>\n";
+    if (draw) {
+      out << "<div class=\"views\">\n";
+      if (spatial) {
+        for (const ProcedureView view :
+             {ProcedureView::Plan, ProcedureView::Side, ProcedureView::Oblique}) {
+          out << placementView(plan, placement, j, view, 300.0);
+        }
+      } else {
+        out << placementView(plan, placement, j, ProcedureView::Plan, 360.0);
       }
-    } else {
-      out << placementView(plan, placement, j, ProcedureView::Plan, 360.0);
+      out << "</div>\n";
     }
-    out << "</div>\n";
     writeReadingsTable(out, plan, placement);
     out << "</section>\n";
   }
