@@ -254,7 +254,8 @@ std::string confirmationTable(const Plan& plan, const ConfirmationOptions& optio
       << (confirmation.confirmed ? "CONFIRMED" : "NOT CONFIRMED") << "\n";
   out << confirmation.trials << " simulated calibrations (seed " << options.seed << ", noise x "
       << options.noise_scale << ", true parameters nominal + " << options.perturbation
-      << " u N(0,1)), " << confirmation.converged_trials << " converged; mean chi2/dof "
+      << " u N(0,1)" << (plan.machine.prior_sigma.size() > 0 ? ", or from machine.prior" : "")
+      << "), " << confirmation.converged_trials << " converged; mean chi2/dof "
       << format("%.3f", confirmation.mean_chi2_per_dof) << "\n";
   out << "band for empirical/predicted: [" << format("%.3f", band.low) << ", "
       << format("%.3f", band.high) << "] = 1 +- (" << format("%.2f", band.coverage_factor) << " x "
