@@ -17,6 +17,7 @@ constexpr double kNoiseFactor = 100.0;      // residuals beyond 100 s_p are no n
 constexpr double kAbsoluteFloor = 1.0;      // mm: an uncalibrated machine errs by about this
 constexpr double kArtifactFraction = 0.25;  // wrong units err by the artifact's own size
 constexpr double kPoseFloor = 10.0;         // mm: a pose entered by hand may be this rough
+constexpr double kReachFactor = 10.0;       // an artifact 10 x the machine's diameter is not on it
 
 std::string millimetres(double value) {
   char text[64];
@@ -101,6 +102,51 @@ double poseDisagreement(const Plan& plan, const Artifact& artifact, const Placem
   return worst;
 }
 
+/// The largest distance between two of the artifact's features (mm).
+double artifactDiameter(const Artifact& artifact) {
+  double diameter = 0.0;
+  for (int a = 0; a < artifact.featureCount(); ++a) {
+    for (int b = a + 1; b < artifact.featureCount(); ++b) {
+      diameter = std::max(diameter, (artifact.features.col(a) - artifact.features.col(b)).norm());
+    }
+  }
+  return diameter;
+}
+
+int distinctFeatures(const Placement& placement) {
+  std::set<int> distinct;
+  for (const Measurement& m : placement.measurements) distinct.insert(m.feature);
+  return static_cast<int>(distinct.size());
+}
+
+/// The farthest the nominal machine probes from its origin over every reading of the plan (mm).
+double planReach(const Plan& plan) {
+  double reach = 0.0;
+  Eigen::MatrixXd points;
+  for (const Placement& placement : plan.placements) {
+    if (!nominalPoints(plan, placement, points) || points.cols() == 0) continue;
+    reach = std::max(reach, points.colwise().norm().maxCoeff());
+  }
+  return reach;
+}
+
+// A placement that reads one feature only has no length to fit (its residual is 0 whatever the
+// units): a machine in metres is told by the artifact's size instead. Its features must fit
+// within kReachFactor times the diameter 2 R of the sphere the plan's readings probe within.
+void checkArtifactFitsTheMachine(const Plan& plan, const Placement& placement,
+                                 const std::string& where, double& reach) {
+  if (distinctFeatures(placement) != 1) return;
+  const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
+  const double diameter = artifactDiameter(artifact);
+  if (reach < 0.0) reach = planReach(plan);
+  if (diameter <= kReachFactor * 2.0 * reach) return;
+  throw InputError(plan.source, where,
+                   "the nominal machine probes every reading of the plan within " +
+                       millimetres(reach) + " of its origin, but the artifact \"" + artifact.id +
+                       "\" is " + millimetres(diameter) +
+                       " across: check the units (lengths in mm, not metres)");
+}
+
 }  // namespace
 
 double plausibleResidual(const Artifact& artifact, double probe_sigma) {
@@ -109,6 +155,7 @@ double plausibleResidual(const Artifact& artifact, double probe_sigma) {
 }
 
 void checkPlausibility(const Plan& plan) {
+  double reach = -1.0;  // computed when a single-feature placement needs it
   for (std::size_t j = 0; j < plan.placements.size(); ++j) {
     const Placement& placement = plan.placements[j];
     if (placement.measurements.empty()) continue;
@@ -128,6 +175,7 @@ void checkPlausibility(const Plan& plan) {
               "): check the units (joint readings in degrees, not radians; lengths in mm, not "
               "metres) and that each reading's feature index is right");
     }
+    checkArtifactFitsTheMachine(plan, placement, where, reach);
     if (!placement.pose) continue;
     const double pose_threshold = std::max(threshold, kPoseFloor);
     const double disagreement = poseDisagreement(plan, artifact, placement, points);

@@ -209,6 +209,12 @@ std::vector<BadInput> badInputs() {
          p["machine"]["parameters"]["l2"] = 0.1;
        }),
        "/placements/0", "check the units"},
+      {"machine in metres, one feature per placement", with([](json& p) {
+         p["machine"]["parameters"]["l1"] = 0.15;
+         p["machine"]["parameters"]["l2"] = 0.1;
+         for (json& placement : p["placements"]) placement["measurements"].erase(1);
+       }),
+       "/placements/0", "is 80 mm across: check the units (lengths in mm, not metres)"},
       {"misspelled optional field",
        with([](json& p) { p["artifacts"]["bar80"]["u_lenght"] = 0.004; }),
        "/artifacts/bar80/u_lenght", "unknown field (did you mean \"u_length\"?)"},
