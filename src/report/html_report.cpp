@@ -9,6 +9,7 @@
 #include "artcal/artifact/rigid_transform.hpp"
 #include "artcal/estimation/design_matrix.hpp"
 #include "artcal/estimation/tip.hpp"
+#include "artcal/report/procedure.hpp"
 #include "artcal/report/report.hpp"
 #include "artcal/report/svg.hpp"
 
@@ -429,8 +430,15 @@ figcaption { font-size: 9pt; color: #333; }
 .verdict.bad { border-style: dashed; }
 .muted { color: #444; font-size: 9pt; }
 code { font-size: 9pt; }
+h3 { font-size: 11pt; margin: 4mm 0 1mm 0; }
+section.placement { break-inside: avoid; page-break-inside: avoid; margin-bottom: 4mm; }
+section.placement .views { display: flex; flex-wrap: wrap; gap: 2mm; }
+section.placement .views svg { width: 60mm; height: auto; }
+section.placement .views svg:only-child { width: 100mm; }
+table.procedure { font-size: 8.5pt; }
 @page { size: A4; margin: 14mm; }
-@media print { body { max-width: none; padding: 0; } h2 { break-after: avoid; } }
+@media print { body { max-width: none; padding: 0; } h2 { break-after: avoid; }
+               section.placement + section.placement { break-before: page; } }
 )";
 
 void writeHead(std::ostream& out, const Plan& plan) {
@@ -615,8 +623,8 @@ void writePredicted(std::ostream& out, const json& predicted, const json& evalua
   out << "</table>\n";
 }
 
-/// An optimized plan (docs/plan-format.md, optimization spec): its design block, the search from the
-/// starting designs to the optimum, and its predicted block beside the evaluation now.
+/// An optimized plan (docs/plan-format.md, optimization spec): its design block, the search from
+/// the starting designs to the optimum, and its predicted block beside the evaluation now.
 void writeDesign(std::ostream& out, const ReportInput& in) {
   if (!in.document.contains("design") && !in.document.contains("predicted")) return;
   out << "<h2>Design</h2>\n";
@@ -711,6 +719,15 @@ void writeCalibration(std::ostream& out, const ReportInput& in,
   writeFlagged(out, cal);
 }
 
+/// The operator's procedure (procedure.hpp); a plan whose features cannot be reached gets a note.
+void writeProcedure(std::ostream& out, const Plan& plan) {
+  try {
+    out << procedureHtml(plan, operatorProcedure(plan));
+  } catch (const RunError& e) {
+    out << "<h2>Procedure</h2>\n<p>No procedure: " << svg::escape(e.describe()) << "</p>\n";
+  }
+}
+
 }  // namespace
 
 std::vector<ReportFigure> reportFigures(const ReportInput& in) {
@@ -762,6 +779,13 @@ std::string htmlReport(const ReportInput& in, const std::vector<ReportFigure>& f
   writeFigures(out, figures, "tip");
   writeProfileTable(out, ev);
   writeCalibration(out, in, figures);
+  // A Cartesian CMM's error functions along its axes (cartesian_report.hpp, added by the caller).
+  if (std::any_of(figures.begin(), figures.end(),
+                  [](const ReportFigure& f) { return f.name.starts_with("error-functions"); })) {
+    out << "<h2>Error functions</h2>\n";
+    writeFigures(out, figures, "error-functions");
+  }
+  writeProcedure(out, in.plan);
   out << "</body>\n</html>\n";
   return out.str();
 }
