@@ -4,9 +4,10 @@
 #include <atomic>
 #include <cmath>
 #include <mutex>
-#include <thread>
+#include <optional>
 
 #include "artcal/core/error.hpp"
+#include "artcal/core/parallel.hpp"
 #include "artcal/estimation/evaluator.hpp"
 
 namespace artcal {
@@ -121,36 +122,22 @@ Confirmation confirmPlan(const Plan& plan, const ConfirmationOptions& options) {
   calibration.details = false;
 
   std::vector<TrialResult> results(static_cast<std::size_t>(options.trials));
-  std::atomic<int> next{0}, done{0};
-  std::atomic<bool> stop{false};
+  // One calibrator per worker (its buffers are reused from trial to trial).
+  const int threads = threadCount(options.threads, options.trials);
+  std::vector<std::optional<Calibrator>> calibrators(static_cast<std::size_t>(threads));
+  std::atomic<int> done{0};
   std::mutex progress_mutex;
-  std::exception_ptr failure;
-  auto worker = [&] {
-    Calibrator calibrator(plan, calibration);
-    try {
-      for (int i = next++; i < options.trials && !stop; i = next++) {
-        results[static_cast<std::size_t>(i)] =
-            runTrial(plan, simulator, calibrator, predicted_u, options, i);
-        const int finished = ++done;
-        if (options.progress) {
-          const std::lock_guard lock(progress_mutex);
-          options.progress(finished, options.trials);
-        }
-      }
-    } catch (...) {
+  parallelFor(options.trials, threads, [&](int i, int worker) {
+    std::optional<Calibrator>& calibrator = calibrators[static_cast<std::size_t>(worker)];
+    if (!calibrator) calibrator.emplace(plan, calibration);
+    results[static_cast<std::size_t>(i)] =
+        runTrial(plan, simulator, *calibrator, predicted_u, options, i);
+    const int finished = ++done;
+    if (options.progress) {
       const std::lock_guard lock(progress_mutex);
-      if (!failure) failure = std::current_exception();
-      stop = true;
+      options.progress(finished, options.trials);
     }
-  };
-  int threads =
-      options.threads > 0 ? options.threads : static_cast<int>(std::thread::hardware_concurrency());
-  threads = std::clamp(threads, 1, options.trials);
-  std::vector<std::thread> pool;
-  for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
-  worker();
-  for (std::thread& thread : pool) thread.join();
-  if (failure) std::rethrow_exception(failure);
+  });
 
   // Statistics in trial order (identical for any thread count).
   const int n = plan.machine.calibratedCount();

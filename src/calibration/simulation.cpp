@@ -7,13 +7,13 @@
 #include <string>
 
 #include "artcal/core/error.hpp"
+#include "artcal/core/random.hpp"
 #include "artcal/estimation/design_matrix.hpp"
 
 namespace artcal {
 
 double NormalSource::uniform() {
-  // 53 random bits -> (0, 1]: never zero, so the logarithm below is finite.
-  return (static_cast<double>(engine_() >> 11) + 1.0) * 0x1.0p-53;
+  return unitUniformNonZero(engine_);  // never zero: the logarithm below is finite
 }
 
 double NormalSource::operator()() {

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "artcal/core/linear_algebra.hpp"
+
 namespace artcal {
 
 namespace {
@@ -105,9 +107,7 @@ std::vector<AbsorbedRotation> frameRotationsAbsorbed(const Cartesian& cmm,
   // The rotations w minimising w^T (Y^T S Y) w / w^T (Y^T Y) w: the generalized eigenproblem.
   const Eigen::Matrix3d A = Y.transpose() * S * Y;
   const Eigen::Matrix3d B = Y.transpose() * Y;
-  const double largest = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(S, Eigen::EigenvaluesOnly)
-                             .eigenvalues()
-                             .maxCoeff();
+  const double largest = SymmetricEigenSolver(S, Eigen::EigenvaluesOnly).eigenvalues().maxCoeff();
   Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::Matrix3d> solver(A, B);
   std::vector<Eigen::Vector3d> axes;
   for (int a = 0; a < 3; ++a) {

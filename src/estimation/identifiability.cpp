@@ -1,8 +1,8 @@
 #include "artcal/estimation/identifiability.hpp"
 
+#include "artcal/core/linear_algebra.hpp"
 #include "artcal/estimation/evaluator.hpp"
 
-#include <Eigen/Eigenvalues>
 #include <cmath>
 #include <limits>
 
@@ -78,7 +78,7 @@ Identifiability analyseIdentifiability(const Plan& plan, const std::vector<Place
   result.tolerance = tolerance;
   const int n = static_cast<int>(information.reduced.rows());
   const Eigen::MatrixXd scaled = scaledInformation(information);
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(scaled);
+  const SymmetricEigenSolver eig(scaled);
   const Eigen::VectorXd& lambda = eig.eigenvalues();  // ascending
   const double largest = n > 0 ? lambda[n - 1] : 0.0;
   const double cutoff = tolerance * largest;
@@ -129,13 +129,13 @@ Eigen::MatrixXd principal(const Eigen::MatrixXd& S, const std::vector<int>& set)
 }
 
 double smallestEigenvalue(const Eigen::MatrixXd& M) {
-  return Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(M, Eigen::EigenvaluesOnly).eigenvalues()[0];
+  return SymmetricEigenSolver(M, Eigen::EigenvaluesOnly).eigenvalues()[0];
 }
 
 // The combination that ties a dropped parameter to the kept ones: the eigenvector of the
 // smallest eigenvalue of S over kept + {dropped}, largest coefficient magnitude 1.
 std::vector<std::pair<int, double>> tieOf(const Eigen::MatrixXd& S, std::vector<int> set) {
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(principal(S, set));
+  const SymmetricEigenSolver eig(principal(S, set));
   Eigen::VectorXd v = eig.eigenvectors().col(0);
   const int last = static_cast<int>(set.size()) - 1;
   if (v[last] < 0.0) v = -v;  // the dropped parameter (last) with a positive sign
@@ -156,8 +156,7 @@ CalibratedSetChoice chooseIdentifiableSet(const PlanInformation& information, do
   const Eigen::MatrixXd S = scaledInformation(information);
   const int n = static_cast<int>(S.rows());
   if (n == 0) return choice;
-  const double largest = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(S, Eigen::EigenvaluesOnly)
-                             .eigenvalues()[n - 1];
+  const double largest = SymmetricEigenSolver(S, Eigen::EigenvaluesOnly).eigenvalues()[n - 1];
   const double cutoff = tolerance * largest;
   for (int i = 0; i < n; ++i) {
     std::vector<int> trial = choice.kept;

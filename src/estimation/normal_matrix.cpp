@@ -2,9 +2,10 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
-#include <Eigen/SVD>
 #include <Eigen/SparseCore>
 #include <cmath>
+
+#include "artcal/core/linear_algebra.hpp"
 
 namespace artcal {
 
@@ -78,13 +79,11 @@ int rigidRankOfFeatures(const Artifact& artifact, const std::vector<Measurement>
     artifact.rigidJacobian(artifact.feature(measurements[i].feature, no_c),
                            J.middleRows(k * static_cast<int>(i), k));
   }
-  Eigen::JacobiSVD<Eigen::MatrixXd> svd(J);
-  svd.setThreshold(std::sqrt(kRigidObservedTolerance));
-  return static_cast<int>(svd.rank());
+  return numericalRank(J, std::sqrt(kRigidObservedTolerance));
 }
 
 Eigen::MatrixXd symmetricPseudoInverse(const Eigen::MatrixXd& M, double relative_tolerance) {
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(M);
+  const SymmetricEigenSolver eig(M);
   const Eigen::VectorXd& lambda = eig.eigenvalues();
   const double cutoff = relative_tolerance * std::max(lambda.cwiseAbs().maxCoeff(), 0.0);
   Eigen::VectorXd inverse = Eigen::VectorXd::Zero(lambda.size());

@@ -1,11 +1,12 @@
 #include "artcal/estimation/tip.hpp"
 
 #include <Eigen/Cholesky>
-#include <Eigen/Eigenvalues>
 #include <array>
 #include <cmath>
 #include <random>
 
+#include "artcal/core/linear_algebra.hpp"
+#include "artcal/core/random.hpp"
 #include "artcal/model/inverse_kinematics.hpp"
 
 namespace artcal {
@@ -25,12 +26,6 @@ constexpr double kConstantGram = 1e-13;
 constexpr int kFactorMinSamplesPerEntry = 4;
 constexpr double kFactorRank = 1e-12;
 constexpr double kFactorResidual = 1e-10;
-
-// Uniform in [0, 1) from the top 53 bits: the same on every platform, unlike
-// std::uniform_real_distribution.
-double unitUniform(std::mt19937_64& rng) {
-  return static_cast<double>(rng() >> 11) * 0x1.0p-53;
-}
 
 }  // namespace
 
@@ -212,7 +207,7 @@ bool TipEvaluator::prepareFactored(int n_p, long cost_to_beat) {
   Y = scale.cwiseInverse().asDiagonal() * Y;
   Eigen::MatrixXd K = Eigen::MatrixXd::Zero(m, m);
   K.selfadjointView<Eigen::Lower>().rankUpdate(Y);
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(K);
+  const SymmetricEigenSolver eig(K);
   if (eig.info() != Eigen::Success) return false;
   const Eigen::VectorXd& lambda = eig.eigenvalues();  // ascending
   const int r = static_cast<int>((lambda.array() > kFactorRank * lambda[m - 1]).count());
@@ -285,7 +280,7 @@ namespace {
 Eigen::MatrixXd covarianceRoot(const Eigen::MatrixXd& V) {
   const Eigen::LLT<Eigen::MatrixXd> llt(V);
   if (llt.info() == Eigen::Success) return llt.matrixL();
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(V);
+  const SymmetricEigenSolver eig(V);
   return eig.eigenvectors() * eig.eigenvalues().cwiseMax(0.0).cwiseSqrt().asDiagonal();
 }
 

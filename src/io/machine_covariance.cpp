@@ -1,9 +1,9 @@
 #include "artcal/io/machine_covariance.hpp"
 
-#include <Eigen/Eigenvalues>
 #include <cmath>
 #include <set>
 
+#include "artcal/core/linear_algebra.hpp"
 #include "artcal/io/json_node.hpp"
 
 namespace artcal {
@@ -66,7 +66,7 @@ std::optional<ParameterUncertainty> parseMachineCovariance(const nlohmann::json&
   }
   const double scale = out.V.cwiseAbs().maxCoeff();
   if (!(out.V - out.V.transpose()).isZero(1e-9 * scale)) matrix.fail("expected a symmetric matrix");
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(out.V);
+  const SymmetricEigenSolver eigen(out.V);
   if (eigen.eigenvalues().minCoeff() < -1e-9 * std::max(scale, 1e-300))
     matrix.fail("expected a positive semi-definite matrix");
   return out;

@@ -3,7 +3,6 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include <Eigen/SVD>
 #include <algorithm>
 #include <limits>
 #include <numbers>
@@ -15,6 +14,7 @@
 #include <set>
 #include <sstream>
 
+#include "artcal/core/linear_algebra.hpp"
 #include "artcal/estimation/identifiability.hpp"
 #include "artcal/io/csv_readings.hpp"
 #include "artcal/io/json_node.hpp"
@@ -184,8 +184,7 @@ Artifact parseArtifact(const std::string& id, const Node& node, int dimension,
     // Every pair of centres must be distinct; in 3-D the centres must not all lie on one line
     // (N(r) = 6 needs it: a collinear plate is a ball bar).
     Eigen::MatrixXd centred = points.colwise() - points.rowwise().mean();
-    Eigen::JacobiSVD<Eigen::MatrixXd> svd(centred);
-    const Eigen::VectorXd sv = svd.singularValues();
+    const Eigen::VectorXd sv = singularValues(centred);
     if (sv[0] <= 0.0) centers.fail("centers must not coincide");
     if (dimension == 3 && (sv.size() < 2 || sv[1] <= 1e-9 * sv[0])) {
       centers.fail("centers of a 3-D ball plate must not be collinear");

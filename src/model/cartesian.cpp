@@ -5,6 +5,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "artcal/model/frame_turns.hpp"
+
 namespace artcal {
 
 namespace {
@@ -12,12 +14,6 @@ namespace {
 // Degrees and axes are small: the per-call scratch lives on the stack.
 constexpr int kMaxDegree = 12;
 constexpr int kMaxAxes = 6;
-
-Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
-  Eigen::Matrix3d S;
-  S << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
-  return S;
-}
 
 // exp([w]) and the right Jacobian J_r(w) of SO(3): exp([w + dw]) = exp([w]) exp([J_r(w) dw]) to
 // first order, J_r = I - (1 - cos t)/t^2 [w] + (t - sin t)/t^3 [w]^2 (t = |w|). Series below

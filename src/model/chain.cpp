@@ -13,7 +13,8 @@ namespace artcal {
 namespace {
 
 // Per-joint scratch kept on the stack (no allocation per call).
-using Columns = Eigen::Matrix<double, 3, Eigen::Dynamic, Eigen::ColMajor, 3, Chain::kMaxJoints>;
+using ChainColumns =
+    Eigen::Matrix<double, 3, Eigen::Dynamic, Eigen::ColMajor, 3, Chain::kMaxJoints>;
 using Jacobian = Eigen::Map<Eigen::Matrix<double, 3, Eigen::Dynamic>>;
 
 std::vector<ParameterInfo> chainParameters(const std::vector<ChainJoint>& joints) {
@@ -113,7 +114,7 @@ ForwardStatus Chain::forward(const Eigen::VectorXd& p, const Eigen::VectorXd& q,
   const int n = static_cast<int>(joints_.size());
   Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
   Eigen::Vector3d o = Eigen::Vector3d::Zero();
-  Columns pivots(3, n), joint_axes(3, n);
+  ChainColumns pivots(3, n), joint_axes(3, n);
   std::optional<Jacobian> Jp;
   if (J_x_p) {
     J_x_p->resize(3, parameterCount());

@@ -4,6 +4,8 @@
 #include <Eigen/LU>
 #include <cmath>
 
+#include "artcal/core/random.hpp"
+
 namespace artcal {
 
 namespace {
@@ -40,11 +42,6 @@ PoseStep newtonStep(const PoseLU& lu, const ConstraintVector& g, int pose_dimens
   PoseStep ds = -lu.solve(g);
   if (pose_dimension == 6) ds.tail(3) /= rotation_scale;
   return ds;
-}
-
-// Uniform in [0, 1) from the top 53 bits: the same on every platform.
-double unitUniform(std::mt19937_64& rng) {
-  return static_cast<double>(rng() >> 11) * 0x1.0p-53;
 }
 
 }  // namespace

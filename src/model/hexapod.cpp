@@ -4,17 +4,11 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "artcal/model/frame_turns.hpp"
+
 namespace artcal {
 
-namespace {
-
-Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
-  Eigen::Matrix3d S;
-  S << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
-  return S;
-}
-
-}  // namespace
+namespace {}  // namespace
 
 Hexapod::Hexapod(const ChainPose& home, double platform_radius)
     : home_(home), platform_radius_(platform_radius) {

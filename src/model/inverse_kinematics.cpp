@@ -5,6 +5,7 @@
 #include <limits>
 #include <numbers>
 
+#include "artcal/core/random.hpp"
 #include "artcal/model/closed_chain.hpp"
 #include "artcal/model/planar2r.hpp"
 
@@ -79,8 +80,7 @@ std::optional<Eigen::VectorXd> closedFormNear(const Machine& machine, const Eige
 // A model whose posture is an orientation (the hexapod): the closed form in the orientation the
 // body has at q0 (home when q0 does not assemble), so that a posture keeps its identity.
 std::optional<Eigen::VectorXd> orientedNear(const Machine& machine, const OrientedPostures& model,
-                                            const Eigen::VectorXd& p,
-                                            const Eigen::VectorXd& target,
+                                            const Eigen::VectorXd& p, const Eigen::VectorXd& target,
                                             const Eigen::VectorXd& q0) {
   const Eigen::Matrix3d R = model.orientationOf(p, q0).value_or(model.homeOrientation());
   Eigen::VectorXd q = model.readingsAt(p, target.head<3>(), R);
@@ -158,7 +158,7 @@ std::vector<Eigen::VectorXd> diversePostures(const Machine& machine, const Eigen
     Eigen::VectorXd q0(n);
     for (int i = 0; i < n; ++i) {
       const auto [lo, hi] = machine.joint_limits[static_cast<std::size_t>(i)];
-      q0[i] = lo + (hi - lo) * (static_cast<double>(rng() >> 11) * 0x1.0p-53);
+      q0[i] = lo + (hi - lo) * unitUniform(rng);
     }
     if (auto q = solveInverseKinematics(machine, p, target, q0, options)) found.push_back(*q);
   }

@@ -11,7 +11,8 @@ namespace artcal {
 namespace {
 
 // Per-joint axes kept on the stack (no allocation per call).
-using Columns = Eigen::Matrix<double, 3, Eigen::Dynamic, Eigen::ColMajor, 3, SerialDH::kMaxJoints>;
+using DhColumns =
+    Eigen::Matrix<double, 3, Eigen::Dynamic, Eigen::ColMajor, 3, SerialDH::kMaxJoints>;
 using Jacobian = Eigen::Map<Eigen::Matrix<double, 3, Eigen::Dynamic>>;
 
 std::vector<DHJoint> withoutBeta(const std::vector<JointKind>& kinds) {
@@ -23,11 +24,11 @@ std::vector<DHJoint> withoutBeta(const std::vector<JointKind>& kinds) {
 // The world axes (and pivots, for rotations) of one joint's elementary transforms: what the
 // geometric Jacobian needs once the tip is known.
 struct JointAxes {
-  Columns theta_axis,
-      theta_pivot;      // Rz(theta) about theta_axis through theta_pivot; Tz(d) along it
-  Columns a_direction;  // Tx(a)
-  Columns alpha_axis, alpha_pivot;  // Rx(alpha)
-  Columns beta_axis, beta_pivot;    // Ry(beta)
+  DhColumns theta_axis,
+      theta_pivot;        // Rz(theta) about theta_axis through theta_pivot; Tz(d) along it
+  DhColumns a_direction;  // Tx(a)
+  DhColumns alpha_axis, alpha_pivot;  // Rx(alpha)
+  DhColumns beta_axis, beta_pivot;    // Ry(beta)
   explicit JointAxes(int n)
       : theta_axis(3, n),
         theta_pivot(3, n),
@@ -118,7 +119,7 @@ ForwardStatus SerialDH::forward(const Eigen::VectorXd& p, const Eigen::VectorXd&
   const Eigen::Vector3d tip = o + R * p.segment<3>(probeParameterOffset());
   x.resize(3);
   Eigen::Map<Eigen::Vector3d>(x.data()) = tip;
-  auto turning = [&](const Columns& axis, const Columns& pivot, int i) -> Eigen::Vector3d {
+  auto turning = [&](const DhColumns& axis, const DhColumns& pivot, int i) -> Eigen::Vector3d {
     return axis.col(i).cross(tip - pivot.col(i));
   };
   // Written through fixed-row maps: GCC 12 warns (-Warray-bounds, falsely) when fixed-size

@@ -5,6 +5,7 @@
 #include <numbers>
 
 #include "artcal/core/error.hpp"
+#include "artcal/core/random.hpp"
 #include "artcal/model/inverse_kinematics.hpp"
 
 namespace artcal {
@@ -45,8 +46,8 @@ Machine withJointMargin(const Machine& machine, const Eigen::VectorXd& margin) {
   Machine narrowed = machine;
   for (int i = 0; i < margin.size(); ++i) {
     auto& [lo, hi] = narrowed.joint_limits[static_cast<std::size_t>(i)];
-    const bool wraps = machine.mechanism->jointKind(i) == JointKind::Revolute &&
-                       hi - lo >= 2 * kPi - 1e-12;
+    const bool wraps =
+        machine.mechanism->jointKind(i) == JointKind::Revolute && hi - lo >= 2 * kPi - 1e-12;
     if (wraps) continue;
     const double m = std::min(margin[i], 0.25 * (hi - lo));
     lo += m;
@@ -56,10 +57,6 @@ Machine withJointMargin(const Machine& machine, const Eigen::VectorXd& margin) {
 }
 
 }  // namespace
-
-double uniform01(std::mt19937_64& rng) {
-  return static_cast<double>(rng() >> 11) * 0x1.0p-53;
-}
 
 DesignSpace::DesignSpace(const Plan& plan) : plan_(&plan) {
   if (!plan.design) throw InputError(plan.source, "/design", "the spec has no design block");
@@ -163,13 +160,14 @@ double DesignSpace::regionViolation(const Eigen::VectorXd& v) const {
 
 Eigen::VectorXd DesignSpace::randomPose(std::mt19937_64& rng) const {
   Eigen::VectorXd v(poseSize());
-  for (int i = 0; i < dimension(); ++i) v[i] = lower_[i] + (upper_[i] - lower_[i]) * uniform01(rng);
+  for (int i = 0; i < dimension(); ++i)
+    v[i] = lower_[i] + (upper_[i] - lower_[i]) * unitUniform(rng);
   if (dimension() == 2) {
-    v[2] = kPi * (2 * uniform01(rng) - 1);
+    v[2] = kPi * (2 * unitUniform(rng) - 1);
   } else {
-    v[3] = kPi * (2 * uniform01(rng) - 1);
-    v[4] = std::asin(2 * uniform01(rng) - 1);  // uniform directions on the sphere
-    if (has_roll_) v[5] = kPi * (2 * uniform01(rng) - 1);
+    v[3] = kPi * (2 * unitUniform(rng) - 1);
+    v[4] = std::asin(2 * unitUniform(rng) - 1);  // uniform directions on the sphere
+    if (has_roll_) v[5] = kPi * (2 * unitUniform(rng) - 1);
   }
   return v;
 }
@@ -205,8 +203,7 @@ std::optional<Placement> DesignSpace::placeWithNewPostures(const Eigen::VectorXd
     if (plan_->machine.mechanism->stylusCount() > 1) {
       const auto readings = stylusPostures(reading_machine_, i, x.col(i), design().postures);
       if (static_cast<int>(readings.size()) < design().postures) return std::nullopt;
-      placement.measurements.insert(placement.measurements.end(), readings.begin(),
-                                    readings.end());
+      placement.measurements.insert(placement.measurements.end(), readings.begin(), readings.end());
       continue;
     }
     const auto postures =

@@ -1,7 +1,6 @@
 #include "artcal/planning/optimizer.hpp"
 
 #include <Eigen/Cholesky>
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -16,6 +15,8 @@
 #include <thread>
 
 #include "artcal/core/error.hpp"
+#include "artcal/core/linear_algebra.hpp"
+#include "artcal/core/parallel.hpp"
 #include "artcal/estimation/identifiability.hpp"
 
 namespace artcal {
@@ -223,7 +224,7 @@ double DesignCriterion::evaluate(const Eigen::MatrixXd& information_g, double po
     case Criterion::A:
     case Criterion::E: {
       const Eigen::MatrixXd Vs = scale_.asDiagonal() * V * scale_.asDiagonal();
-      const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(Vs, Eigen::EigenvaluesOnly);
+      const SymmetricEigenSolver eigen(Vs, Eigen::EigenvaluesOnly);
       const Eigen::VectorXd lambda = eigen.eigenvalues().cwiseMax(0.0);
       const double n = static_cast<double>(lambda.size());
       if (criterion_ == Criterion::A) return std::sqrt(lambda.sum() / n);
@@ -273,35 +274,11 @@ struct Candidate {
   Eigen::MatrixXd information;  ///< its additive term over g
 };
 
-/// Runs `work(i, worker)` for i in [0, count) on `threads` workers; each worker index owns its
-/// scratch. The first exception is rethrown after all workers stop.
-template <typename Work>
-void parallelFor(int count, int threads, Work work) {
-  std::atomic<int> next{0};
-  std::exception_ptr failure;
-  std::mutex failure_mutex;
-  auto run = [&](int worker) {
-    try {
-      for (int i = next++; i < count; i = next++) work(i, worker);
-    } catch (...) {
-      const std::lock_guard lock(failure_mutex);
-      if (!failure) failure = std::current_exception();
-      next = count;
-    }
-  };
-  std::vector<std::thread> pool;
-  for (int w = 1; w < threads; ++w) pool.emplace_back(run, w);
-  run(0);
-  for (std::thread& t : pool) t.join();
-  if (failure) std::rethrow_exception(failure);
-}
-
 class Search {
  public:
   Search(const Plan& plan, const OptimizerOptions& options)
       : plan_(plan), options_(options), space_(plan), start_time_(Clock::now()) {
-    const int hardware = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-    threads_ = options.threads > 0 ? options.threads : hardware;
+    threads_ = threadCount(options.threads, std::numeric_limits<int>::max());
     for (int t = 0; t < threads_; ++t) {
       criteria_.emplace_back(plan, options.criterion, options.smooth_power);
     }

@@ -40,7 +40,7 @@ Eigen::VectorXd randomJoints(const Machine& machine, std::mt19937_64& rng) {
   Eigen::VectorXd q(machine.jointCount());
   for (int i = 0; i < q.size(); ++i) {
     const auto [lo, hi] = machine.joint_limits[static_cast<std::size_t>(i)];
-    q[i] = lo + (hi - lo) * uniform01(rng);
+    q[i] = lo + (hi - lo) * unitUniform(rng);
   }
   return q;
 }

@@ -31,4 +31,11 @@ inline void turnAboutX(Eigen::Matrix3d& R, double angle) {
   R.col(2) = c * z - s * y;
 }
 
+/// The cross-product matrix: skew(v) * w = v x w.
+inline Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
+  Eigen::Matrix3d S;
+  S << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
+  return S;
+}
+
 }  // namespace artcal

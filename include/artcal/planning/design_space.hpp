@@ -76,8 +76,4 @@ class DesignSpace {
   bool has_roll_ = false;
 };
 
-/// Uniform number in [0, 1) from the generator (same on every platform, unlike the std
-/// distributions).
-double uniform01(std::mt19937_64& rng);
-
 }  // namespace artcal
