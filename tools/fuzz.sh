@@ -1,42 +1,22 @@
 #!/usr/bin/env bash
 # Bounded libFuzzer run of the plan and design-spec parsers and the evaluator behind them.
 #   tools/fuzz.sh [SECONDS]   (default 60: both harnesses run side by side for SECONDS each)
-# Builds with clang in build-fuzz/ (-DARTCAL_FUZZ=ON: -fsanitize=fuzzer,address,undefined).
+# Builds the harnesses in the sanitizer build, build-asan/ (tools/setup.sh build_sanitized, shared
+# with tools/sanitize.sh: after it, nothing is rebuilt).
 # The seed corpus is copied at run time from plans/, tests/data/ and tests/data/fuzz-regressions/
 # into a temporary folder. Exit status non-zero on any finding; the crashing input is kept in
-# build-fuzz/findings/ and belongs in tests/data/fuzz-regressions/ with a test in
+# build-asan/findings/ and belongs in tests/data/fuzz-regressions/ with a test in
 # tests/test_hardening.cpp.
 set -euo pipefail
 
 seconds=${1:-60}
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
-build="$root/build-fuzz"
+build="$root/build-asan"
 targets=(fuzz_plan fuzz_spec)
 
-# clang and its libFuzzer runtime (Debian: clang, libclang-rt-14-dev), installed when missing.
-have_libfuzzer() {
-  local probe
-  probe=$(mktemp -d)
-  echo 'extern "C" int LLVMFuzzerTestOneInput(const unsigned char*, unsigned long) { return 0; }' \
-    >"$probe/p.cpp"
-  clang++ -fsanitize=fuzzer,address,undefined "$probe/p.cpp" -o "$probe/p" >/dev/null 2>&1
-  local status=$?
-  rm -rf "$probe"
-  return $status
-}
-if ! command -v clang++ >/dev/null 2>&1 || ! have_libfuzzer; then
-  echo "fuzz.sh: installing clang and libclang-rt-14-dev" >&2
-  apt_get=(apt-get)
-  [ "$(id -u)" -eq 0 ] || apt_get=(sudo apt-get)
-  DEBIAN_FRONTEND=noninteractive "${apt_get[@]}" update -qq >/dev/null
-  DEBIAN_FRONTEND=noninteractive "${apt_get[@]}" install -y -qq clang libclang-rt-14-dev </dev/null >/dev/null
-  have_libfuzzer || { echo "fuzz.sh: no working libFuzzer" >&2; exit 1; }
-fi
-
-cmake -S "$root" -B "$build" -G Ninja -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DARTCAL_FUZZ=ON -DARTCAL_BUILD_TESTS=OFF -DARTCAL_BUILD_BENCHMARKS=OFF >/dev/null
-cmake --build "$build" -j2 --target "${targets[@]}" >"$build/build.log" 2>&1 ||
-  { tail -30 "$build/build.log" >&2; exit 1; }
+cd "$root"
+source tools/setup.sh
+build_sanitized "$build" "${targets[@]}"
 
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT

@@ -43,7 +43,7 @@ build_in() {
   local dir=$1
   shift
   echo "==> building in $dir"
-  cmake -S . -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=Release "$@" >/dev/null
+  cmake -S . -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=Release -DARTCAL_UNITY=ON "$@" >/dev/null
   cmake --build "$dir" -j 2
 }
 
@@ -55,4 +55,43 @@ run_example() {
   echo
   echo "==> artcal evaluate $plan"
   build/tools/artcal evaluate "$plan"
+}
+
+# True when clang++ can build a libFuzzer harness with ASan and UBSan.
+have_libfuzzer() {
+  local probe status
+  probe=$(mktemp -d)
+  echo 'extern "C" int LLVMFuzzerTestOneInput(const unsigned char*, unsigned long) { return 0; }' \
+    >"$probe/p.cpp"
+  clang++ -fsanitize=fuzzer,address,undefined "$probe/p.cpp" -o "$probe/p" >/dev/null 2>&1
+  status=$?
+  rm -rf "$probe"
+  return $status
+}
+
+# clang and its libFuzzer runtime (Debian: clang, libclang-rt-14-dev), installed when missing.
+install_clang_if_missing() {
+  if command -v clang++ >/dev/null 2>&1 && have_libfuzzer; then
+    return 0
+  fi
+  local ARTCAL_PACKAGES=(clang libclang-rt-14-dev)
+  install_missing_packages
+  have_libfuzzer || { echo "error: clang cannot build a libFuzzer harness" >&2; return 1; }
+}
+
+# build_sanitized DIR [TARGET...]: the one instrumented build of the full check, with clang:
+# AddressSanitizer + UndefinedBehaviorSanitizer on the library, the tests and the libFuzzer
+# harnesses (-DARTCAL_FUZZ=ON), -O1 with line tables (quick to build, stack traces with lines).
+# The sanitizer suite (tools/sanitize.sh) and the fuzz run (tools/fuzz.sh) share it.
+build_sanitized() {
+  local dir=$1 target targets=()
+  shift
+  for target in "$@"; do targets+=(--target "$target"); done
+  install_clang_if_missing
+  echo "==> building the sanitizer build in $dir"
+  cmake -S . -B "$dir" -G Ninja -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+    -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -gline-tables-only" -DARTCAL_FUZZ=ON \
+    -DARTCAL_UNITY=ON -DARTCAL_BUILD_BENCHMARKS=OFF >/dev/null
+  cmake --build "$dir" -j 2 "${targets[@]}" >"$dir/build.log" 2>&1 ||
+    { tail -40 "$dir/build.log" >&2; return 1; }
 }
