@@ -15,6 +15,7 @@
 #include "artcal/calibration/calibrator.hpp"
 #include "artcal/calibration/confirmation.hpp"
 #include "artcal/calibration/simulation.hpp"
+#include "test_paths.hpp"
 
 namespace artcal {
 namespace {
@@ -26,7 +27,7 @@ double uniform(std::mt19937_64& rng, double lo, double hi) {
 /// The 6-axis arm of tests/data/ref-aacmm-3bars-3postures.json with `count` random 300 mm bar
 /// placements, each ball read in 3 postures (inverse kinematics at nominal).
 Plan sixAxisPlan(int count) {
-  Plan plan = loadPlan(std::string(ARTCAL_TEST_DATA) + "/ref-aacmm-3bars-3postures.json");
+  Plan plan = loadPlan(test_support::testDataFile("ref-aacmm-3bars-3postures.json"));
   const Artifact& bar = plan.artifacts[0];
   std::mt19937_64 rng(2024);
   std::vector<Placement> placements;
@@ -80,9 +81,9 @@ BENCHMARK(BM_CalibrateSixAxis100Placements)->Unit(benchmark::kMillisecond);
 
 /// plans/paper-2r-20bars.json, or 20 random reachable bars of the seed's arm.
 Plan twentyBarPlan() {
-  const std::string path = std::string(ARTCAL_PLANS_DIR) + "/paper-2r-20bars.json";
+  const std::string path = test_support::planFile("paper-2r-20bars.json");
   if (std::filesystem::exists(path)) return loadPlan(path);
-  Plan plan = loadPlan(std::string(ARTCAL_TEST_DATA) + "/ref-2r-5bars.json");
+  Plan plan = loadPlan(test_support::testDataFile("ref-2r-5bars.json"));
   std::mt19937_64 rng(20);
   std::vector<Placement> placements;
   while (placements.size() < 20) {

@@ -7,12 +7,13 @@
 #include <benchmark/benchmark.h>
 
 #include "artcal/artcal.hpp"
+#include "test_paths.hpp"
 
 namespace artcal {
 namespace {
 
 void Cartesian12Plates2Styli(benchmark::State& state) {
-  Plan plan = loadPlan(std::string(ARTCAL_PLANS_DIR) + "/cmm-plate-3planes-2styli.json");
+  Plan plan = loadPlan(test_support::planFile("cmm-plate-3planes-2styli.json"));
   // Twelve placements: the plan's nine (three per plane) and the first three again.
   for (int j = 0; j < 3; ++j)
     plan.placements.push_back(plan.placements[static_cast<std::size_t>(j)]);

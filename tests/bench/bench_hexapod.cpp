@@ -8,16 +8,17 @@
 #include <benchmark/benchmark.h>
 
 #include "artcal/artcal.hpp"
+#include "test_paths.hpp"
 
 namespace artcal {
 namespace {
 
 Plan hexapodSpec() {
-  return loadPlan(std::string(ARTCAL_PLANS_DIR) + "/hexapod-10bars.spec.json", false);
+  return loadPlan(test_support::planFile("hexapod-10bars.spec.json"), false);
 }
 
 void ForwardWithJacobians(benchmark::State& state) {
-  const Plan plan = loadPlan(std::string(ARTCAL_PLANS_DIR) + "/hexapod-10bars.json");
+  const Plan plan = loadPlan(test_support::planFile("hexapod-10bars.json"));
   std::vector<Eigen::VectorXd> readings;
   for (const Placement& placement : plan.placements)
     for (const Measurement& m : placement.measurements) readings.push_back(m.joints);

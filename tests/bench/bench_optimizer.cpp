@@ -10,11 +10,13 @@
 #include <algorithm>
 #include <random>
 
+#include "test_paths.hpp"
+
 namespace artcal {
 namespace {
 
 Plan spec(const std::string& name) {
-  return loadPlan(std::string(ARTCAL_PLANS_DIR) + "/" + name + ".spec.json", false);
+  return loadPlan(test_support::planFile(name + ".spec.json"), false);
 }
 
 void runOptimizer(benchmark::State& state, const std::string& name, RefineAlgorithm algorithm,

@@ -11,12 +11,13 @@
 
 #include "artcal/artcal.hpp"
 #include "artcal/calibration/calibrator.hpp"
+#include "test_paths.hpp"
 
 namespace artcal {
 namespace {
 
 Plan pandaPlan() {
-  return loadPlan(std::string(ARTCAL_PLANS_DIR) + "/panda-8positions.json");
+  return loadPlan(test_support::planFile("panda-8positions.json"));
 }
 
 void BM_CalibratePanda8Positions(benchmark::State& state) {

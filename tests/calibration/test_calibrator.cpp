@@ -19,12 +19,13 @@
 #include "artcal/report/calibration_report.hpp"
 #include "cli_runner.hpp"
 #include "plan_builders.hpp"
+#include "test_paths.hpp"
 
 namespace artcal {
 namespace {
 
 Plan testPlan(const std::string& name) {
-  return loadPlan(std::string(ARTCAL_TEST_DATA) + "/" + name + ".json");
+  return loadPlan(test_support::testDataFile(name + ".json"));
 }
 
 using test_support::CliRun;
@@ -170,7 +171,7 @@ TEST(LevenbergMarquardt, OptionsAreValidated) {
 
 TEST(Calibrator, MatchesTheReferenceCalibration) {
   const Plan plan = testPlan("ref-2r-calibrate");
-  std::ifstream in(std::string(ARTCAL_TEST_DATA) + "/ref-2r-calibrate.expected.json");
+  std::ifstream in(test_support::testDataFile("ref-2r-calibrate.expected.json"));
   const nlohmann::json expected = nlohmann::json::parse(in);
   const Calibration calibration = calibratePlan(plan);
   ASSERT_TRUE(calibration.summary.converged()) << calibration.summary.briefReport();
@@ -378,7 +379,7 @@ TEST(Calibrator, StandardisedResidualsHaveUnitVariance) {
 // -------------------------------------------------------------------------------------- CLI
 
 TEST(CalibrateCommand, JsonCarriesThePromisedFields) {
-  const std::string plan = std::string(ARTCAL_TEST_DATA) + "/ref-2r-calibrate.json";
+  const std::string plan = test_support::testDataFile("ref-2r-calibrate.json");
   const std::string machine = tempPath("machine.json");
   std::remove(machine.c_str());
   const CliRun result = runCli("calibrate " + plan + " --json --write-machine " + machine);
@@ -407,7 +408,7 @@ TEST(CalibrateCommand, JsonCarriesThePromisedFields) {
 }
 
 TEST(CalibrateCommand, NonConvergenceExitsOneWithoutNaN) {
-  const std::string plan = std::string(ARTCAL_TEST_DATA) + "/ref-2r-calibrate.json";
+  const std::string plan = test_support::testDataFile("ref-2r-calibrate.json");
   const std::string machine = tempPath("unconverged-machine.json");
   std::remove(machine.c_str());
   const CliRun result =
@@ -424,7 +425,7 @@ TEST(CalibrateCommand, NonConvergenceExitsOneWithoutNaN) {
 }
 
 TEST(CalibrateCommand, BadOptionsExitTwo) {
-  const std::string plan = std::string(ARTCAL_TEST_DATA) + "/ref-2r-calibrate.json";
+  const std::string plan = test_support::testDataFile("ref-2r-calibrate.json");
   EXPECT_EQ(runCli("calibrate " + plan + " --max-iterations 0").status, 2);
   EXPECT_EQ(runCli("calibrate " + plan + " --flag-threshold -1").status, 2);
   EXPECT_EQ(runCli("calibrate /nonexistent/plan.json").status, 2);

@@ -8,12 +8,13 @@
 #include <Eigen/Cholesky>
 
 #include "artcal/artcal.hpp"
+#include "test_paths.hpp"
 
 namespace artcal {
 namespace {
 
 Plan cmmPlan() {
-  return loadPlan(std::string(ARTCAL_PLANS_DIR) + "/cmm-plate-3planes-2styli-diagonals.json");
+  return loadPlan(test_support::planFile("cmm-plate-3planes-2styli-diagonals.json"));
 }
 
 // Every calibrated coefficient drawn uniformly within +-3 um (translations) or +-3 um/m

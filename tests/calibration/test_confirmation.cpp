@@ -12,19 +12,20 @@
 #include "artcal/calibration/confirmation.hpp"
 #include "artcal/report/calibration_report.hpp"
 #include "cli_runner.hpp"
+#include "test_paths.hpp"
 
 namespace artcal {
 namespace {
 
 /// The plan in plans/ when present, otherwise its copy in tests/data.
 Plan planOrReference(const std::string& plan_name, const std::string& reference) {
-  const std::string path = std::string(ARTCAL_PLANS_DIR) + "/" + plan_name + ".json";
+  const std::string path = test_support::planFile(plan_name + ".json");
   if (std::filesystem::exists(path)) return loadPlan(path);
-  return loadPlan(std::string(ARTCAL_TEST_DATA) + "/" + reference + ".json");
+  return loadPlan(test_support::testDataFile(reference + ".json"));
 }
 
 Plan testPlan(const std::string& name) {
-  return loadPlan(std::string(ARTCAL_TEST_DATA) + "/" + name + ".json");
+  return loadPlan(test_support::testDataFile(name + ".json"));
 }
 
 ConfirmationOptions options(int trials, std::uint64_t seed, double noise_scale = 1.0) {
@@ -79,9 +80,8 @@ TEST(SampleStatistics, UnbiasedDeviationOnSmallSamples) {
   EXPECT_NEAR(s.deviation[0], std::sqrt(5.0 / 3.0), 1e-15);  // 1.2909944
   EXPECT_EQ(s.deviation[1], 0.0);
   // T = 2: the deviation of {a, b} is |a - b| / sqrt(2).
-  const SampleStatistics two = sampleStatistics({Eigen::VectorXd::Constant(1, 0.5),
-                                                 Eigen::VectorXd::Constant(1, 1.5)},
-                                                1);
+  const SampleStatistics two =
+      sampleStatistics({Eigen::VectorXd::Constant(1, 0.5), Eigen::VectorXd::Constant(1, 1.5)}, 1);
   EXPECT_NEAR(two.deviation[0], 1.0 / std::sqrt(2.0), 1e-15);
   // T = 1 and T = 0: a mean but no spread.
   EXPECT_EQ(sampleStatistics({Eigen::VectorXd::Constant(1, 3.0)}, 1).deviation[0], 0.0);
@@ -156,7 +156,7 @@ using test_support::CliRun;
 using test_support::runCli;
 
 TEST(ConfirmCommand, ExitStatusAndFields) {
-  const std::string plan = std::string(ARTCAL_TEST_DATA) + "/ref-2r-5bars.json";
+  const std::string plan = test_support::testDataFile("ref-2r-5bars.json");
   const CliRun ok = runCli("confirm " + plan + " --trials 200 --seed 1 --json --quiet");
   ASSERT_EQ(ok.status, 0);
   const nlohmann::json out = nlohmann::json::parse(ok.out);

@@ -7,12 +7,13 @@
 #include <random>
 
 #include "artcal/artcal.hpp"
+#include "test_paths.hpp"
 
 namespace artcal {
 namespace {
 
 Plan handMadePlan() {
-  return loadPlan(std::string(ARTCAL_PLANS_DIR) + "/hexapod-10bars.json");
+  return loadPlan(test_support::planFile("hexapod-10bars.json"));
 }
 
 // Forward kinematics from home converges over the whole task-space workspace (4096 probe
@@ -73,7 +74,7 @@ TEST(HexapodCalibration, RecoversSimulatedParametersWithinThreeStandardUncertain
 
 // A reading the forward kinematics cannot solve is bad input, named by its JSON pointer.
 TEST(HexapodPlan, UnsolvableReadingIsAnInputErrorNamingIt) {
-  nlohmann::json doc = readJsonFile(std::string(ARTCAL_PLANS_DIR) + "/hexapod-10bars.json");
+  nlohmann::json doc = readJsonFile(test_support::planFile("hexapod-10bars.json"));
   doc["placements"][2]["measurements"][4]["joints"] = {450, 800, 450, 800, 450, 800};
   try {
     parsePlan(doc, "broken.json");

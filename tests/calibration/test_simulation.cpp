@@ -12,16 +12,17 @@
 #include "artcal/calibration/simulation.hpp"
 #include "artcal/io/truth_io.hpp"
 #include "cli_runner.hpp"
+#include "test_paths.hpp"
 
 namespace artcal {
 namespace {
 
 Plan testPlan(const std::string& name) {
-  return loadPlan(std::string(ARTCAL_TEST_DATA) + "/" + name + ".json");
+  return loadPlan(test_support::testDataFile(name + ".json"));
 }
 
 std::string dataPath(const std::string& name) {
-  return std::string(ARTCAL_TEST_DATA) + "/" + name + ".json";
+  return test_support::testDataFile(name + ".json");
 }
 
 std::string tempPath(const std::string& name) {

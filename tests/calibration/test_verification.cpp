@@ -9,12 +9,13 @@
 #include "artcal/artcal.hpp"
 #include "artcal/calibration/verification.hpp"
 #include "cli_runner.hpp"
+#include "test_paths.hpp"
 
 namespace artcal {
 namespace {
 
 Plan serialPlan() {
-  return loadPlan(std::string(ARTCAL_PLANS_DIR) + "/aacmm-6axis-3bars.json");
+  return loadPlan(test_support::planFile("aacmm-6axis-3bars.json"));
 }
 
 /// A true machine: nominal plus a few-standard-uncertainty perturbation of every calibrated
@@ -111,7 +112,7 @@ TEST(Verification, PredictedSpreadMatchesMonteCarlo) {
 }
 
 TEST(Verification, CommandLineReadsTheCovarianceOfCalibrate) {
-  const std::string plan = std::string(ARTCAL_PLANS_DIR) + "/aacmm-6axis-3bars.json";
+  const std::string plan = test_support::planFile("aacmm-6axis-3bars.json");
   const std::string machine = ::testing::TempDir() + "/verify-machine.json";
   ASSERT_EQ(test_support::runCli("calibrate " + plan + " --write-machine " + machine).status, 0);
   const auto run = test_support::runCli("verify --json " + plan + " --machine " + machine);

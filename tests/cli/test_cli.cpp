@@ -14,6 +14,8 @@
 #include <string>
 #include <vector>
 
+#include "test_paths.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -59,7 +61,7 @@ class Cli : public ::testing::Test {
     return path;
   }
   static std::string data(const std::string& name) {
-    return std::string(ARTCAL_TEST_DATA) + "/" + name + ".json";
+    return artcal::test_support::testDataFile(name + ".json");
   }
   static json readJson(const std::string& path) { return json::parse(readText(path)); }
 
@@ -109,7 +111,7 @@ TEST_F(Cli, EvaluateJsonCarriesTheReferenceFigures) {
   const Outcome r = run("evaluate --json '" + data("ref-2r-5bars") + "'");
   EXPECT_EQ(r.status, 0) << r.err;
   const json out = json::parse(r.out);
-  const json expected = readJson(std::string(ARTCAL_TEST_DATA) + "/ref-2r-5bars.expected.json");
+  const json expected = readJson(artcal::test_support::testDataFile("ref-2r-5bars.expected.json"));
   ASSERT_EQ(out["parameters"].size(), 3u);
   for (std::size_t i = 0; i < 3; ++i) {
     const json& p = out["parameters"][i];

@@ -21,6 +21,7 @@
 
 #include "artcal/artcal.hpp"
 #include "artcal/calibration/calibrator.hpp"
+#include "test_paths.hpp"
 
 namespace artcal {
 namespace {
@@ -61,7 +62,7 @@ void writeText(const std::string& path, const std::string& text) {
 }
 
 std::string testData(const std::string& name) {
-  return std::string(ARTCAL_TEST_DATA) + "/" + name;
+  return test_support::testDataFile(name);
 }
 
 json readJson(const std::string& path) {
@@ -669,7 +670,7 @@ pid_t startCli(const std::vector<std::string>& arguments) {
 /// The example plan's placements repeated to `count`: a simulation that runs for a while and
 /// writes a few MB.
 std::string largeSimulationPlan(int count) {
-  json plan = readJson(std::string(ARTCAL_PLANS_DIR) + "/paper-2r-5bars.json");
+  json plan = readJson(test_support::planFile("paper-2r-5bars.json"));
   const json placements = plan["placements"];
   plan["placements"] = json::array();
   for (int i = 0; i < count; ++i) plan["placements"].push_back(placements[i % placements.size()]);
@@ -749,7 +750,7 @@ std::string writeTruth(const TempDir& dir) {
 std::vector<std::pair<std::string, std::string>> writingCommands(const TempDir& dir) {
   const std::string plan = "'" + testData("ref-2r-5bars.json") + "'";
   const std::string calibration = "'" + testData("ref-2r-calibrate.json") + "'";
-  const std::string spec = "'" + std::string(ARTCAL_PLANS_DIR) + "/seed-2r-5bars.spec.json'";
+  const std::string spec = "'" + test_support::planFile("seed-2r-5bars.spec.json'");
   return {{"simulate", "simulate " + plan + " --truth '" + writeTruth(dir) + "' -o "},
           {"optimize", "optimize " + spec + " --quiet --starts 1 --pool 40 --evaluations 20 -o "},
           {"report", "report " + plan + " -o "},

@@ -14,6 +14,7 @@
 
 #include "artcal/artcal.hpp"
 #include "cli_runner.hpp"
+#include "test_paths.hpp"
 
 namespace artcal {
 namespace {
@@ -135,7 +136,7 @@ TEST(OtherRobot, Ur5FromItsUrdfCalibratedAndVerifiedWithTheSameCommands) {
   const fs::path scratch = fs::temp_directory_path() / ("artcal-ur5-" + std::to_string(::getpid()));
   fs::remove_all(scratch);
   fs::create_directories(scratch);
-  const std::string urdf = std::string(ARTCAL_TEST_DATA) + "/urdf/ur5-ball.urdf";
+  const std::string urdf = test_support::testDataFile("urdf/ur5-ball.urdf");
   const std::string machine = (scratch / "machine.json").string();
   ASSERT_EQ(
       runCli("import-urdf " + urdf + " --base base_link --tip ball_link -o " + machine).status, 0);

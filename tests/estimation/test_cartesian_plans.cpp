@@ -9,6 +9,7 @@
 #include "artcal/artcal.hpp"
 #include "artcal/model/cartesian.hpp"
 #include "artcal/report/cartesian_report.hpp"
+#include "test_paths.hpp"
 
 namespace artcal {
 namespace {
@@ -31,7 +32,7 @@ double referenceInternal(const std::string& name, double value) {
 }
 
 TEST(CartesianReference, PlateInThreePlanesWithTwoStyliAndDiagonals) {
-  const std::string base = std::string(ARTCAL_TEST_DATA) + "/ref-cartesian-plate";
+  const std::string base = test_support::testDataFile("ref-cartesian-plate");
   const Plan plan = loadPlan(base + ".json");
   const nlohmann::json expected = readJson(base + ".expected.json");
   const Evaluation ev = evaluatePlan(plan);
@@ -65,7 +66,7 @@ TEST(CartesianReference, PlateInThreePlanesWithTwoStyliAndDiagonals) {
 }
 
 Plan examplePlan(const std::string& name) {
-  return loadPlan(std::string(ARTCAL_PLANS_DIR) + "/" + name + ".json");
+  return loadPlan(test_support::planFile(name + ".json"));
 }
 
 // One stylus on the ram's axis: every frame rotation is absorbed by the placements, and the

@@ -11,6 +11,7 @@
 
 #include "artcal/artcal.hpp"
 #include "plan_builders.hpp"
+#include "test_paths.hpp"
 
 namespace artcal {
 namespace {
@@ -302,7 +303,7 @@ void expectKinematicVarianceMatchesDirectTrace(const Machine& machine, const Noi
 TEST(TipEvaluator, FactoredFormOfACartesianCmmMatchesTheDirectTrace) {
   // Degree 3, 50 calibrated coefficients: the Jacobians are polynomials of the three readings and
   // span few matrices, so the factored form is used (r^2 well below 3 x 50^2).
-  const Plan plan = loadPlan(std::string(ARTCAL_PLANS_DIR) + "/cmm-plate-3planes-2styli.json");
+  const Plan plan = loadPlan(test_support::planFile("cmm-plate-3planes-2styli.json"));
   ASSERT_GT(plan.machine.calibratedCount(), 40);
   WorkspaceSpec spec;
   spec.samples = 1000;

@@ -10,6 +10,7 @@
 
 #include "artcal/artcal.hpp"
 #include "rank_plans.hpp"
+#include "test_paths.hpp"
 
 namespace artcal {
 namespace {
@@ -205,7 +206,7 @@ TEST(CalibrateIdentifiable, DegenerateRingKeepsOneParameter) {
 }
 
 TEST(CalibrateIdentifiable, ParsedFromThePlanFile) {
-  const std::string path = std::string(ARTCAL_TEST_DATA) + "/ref-aacmm-3bars-3postures.json";
+  const std::string path = test_support::testDataFile("ref-aacmm-3bars-3postures.json");
   nlohmann::json doc = readJsonFile(path);
   doc["machine"]["calibrate"] = "identifiable";
   const Plan plan = parsePlan(doc, path, true);

@@ -5,17 +5,18 @@
 #include <fstream>
 
 #include "artcal/artcal.hpp"
+#include "test_paths.hpp"
 
 namespace artcal {
 namespace {
 
 nlohmann::json readExpected(const std::string& name) {
-  std::ifstream in(std::string(ARTCAL_TEST_DATA) + "/" + name + ".expected.json");
+  std::ifstream in(test_support::testDataFile(name + ".expected.json"));
   return nlohmann::json::parse(in);
 }
 
 Plan readPlan(const std::string& name) {
-  return loadPlan(std::string(ARTCAL_TEST_DATA) + "/" + name + ".json");
+  return loadPlan(test_support::testDataFile(name + ".json"));
 }
 
 void expectRelative(double actual, double expected, double tolerance, const std::string& what) {

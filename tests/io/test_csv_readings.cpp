@@ -13,6 +13,7 @@
 #include "artcal/artcal.hpp"
 #include "artcal/io/csv_readings.hpp"
 #include "cli_runner.hpp"
+#include "test_paths.hpp"
 
 namespace artcal {
 namespace {
@@ -41,7 +42,7 @@ class CsvFolder : public ::testing::Test {
 
 /// The 6-axis example plan with its readings.
 json examplePlan() {
-  std::ifstream in(std::string(ARTCAL_PLANS_DIR) + "/aacmm-6axis-3bars.json");
+  std::ifstream in(test_support::planFile("aacmm-6axis-3bars.json"));
   return json::parse(in);
 }
 

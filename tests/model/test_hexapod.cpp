@@ -19,6 +19,7 @@
 #include "artcal/report/html_report.hpp"
 #include "artcal/report/report.hpp"
 #include "finite_difference.hpp"
+#include "test_paths.hpp"
 
 namespace artcal {
 namespace {
@@ -236,7 +237,7 @@ ViewScale fitView(const std::vector<Eigen::Vector2d>& mm, const std::vector<Eige
 // reading, the platform joints are a rigid copy of the file's (pairwise distances), and the
 // probe lies |probe| from the platform centre. Pixels are written to 0.1 px (~0.2 mm here).
 TEST(HexapodLayout, LegsAndPlatformAtEveryReadingInPlanAndSideViews) {
-  const std::string path = std::string(ARTCAL_TEST_DATA) + "/ref-hexapod-6bars.json";
+  const std::string path = test_support::testDataFile("ref-hexapod-6bars.json");
   const Plan plan = loadPlan(path);
   const nlohmann::json file = readJsonFile(path);
   const nlohmann::json& machine = file.at("machine");

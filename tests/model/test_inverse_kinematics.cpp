@@ -9,6 +9,7 @@
 #include "artcal/artcal.hpp"
 #include "artcal/model/inverse_kinematics.hpp"
 #include "artcal/planning/design_space.hpp"
+#include "test_paths.hpp"
 
 namespace artcal {
 namespace {
@@ -29,8 +30,7 @@ Plan planar2rPlan(const nlohmann::json& limits) {
 
 // The 6-axis arm of the reference case, optionally with the joint limits given (deg).
 Plan aacmmPlan(const nlohmann::json* limits = nullptr) {
-  nlohmann::json doc =
-      readJsonFile(std::string(ARTCAL_TEST_DATA) + "/ref-aacmm-3bars-3postures.json");
+  nlohmann::json doc = readJsonFile(test_support::testDataFile("ref-aacmm-3bars-3postures.json"));
   doc.erase("placements");
   if (limits) doc["machine"]["joint_limits"] = *limits;
   return parsePlan(doc, "aacmm", false);

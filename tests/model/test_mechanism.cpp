@@ -8,6 +8,7 @@
 
 #include "artcal/artcal.hpp"
 #include "finite_difference.hpp"
+#include "test_paths.hpp"
 
 namespace artcal {
 namespace {
@@ -134,7 +135,7 @@ TEST(SerialDH, JacobiansMatchFiniteDifferencesMixedJoints) {
 }
 
 TEST(SerialDH, JacobiansMatchFiniteDifferencesSixAxisArm) {
-  const Plan plan = loadPlan(std::string(ARTCAL_TEST_DATA) + "/ref-aacmm-3bars-3postures.json");
+  const Plan plan = loadPlan(test_support::testDataFile("ref-aacmm-3bars-3postures.json"));
   checkJacobians(*plan.machine.mechanism, plan.machine.nominal,
                  randomConfigurations(6, 8, 3, std::numbers::pi));
 }

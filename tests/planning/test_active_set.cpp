@@ -13,6 +13,7 @@
 #include "artcal/artcal.hpp"
 #include "artcal/planning/design_space.hpp"
 #include "artcal/planning/optimizer.hpp"
+#include "test_paths.hpp"
 
 namespace artcal {
 namespace {
@@ -25,7 +26,7 @@ double worstTipOf(Plan plan, const std::vector<Placement>& placements) {
 }
 
 TEST(ActiveSet, BoundsGFromBelowAndEqualsItWhereActivated) {
-  const Plan spec = loadPlan(std::string(ARTCAL_PLANS_DIR) + "/seed-2r-5bars.spec.json",
+  const Plan spec = loadPlan(test_support::planFile("seed-2r-5bars.spec.json"),
                              /*require_placements=*/false);
   DesignSpace space(spec);
   DesignCriterion criterion(spec, Criterion::WorstTip);

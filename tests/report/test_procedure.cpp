@@ -12,6 +12,7 @@
 
 #include "artcal/io/plan_io.hpp"
 #include "cli_runner.hpp"
+#include "test_paths.hpp"
 
 namespace artcal {
 namespace {
@@ -128,7 +129,7 @@ TEST(Procedure, EveryReadingOfEveryPlanLandsOnItsPlacedFeature) {
 
 TEST(Procedure, PosturesCountTheReadingsOfEachFeature) {
   // The 6-axis arm reads each ball of each bar in 3 postures: 0, 1, 2 per feature.
-  const std::string path = std::string(ARTCAL_PLANS_DIR) + "/aacmm-6axis-3bars.json";
+  const std::string path = test_support::planFile("aacmm-6axis-3bars.json");
   const json procedure = json::parse(runCli("procedure --json " + path).out);
   for (const json& placement : procedure.at("placements")) {
     std::map<int, std::vector<int>> postures;
@@ -141,7 +142,7 @@ TEST(Procedure, PosturesCountTheReadingsOfEachFeature) {
 }
 
 TEST(Procedure, CsvHasOneRowPerReadingWithUnitsInTheHeader) {
-  const std::string path = std::string(ARTCAL_PLANS_DIR) + "/paper-2r-5bars.json";
+  const std::string path = test_support::planFile("paper-2r-5bars.json");
   const auto run = runCli("procedure --csv " + path);
   ASSERT_EQ(run.status, 0);
   std::istringstream lines(run.out);

@@ -21,6 +21,7 @@
 #include "artcal/artcal.hpp"
 #include "artcal/model/cartesian.hpp"
 #include "artcal/report/cartesian_report.hpp"
+#include "test_paths.hpp"
 
 namespace artcal {
 namespace {
@@ -340,9 +341,7 @@ class ReportCli : public ::testing::Test {
     return r;
   }
 
-  static std::string data(const std::string& name) {
-    return std::string(ARTCAL_TEST_DATA) + "/" + name;
-  }
+  static std::string data(const std::string& name) { return test_support::testDataFile(name); }
 
   fs::path dir_;
 };
@@ -668,7 +667,7 @@ TEST_F(ReportCli, CalibrationOnlyWhenAskedOrSimulated) {
 /// A planar 2R plan with `count` ball-bar placements spread over the reach annulus, readings by
 /// inverse kinematics (fixed seed).
 json largePlan(int count) {
-  json plan = json::parse(std::ifstream(std::string(ARTCAL_TEST_DATA) + "/ref-2r-5bars.json"));
+  json plan = json::parse(std::ifstream(test_support::testDataFile("ref-2r-5bars.json")));
   Eigen::VectorXd p(3);
   p << 150.0, 100.0, 0.0;
   std::mt19937_64 rng(42);
@@ -713,7 +712,7 @@ TEST_F(ReportCli, ThousandPlacementReportStaysUnderTwoMegabytes) {
 // from tipUncertainty, and the encoders' share against its closed form s_q sqrt(rho^2 + l2^2)
 // (method.md section 8). Swapping the kinematic and encoder columns fails.
 TEST(ProfileJson, ColumnsAreTheTipFiguresAtTheSameConfigurations) {
-  const Plan plan = loadPlan(std::string(ARTCAL_PLANS_DIR) + "/paper-2r-5bars.json");
+  const Plan plan = loadPlan(test_support::planFile("paper-2r-5bars.json"));
   const Evaluation ev = evaluatePlan(plan);
   ASSERT_TRUE(ev.covariance);
   const json profile = evaluationToJson(plan, ev).at("profile");
@@ -775,7 +774,7 @@ double legendreExplicit(int n, double s) {
 }
 
 struct CmmCurvesCase {
-  Plan plan = loadPlan(std::string(ARTCAL_PLANS_DIR) + "/cmm-plate-3planes.json");
+  Plan plan = loadPlan(test_support::planFile("cmm-plate-3planes.json"));
   const Cartesian& cmm = *cartesianOf(plan);
   Eigen::MatrixXd V;
   Eigen::VectorXd estimate, truth;

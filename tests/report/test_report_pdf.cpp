@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_runner.hpp"
+#include "test_paths.hpp"
 
 namespace artcal {
 namespace {
@@ -75,7 +76,7 @@ void expectPrintedReport(const std::string& name) {
   if (!haveProgram("pdftotext") || !haveProgram("pdfinfo")) {
     GTEST_SKIP() << "pdftotext/pdfinfo are not installed (Debian package poppler-utils)";
   }
-  const std::string plan = std::string(ARTCAL_PLANS_DIR) + "/" + name + ".json";
+  const std::string plan = test_support::planFile(name + ".json");
   const fs::path folder =
       fs::temp_directory_path() / ("artcal-pdf-" + std::to_string(getpid()) + "-" + name);
   const Pdf pdf = renderReport(plan, folder);

@@ -9,11 +9,12 @@
 #include <string>
 
 #include "artcal/artcal.hpp"
+#include "test_paths.hpp"
 
 namespace artcal::testing {
 
 inline Plan loadTestPlan(const std::string& name) {
-  return loadPlan(std::string(ARTCAL_TEST_DATA) + "/" + name + ".json");
+  return loadPlan(test_support::testDataFile(name + ".json"));
 }
 
 inline double uniform(std::mt19937_64& rng, double lo, double hi) {
