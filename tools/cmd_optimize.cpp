@@ -46,7 +46,7 @@ OptimizerOptions optionsFrom(const Plan& plan, const OptimizeArguments& args) {
   if (args.time_limit) options.time_limit = *args.time_limit;
   if (args.seed) options.seed = static_cast<std::uint64_t>(*args.seed);
   options.threads = args.threads;
-  options.pool_size = args.pool;
+  if (args.pool > 0) options.pool_size = args.pool;
   options.refine_evaluations = args.evaluations;
   options.algorithm = *refineAlgorithmFromName(args.algorithm);
   if (!args.quiet && isatty(STDERR_FILENO)) {
@@ -246,7 +246,8 @@ void addOptimizeCommand(CLI::App& app, Action& action) {
   cmd->add_option("--threads", args->threads, "worker threads; 0: all cores")
       ->check(CLI::Range(0, 256))
       ->capture_default_str();
-  cmd->add_option("--pool", args->pool, "candidate placements; 0: automatic")
+  cmd->add_option("--pool", args->pool,
+                  "candidate placements (overrides design.pool); 0: design.pool or automatic")
       ->check(CLI::Range(0, 100000))
       ->capture_default_str();
   cmd->add_option("--evaluations", args->evaluations,

@@ -64,9 +64,7 @@ int runPlacementSweep(const nlohmann::json& document, const Plan& spec,
   sweep_options.optimizer = options;
   sweep_options.optimizer.progress = nullptr;
   if (args.target) sweep_options.target = *args.target;
-  if (!sweep_options.target && document.at("design").contains("target_tip")) {
-    sweep_options.target = document["design"]["target_tip"].get<double>();
-  }
+  if (!sweep_options.target) sweep_options.target = spec.design->target_tip;
   if (options.progress) {
     sweep_options.progress = [](int m, double value) {
       std::cerr << "optimize --placements: m = " << m << ", G " << value * 1e3 << " um\n";

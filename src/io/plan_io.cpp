@@ -457,7 +457,7 @@ Eigen::VectorXd parseJointMargin(const std::optional<Node>& node, const Machine&
 DesignSpec parseDesign(const Node& node, const Plan& plan, std::vector<std::string>& warnings) {
   node.object();
   node.warnUnknown({"artifact", "placements", "postures", "region", "criterion", "seed", "starts",
-                    "time_limit", "joint_margin"},
+                    "time_limit", "joint_margin", "pool", "target_tip"},
                    warnings);
   DesignSpec design;
   const Node artifact = node.at("artifact");
@@ -471,6 +471,8 @@ DesignSpec parseDesign(const Node& node, const Plan& plan, std::vector<std::stri
     design.seed = static_cast<std::uint64_t>(v->integer(0, std::numeric_limits<long>::max()));
   if (const auto v = node.find("starts")) design.starts = static_cast<int>(v->integer(1, 10'000));
   if (const auto v = node.find("time_limit")) design.time_limit = v->positive();
+  if (const auto v = node.find("pool")) design.pool = static_cast<int>(v->integer(1, 100'000));
+  if (const auto v = node.find("target_tip")) design.target_tip = v->positive();
   design.joint_margin = parseJointMargin(node.find("joint_margin"), plan.machine);
   return design;
 }

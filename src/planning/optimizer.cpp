@@ -87,6 +87,7 @@ OptimizerOptions OptimizerOptions::fromDesign(const DesignSpec& design) {
   options.seed = design.seed;
   options.starts = design.starts;
   options.time_limit = design.time_limit;
+  options.pool_size = design.pool;
   return options;
 }
 

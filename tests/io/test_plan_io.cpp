@@ -84,6 +84,8 @@ TEST(PlanIo, ValidPlanReadInInternalUnits) {
   EXPECT_EQ(plan.workspace.samples, 64);
   ASSERT_TRUE(plan.design);
   EXPECT_EQ(plan.design->placements, 5);
+  EXPECT_EQ(plan.design->pool, 0);  // automatic
+  EXPECT_FALSE(plan.design->target_tip);
   EXPECT_TRUE(plan.warnings.empty());
 
   const Plan arm = parsePlan(serialPlan(), "arm.json");
@@ -93,6 +95,19 @@ TEST(PlanIo, ValidPlanReadInInternalUnits) {
   EXPECT_DOUBLE_EQ(arm.placements[0].measurements[1].joints[1], 200.0);
   EXPECT_EQ(arm.machine.calibratedCount(), 4 * 2 + 3);  // default: all
   EXPECT_EQ(workspaceConfigurations(arm.machine, arm.workspace).size(), 15u);
+}
+
+// design.pool and design.target_tip (mm), the optional effort and sweep fields of a spec.
+TEST(PlanIo, DesignPoolAndTargetTipRead) {
+  json doc = planarPlan();
+  doc["design"]["pool"] = 450;
+  doc["design"]["target_tip"] = 0.0105;
+  const Plan plan = parsePlan(doc, "spec.json");
+  ASSERT_TRUE(plan.design);
+  EXPECT_EQ(plan.design->pool, 450);
+  ASSERT_TRUE(plan.design->target_tip);
+  EXPECT_DOUBLE_EQ(*plan.design->target_tip, 0.0105);
+  EXPECT_EQ(OptimizerOptions::fromDesign(*plan.design).pool_size, 450);
 }
 
 // machine.prior: defaults by kind (mm, deg), a named parameter in its own file unit, written back.
@@ -124,8 +139,7 @@ TEST(PlanIo, UnknownFieldsAreErrorsWithDidYouMean) {
     FAIL() << "expected an InputError";
   } catch (const InputError& e) {
     EXPECT_EQ(e.pointer(), "/noise/probbe");
-    EXPECT_NE(std::string(e.what()).find("did you mean \"probe\"?"), std::string::npos)
-        << e.what();
+    EXPECT_NE(std::string(e.what()).find("did you mean \"probe\"?"), std::string::npos) << e.what();
   }
   json extended = planarPlan();
   extended["x-lab"] = {{"operator", "K. T."}};
@@ -455,11 +469,18 @@ std::vector<BadRow> badRows() {
       {"design time_limit zero",
        [] { return withPlanar([](json& d) { d["design"]["time_limit"] = 0; }); },
        "/design/time_limit", "must be positive"},
+      {"design pool zero", [] { return withPlanar([](json& d) { d["design"]["pool"] = 0; }); },
+       "/design/pool", "at least 1"},
+      {"design target_tip negative",
+       [] { return withPlanar([](json& d) { d["design"]["target_tip"] = -0.01; }); },
+       "/design/target_tip", "must be positive"},
       {"design joint_margin negative",
        [] { return withPlanar([](json& d) { d["design"]["joint_margin"] = -1; }); },
        "/design/joint_margin", "must not be negative"},
       {"design joint_margin per joint wrong count",
-       [] { return withPlanar([](json& d) { d["design"]["joint_margin"] = {1, 2, 3}; }); },
+       [] { return withPlanar([](json& d) {
+              d["design"]["joint_margin"] = {1, 2, 3};
+            }); },
        "/design/joint_margin", "expected 2 numbers, got 3"},
       {"design joint_margin leaves no range",
        [] { return withPlanar([](json& d) { d["design"]["joint_margin"] = 175; }); },
@@ -491,9 +512,9 @@ std::vector<BadRow> badRows() {
        },
        "/placements/0", "check the units"},
       {"pose 5 m away",
-       [] {
-         return withPlanar([](json& d) { d["placements"][0]["pose"]["center"] = {5000, 0}; });
-       },
+       [] { return withPlanar([](json& d) {
+              d["placements"][0]["pose"]["center"] = {5000, 0};
+            }); },
        "/placements/0/pose", "check the pose"},
   };
 }

@@ -20,6 +20,7 @@
 #include "artcal/planning/design_space.hpp"
 #include "artcal/planning/optimizer.hpp"
 #include "cli_runner.hpp"
+#include "test_paths.hpp"
 
 namespace artcal {
 namespace {
@@ -48,8 +49,7 @@ nlohmann::json seedSpec(int placements, const nlohmann::json& region) {
 }
 
 nlohmann::json aacmmSpec(int placements) {
-  nlohmann::json doc =
-      readJsonFile(std::string(ARTCAL_TEST_DATA) + "/ref-aacmm-3bars-3postures.json");
+  nlohmann::json doc = readJsonFile(test_support::testDataFile("ref-aacmm-3bars-3postures.json"));
   doc.erase("placements");
   doc["workspace"] = {{"samples", 64}, {"seed", 2}};
   doc["design"] = {{"artifact", "bar"}, {"placements", placements},
@@ -292,7 +292,7 @@ TEST(Optimizer, SerialArmResultIsFeasible) {
 TEST(OptimizedPlans, ReadingsFeasibleAndPredictedReproduced) {
   for (const char* name : {"seed-2r-5bars", "seed-2r-20bars", "aacmm-4bars-3postures"}) {
     SCOPED_TRACE(name);
-    const std::string path = std::string(ARTCAL_PLANS_DIR) + "/" + name + "-optimized.json";
+    const std::string path = test_support::planFile(std::string(name) + "-optimized.json");
     const nlohmann::json document = readJsonFile(path);
     const Plan plan = parsePlan(document, path);
     ASSERT_TRUE(plan.design.has_value());
@@ -309,10 +309,10 @@ TEST(OptimizedPlans, ReadingsFeasibleAndPredictedReproduced) {
     nlohmann::json spec = document;
     spec.erase("placements");
     spec.erase("predicted");
-    EXPECT_EQ(spec, readJsonFile(std::string(ARTCAL_PLANS_DIR) + "/" + name + ".spec.json"));
+    EXPECT_EQ(spec, readJsonFile(test_support::planFile(std::string(name) + ".spec.json")));
   }
   // Issue 3's target for the seed's arm, 5 bars: 11.6 um or less.
-  const Plan five = loadPlan(std::string(ARTCAL_PLANS_DIR) + "/seed-2r-5bars-optimized.json");
+  const Plan five = loadPlan(test_support::planFile("seed-2r-5bars-optimized.json"));
   EXPECT_LE(evaluatePlan(five).tip->worst.total, 0.0116);
 }
 
@@ -381,6 +381,25 @@ TEST_F(OptimizeCli, NoProgressLineWhenStderrIsNotATerminal) {
   const nlohmann::json out = nlohmann::json::parse(run.out);
   EXPECT_EQ(out["plan"], path("plan.json"));
   EXPECT_EQ(out["optimization"]["starts_done"], 4);
+}
+
+// design.pool and design.target_tip of a spec are used (a sweep names the smallest count reaching
+// the target; --pool and --target-tip would override them).
+TEST_F(OptimizeCli, SpecsPoolAndTargetTipAreUsed) {
+  nlohmann::json doc = seedSpec(3, {{"reach", {55, 245}}});
+  doc["design"]["pool"] = 40;
+  doc["design"]["target_tip"] = 0.5;  // mm: every count reaches it
+  const std::string spec = write("spec.json", doc);
+  CliRun run =
+      runCli("optimize " + spec + " -o " + path("plan.json") + " --evaluations 100 --quiet --json");
+  ASSERT_EQ(run.status, 0) << run.out;
+  EXPECT_EQ(nlohmann::json::parse(run.out)["optimization"]["pool"], 40);
+  run = runCli("optimize " + spec + " --placements 3..4 -o " + path("sweep") +
+               " --evaluations 100 --quiet");
+  ASSERT_EQ(run.status, 0) << run.out;
+  const nlohmann::json summary = readJsonFile(path("sweep/summary.json"));
+  EXPECT_DOUBLE_EQ(summary["target_tip"].get<double>(), 0.5);
+  EXPECT_EQ(summary["smallest_reaching"], 3);
 }
 
 TEST_F(OptimizeCli, SameSeedSameFileWhateverTheThreads) {

@@ -78,6 +78,11 @@ struct DesignSpec {
   std::uint64_t seed = 1;
   int starts = 16;
   double time_limit = 60.0;  ///< s
+  /// Candidate placements of the exchange (`design.pool`); 0: automatic (30 per placement,
+  /// 120 .. 600).
+  int pool = 0;
+  /// `design.target_tip` (mm): with `optimize --placements`, the criterion value to reach.
+  std::optional<double> target_tip;
   /// How far inside the joint limits every planned reading stays, per joint (rad or mm):
   /// `design.joint_margin` (deg for revolute, mm for prismatic joints), default 2 deg / 1 mm, so
   /// that a machine a little off nominal still reaches every planned point (docs/plan-format.md).
