@@ -6,7 +6,7 @@
 # The seed corpus is copied at run time from plans/, tests/data/ and tests/data/fuzz-regressions/
 # into a temporary folder. Exit status non-zero on any finding; the crashing input is kept in
 # build-asan/findings/ and belongs in tests/data/fuzz-regressions/ with a test in
-# tests/test_hardening.cpp.
+# tests/cli/test_hardening.cpp.
 set -euo pipefail
 
 seconds=${1:-60}

@@ -56,8 +56,6 @@ class TipEvaluator {
 
   int size() const { return static_cast<int>(configurations_.size()); }
   const std::vector<Eigen::VectorXd>& configurations() const { return configurations_; }
-  /// J_p stacked: (dimension * size) x N(p), configuration g in rows [g*dim, (g+1)*dim).
-  const Eigen::MatrixXd& stackedJacobian() const { return J_p_; }
   /// r, the number of basis matrices of the factored form (above); 0 when it is not used.
   int factorRank() const { return static_cast<int>(factor_coefficients_.rows()); }
   /// S_q^2 per configuration.
