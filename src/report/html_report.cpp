@@ -143,11 +143,43 @@ GridMap binLargest(const std::vector<Eigen::Vector2d>& points, const std::vector
   return grid;
 }
 
+/// A planar arm's S depends on the reach alone (docs/method.md section 4: a turn of the whole
+/// arm is a rigid motion the placements absorb), and the profile gives it against reach: the map
+/// is drawn from the profile, each cell of a grid over the reach disc coloured by S at its centre's
+/// reach (linear between profile rows), smooth and without holes where no sample fell.
+GridMap reachProfileMap(const json& profile, int cells_across) {
+  std::vector<std::pair<double, double>> rows;  // reach mm, S um
+  for (const json& p : profile) {
+    rows.emplace_back(p.at("reach").get<double>(), p.at("total").get<double>() * 1e3);
+  }
+  std::sort(rows.begin(), rows.end());
+  GridMap grid;
+  if (rows.size() < 2) return grid;
+  const double r_min = rows.front().first, r_max = rows.back().first;
+  grid.origin = Eigen::Vector2d::Constant(-r_max);
+  grid.cell = 2.0 * r_max / cells_across;
+  for (int i = 0; i < cells_across; ++i) {
+    for (int j = 0; j < cells_across; ++j) {
+      const double r = (grid.origin + grid.cell * Eigen::Vector2d(i + 0.5, j + 0.5)).norm();
+      if (r < r_min || r > r_max) continue;
+      const auto above =
+          std::upper_bound(rows.begin(), rows.end(), std::make_pair(r, 0.0),
+                           [](const auto& a, const auto& b) { return a.first < b.first; });
+      const auto& hi = above == rows.end() ? rows.back() : *above;
+      const auto& lo = above == rows.begin() ? rows.front() : *(above - 1);
+      const double t = hi.first > lo.first ? (r - lo.first) / (hi.first - lo.first) : 0.0;
+      grid.largest[{i, j}] = lo.second + t * (hi.second - lo.second);
+    }
+  }
+  return grid;
+}
+
 void drawGrid(svg::Plot& plot, const GridMap& grid, double lo, double hi, bool coloured) {
   for (const auto& [key, value] : grid.largest) {
     const Eigen::Vector2d a = grid.origin + grid.cell * Eigen::Vector2d(key.first, key.second);
     const double t = hi > lo ? (value - lo) / (hi - lo) : 0.5;
-    plot.cell(a, a + Eigen::Vector2d::Constant(grid.cell), coloured ? svg::viridis(t) : "#e4e4e4");
+    plot.cell(a, a + Eigen::Vector2d::Constant(grid.cell), coloured ? svg::viridis(t) : "#e4e4e4",
+              {{"class", "map-cell"}});
   }
 }
 
@@ -286,14 +318,27 @@ ReportFigure tipMapFigure(const ReportInput& in, const std::vector<double>& tota
                                                : "Tip uncertainty S, plan view (XY)",
                  "x / mm", side ? "z / mm" : "y / mm", 640.0, 460.0);
   plot.setEqualAspect(true);
-  const auto [lo, hi] = std::minmax_element(totals_um.begin(), totals_um.end());
-  plot.setColourBar(*lo, *hi, std::string("largest S in the cell / ") + kMicro);
+  const auto [lowest, highest] = std::minmax_element(totals_um.begin(), totals_um.end());
+  double lo = *lowest, hi = *highest;
   const auto points = projectedWorkspace(plan.machine, in.evaluation.workspace, view);
-  if (points.size() > kFewPoints) {
-    drawGrid(plot, binLargest(points, totals_um, 48), *lo, *hi, true);
+  const bool from_profile = in.evaluation_json.contains("profile");
+  GridMap profile_map;
+  if (from_profile) {
+    profile_map = reachProfileMap(in.evaluation_json.at("profile"), 48);
+    for (const auto& [cell, value] : profile_map.largest) {
+      lo = std::min(lo, value);
+      hi = std::max(hi, value);
+    }
+  }
+  plot.setColourBar(lo, hi,
+                    std::string(from_profile ? "S / " : "largest S in the cell / ") + kMicro);
+  if (from_profile) {
+    drawGrid(plot, profile_map, lo, hi, true);
+  } else if (points.size() > kFewPoints) {
+    drawGrid(plot, binLargest(points, totals_um, 48), lo, hi, true);
   } else {
     for (std::size_t g = 0; g < points.size(); ++g) {
-      const double t = *hi > *lo ? (totals_um[g] - *lo) / (*hi - *lo) : 0.5;
+      const double t = hi > lo ? (totals_um[g] - lo) / (hi - lo) : 0.5;
       plot.marker(points[g], svg::Shape::Square, 9.0, filled("#000000", svg::viridis(t), 0.5));
     }
   }
@@ -311,12 +356,17 @@ ReportFigure tipMapFigure(const ReportInput& in, const std::vector<double>& tota
               format("worst S = %.3f um", worst.at("total").get<double>() * 1e3));
   plot.label(at, format("worst S = %.2f %s", worst.at("total").get<double>() * 1e3, kMicro));
   return {name,
-          std::string("Tip uncertainty S over the ") + std::to_string(points.size()) +
-              " workspace configurations" + (side ? " seen from the side" : "") +
-              (points.size() > kFewPoints
-                   ? ": each cell shows the largest S of the points projecting into it; the "
-                     "diamond marks the worst configuration."
-                   : ", each a square coloured by S; the diamond marks the worst one."),
+          from_profile
+              ? std::string("Tip uncertainty S over the arm's reach, drawn from the profile "
+                            "against reach (S depends on the reach alone); the diamond marks "
+                            "the worst of the ") +
+                    std::to_string(points.size()) + " workspace configurations."
+              : std::string("Tip uncertainty S over the ") + std::to_string(points.size()) +
+                    " workspace configurations" + (side ? " seen from the side" : "") +
+                    (points.size() > kFewPoints
+                         ? ": each cell shows the largest S of the points projecting into it; the "
+                           "diamond marks the worst configuration."
+                         : ", each a square coloured by S; the diamond marks the worst one."),
           plot.render()};
 }
 
@@ -331,7 +381,8 @@ ReportFigure correlationFigure(const ReportInput& in) {
       values(i, j) = corr[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)];
   }
   return {"correlation",
-          "Correlation of the calibrated parameters predicted by the plan (dark: -1, light: +1).",
+          "Correlation of the calibrated parameters predicted by the plan (dark: -1, light: "
+          "+1); values printed where |r| >= 0.5.",
           svg::matrixHeatMap("correlation", "Parameter correlation", labels, values, -1.0, 1.0,
                              "/correlation")};
 }
@@ -412,6 +463,21 @@ std::string numberCell(const json& source, const std::string& pointer, double sc
   return "<td class=\"num\" data-field=\"" + field + "\" data-value=\"" +
          exact(value.get<double>()) + "\">" +
          svg::escape(format(fmt, value.get<double>() * scale)) + "</td>";
+}
+
+/// The truth and (estimate - truth) / u of one calibrated parameter (calibrate --json's entry),
+/// the truth from a simulation block's parameters by name, both in file units.
+std::string truthCells(const json& parameter, const json& truth) {
+  const std::string name = parameter.at("name").get<std::string>();
+  const json& u = parameter.at("u");
+  if (!truth.contains(name) || !truth[name].is_number() || !u.is_number() ||
+      !(u.get<double>() > 0.0)) {
+    return "<td class=\"num\">&#8212;</td><td class=\"num\">&#8212;</td>";
+  }
+  const double t = truth[name].get<double>();
+  const double z = (parameter.at("estimate").get<double>() - t) / u.get<double>();
+  return "<td class=\"num\">" + svg::escape(format("%.6f", t)) + "</td><td class=\"num\">" +
+         svg::escape(format("%+.2f", z)) + "</td>";
 }
 
 const char* kStyle = R"(
@@ -699,20 +765,29 @@ void writeCalibration(std::ostream& out, const ReportInput& in,
       << numberCell(cal, "/chi2", 1, "%.4g", prefix) << numberCell(cal, "/dof", 1, "%.0f", prefix)
       << numberCell(cal, "/chi2_per_dof", 1, "%.4g", prefix)
       << numberCell(cal, "/flagged", 1, "%.0f", prefix) << "</tr>\n</table>\n";
+  // Readings simulated by `artcal simulate`: its simulation block names the true parameters
+  // (file units), and the table shows each estimate against the truth in its u.
+  const json* truth = nullptr;
+  if (in.document.contains("simulation") && in.document["simulation"].contains("parameters")) {
+    truth = &in.document["simulation"]["parameters"];
+  }
   out << "<table>\n<tr><th>parameter</th><th>nominal</th><th>estimate</th><th>unit</th>"
-      << "<th>u</th><th>u posterior</th><th>unit of u</th></tr>\n";
+      << "<th>u</th><th>u posterior</th><th>unit of u</th>"
+      << (truth ? "<th>truth</th><th>(estimate - truth) / u</th>" : "") << "</tr>\n";
   const json& parameters = cal.at("parameters");
   for (std::size_t k = 0; k < parameters.size(); ++k) {
     const json& p = parameters[k];
-    const bool angle = p.at("unit") == "deg";
+    const std::string unit = p.at("unit").get<std::string>();
+    const bool mm = unit == "mm";  // u of a length in um; every other u in its own unit
     const std::string base = format("/parameters/%zu/", k);
     out << "<tr><td>" << svg::escape(p.at("name").get<std::string>()) << "</td>"
         << numberCell(cal, base + "nominal", 1, "%.4f", prefix)
-        << numberCell(cal, base + "estimate", 1, "%.6f", prefix) << "<td>"
-        << svg::escape(p.at("unit").get<std::string>()) << "</td>"
-        << numberCell(cal, base + "u", angle ? 1.0 : 1e3, angle ? "%.6f" : "%.3f", prefix)
-        << numberCell(cal, base + "u_posterior", angle ? 1.0 : 1e3, angle ? "%.6f" : "%.3f", prefix)
-        << "<td>" << (angle ? "deg" : kMicro) << "</td></tr>\n";
+        << numberCell(cal, base + "estimate", 1, "%.6f", prefix) << "<td>" << svg::escape(unit)
+        << "</td>" << numberCell(cal, base + "u", mm ? 1e3 : 1.0, mm ? "%.3f" : "%.6g", prefix)
+        << numberCell(cal, base + "u_posterior", mm ? 1e3 : 1.0, mm ? "%.3f" : "%.6g", prefix)
+        << "<td>" << (mm ? kMicro : svg::escape(unit)) << "</td>";
+    if (truth) out << truthCells(p, *truth);
+    out << "</tr>\n";
   }
   out << "</table>\n";
   writeFigures(out, figures, "residuals");

@@ -295,12 +295,17 @@ TEST(Svg, PlotWithHostileTextIsWellFormed) {
 }
 
 TEST(Svg, HeatMapCellsCarryTheirValues) {
-  Eigen::Matrix2d m;
-  m << 1.0, -0.25, -0.25, 1.0;
-  const std::string out = svg::matrixHeatMap("h", "corr", {"a<", "b&"}, m, -1, 1, "/correlation");
+  Eigen::Matrix3d m;
+  m << 1.0, -0.25, 0.75, -0.25, 1.0, 0.0, 0.75, 0.0, 1.0;
+  const std::string out =
+      svg::matrixHeatMap("h", "corr", {"a<", "b&", "c"}, m, -1, 1, "/correlation");
   EXPECT_EQ(xmlFault(out), std::nullopt) << out;
+  // Every cell carries its value; only |r| >= 0.5 off the diagonal is printed (issue 14).
   EXPECT_NE(out.find("data-field=\"/correlation/0/1\" data-value=\"-0.25\""), std::string::npos);
-  EXPECT_NE(out.find(">-0.25<"), std::string::npos);
+  EXPECT_NE(out.find("data-field=\"/correlation/1/1\" data-value=\"1\""), std::string::npos);
+  EXPECT_EQ(out.find(">-0.25<"), std::string::npos);
+  EXPECT_EQ(out.find(">1.00<"), std::string::npos);
+  EXPECT_NE(out.find(">0.75<"), std::string::npos);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -482,6 +487,30 @@ TEST_F(ReportCli, Planar2RNumbersEqualEvaluateJson) {
                           std::sregex_iterator()),
             3);
 
+  // The planar map is drawn from the profile (S depends on the reach alone): every cell of the
+  // 48 x 48 grid over the reach disc whose centre lies within the profile's reach, no hole.
+  {
+    double r_min = 1e300, r_max = 0.0;
+    for (const json& row : evaluated["profile"]) {
+      r_min = std::min(r_min, row["reach"].get<double>());
+      r_max = std::max(r_max, row["reach"].get<double>());
+    }
+    int inside = 0;
+    for (int i = 0; i < 48; ++i) {
+      for (int j = 0; j < 48; ++j) {
+        const double r =
+            std::hypot(-r_max + (i + 0.5) * 2 * r_max / 48, -r_max + (j + 0.5) * 2 * r_max / 48);
+        inside += r >= r_min && r <= r_max;
+      }
+    }
+    const std::string map = slurp(svg_dir / "tip-map.svg");
+    std::size_t cells = 0;
+    for (std::size_t at = 0; (at = map.find("class=\"map-cell\"", at)) != std::string::npos; ++at)
+      ++cells;
+    EXPECT_GT(inside, 1000);
+    EXPECT_EQ(cells, static_cast<std::size_t>(inside));
+  }
+
   // --svg: the same figures, one well-formed file each.
   for (const char* name : {"layout", "tip-profile", "tip-map", "correlation"}) {
     const fs::path file = svg_dir / (std::string(name) + ".svg");
@@ -662,6 +691,30 @@ TEST_F(ReportCli, CalibrationOnlyWhenAskedOrSimulated) {
   const CliRun r = run("report \"" + plan_path.string() + "\" -o \"" + html_path.string() + "\"");
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(slurp(html_path).find("data-field=\"/calibration/converged\""), std::string::npos);
+}
+
+// Readings simulated with a known truth: each estimate is shown against it, in its u.
+TEST_F(ReportCli, SimulatedReadingsShowEstimateMinusTruthInU) {
+  const fs::path truth = dir_ / "truth.json", simulated = dir_ / "sim.json",
+                 html_path = dir_ / "r.html";
+  std::ofstream(truth) << R"({"parameters": {"l1": 150.02, "l2": 99.99, "dt2": 0.01}})";
+  ASSERT_EQ(run("simulate \"" + data("ref-2r-calibrate.json") + "\" --truth \"" + truth.string() +
+                "\" --seed 4 -o \"" + simulated.string() + "\"")
+                .status,
+            0);
+  ASSERT_EQ(run("report \"" + simulated.string() + "\" -o \"" + html_path.string() + "\"").status,
+            0);
+  const json cal = json::parse(run("calibrate --json \"" + simulated.string() + "\"").out);
+  const std::string html = slurp(html_path);
+  EXPECT_NE(html.find("<th>(estimate - truth) / u</th>"), std::string::npos);
+  const double truths[] = {150.02, 99.99, 0.01};
+  for (std::size_t k = 0; k < 3; ++k) {
+    const json& p = cal["parameters"][k];
+    const double z = (p["estimate"].get<double>() - truths[k]) / p["u"].get<double>();
+    char cell[64];
+    std::snprintf(cell, sizeof cell, "<td class=\"num\">%+.2f</td>", z);
+    EXPECT_NE(html.find(cell), std::string::npos) << p["name"] << " " << cell;
+  }
 }
 
 /// A planar 2R plan with `count` ball-bar placements spread over the reach annulus, readings by
