@@ -1,6 +1,9 @@
 #include "artcal/estimation/evaluator.hpp"
 
 #include <Eigen/Cholesky>
+#include <string>
+
+#include "artcal/core/error.hpp"
 
 namespace artcal {
 
@@ -62,8 +65,31 @@ Eigen::MatrixXd parameterInformation(const Plan& plan, const std::vector<Placeme
   return addParameterPrior(planInformation(plan, placements, p).reduced, GlobalLayout::of(plan));
 }
 
+namespace {
+
+// The plan's workspace configurations; none usable (every task-space sample out of reach, or every
+// configuration's forward kinematics failing) is the plan's fault, answered at /workspace: a tip
+// uncertainty over nothing has no worst case (fuzz_spec found the crash it used to be).
+std::vector<Eigen::VectorXd> usableWorkspace(const Plan& plan, WorkspaceDrops* drops) {
+  WorkspaceDrops counted;
+  std::vector<Eigen::VectorXd> workspace =
+      workspaceConfigurations(plan.machine, plan.workspace, &counted);
+  if (drops) *drops = counted;
+  if (workspace.empty()) {
+    throw InputError(plan.source, "/workspace",
+                     "no workspace configuration is usable (" +
+                         std::to_string(counted.unreachable) + " samples out of reach, " +
+                         std::to_string(counted.failed) +
+                         " whose forward kinematics fails at nominal): check workspace.region "
+                         "and the machine's dimensions and joint_limits");
+  }
+  return workspace;
+}
+
+}  // namespace
+
 PlanEvaluator::PlanEvaluator(const Plan& plan)
-    : PlanEvaluator(plan, workspaceConfigurations(plan.machine, plan.workspace)) {}
+    : PlanEvaluator(plan, usableWorkspace(plan, nullptr)) {}
 
 PlanEvaluator::PlanEvaluator(const Plan& plan, std::vector<Eigen::VectorXd> workspace)
     : plan_(&plan),
@@ -101,8 +127,7 @@ Evaluation evaluatePlan(const Plan& plan, const EvaluateOptions& options) {
   if (evaluation.identifiability.deficiency > 0) return evaluation;
   evaluation.covariance = covarianceFromInformation(evaluation.information);
   if (!evaluation.covariance) return evaluation;
-  evaluation.workspace =
-      workspaceConfigurations(plan.machine, plan.workspace, &evaluation.workspace_drops);
+  evaluation.workspace = usableWorkspace(plan, &evaluation.workspace_drops);
   const TipEvaluator tip(plan.machine, plan.noise, evaluation.workspace);
   evaluation.tip = tip.summarize(evaluation.covariance->V);
   evaluation.profile =

@@ -248,6 +248,12 @@ void TipEvaluator::factoredVariance(const Eigen::MatrixXd& V_p, Eigen::VectorXd&
 // them) are kept once, and the per-evaluation product runs over the others only.
 void TipEvaluator::prepareGram(int n_p) {
   const int entries = n_p * (n_p + 1) / 2;
+  gram_constant_.setZero(entries);
+  gram_rows_.clear();
+  if (size() == 0) {  // nothing to evaluate: every entry "constant" (no max over no samples)
+    gram_.resize(0, 0);
+    return;
+  }
   Eigen::MatrixXd full(entries, size());
   for (int g = 0; g < size(); ++g) {
     const auto J = J_p_.middleRows(g * dimension_, dimension_);
@@ -256,8 +262,6 @@ void TipEvaluator::prepareGram(int n_p) {
       for (int a = b; a < n_p; ++a) full(k++, g) = (a == b ? 1.0 : 2.0) * J.col(a).dot(J.col(b));
     }
   }
-  gram_constant_.setZero(entries);
-  gram_rows_.clear();
   const Eigen::VectorXd column_scale = J_p_.colwise().norm() / std::sqrt(std::max(size(), 1));
   int k = 0;
   for (int b = 0; b < n_p; ++b) {

@@ -322,6 +322,31 @@ TEST(FuzzRegression, NumberOverflowIsMalformedJsonNamingTheFile) {
   }
 }
 
+// Found by fuzz_spec on 2026-12-01: a hexapod spec whose platform joint 5 sits 1.4 m out reaches
+// none of its task-space samples. The tip uncertainty over an empty workspace took the max of an
+// empty row (an Eigen assertion, a segmentation fault in Release). Now it is the plan's fault,
+// answered at /workspace.
+TEST(FuzzRegression, UnreachableWorkspaceIsAnInputErrorAtWorkspace) {
+  const std::string file = testData("fuzz-regressions/unreachable-workspace-spec.json");
+  const Plan spec = parsePlan(readJsonFile(file), file, false);
+  try {
+    const PlanEvaluator evaluator(spec);
+    FAIL() << "no InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.pointer(), "/workspace");
+    EXPECT_NE(std::string(e.what()).find("4096 samples out of reach"), std::string::npos)
+        << e.what();
+  }
+  TempDir dir;
+  const CliResult r =
+      runCli(dir, "optimize '" + file + "' -o '" + dir.file("out.json") + "' --starts 1 --quiet");
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_EQ(lineCount(r.err), 1u) << r.err;
+  EXPECT_EQ(r.err.rfind("error: " + file + ": /workspace: no workspace configuration is usable", 0),
+            0u)
+      << r.err;
+}
+
 // ------------------------------------------------------------------------------ resource bounds
 
 std::string nested(int depth) {
