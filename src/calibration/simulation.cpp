@@ -5,6 +5,8 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <tuple>
+#include <utility>
 
 #include "artcal/core/error.hpp"
 #include "artcal/core/random.hpp"
@@ -51,31 +53,76 @@ bool SimulationOptions::isValid(std::string* error) const {
 
 namespace {
 
-// Why inverse kinematics found no reading within the joint limits: IK again with the limits
-// opened (by a full turn and the range on each side); the joint whose solution lies farthest
-// outside its limits is named, in file units. No solution even then: out of reach.
-std::string whyUnreachable(const Machine& machine, const Eigen::VectorXd& p,
-                           const Eigen::VectorXd& target, const Eigen::VectorXd& q0,
-                           const IkOptions& options) {
+// The limits of `joint` (all joints when -1) opened by a full turn and the range on each side.
+Machine withLimitsOpened(const Machine& machine, int joint) {
   Machine open = machine;
-  for (auto& [lo, hi] : open.joint_limits) {
+  for (std::size_t i = 0; i < open.joint_limits.size(); ++i) {
+    if (joint >= 0 && static_cast<int>(i) != joint) continue;
+    auto& [lo, hi] = open.joint_limits[i];
     const double widen = (hi - lo) + 2 * std::numbers::pi;
     lo -= widen;
     hi += widen;
   }
-  const auto q = solveInverseKinematics(open, p, target, q0, options);
-  if (!q) return "out of its reach (inverse kinematics found no joint values at all)";
+  return open;
+}
+
+// q moved by whole turns (a revolute joint) to the value nearest the machine's limits: inverse
+// kinematics with opened limits wraps angles anywhere in the opened range.
+Eigen::VectorXd nearestToLimits(const Machine& machine, Eigen::VectorXd q) {
+  constexpr double kTurn = 2 * std::numbers::pi;
+  for (int i = 0; i < q.size(); ++i) {
+    if (machine.mechanism->jointKind(i) != JointKind::Revolute) continue;
+    const auto [lo, hi] = machine.joint_limits[static_cast<std::size_t>(i)];
+    const double centre = 0.5 * (lo + hi);
+    q[i] = centre + std::remainder(q[i] - centre, kTurn);
+  }
+  return q;
+}
+
+// The joint of q farthest outside the machine's limits (-1 when q is within all of them).
+std::pair<int, double> farthestOutside(const Machine& machine, const Eigen::VectorXd& q) {
   int worst = -1;
   double worst_excess = 0.0;
-  for (int i = 0; i < q->size(); ++i) {
+  for (int i = 0; i < q.size(); ++i) {
     const auto [lo, hi] = machine.joint_limits[static_cast<std::size_t>(i)];
-    const double excess = std::max(lo - (*q)[i], (*q)[i] - hi);
+    const double excess = std::max(lo - q[i], q[i] - hi);
     if (excess > worst_excess) {
       worst = i;
       worst_excess = excess;
     }
   }
-  if (worst < 0) return "inverse kinematics did not converge from the planned reading";
+  return {worst, worst_excess};
+}
+
+// Why inverse kinematics found no reading within the joint limits. First each joint's limits
+// opened alone: the joint whose limits alone block (the least excess when several do), named
+// with the value it would need, in file units. Opening every limit at once comes second: a
+// redundant arm (a 7-joint Panda reading a 3-D point) then drifts in its null space, and the joint
+// farthest out is the drifting one, not the one that blocks. No solution even then: out of reach.
+std::string whyUnreachable(const Machine& machine, const Eigen::VectorXd& p,
+                           const Eigen::VectorXd& target, const Eigen::VectorXd& q0,
+                           const IkOptions& options) {
+  int worst = -1;
+  double worst_excess = 0.0, value = 0.0;
+  for (int i = 0; i < machine.jointCount(); ++i) {
+    auto q = solveInverseKinematics(withLimitsOpened(machine, i), p, target, q0, options);
+    if (!q) continue;
+    q = nearestToLimits(machine, *q);
+    const auto [joint, excess] = farthestOutside(machine, *q);
+    if (joint >= 0 && (worst < 0 || excess < worst_excess)) {
+      worst = joint;
+      worst_excess = excess;
+      value = (*q)[joint];
+    }
+  }
+  if (worst < 0) {
+    auto q = solveInverseKinematics(withLimitsOpened(machine, -1), p, target, q0, options);
+    if (!q) return "out of its reach (inverse kinematics found no joint values at all)";
+    q = nearestToLimits(machine, *q);
+    std::tie(worst, worst_excess) = farthestOutside(machine, *q);
+    if (worst < 0) return "inverse kinematics did not converge from the planned reading";
+    value = (*q)[worst];
+  }
   const Quantity unit = jointQuantity(machine.mechanism->jointKind(worst));
   const auto [lo, hi] = machine.joint_limits[static_cast<std::size_t>(worst)];
   auto file = [&](double v) {
@@ -83,7 +130,7 @@ std::string whyUnreachable(const Machine& machine, const Eigen::VectorXd& p,
     out << toFileUnit(unit, v);
     return out.str();
   };
-  return "joint " + std::to_string(worst + 1) + " would have to read " + file((*q)[worst]) + " " +
+  return "joint " + std::to_string(worst + 1) + " would have to read " + file(value) + " " +
          std::string(unitName(unit)) + ", outside its limits [" + file(lo) + ", " + file(hi) +
          "] (plan the readings farther inside the limits: design.joint_margin)";
 }

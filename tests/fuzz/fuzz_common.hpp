@@ -1,7 +1,8 @@
 #pragma once
 // What both harnesses run behind the parser: a bounded evaluation whose every output must be
 // finite (JSON through finiteOrNull, tables without nan/inf). A fault aborts, which libFuzzer
-// reports as a finding; an InputError is the parser's proper answer and ends the run quietly.
+// reports as a finding; an InputError is the proper answer of the parser (or of the evaluator to a
+// plan without a usable workspace configuration) and ends the run quietly.
 
 #include <cmath>
 #include <cstdint>
