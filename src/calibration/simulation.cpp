@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -94,35 +95,43 @@ std::pair<int, double> farthestOutside(const Machine& machine, const Eigen::Vect
   return {worst, worst_excess};
 }
 
-// Why inverse kinematics found no reading within the joint limits. First each joint's limits
-// opened alone: the joint whose limits alone block (the least excess when several do), named
-// with the value it would need, in file units. Opening every limit at once comes second: a
-// redundant arm (a 7-joint Panda reading a 3-D point) then drifts in its null space, and the joint
-// farthest out is the drifting one, not the one that blocks. No solution even then: out of reach.
-std::string whyUnreachable(const Machine& machine, const Eigen::VectorXd& p,
-                           const Eigen::VectorXd& target, const Eigen::VectorXd& q0,
-                           const IkOptions& options) {
+// The reading of one point by the simulated machine, or why there is none.
+struct SimulatedReading {
+  std::optional<Eigen::VectorXd> q;
+  std::string why;  ///< when q is empty
+};
+
+// Inverse kinematics within the limits from the planned reading. The damped solver clamps at
+// the limits and can stall at one it need not touch; the same solve with one joint's limits opened
+// at a time, then all of them, may land within the limits, and that is the reading. Otherwise why:
+// the joint whose limits alone block (the least excess when several do), with the value it would
+// need at its representative nearest the limits; failing that, the joint farthest out with every
+// limit open (a redundant arm, a 7-joint Panda reading a 3-D point, drifts in its null space then,
+// so it comes second); no solution even then: out of reach.
+SimulatedReading simulatedReading(const Machine& machine, const Eigen::VectorXd& p,
+                                  const Eigen::VectorXd& target, const Eigen::VectorXd& q0,
+                                  const IkOptions& options) {
+  if (auto q = solveInverseKinematics(machine, p, target, q0, options)) return {std::move(q), {}};
   int worst = -1;
   double worst_excess = 0.0, value = 0.0;
-  for (int i = 0; i < machine.jointCount(); ++i) {
-    auto q = solveInverseKinematics(withLimitsOpened(machine, i), p, target, q0, options);
+  bool any_solution = false;
+  for (int opened = 0; opened <= machine.jointCount(); ++opened) {
+    const bool all = opened == machine.jointCount();
+    auto q = solveInverseKinematics(withLimitsOpened(machine, all ? -1 : opened), p, target, q0,
+                                    options);
     if (!q) continue;
+    any_solution = true;
     q = nearestToLimits(machine, *q);
+    if (machine.withinLimits(*q)) return {std::move(q), {}};
     const auto [joint, excess] = farthestOutside(machine, *q);
-    if (joint >= 0 && (worst < 0 || excess < worst_excess)) {
+    if (joint >= 0 && (worst < 0 || (!all && excess < worst_excess))) {
       worst = joint;
       worst_excess = excess;
       value = (*q)[joint];
     }
   }
-  if (worst < 0) {
-    auto q = solveInverseKinematics(withLimitsOpened(machine, -1), p, target, q0, options);
-    if (!q) return "out of its reach (inverse kinematics found no joint values at all)";
-    q = nearestToLimits(machine, *q);
-    std::tie(worst, worst_excess) = farthestOutside(machine, *q);
-    if (worst < 0) return "inverse kinematics did not converge from the planned reading";
-    value = (*q)[worst];
-  }
+  if (!any_solution)
+    return {{}, "out of its reach (inverse kinematics found no joint values at all)"};
   const Quantity unit = jointQuantity(machine.mechanism->jointKind(worst));
   const auto [lo, hi] = machine.joint_limits[static_cast<std::size_t>(worst)];
   auto file = [&](double v) {
@@ -130,9 +139,10 @@ std::string whyUnreachable(const Machine& machine, const Eigen::VectorXd& p,
     out << toFileUnit(unit, v);
     return out.str();
   };
-  return "joint " + std::to_string(worst + 1) + " would have to read " + file(value) + " " +
-         std::string(unitName(unit)) + ", outside its limits [" + file(lo) + ", " + file(hi) +
-         "] (plan the readings farther inside the limits: design.joint_margin)";
+  return {{},
+          "joint " + std::to_string(worst + 1) + " would have to read " + file(value) + " " +
+              std::string(unitName(unit)) + ", outside its limits [" + file(lo) + ", " + file(hi) +
+              "] (plan the readings farther inside the limits: design.joint_margin)"};
 }
 
 }  // namespace
@@ -176,13 +186,13 @@ SimulatedRun Simulator::simulate(const Eigen::VectorXd& p_true, NormalSource& no
       for (int k = 0; k < d; ++k) target[k] += scale * plan.noise.probe * normal();
       IkOptions ik = options_.ik;
       ik.stylus = m.stylus;
-      auto q = solveInverseKinematics(machine, p_true, target, m.joints, ik);
-      if (!q) {
+      SimulatedReading reading = simulatedReading(machine, p_true, target, m.joints, ik);
+      if (!reading.q) {
         throw RunError(plan.source,
                        "/placements/" + std::to_string(j) + "/measurements/" + std::to_string(i),
-                       "the simulated machine cannot reach this reading's point: " +
-                           whyUnreachable(machine, p_true, target, m.joints, ik));
+                       "the simulated machine cannot reach this reading's point: " + reading.why);
       }
+      Eigen::VectorXd* q = &*reading.q;
       for (int k = 0; k < q->size(); ++k) (*q)[k] += scale * plan.noise.encoder[k] * normal();
       m.joints = *q;
     }
