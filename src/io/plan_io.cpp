@@ -122,8 +122,10 @@ Machine parseMachine(const Node& node, std::vector<std::string>& warnings) {
       const Quantity q = jointQuantity(mech.jointKind(i));
       machine.joint_limits.push_back({fromFileUnit(q, lh[0]), fromFileUnit(q, lh[1])});
     }
+    machine.limits_stated = true;
   } else if (!default_limits.empty()) {
     machine.joint_limits = default_limits;
+    machine.limits_stated = true;
   } else {
     for (int i = 0; i < joints; ++i) {
       if (mech.jointKind(i) == JointKind::Prismatic) {
@@ -572,8 +574,7 @@ Plan parsePlan(const nlohmann::json& document, const std::string& source, bool r
     plan.placements.reserve(n);
     for (std::size_t i = 0; i < n; ++i) {
       plan.placements.push_back(parsePlacement((*placements)[i], plan, require_placements,
-                                               root.at("machine").has("joint_limits"),
-                                               plan.warnings));
+                                               plan.machine.limits_stated, plan.warnings));
     }
   } else if (require_placements) {
     root.at("placements");

@@ -347,6 +347,25 @@ TEST(FuzzRegression, UnreachableWorkspaceIsAnInputErrorAtWorkspace) {
       << r.err;
 }
 
+// Found by fuzz_plan on 2026-12-01: a CMM reading of -1e308 mm on the ram (range -600 .. 0 mm) was
+// not checked against the axis range (only an explicit joint_limits was), and the evaluation
+// whitened a block without columns (UBSan: offset on a null pointer; a segmentation fault in
+// Release). A model's own ranges are the plan's limits now; whitening skips empty blocks.
+TEST(FuzzRegression, CmmReadingBeyondItsAxisRangeIsRefused) {
+  const std::string file = testData("fuzz-regressions/cmm-reading-beyond-axis-range-plan.json");
+  TempDir dir;
+  const CliResult r = runCli(dir, "check '" + file + "'");
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_EQ(lineCount(r.err), 1u) << r.err;
+  EXPECT_EQ(
+      r.err.rfind(
+          "error: " + file +
+              ": /placements/2/measurements/17/joints/2: reading -1e+308 mm of joint 3 is outside",
+          0),
+      0u)
+      << r.err;
+}
+
 // ------------------------------------------------------------------------------ resource bounds
 
 std::string nested(int depth) {

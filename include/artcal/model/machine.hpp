@@ -19,6 +19,9 @@ struct Machine {
   /// the plan's readings decide (resolveCalibratedSet, estimation/identifiability.hpp).
   bool calibrate_identifiable = false;
   std::vector<std::array<double, 2>> joint_limits;  ///< per joint, internal units
+  /// The limits are the plan's (`joint_limits`, or the model's own such as a CMM's axis ranges),
+  /// so a reading outside them is refused; the default revolute range only wraps.
+  bool limits_stated = false;
   /// `machine.prior` (docs/plan-format.md): the standard deviation of each parameter's nominal
   /// value (its tolerance), internal units, one per parameter of the model; 0 (or an empty
   /// vector) means no prior. Enters N_red as Sigma_p0^-1 (estimation/normal_matrix.hpp).
