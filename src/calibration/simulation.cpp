@@ -6,7 +6,6 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
-#include <tuple>
 #include <utility>
 
 #include "artcal/core/error.hpp"
@@ -192,9 +191,9 @@ SimulatedRun Simulator::simulate(const Eigen::VectorXd& p_true, NormalSource& no
                        "/placements/" + std::to_string(j) + "/measurements/" + std::to_string(i),
                        "the simulated machine cannot reach this reading's point: " + reading.why);
       }
-      Eigen::VectorXd* q = &*reading.q;
-      for (int k = 0; k < q->size(); ++k) (*q)[k] += scale * plan.noise.encoder[k] * normal();
-      m.joints = *q;
+      Eigen::VectorXd& q = *reading.q;
+      for (int k = 0; k < q.size(); ++k) q[k] += scale * plan.noise.encoder[k] * normal();
+      m.joints = q;
     }
   }
   return run;

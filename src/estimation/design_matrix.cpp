@@ -80,8 +80,8 @@ void DesignMatrixBuilder::build(const Artifact& artifact,
     if (with_residuals) {
       block.e.segment(row, k) = W_.head(k) - artifact.feature(m.feature, c).head(k);
     }
-    // Whitening (docs/method.md section 2): Sigma = s_p^2 I + J_q Sigma_q J_q^T = L L^T; rows *=
-    // L^-1.
+    // Whitening (docs/method.md section 2): Sigma = s_p^2 I + J_q Sigma_q J_q^T = L L^T,
+    // rows *= L^-1.
     Small sigma = (J_valued_q_ * sigma_q2).lazyProduct(J_valued_q_.transpose());
     sigma.diagonal().array() += sigma_p2;
     const Eigen::LLT<Small> llt(sigma);

@@ -44,21 +44,12 @@ std::optional<Placement> plannedPlacement(const Plan& plan) {
   return placement;
 }
 
-}  // namespace
-
-extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  if (size > fuzz::kMaxInputBytes) return -1;
-  const std::string text(reinterpret_cast<const char*>(data), size);
-  Plan plan;
-  try {
-    plan = parsePlan(parseJsonText(text, "spec.json"), "spec.json", false);
-  } catch (const InputError& e) {
-    if (std::string(e.what()).empty()) fuzz::finding("an InputError without a message");
-    return 0;
-  }
+/// What an optimizer does first with a parsed spec: its fixed placements and one planned one,
+/// evaluated through the prepared PlanEvaluator; every figure must be finite.
+void evaluateSpec(Plan plan) {
   if (!plan.design || plan.machine.jointCount() > 8 ||
       fuzz::readingCount(plan) > fuzz::kMaxReadings) {
-    return 0;
+    return;
   }
   fuzz::boundWorkspace(plan);
   std::vector<Placement> placements;
@@ -66,18 +57,26 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (!p.measurements.empty()) placements.push_back(p);
   }
   if (auto planned = plannedPlacement(plan)) placements.push_back(std::move(*planned));
-  try {
-    PlanEvaluator evaluator(plan);
-    const Eigen::MatrixXd& information = evaluator.information(placements);
-    if (information.hasNaN()) fuzz::finding("NaN in the information matrix");
-    if (const auto tip = evaluator.tip(placements)) {
-      if (!std::isfinite(tip->worst.total) || !std::isfinite(tip->mean)) {
-        fuzz::finding("non-finite tip uncertainty");
-      }
+  PlanEvaluator evaluator(plan);
+  const Eigen::MatrixXd& information = evaluator.information(placements);
+  if (information.hasNaN()) fuzz::finding("NaN in the information matrix");
+  if (const auto tip = evaluator.tip(placements)) {
+    if (!std::isfinite(tip->worst.total) || !std::isfinite(tip->mean)) {
+      fuzz::finding("non-finite tip uncertainty");
     }
+  }
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  if (size > fuzz::kMaxInputBytes) return -1;
+  const std::string text(reinterpret_cast<const char*>(data), size);
+  // An InputError is the proper answer of the parser, or of the evaluator to a spec it cannot
+  // evaluate (no usable workspace configuration): the command line's exit status 2.
+  try {
+    evaluateSpec(parsePlan(parseJsonText(text, "spec.json"), "spec.json", false));
   } catch (const InputError& e) {
-    // The evaluator's answer to a spec it cannot evaluate (no usable workspace configuration):
-    // exit status 2 at the command line, as optimize gives it.
     if (std::string(e.what()).empty()) fuzz::finding("an InputError without a message");
   }
   return 0;
