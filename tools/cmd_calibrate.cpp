@@ -1,7 +1,9 @@
-// artcal simulate / calibrate / confirm (docs/plan-format.md, command line; docs/method.md section 6).
+// artcal simulate / calibrate / confirm (docs/plan-format.md, command line; docs/method.md section
+// 6).
 
 #include <unistd.h>
 
+#include <cmath>
 #include <iostream>
 
 #include "artcal/calibration/calibrator.hpp"
@@ -114,7 +116,9 @@ int runCalibrate(const CalibrateArguments& args) {
       nlohmann::json machine = machineToJson(plan.machine, calibration.parameters);
       // V_p travels with the estimate: `verify --machine` predicts the spread from it.
       if (calibration.covariance)
-        machine["covariance"] = covarianceToJson(plan.machine, calibration.covariance->V);
+        machine["covariance"] =
+            covarianceToJson(plan.machine, calibration.covariance->V,
+                             calibration.dof > 0 ? std::sqrt(calibration.chi2_per_dof) : 0.0);
       writeJsonOutput(args.write_machine, machine);
     } else {
       std::cerr << "warning: not converged: " << args.write_machine << " not written\n";
@@ -151,6 +155,11 @@ void addCalibrateCommand(CLI::App& app, Action& action) {
       ->capture_default_str();
   cmd->add_option("--flag-threshold", args->options.flag_threshold,
                   "flag normalised residuals larger than this")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  cmd->add_option("--gross-threshold", args->options.gross_threshold,
+                  "call a reading a gross error when its normalised residual exceeds this many "
+                  "times max(1, Birge ratio)")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
   cmd->callback([&action, args] { action = [args] { return runCalibrate(*args); }; });

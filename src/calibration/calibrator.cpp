@@ -31,6 +31,8 @@ bool CalibrationOptions::isValid(std::string* error) const {
     return fail("function_tolerance must be >= 0");
   if (!(flag_threshold > 0.0) || !std::isfinite(flag_threshold))
     return fail("flag_threshold must be > 0");
+  if (!(gross_threshold > 0.0) || !std::isfinite(gross_threshold))
+    return fail("gross_threshold must be > 0");
   return damping.isValid(error);
 }
 
@@ -285,6 +287,11 @@ void Calibrator::fillDetails(const std::vector<Placement>& placements, Calibrati
   }
   out.covariance = covarianceFromInformation(reducer_.parameterInformation());
   const auto global = covarianceFromInformation(reducer_.normalWithPrior());
+  // Gross errors are judged against the scatter the fit shows, not only the stated noise: with
+  // unmodelled errors every reading is 1.4 sigma wide, and 5 sigma of that is the test.
+  const double gross_limit =
+      options_.gross_threshold * std::max(1.0, std::sqrt(std::max(out.chi2_per_dof, 0.0)));
+  out.gross_limit = gross_limit;
   Eigen::VectorXd x;
   for (std::size_t j = 0; j < placements.size(); ++j) {
     const Placement& placement = placements[j];
@@ -314,6 +321,7 @@ void Calibrator::fillDetails(const std::vector<Placement>& placements, Calibrati
       }
       entry.score = entry.normalized.cwiseAbs().maxCoeff();
       entry.flagged = entry.score > options_.flag_threshold;
+      entry.gross = entry.score > gross_limit;
       if (out.largest_residual < 0 || entry.score > out.residuals[out.largest_residual].score) {
         out.largest_residual = static_cast<int>(out.residuals.size());
       }

@@ -156,6 +156,9 @@ PlacementVerification verifyPlacement(const Plan& plan, int index, const Eigen::
     const double predicted = predictedSquaredDeviations(models, acc.readings, uncertainty);
     predicted_sum += predicted;
     spread.predicted_spread_rms = std::sqrt(predicted / spread.postures);
+    if (uncertainty)
+      spread.predicted_spread_rms_posterior =
+          spread.predicted_spread_rms * uncertainty->birge_ratio;
     out.features.push_back(std::move(spread));
   }
   for (std::size_t a = 0; a < out.features.size(); ++a) {
@@ -221,6 +224,8 @@ Verification verifyMachine(const Plan& plan, const Eigen::VectorXd& p,
     out.spread_rms = std::sqrt(deviation_sum2 / readings);
     out.spread_mean = deviation_sum / readings;
     out.predicted_spread_rms = std::sqrt(predicted_sum / readings);
+    out.birge_ratio = uncertainty ? uncertainty->birge_ratio : 0.0;
+    out.predicted_spread_rms_posterior = out.predicted_spread_rms * out.birge_ratio;
     out.residual_rms = std::sqrt(residual_sum2 / readings);
   }
   if (lengths > 0) {

@@ -17,7 +17,8 @@ double fileScale(const ParameterInfo& info) {
 
 }  // namespace
 
-nlohmann::json covarianceToJson(const Machine& machine, const Eigen::MatrixXd& V) {
+nlohmann::json covarianceToJson(const Machine& machine, const Eigen::MatrixXd& V,
+                                double birge_ratio) {
   nlohmann::json names = nlohmann::json::array();
   nlohmann::json matrix = nlohmann::json::array();
   const int n = machine.calibratedCount();
@@ -30,7 +31,9 @@ nlohmann::json covarianceToJson(const Machine& machine, const Eigen::MatrixXd& V
     }
     matrix.push_back(row);
   }
-  return {{"parameters", names}, {"matrix", matrix}};
+  nlohmann::json out = {{"parameters", names}, {"matrix", matrix}};
+  if (birge_ratio > 0.0 && std::isfinite(birge_ratio)) out["birge_ratio"] = birge_ratio;
+  return out;
 }
 
 std::optional<ParameterUncertainty> parseMachineCovariance(const nlohmann::json& document,
@@ -69,6 +72,7 @@ std::optional<ParameterUncertainty> parseMachineCovariance(const nlohmann::json&
   const SymmetricEigenSolver eigen(out.V);
   if (eigen.eigenvalues().minCoeff() < -1e-9 * std::max(scale, 1e-300))
     matrix.fail("expected a positive semi-definite matrix");
+  if (const auto birge = covariance->find("birge_ratio")) out.birge_ratio = birge->positive();
   return out;
 }
 

@@ -233,11 +233,27 @@ Eigen::VectorXd jointsFromFile(const Mechanism& mech, const Eigen::VectorXd& val
   return q;
 }
 
-/// A measurement entry {"feature", "csv", "unit"}: one measurement per row of the CSV file,
-/// which is relative to the plan file (models.md section 7).
+/// The "exclude_rows" of a CSV measurement entry: data rows (from 1) a person has judged gross
+/// errors (a ball not seated, a socket that moved), each in 1..rows and named once.
+std::set<long> excludedRows(const Node& entry, std::size_t rows) {
+  std::set<long> out;
+  const auto exclude = entry.find("exclude_rows");
+  if (!exclude) return out;
+  const std::size_t n = exclude->arraySize(0, rows);
+  for (std::size_t i = 0; i < n; ++i) {
+    const long row = (*exclude)[i].integer(1, static_cast<long>(rows));
+    if (!out.insert(row).second)
+      (*exclude)[i].fail("row " + std::to_string(row) + " is excluded twice");
+  }
+  if (out.size() == rows) exclude->fail("every row is excluded: leave the measurement out");
+  return out;
+}
+
+/// A measurement entry {"feature", "csv", "unit", "exclude_rows"}: one measurement per row of
+/// the CSV file, which is relative to the plan file (models.md section 7), but the rows excluded.
 void appendCsvMeasurements(const Node& entry, const Plan& plan, const Artifact& artifact,
                            std::vector<Measurement>& out, std::vector<std::string>& warnings) {
-  entry.warnUnknown({"feature", "csv", "unit"}, warnings);
+  entry.warnUnknown({"feature", "csv", "unit", "exclude_rows"}, warnings);
   const int feature = static_cast<int>(entry.at("feature").integer(0, artifact.featureCount() - 1));
   const Node csv = entry.at("csv");
   const std::filesystem::path relative(csv.string());
@@ -254,12 +270,18 @@ void appendCsvMeasurements(const Node& entry, const Plan& plan, const Artifact& 
   const Mechanism& mech = *plan.machine.mechanism;
   std::vector<JointKind> kinds;
   for (int i = 0; i < mech.jointCount(); ++i) kinds.push_back(mech.jointKind(i));
-  for (Eigen::VectorXd& joints : readJointCsv(path.lexically_normal().string(), kinds, units)) {
+  std::vector<Eigen::VectorXd> rows = readJointCsv(path.lexically_normal().string(), kinds, units);
+  const std::set<long> excluded = excludedRows(entry, rows.size());
+  for (std::size_t r = 0; r < rows.size(); ++r) {
+    const long row = static_cast<long>(r) + 1;
+    if (excluded.count(row)) continue;
     if (out.size() >= kMaxMeasurements)
       csv.fail("more than " + std::to_string(kMaxMeasurements) + " readings in one placement");
     Measurement measurement;
     measurement.feature = feature;
-    measurement.joints = std::move(joints);
+    measurement.joints = std::move(rows[r]);
+    measurement.csv = relative.string();
+    measurement.csv_row = static_cast<int>(row);
     out.push_back(std::move(measurement));
   }
 }

@@ -59,8 +59,8 @@ std::optional<std::array<double, 2>> Planar2R::reachRange(const Eigen::VectorXd&
   return std::array<double, 2>{std::abs(p[0] - p[1]), p[0] + p[1]};
 }
 
-// The tip uncertainty of the planar arm depends on the reach alone (docs/method.md section 8): t1 is
-// held at 0 (or the limit nearest it), t2 on each elbow branch from the law of cosines.
+// The tip uncertainty of the planar arm depends on the reach alone (docs/method.md section 8): t1
+// is held at 0 (or the limit nearest it), t2 on each elbow branch from the law of cosines.
 std::vector<Eigen::VectorXd> Planar2R::configurationsAtReach(
     const Eigen::VectorXd& p, double reach,
     const std::vector<std::array<double, 2>>& limits) const {

@@ -59,6 +59,43 @@ json posteriorCaveat(int dof) {
   return text;
 }
 
+namespace {
+
+const Measurement& measurementOf(const std::vector<Placement>& placements,
+                                 const ResidualEntry& entry) {
+  return placements[static_cast<std::size_t>(entry.placement)]
+      .measurements[static_cast<std::size_t>(entry.measurement)];
+}
+
+/// The gross errors for a person: where each reading is (a CSV file's data row when it came
+/// from one) and how to leave it out once it has been checked.
+std::string grossErrorText(const std::vector<Placement>& placements,
+                           const Calibration& calibration) {
+  std::ostringstream out;
+  int count = 0;
+  for (const ResidualEntry& e : calibration.residuals) {
+    if (!e.gross) continue;
+    const Measurement& m = measurementOf(placements, e);
+    out << "  placement " << e.placement << " reading " << e.measurement << " feature " << e.feature
+        << ": |z| = " << format("%.1f", e.score);
+    if (m.csv_row > 0) out << ", " << m.csv << " row " << m.csv_row;
+    out << "\n";
+    ++count;
+  }
+  if (count == 0) return "";
+  std::ostringstream text;
+  text << "\n"
+       << count << (count == 1 ? " gross error" : " gross errors") << " (|z| > "
+       << format("%.2f", calibration.gross_limit)
+       << ", the gross threshold times max(1, Birge ratio)): check each (a ball not seated, a "
+          "socket that moved); a reading from a CSV file is left out with \"exclude_rows\": "
+          "[row, ...] in its measurement entry, and calibrate again\n"
+       << out.str();
+  return text.str();
+}
+
+}  // namespace
+
 json calibrationToJson(const Plan& plan, const std::vector<Placement>& placements,
                        const Calibration& calibration) {
   const Machine& machine = plan.machine;
@@ -124,10 +161,26 @@ json calibrationToJson(const Plan& plan, const std::vector<Placement>& placement
                                                 {"residual", vectorToJson(entry.residual)},
                                                 {"normalized", vectorToJson(entry.normalized)},
                                                 {"score", finiteOrNull(entry.score)},
-                                                {"flagged", entry.flagged}});
+                                                {"flagged", entry.flagged},
+                                                {"gross", entry.gross}});
   }
   out["residuals"] = residuals;
   out["flagged"] = flagged;
+  json gross = json::array();
+  for (const ResidualEntry& entry : calibration.residuals) {
+    if (!entry.gross) continue;
+    json g = {{"placement", entry.placement},
+              {"measurement", entry.measurement},
+              {"feature", entry.feature},
+              {"score", finiteOrNull(entry.score)}};
+    const Measurement& m = measurementOf(placements, entry);
+    if (m.csv_row > 0) {
+      g["csv"] = m.csv;
+      g["csv_row"] = m.csv_row;
+    }
+    gross.push_back(g);
+  }
+  out["gross_errors"] = gross;
   if (calibration.largest_residual >= 0) {
     const ResidualEntry& largest =
         calibration.residuals[static_cast<std::size_t>(calibration.largest_residual)];
@@ -208,7 +261,7 @@ std::string calibrationTable(const Plan& plan, const std::vector<Placement>& pla
       out << "\n";
     }
   }
-  (void)placements;
+  out << grossErrorText(placements, calibration);
   return out.str();
 }
 

@@ -284,10 +284,10 @@ std::string evaluationTable(const Plan& plan, const Evaluation& ev) {
     for (std::size_t i = 0; i < joints.size(); ++i) out << format(i ? ", %.2f" : "%.2f", joints[i]);
     out << "]\n" << format("  mean   S = %.2f    rms S = %.2f\n", tip.mean * 1e3, tip.rms * 1e3);
     if (ev.workspace_drops.total() > 0) {
-      out << format("  dropped %d samples: %d unreachable within the joint limits, %d forward "
-                    "kinematics failed\n",
-                    ev.workspace_drops.total(), ev.workspace_drops.unreachable,
-                    ev.workspace_drops.failed);
+      out << format(
+          "  dropped %d samples: %d unreachable within the joint limits, %d forward "
+          "kinematics failed\n",
+          ev.workspace_drops.total(), ev.workspace_drops.unreachable, ev.workspace_drops.failed);
     }
   }
   if (!ev.profile.empty()) {

@@ -19,12 +19,18 @@ std::string fixed(double value, int decimals = 4) {
   return buffer;
 }
 
+/// A posterior prediction exists only when the calibration's Birge ratio is known.
+json posteriorOrNull(double value) {
+  return value > 0.0 ? finiteOrNull(value) : json(nullptr);
+}
+
 json featureToJson(const FeatureSpread& f) {
   return {{"feature", f.feature},
           {"postures", f.postures},
           {"spread_mean", finiteOrNull(f.spread_mean)},
           {"spread_rms", finiteOrNull(f.spread_rms)},
           {"predicted_spread_rms", finiteOrNull(f.predicted_spread_rms)},
+          {"predicted_spread_rms_posterior", posteriorOrNull(f.predicted_spread_rms_posterior)},
           {"mean_position", std::vector<double>(f.mean.data(), f.mean.data() + f.mean.size())}};
 }
 
@@ -45,11 +51,14 @@ json placementToJson(const PlacementVerification& v) {
           {"residual_max", finiteOrNull(v.residual_max)}};
 }
 
-/// A reading's place for a person: placement, feature and the how-many-th posture of that
-/// feature (the row of its CSV file, header and blank lines not counted), from 1.
+/// A reading's place for a person: placement, feature, the how-many-th posture of that feature
+/// in the plan (from 1) and, for a reading from a CSV file, the file and its data row (which
+/// differs from the posture once rows are excluded).
 struct ReadingPlace {
   int placement, measurement, feature, posture;
   double deviation, residual;
+  std::string csv;
+  int csv_row;
 };
 
 std::vector<ReadingPlace> largestDeviations(const Plan& plan, const Verification& verification,
@@ -64,7 +73,8 @@ std::vector<ReadingPlace> largestDeviations(const Plan& plan, const Verification
         posture_of_feature.resize(static_cast<std::size_t>(feature) + 1, 0);
       const int posture = ++posture_of_feature[static_cast<std::size_t>(feature)];
       all.push_back({v.index, static_cast<int>(i), feature, posture,
-                     v.deviations[static_cast<int>(i)], v.residuals[static_cast<int>(i)]});
+                     v.deviations[static_cast<int>(i)], v.residuals[static_cast<int>(i)],
+                     measurements[i].csv, measurements[i].csv_row});
     }
   }
   const auto n = std::min<std::size_t>(all.size(), static_cast<std::size_t>(std::max(count, 0)));
@@ -85,18 +95,26 @@ json verificationToJson(const Plan& plan, const Verification& verification) {
                  {"spread_rms", finiteOrNull(verification.spread_rms)},
                  {"spread_mean", finiteOrNull(verification.spread_mean)},
                  {"predicted_spread_rms", finiteOrNull(verification.predicted_spread_rms)},
+                 {"predicted_spread_rms_posterior",
+                  posteriorOrNull(verification.predicted_spread_rms_posterior)},
+                 {"birge_ratio", posteriorOrNull(verification.birge_ratio)},
                  {"predicted_from_calibration", verification.predicted},
                  {"length_error_rms", finiteOrNull(verification.length_error_rms)},
                  {"length_error_mean_abs", finiteOrNull(verification.length_error_mean_abs)},
                  {"residual_rms", finiteOrNull(verification.residual_rms)}};
   json largest = json::array();
   for (const ReadingPlace& r : largestDeviations(plan, verification, 10)) {
-    largest.push_back({{"placement", r.placement},
-                       {"measurement", r.measurement},
-                       {"feature", r.feature},
-                       {"posture", r.posture},
-                       {"deviation", finiteOrNull(r.deviation)},
-                       {"residual", finiteOrNull(r.residual)}});
+    json entry = {{"placement", r.placement},
+                  {"measurement", r.measurement},
+                  {"feature", r.feature},
+                  {"posture", r.posture},
+                  {"deviation", finiteOrNull(r.deviation)},
+                  {"residual", finiteOrNull(r.residual)}};
+    if (r.csv_row > 0) {
+      entry["csv"] = r.csv;
+      entry["csv_row"] = r.csv_row;
+    }
+    largest.push_back(entry);
   }
   verify["largest_deviations"] = largest;
   return {{"plan", plan.name}, {"verify", verify}};
@@ -109,14 +127,25 @@ std::string verificationTable(const Plan& plan, const Verification& verification
   out << "  predicted spread from "
       << (verification.predicted ? "the calibration's V_p and the reading noise"
                                  : "the reading noise alone (no covariance given)")
-      << "\n\n";
-  out << "placement feature postures  spread_mean  spread_rms  predicted_rms\n";
+      << "\n";
+  const bool posterior = verification.birge_ratio > 0.0;
+  if (posterior) {
+    out << "  posterior: times the calibration's Birge ratio " << fixed(verification.birge_ratio, 3)
+        << " (for readings that scatter as the calibration's did)\n";
+  }
+  out << "\nplacement feature postures  spread_mean  spread_rms  predicted_rms"
+      << (posterior ? "  posterior_rms" : "") << "\n";
   for (const PlacementVerification& v : verification.placements) {
     for (const FeatureSpread& f : v.features) {
       char line[160];
-      std::snprintf(line, sizeof line, "%9d %7d %8d %12.4f %11.4f %14.4f\n", v.index, f.feature,
+      std::snprintf(line, sizeof line, "%9d %7d %8d %12.4f %11.4f %14.4f", v.index, f.feature,
                     f.postures, f.spread_mean, f.spread_rms, f.predicted_spread_rms);
       out << line;
+      if (posterior) {
+        std::snprintf(line, sizeof line, " %14.4f", f.predicted_spread_rms_posterior);
+        out << line;
+      }
+      out << "\n";
     }
   }
   out << "\nplacement  from  to   length error   predicted u   residual rms   residual max\n";
@@ -131,21 +160,26 @@ std::string verificationTable(const Plan& plan, const Verification& verification
   out << "\nall placements\n"
       << "  spread mean " << fixed(verification.spread_mean) << "   spread rms "
       << fixed(verification.spread_rms) << "   predicted rms "
-      << fixed(verification.predicted_spread_rms) << "\n"
+      << fixed(verification.predicted_spread_rms);
+  if (posterior) out << "   posterior rms " << fixed(verification.predicted_spread_rms_posterior);
+  out << "\n"
       << "  length error mean |e| " << fixed(verification.length_error_mean_abs) << "   rms "
       << fixed(verification.length_error_rms) << "\n"
       << "  residual rms " << fixed(verification.residual_rms) << "\n";
   const std::vector<ReadingPlace> largest = largestDeviations(plan, verification, outliers);
   if (!largest.empty()) {
-    out << "\nlargest deviations from their feature's mean (posture k: k-th reading of the "
-           "feature, the k-th data row of its CSV file)\n";
+    out << "\nlargest deviations from their feature's mean (posture k: the k-th reading of "
+           "the feature in the plan; a CSV reading's file and data row, as \"exclude_rows\" "
+           "counts them)\n";
     for (const ReadingPlace& r : largest) {
       char line[200];
       std::snprintf(line, sizeof line,
                     "  placement %d feature %d posture %d (measurement %d): %.4f mm from the "
-                    "mean, residual %.4f mm\n",
+                    "mean, residual %.4f mm",
                     r.placement, r.feature, r.posture, r.measurement, r.deviation, r.residual);
       out << line;
+      if (r.csv_row > 0) out << ", " << r.csv << " row " << r.csv_row;
+      out << "\n";
     }
   }
   return out.str();

@@ -111,6 +111,40 @@ TEST(Verification, PredictedSpreadMatchesMonteCarlo) {
   EXPECT_GT(predicted2, noise_only2 * 1.05);  // the calibration's V_p is a visible part
 }
 
+// Readings that scatter twice as much as the plan states: the calibration's Birge ratio says so
+// (about 2), and the posterior prediction (predicted times that ratio) is the spread then
+// observed on held-out readings of the same kind, where the stated-noise prediction is half.
+TEST(Verification, PosteriorSpreadMatchesMonteCarloWhenTheNoiseIsUnderstated) {
+  const Plan plan = serialPlan();
+  const Eigen::VectorXd truth = perturbedTruth(plan);
+  SimulationOptions twice;
+  twice.noise_scale = 2.0;
+  const Simulator simulator(plan, twice);
+  Calibrator calibrator(plan);
+  Plan held_out = plan;
+  double observed2 = 0.0, predicted2 = 0.0, posterior2 = 0.0;
+  constexpr int kTrials = 200;
+  for (int t = 0; t < kTrials; ++t) {
+    NormalSource normal(trialSeed(23, static_cast<std::uint64_t>(t)));
+    const Calibration calibration = calibrator.run(simulator.simulate(truth, normal).placements);
+    ASSERT_TRUE(calibration.summary.converged());
+    ASSERT_TRUE(calibration.covariance);
+    ParameterUncertainty u;
+    u.indices = plan.machine.calibrated;
+    u.V = calibration.covariance->V;
+    u.birge_ratio = std::sqrt(calibration.chi2_per_dof);
+    held_out.placements = simulator.simulate(truth, normal).placements;
+    const Verification v = verifyMachine(held_out, calibration.parameters, u);
+    EXPECT_DOUBLE_EQ(v.birge_ratio, u.birge_ratio);
+    EXPECT_NEAR(v.predicted_spread_rms_posterior, v.predicted_spread_rms * u.birge_ratio, 1e-15);
+    observed2 += v.spread_rms * v.spread_rms / kTrials;
+    predicted2 += v.predicted_spread_rms * v.predicted_spread_rms / kTrials;
+    posterior2 += v.predicted_spread_rms_posterior * v.predicted_spread_rms_posterior / kTrials;
+  }
+  EXPECT_NEAR(observed2 / posterior2, 1.0, 0.1);
+  EXPECT_NEAR(observed2 / predicted2, 4.0, 0.4);
+}
+
 TEST(Verification, CommandLineReadsTheCovarianceOfCalibrate) {
   const std::string plan = test_support::planFile("aacmm-6axis-3bars.json");
   const std::string machine = ::testing::TempDir() + "/verify-machine.json";
@@ -121,6 +155,13 @@ TEST(Verification, CommandLineReadsTheCovarianceOfCalibrate) {
   EXPECT_TRUE(json["verify"]["predicted_from_calibration"].get<bool>());
   EXPECT_EQ(json["verify"]["placements"].size(), 3u);
   EXPECT_EQ(json["verify"]["placements"][0]["features"][0]["postures"].get<int>(), 3);
+  // The machine file carries the calibration's Birge ratio; verify scales by it.
+  const auto calibrated = test_support::runCli("calibrate --json " + plan);
+  ASSERT_EQ(calibrated.status, 0);
+  const double birge = nlohmann::json::parse(calibrated.out)["birge_ratio"].get<double>();
+  EXPECT_NEAR(json["verify"]["birge_ratio"].get<double>(), birge, 1e-12 * birge);
+  EXPECT_NEAR(json["verify"]["predicted_spread_rms_posterior"].get<double>(),
+              json["verify"]["predicted_spread_rms"].get<double>() * birge, 1e-12);
   const auto bad =
       test_support::runCli("verify " + plan + " --machine " + plan, test_support::Stderr::Only);
   EXPECT_EQ(bad.status, 2);

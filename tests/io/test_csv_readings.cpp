@@ -130,6 +130,57 @@ TEST_F(CsvFolder, FaultsNameTheFileAndTheLine) {
             std::string::npos);
 }
 
+// "exclude_rows" leaves data rows out (from 1, the header not counted); the readings kept know
+// their file and row, which the listings of calibrate and verify name.
+TEST_F(CsvFolder, ExcludedRowsAreLeftOutAndTheOthersKeepTheirRow) {
+  json plan = examplePlan();
+  const Plan listed = parsePlan(plan, "listed.json");
+  write("front/hole_0.csv", csvOf(plan, 0, 1.0, "j1,j2,j3,j4,j5,j6"));
+  write("front/hole_1.csv", csvOf(plan, 1, 1.0));
+  plan["placements"][0]["measurements"] = json::array(
+      {{{"feature", 0}, {"csv", "front/hole_0.csv"}, {"exclude_rows", json::array({2})}},
+       {{"feature", 1}, {"csv", "front/hole_1.csv"}, {"exclude_rows", json::array()}}});
+  const Plan fromCsv = loadPlan(write("plan.json", plan.dump()));
+  EXPECT_TRUE(fromCsv.warnings.empty());
+  const auto all0 = readingsOf(listed.placements[0], 0);
+  ASSERT_EQ(all0.size(), 3u);
+  std::vector<const Measurement*> kept0, kept1;
+  for (const Measurement& m : fromCsv.placements[0].measurements)
+    (m.feature == 0 ? kept0 : kept1).push_back(&m);
+  ASSERT_EQ(kept0.size(), 2u);
+  EXPECT_EQ(kept0[0]->csv_row, 1);
+  EXPECT_EQ(kept0[1]->csv_row, 3);
+  EXPECT_EQ(kept0[1]->csv, "front/hole_0.csv");
+  EXPECT_LT((kept0[1]->joints - all0[2]).cwiseAbs().maxCoeff(), 1e-14);
+  ASSERT_EQ(kept1.size(), 3u);
+  EXPECT_EQ(kept1[2]->csv_row, 3);
+  // Inline readings have no CSV row.
+  EXPECT_EQ(listed.placements[0].measurements[0].csv_row, 0);
+}
+
+TEST_F(CsvFolder, WrongExcludedRowsNameTheirPointer) {
+  json plan = examplePlan();
+  write("front/hole_0.csv", csvOf(plan, 0, 1.0));
+  write("front/hole_1.csv", csvOf(plan, 1, 1.0));
+  const std::vector<std::pair<json, std::string>> cases = {
+      {json::array({0}), "/exclude_rows/0"},
+      {json::array({4}), "/exclude_rows/0"},
+      {json::array({1, 1}), "/exclude_rows/1: row 1 is excluded twice"},
+      {json::array({1, 2, 3}), "/exclude_rows: every row is excluded"},
+      {json::array({"2"}), "/exclude_rows/0"},
+      {json(2), "/exclude_rows"}};
+  for (const auto& [rows, expected] : cases) {
+    plan["placements"][0]["measurements"] =
+        json::array({{{"feature", 0}, {"csv", "front/hole_0.csv"}, {"exclude_rows", rows}},
+                     {{"feature", 1}, {"csv", "front/hole_1.csv"}}});
+    const std::string path = write("plan.json", plan.dump());
+    const auto run = test_support::runCli("check " + path, test_support::Stderr::Only);
+    EXPECT_EQ(run.status, 2) << rows;
+    EXPECT_NE(run.out.find("plan.json: /placements/0/measurements/0" + expected), std::string::npos)
+        << rows << ": " << run.out;
+  }
+}
+
 TEST_F(CsvFolder, CommandLineAnswersWithOneLineAndStatusTwo) {
   json plan = examplePlan();
   write("front/hole_0.csv", "1,2,3,4,5,6\n1,2,3,4,5\n");

@@ -1,6 +1,6 @@
 #pragma once
-// Calibrated artifacts (docs/method.md sections 1 and 2): their features W*_i, which coordinates are
-// valued, which rigid motions of a placement move those coordinates (N(r_j)), and their
+// Calibrated artifacts (docs/method.md sections 1 and 2): their features W*_i, which coordinates
+// are valued, which rigid motions of a placement move those coordinates (N(r_j)), and their
 // systematic calibration errors c (W* = W*_0 + C c, prior covariance Sigma_c), shared by every
 // placement of the same physical artifact.
 

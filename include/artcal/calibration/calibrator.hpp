@@ -56,6 +56,10 @@ struct CalibrationOptions {
   DampingOptions damping;
   /// Normalised residuals larger than this (in absolute value) are flagged.
   double flag_threshold = 3.0;
+  /// A reading is a gross error (a ball not seated, a socket that moved) when its score exceeds
+  /// this many times max(1, Birge ratio): beyond 5 sigma of the scatter the fit itself shows,
+  /// p = 5.7e-7 per coordinate for a normal error, so about one false call in 10^6 coordinates.
+  double gross_threshold = 5.0;
   /// Residual table and V_p at the estimate (the Monte-Carlo confirmation skips them).
   bool details = true;
   bool isValid(std::string* error) const;
@@ -85,6 +89,7 @@ struct ResidualEntry {
   Eigen::VectorXd normalized;
   double score = 0.0;    ///< max |normalized|
   bool flagged = false;  ///< score > flag_threshold
+  bool gross = false;    ///< score > gross_threshold * max(1, Birge ratio)
 };
 
 struct Calibration {
@@ -98,6 +103,7 @@ struct Calibration {
   std::optional<ParameterCovariance> covariance;  ///< V_p at the estimate (details only)
   std::vector<ResidualEntry> residuals;           ///< details only
   int largest_residual = -1;                      ///< index into residuals, -1 when none
+  double gross_limit = 0.0;  ///< the score beyond which a reading is a gross error (details only)
 
   Eigen::VectorXd estimate(const Machine& machine) const {
     return machine.calibratedValues(parameters);

@@ -13,8 +13,8 @@
 // is given. The deviation of posture i from the feature mean is
 //   d_i = (J_i - Jbar) dp + (e_i - ebar),   J_i = df/dp at q_i over the covariance's parameters,
 // with dp ~ (0, V_p) the calibration's parameter error and e_i ~ (0, Sigma_i) the reading's own
-// error, Sigma_i = s_p^2 I + J_q,i Sigma_q J_q,i^T (docs/method.md section 2: probing and encoders),
-// independent between readings. Hence
+// error, Sigma_i = s_p^2 I + J_q,i Sigma_q J_q,i^T (docs/method.md section 2: probing and
+// encoders), independent between readings. Hence
 //   E|d_i|^2 = tr((J_i - Jbar) V_p (J_i - Jbar)^T) + tr(Sigma_i) (1 - 2/n) + tr(sum_k Sigma_k)/n^2
 // and predicted_spread_rms = sqrt(mean_i E|d_i|^2). A length error's predicted u is the standard
 // deviation of u^T (m_b - m_a), u the unit direction between the means, with Cov(m_b - m_a) =
@@ -22,6 +22,12 @@
 // own calibration uncertainty of that distance (its systematic errors). What is not modelled
 // (gear errors, elasticity, a socket that moved) is exactly what the observed figures show beyond
 // the predicted ones.
+//
+// The posterior prediction: when the calibration's own readings scattered s = sqrt(chi2/dof)
+// times the stated noise (its Birge ratio), the a-posteriori variance factor s^2 scales every
+// Sigma_i and, with them, V_p; E|d_i|^2 is linear in both, so the prediction scales by s. It is
+// the prediction for readings that scatter as the calibration's did (the same factor as the
+// calibration's u_posterior); unmodelled errors that differ between placements it cannot know.
 
 #include <Eigen/Core>
 #include <optional>
@@ -36,6 +42,9 @@ namespace artcal {
 struct ParameterUncertainty {
   std::vector<int> indices;  ///< into the model's full parameter vector
   Eigen::MatrixXd V;         ///< indices.size() squared
+  /// sqrt(chi2/dof) of the calibration that produced V, 0 when not known. The readings of that
+  /// fit scattered this many times as much as the stated noise says.
+  double birge_ratio = 0.0;
 };
 
 struct FeatureSpread {
@@ -45,6 +54,8 @@ struct FeatureSpread {
   double spread_mean = 0.0;           ///< mm
   double spread_rms = 0.0;            ///< mm
   double predicted_spread_rms = 0.0;  ///< mm
+  /// predicted_spread_rms times the calibration's Birge ratio, 0 when that is not known.
+  double predicted_spread_rms_posterior = 0.0;
 };
 
 struct LengthError {
@@ -67,11 +78,13 @@ struct PlacementVerification {
 
 struct Verification {
   std::vector<PlacementVerification> placements;
-  bool predicted = false;             ///< a covariance was given
-  double spread_rms = 0.0;            ///< over every posture of every placement
-  double spread_mean = 0.0;           ///< mean |x_i - m| over every posture (MUKCa's MAE)
-  double predicted_spread_rms = 0.0;  ///< sqrt of the mean predicted |d_i|^2
-  double length_error_rms = 0.0;      ///< over every pair of every placement
+  bool predicted = false;                       ///< a covariance was given
+  double spread_rms = 0.0;                      ///< over every posture of every placement
+  double spread_mean = 0.0;                     ///< mean |x_i - m| over every posture (MUKCa's MAE)
+  double predicted_spread_rms = 0.0;            ///< sqrt of the mean predicted |d_i|^2
+  double birge_ratio = 0.0;                     ///< the calibration's, 0 when not known
+  double predicted_spread_rms_posterior = 0.0;  ///< predicted_spread_rms * birge_ratio
+  double length_error_rms = 0.0;                ///< over every pair of every placement
   double length_error_mean_abs = 0.0;
   double residual_rms = 0.0;
 };

@@ -1,9 +1,9 @@
 #pragma once
 // Observation blocks: what one placement contributes to the weighted least-squares problem
-// (docs/method.md sections 1-3). The rows are the valued artifact coordinates of its measured points,
-// already whitened by Sigma_ij^{-1/2}, Sigma_ij = s_p^2 I_k + J_q Sigma_q J_q^T (eq. of section 2),
-// so that the information is simply A^T A. The evaluator, the optimizer and the calibrator all
-// build their normal equations from these blocks.
+// (docs/method.md sections 1-3). The rows are the valued artifact coordinates of its measured
+// points, already whitened by Sigma_ij^{-1/2}, Sigma_ij = s_p^2 I_k + J_q Sigma_q J_q^T (eq. of
+// section 2), so that the information is simply A^T A. The evaluator, the optimizer and the
+// calibrator all build their normal equations from these blocks.
 
 #include <Eigen/Core>
 #include <vector>

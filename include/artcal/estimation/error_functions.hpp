@@ -3,8 +3,8 @@
 // the terms a metrologist uses: each axis's six functions e(u) = sum_n c_n P_n(s) and the
 // predicted standard uncertainty of each along its axis,
 //   u_e(u)^2 = g(u)^T V_e g(u),   g(u) = (P_n(s(u)))_n over the function's calibrated degrees,
-// V_e the block of V_p of those coefficients (docs/method.md section 4 applied to one function); and
-// the rotations of the whole machine frame that the placements' rigid motions absorb.
+// V_e the block of V_p of those coefficients (docs/method.md section 4 applied to one function);
+// and the rotations of the whole machine frame that the placements' rigid motions absorb.
 //
 // A frame rotation w turns every probed point x into x + w x (x - const). At p = 0 the degree-1
 // translations of axis k, c_k = (w x direction_k) width_k / 2, do the same up to a constant and

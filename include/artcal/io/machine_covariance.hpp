@@ -2,8 +2,9 @@
 // The calibrated parameters' covariance V_p carried in a machine file (`calibrate
 // --write-machine` writes it beside the machine block; `verify --machine` reads it for the
 // predicted figures, models.md section 6):
-//   "covariance": {"parameters": [names], "matrix": [[...], ...]}
-// in file units: entry (i, j) in the units of parameter i times those of parameter j (mm, deg).
+//   "covariance": {"parameters": [names], "matrix": [[...], ...], "birge_ratio": 1.21}
+// in file units: entry (i, j) in the units of parameter i times those of parameter j (mm, deg);
+// "birge_ratio" (optional) is sqrt(chi2/dof) of the fit that produced the matrix.
 
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
@@ -16,8 +17,10 @@
 
 namespace artcal {
 
-/// The "covariance" member for V (internal units) over the machine's calibrated parameters.
-nlohmann::json covarianceToJson(const Machine& machine, const Eigen::MatrixXd& V);
+/// The "covariance" member for V (internal units) over the machine's calibrated parameters;
+/// `birge_ratio` <= 0 (no redundancy) is left out.
+nlohmann::json covarianceToJson(const Machine& machine, const Eigen::MatrixXd& V,
+                                double birge_ratio);
 
 /// The "covariance" member of a machine file for `plan`'s model (internal units); std::nullopt
 /// when there is none. InputError naming `source` and the pointer when malformed, when a name is

@@ -28,6 +28,10 @@ struct Measurement {
   int feature = 0;
   Eigen::VectorXd joints;
   int stylus = 0;  ///< the probe's stylus (Cartesian CMMs, models.md section 4)
+  /// Where a reading from a CSV file came from, for a person: the file as the plan names it and
+  /// its data row (from 1, header and blank lines not counted); empty and 0 when listed inline.
+  std::string csv = {};
+  int csv_row = 0;
 };
 
 /// Where an artifact is put. 2-D: center and angle; 3-D: center, direction and roll.

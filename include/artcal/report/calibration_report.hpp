@@ -1,8 +1,8 @@
 #pragma once
-// Results of `calibrate` and `confirm` as JSON (file units, the fields docs/plan-format.md promises:
-// calibrate {converged, iterations, chi2_per_dof, parameters [{name, estimate, u, unit}]},
-// confirm {confirmed, trials, parameters [{name, predicted_u, empirical_u, ratio}]}) and as
-// human tables. Non-finite numbers never reach the JSON (finiteOrNull).
+// Results of `calibrate` and `confirm` as JSON (file units, the fields docs/plan-format.md
+// promises: calibrate {converged, iterations, chi2_per_dof, parameters [{name, estimate, u,
+// unit}]}, confirm {confirmed, trials, parameters [{name, predicted_u, empirical_u, ratio}]}) and
+// as human tables. Non-finite numbers never reach the JSON (finiteOrNull).
 
 #include <nlohmann/json.hpp>
 #include <string>
