@@ -33,6 +33,7 @@ struct OptimizeArguments {
   std::optional<int> starts;
   std::optional<double> time_limit;
   std::optional<long> seed;
+  std::optional<int> polish, kicks;
   SweepArguments sweep;  ///< --placements A..B: every count, -o is a directory
 };
 
@@ -47,7 +48,9 @@ OptimizerOptions optionsFrom(const Plan& plan, const OptimizeArguments& args) {
   if (args.seed) options.seed = static_cast<std::uint64_t>(*args.seed);
   options.threads = args.threads;
   if (args.pool > 0) options.pool_size = args.pool;
-  options.refine_evaluations = args.evaluations;
+  if (args.evaluations > 0) options.refine_evaluations = args.evaluations;
+  if (args.polish) options.polish = *args.polish;
+  if (args.kicks) options.kicks = *args.kicks;
   options.algorithm = *refineAlgorithmFromName(args.algorithm);
   if (!args.quiet && isatty(STDERR_FILENO)) {
     options.progress = [](const OptimizerProgress& p) {
@@ -251,9 +254,16 @@ void addOptimizeCommand(CLI::App& app, Action& action) {
       ->check(CLI::Range(0, 100000))
       ->capture_default_str();
   cmd->add_option("--evaluations", args->evaluations,
-                  "refinement evaluations per start; 0: automatic")
+                  "refinement evaluations per start (overrides design.evaluations); 0: "
+                  "design.evaluations or automatic")
       ->check(CLI::Range(0, 10000000))
       ->capture_default_str();
+  cmd->add_option("--polish", args->polish,
+                  "the best designs polished at the end (overrides design.polish)")
+      ->check(CLI::Range(0, 10000));
+  cmd->add_option("--kicks", args->kicks,
+                  "iterated-local-search kicks per polished design (overrides design.kicks)")
+      ->check(CLI::Range(0, 10000));
   cmd->add_option("--placements", args->sweep.range,
                   "A..B: optimize every count from A to B placements (seeding each count with "
                   "the design for the one before); -o is then a directory for the plans and "

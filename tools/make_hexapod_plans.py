@@ -129,7 +129,8 @@ def main():
             "workspace": WORKSPACE,
             "design": {"artifact": "bar200", "placements": 10, "postures": 3,
                        "region": {"box": [[-160, -160, 390], [160, 160, 550]]},
-                       "criterion": "worst-tip", "seed": 1, "starts": 128, "pool": 600, "time_limit": 60,
+                       "criterion": "worst-tip", "seed": 1, "starts": 32, "pool": 1200,
+                       "evaluations": 12000, "polish": 4, "kicks": 16, "time_limit": 60,
                        "joint_margin": 10}}
     for name, doc in (("hexapod-10bars.json", plan), ("hexapod-10bars.spec.json", spec)):
         with open(os.path.join(root, name), "w") as f:

@@ -481,7 +481,8 @@ Eigen::VectorXd parseJointMargin(const std::optional<Node>& node, const Machine&
 DesignSpec parseDesign(const Node& node, const Plan& plan, std::vector<std::string>& warnings) {
   node.object();
   node.warnUnknown({"artifact", "placements", "postures", "region", "criterion", "seed", "starts",
-                    "time_limit", "joint_margin", "pool", "target_tip"},
+                    "time_limit", "joint_margin", "pool", "evaluations", "polish", "kicks",
+                    "target_tip"},
                    warnings);
   DesignSpec design;
   const Node artifact = node.at("artifact");
@@ -496,6 +497,10 @@ DesignSpec parseDesign(const Node& node, const Plan& plan, std::vector<std::stri
   if (const auto v = node.find("starts")) design.starts = static_cast<int>(v->integer(1, 10'000));
   if (const auto v = node.find("time_limit")) design.time_limit = v->positive();
   if (const auto v = node.find("pool")) design.pool = static_cast<int>(v->integer(1, 100'000));
+  if (const auto v = node.find("evaluations"))
+    design.evaluations = static_cast<int>(v->integer(1, 10'000'000));
+  if (const auto v = node.find("polish")) design.polish = static_cast<int>(v->integer(0, 10'000));
+  if (const auto v = node.find("kicks")) design.kicks = static_cast<int>(v->integer(0, 10'000));
   if (const auto v = node.find("target_tip")) design.target_tip = v->positive();
   design.joint_margin = parseJointMargin(node.find("joint_margin"), plan.machine);
   return design;

@@ -28,6 +28,11 @@ constexpr double kInfinity = std::numeric_limits<double>::infinity();
 constexpr int kExchangeConfirmations = 24;
 // Refinement: runs on the active-set bound, each followed by the full criterion at its optimum.
 constexpr int kRefineRounds = 4;
+// Polish: restarts of the refinement while a round gains this much, and the kicks' size (a
+// fraction of the design space's initial steps).
+constexpr int kPolishRounds = 12;
+constexpr double kPolishGain = 1e-4;
+constexpr double kKickSize = 0.3;
 
 using Clock = std::chrono::steady_clock;
 
@@ -88,6 +93,9 @@ OptimizerOptions OptimizerOptions::fromDesign(const DesignSpec& design) {
   options.starts = design.starts;
   options.time_limit = design.time_limit;
   options.pool_size = design.pool;
+  options.refine_evaluations = design.evaluations;
+  options.polish = design.polish;
+  options.kicks = design.kicks;
   return options;
 }
 
@@ -105,6 +113,7 @@ bool OptimizerOptions::isValid(std::string* why) const {
     return fail("smooth_power must be finite and not negative");
   }
   if (threads < 0) return fail("threads must not be negative");
+  if (polish < 0 || kicks < 0) return fail("polish and kicks must not be negative");
   return true;
 }
 
@@ -291,6 +300,7 @@ class Search {
   double remaining() const { return options_.time_limit - secondsSince(start_time_); }
   void buildPool();
   void runStart(int start, DesignCriterion& criterion);
+  void polish(int start, DesignCriterion& criterion);
   double exchange(std::vector<int>& chosen, Eigen::MatrixXd& total, double value,
                   DesignCriterion& criterion);
   double refine(std::vector<Placement>& placements, std::vector<Eigen::VectorXd>& poses,
@@ -307,6 +317,7 @@ class Search {
   std::vector<Candidate> pool_;
   std::vector<StartResult> results_;
   std::vector<std::vector<Placement>> designs_;
+  std::vector<std::vector<Eigen::VectorXd>> design_poses_;
   std::atomic<bool> timed_out_{false};
   std::mutex progress_mutex_;
 };
@@ -573,7 +584,49 @@ void Search::runStart(int start, DesignCriterion& criterion) {
                        ? refine(placements, poses, result.exchanged, criterion)
                        : result.exchanged;
   designs_[static_cast<std::size_t>(start)] = std::move(placements);
+  design_poses_[static_cast<std::size_t>(start)] = std::move(poses);
   result.done = true;
+}
+
+// The best designs, polished (docs/optimize.md, "How it searches", step 7). A derivative-free
+// local search of a minimax in 6 m dimensions stops short of its basin's floor: Subplex's
+// simplices shrink on the way, so it is restarted from its own result while a round gains at
+// least kPolishGain. Then an iterated local search (Lourenco, Martin and Stuetzle): each kick
+// moves every pose coordinate by a normal draw of kKickSize of its initial step, refines the
+// kicked design and keeps it when it is better. A kick crosses the ridges between neighbouring
+// minima that the worst-tip max leaves and a simplex does not climb.
+void Search::polish(int start, DesignCriterion& criterion) {
+  StartResult& result = results_[static_cast<std::size_t>(start)];
+  std::vector<Placement>& placements = designs_[static_cast<std::size_t>(start)];
+  std::vector<Eigen::VectorXd>& poses = design_poses_[static_cast<std::size_t>(start)];
+  Eigen::MatrixXd total = fixed_;
+  for (const Placement& p : placements) total += criterion.contribution(p);
+  criterion.resetActive();
+  double value = criterion.activate(total);
+  for (int round = 0; round < kPolishRounds && remaining() > 0.0; ++round) {
+    const double polished = refine(placements, poses, value, criterion);
+    const bool gained = polished < value * (1.0 - kPolishGain);
+    value = std::min(value, polished);
+    if (!gained) break;
+  }
+  std::mt19937_64 rng = seededGenerator(options_.seed, 3, static_cast<std::uint64_t>(start));
+  std::normal_distribution<double> normal;
+  const Eigen::VectorXd steps = space_.initialSteps();
+  for (int kick = 0; kick < options_.kicks && remaining() > 0.0; ++kick) {
+    std::vector<Placement> trial = placements;
+    std::vector<Eigen::VectorXd> trial_poses = poses;
+    for (Eigen::VectorXd& pose : trial_poses) {
+      for (int i = 0; i < pose.size(); ++i) pose[i] += kKickSize * steps[i] * normal(rng);
+    }
+    // The kicked design's value is not known: 2 x the current one sets the penalty scale.
+    const double kicked = refine(trial, trial_poses, 2.0 * value, criterion);
+    if (kicked < value) {
+      value = kicked;
+      placements = std::move(trial);
+      poses = std::move(trial_poses);
+    }
+  }
+  result.refined = std::min(result.refined, value);
 }
 
 OptimizerSummary Search::run() {
@@ -582,6 +635,7 @@ OptimizerSummary Search::run() {
   fixed_ = fixedInformation(criteria_.front());
   results_.assign(static_cast<std::size_t>(options_.starts), StartResult{});
   designs_.assign(static_cast<std::size_t>(options_.starts), {});
+  design_poses_.assign(static_cast<std::size_t>(options_.starts), {});
   std::atomic<int> done{0};
   double best_so_far = kInfinity;
   parallelFor(options_.starts, threads_, [&](int start, int worker) {
@@ -596,6 +650,21 @@ OptimizerSummary Search::run() {
     if (options_.progress) {
       options_.progress({done.load(), options_.starts, best_so_far, secondsSince(start_time_)});
     }
+  });
+  // The best few designs, polished (in parallel, each on its own worker's criterion; each
+  // polish starts from a reset active set, so the result does not depend on the threads).
+  std::vector<int> ranked;
+  for (int s = 0; s < options_.starts; ++s)
+    if (results_[static_cast<std::size_t>(s)].done) ranked.push_back(s);
+  std::stable_sort(ranked.begin(), ranked.end(), [&](int a, int b) {
+    return results_[static_cast<std::size_t>(a)].refined <
+           results_[static_cast<std::size_t>(b)].refined;
+  });
+  ranked.resize(std::min<std::size_t>(ranked.size(),
+                                      static_cast<std::size_t>(options_.polish)));
+  parallelFor(static_cast<int>(ranked.size()), threads_, [&](int i, int worker) {
+    if (remaining() <= 0.0) return;
+    polish(ranked[static_cast<std::size_t>(i)], criteria_[static_cast<std::size_t>(worker)]);
   });
   OptimizerSummary summary;
   summary.starts = results_;

@@ -501,6 +501,8 @@ section.placement { break-inside: avoid; page-break-inside: avoid; margin-bottom
 section.placement .views { display: flex; flex-wrap: wrap; gap: 2mm; }
 section.placement .views svg { width: 60mm; height: auto; }
 section.placement .views svg:only-child { width: 100mm; }
+section.placement p.view-legend { font-size: 9pt; margin: 1mm 0; }
+section.placement p.view-legend svg { vertical-align: middle; }
 table.procedure { font-size: 8.5pt; }
 @page { size: A4; margin: 14mm; }
 @media print { body { max-width: none; padding: 0; } h2 { break-after: avoid; }

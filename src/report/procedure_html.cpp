@@ -62,7 +62,10 @@ svg::Style postureStyle(int posture, double opacity) {
 /// One view of one placement: the mechanism in each reading's posture, the probe positions
 /// (crosses) and the placed features (circles, numbered).
 std::string placementView(const Plan& plan, const ProcedurePlacement& placement, std::size_t j,
-                          ProcedureView view, double size) {
+                          ProcedureView view, double size, bool legend) {
+  // Small views share one legend below them (viewLegend): a legend of each would be as tall as
+  // its plot.
+  auto named = [legend](const std::string& text) { return legend ? text : std::string(); };
   const Machine& machine = plan.machine;
   const bool spatial = machine.dimension() == 3;
   const std::string title = "Placement " + std::to_string(j) +
@@ -77,16 +80,17 @@ std::string placementView(const Plan& plan, const ProcedurePlacement& placement,
   svg::Style base;
   base.fill = "#000000";
   plot.marker(projectPoint(Eigen::Vector3d::Zero().head(machine.dimension()), view),
-              svg::Shape::Square, 8.0, base, "machine origin");
+              svg::Shape::Square, 8.0, base, named("machine origin"));
   const double opacity = std::clamp(std::sqrt(6.0 / placement.readings.size()), 0.25, 1.0);
   for (const ProcedureReading& r : placement.readings) {
     const std::vector<Eigen::VectorXd> skeleton =
         machine.mechanism->skeleton(machine.nominal, r.target);
     std::vector<Eigen::Vector2d> points;
     for (const Eigen::VectorXd& point : skeleton) points.push_back(projectPoint(point, view));
-    plot.polyline(points, postureStyle(r.posture, opacity), "posture " + std::to_string(r.posture));
+    plot.polyline(points, postureStyle(r.posture, opacity),
+                  named("posture " + std::to_string(r.posture)));
     svg::Style probe;
-    plot.marker(projectPoint(r.position, view), svg::Shape::Cross, 6.0, probe, "probe");
+    plot.marker(projectPoint(r.position, view), svg::Shape::Cross, 6.0, probe, named("probe"));
   }
   const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
   const Eigen::MatrixXd features = placedFeatures(artifact, placement.pose);
@@ -97,11 +101,36 @@ std::string placementView(const Plan& plan, const ProcedurePlacement& placement,
   for (int i = 0; i < features.cols(); ++i) {
     const Eigen::Vector2d at = projectPoint(features.col(i), view);
     outline.push_back(at);
-    plot.marker(at, svg::Shape::Circle, 9.0, ball, "feature");
-    if (features.cols() <= 12) plot.label(at, std::to_string(i));
+    plot.marker(at, svg::Shape::Circle, 9.0, ball, named("feature"));
+    // At most about 12 numbers, so that they do not overlap on a large plate: every k-th, and
+    // the last one, which tells the count.
+    const int stride = static_cast<int>((features.cols() + 11) / 12);
+    if (i % stride == 0 || i == features.cols() - 1) plot.label(at, std::to_string(i));
   }
   if (artifact.kind != ArtifactKind::BallPlate) plot.polyline(outline, ball);
   return plot.render();
+}
+
+/// The legend the small views share, in the views' own styles: the postures drawn, the probe,
+/// the features and the machine origin.
+std::string viewLegend(const ProcedurePlacement& placement) {
+  int postures = 0;
+  for (const ProcedureReading& r : placement.readings) postures = std::max(postures, r.posture + 1);
+  std::ostringstream out;
+  out << "<p class=\"view-legend\">";
+  for (int k = 0; k < std::min(postures, 6); ++k) {
+    const svg::Style style = postureStyle(k, 1.0);
+    const char* dash = style.dash == svg::Dash::Dashed   ? " stroke-dasharray=\"8 4\""
+                       : style.dash == svg::Dash::Dotted ? " stroke-dasharray=\"1.5 3\""
+                                                         : "";
+    out << "<svg width=\"28\" height=\"10\"><line x1=\"1\" y1=\"5\" x2=\"27\" y2=\"5\" stroke=\""
+        << style.stroke << "\" stroke-width=\"1.6\"" << dash << "/></svg> posture " << k
+        << " &#160; ";
+  }
+  if (postures > 6) out << "(the styles repeat every 6 postures) &#160; ";
+  out << "&#215; probe &#160; <span style=\"color:#21918c\">&#9675;</span> feature (numbered) "
+         "&#160; &#9632; machine origin</p>\n";
+  return out.str();
 }
 
 void writeReadingsTable(std::ostream& out, const Plan& plan, const ProcedurePlacement& placement) {
@@ -180,12 +209,13 @@ std::string procedureHtml(const Plan& plan, const Procedure& procedure) {
       if (spatial) {
         for (const ProcedureView view :
              {ProcedureView::Plan, ProcedureView::Side, ProcedureView::Oblique}) {
-          out << placementView(plan, placement, j, view, 300.0);
+          out << placementView(plan, placement, j, view, 300.0, false);
         }
       } else {
-        out << placementView(plan, placement, j, ProcedureView::Plan, 360.0);
+        out << placementView(plan, placement, j, ProcedureView::Plan, 360.0, true);
       }
       out << "</div>\n";
+      if (spatial) out << viewLegend(placement);
     }
     writeReadingsTable(out, plan, placement);
     out << "</section>\n";

@@ -280,7 +280,12 @@ void Plot::cell(const Eigen::Vector2d& corner_a, const Eigen::Vector2d& corner_b
 void Plot::label(const Eigen::Vector2d& point, const std::string& text) {
   include(point);
   painters_.push_back([point, text](std::ostream& out, const Frame& f) {
-    out << "<text x=\"" << pixel(f.x(point.x()) + 7) << "\" y=\"" << pixel(f.y(point.y()) - 7)
+    // Above and right of the point, or below / left of it where that would leave the frame.
+    const double width = textWidth(text) * 11.0 / kFontSize;
+    double x = f.x(point.x()) + 7, y = f.y(point.y()) - 7;
+    if (y - 11.0 < f.top) y = f.y(point.y()) + 17;
+    if (x + width > f.left + f.width) x = f.x(point.x()) - 7 - width;
+    out << "<text x=\"" << pixel(x) << "\" y=\"" << pixel(y)
         << "\" font-size=\"11\" stroke=\"#ffffff\" stroke-width=\"3\" paint-order=\"stroke\">"
         << escape(text) << "</text>\n";
   });

@@ -108,6 +108,19 @@ TEST(PlanIo, DesignPoolAndTargetTipRead) {
   ASSERT_TRUE(plan.design->target_tip);
   EXPECT_DOUBLE_EQ(*plan.design->target_tip, 0.0105);
   EXPECT_EQ(OptimizerOptions::fromDesign(*plan.design).pool_size, 450);
+  doc["design"]["evaluations"] = 12000;
+  doc["design"]["polish"] = 4;
+  doc["design"]["kicks"] = 16;
+  const OptimizerOptions effort =
+      OptimizerOptions::fromDesign(*parsePlan(doc, "spec.json").design);
+  EXPECT_EQ(effort.refine_evaluations, 12000);
+  EXPECT_EQ(effort.polish, 4);
+  EXPECT_EQ(effort.kicks, 16);
+  for (const char* field : {"evaluations", "polish", "kicks"}) {
+    json bad = doc;
+    bad["design"][field] = -1;
+    EXPECT_THROW(parsePlan(bad, "spec.json"), InputError) << field;
+  }
 }
 
 // machine.prior: defaults by kind (mm, deg), a named parameter in its own file unit, written back.

@@ -180,6 +180,36 @@ TEST(Optimizer, SameSeedSamePlanWhateverTheThreadCount) {
   EXPECT_NE(optimizePlan(plan, other).value, one.value);
 }
 
+// The polish (restarts and kicks of the best designs' refinement) keeps every guarantee of a
+// start: feasible, never worse than without it, the same plan whatever the thread count.
+TEST(Optimizer, PolishNeverWorseAndTheSamePlanWhateverTheThreads) {
+  const Plan plan = parsePlan(seedSpec(4, {{"reach", {55, 245}}}), "spec", false);
+  const OptimizerSummary plain = optimizePlan(plan, smallEffort(plan, 2));
+  auto polished = [&](int threads) {
+    OptimizerOptions options = smallEffort(plan, threads);
+    options.polish = 3;
+    options.kicks = 4;
+    return optimizePlan(plan, options);
+  };
+  const OptimizerSummary one = polished(1);
+  const OptimizerSummary two = polished(2);
+  expectFeasible(plan, two.placements);
+  EXPECT_LE(two.value, plain.value);
+  EXPECT_EQ(one.value, two.value);
+  EXPECT_EQ(one.best_start, two.best_start);
+  ASSERT_EQ(one.placements.size(), two.placements.size());
+  for (std::size_t j = 0; j < one.placements.size(); ++j) {
+    for (std::size_t i = 0; i < one.placements[j].measurements.size(); ++i)
+      EXPECT_EQ(one.placements[j].measurements[i].joints, two.placements[j].measurements[i].joints);
+  }
+  for (std::size_t s = 0; s < two.starts.size(); ++s)
+    EXPECT_LE(two.starts[s].refined, plain.starts[s].refined) << s;
+  // The value is the evaluator's G of the polished plan.
+  Plan result = plan;
+  result.placements = two.placements;
+  EXPECT_NEAR(two.value, evaluatePlan(result).tip->worst.total, 1e-12);
+}
+
 TEST(Optimizer, TimeLimitStopsTheSearchWithAUsableResult) {
   const Plan plan = parsePlan(seedSpec(5, {{"reach", {55, 245}}}), "spec", false);
   OptimizerOptions options = smallEffort(plan, 2);

@@ -85,6 +85,13 @@ struct DesignSpec {
   /// Candidate placements of the exchange (`design.pool`); 0: automatic (30 per placement,
   /// 120 .. 600).
   int pool = 0;
+  /// `design.evaluations`: criterion evaluations of each start's continuous refinement; 0:
+  /// automatic (300 per pose variable, at most 6000).
+  int evaluations = 0;
+  /// `design.polish` and `design.kicks`: the best designs polished at the end, and the kicks of
+  /// the iterated local search on each (docs/optimize.md); 0: none.
+  int polish = 0;
+  int kicks = 0;
   /// `design.target_tip` (mm): with `optimize --placements`, the criterion value to reach.
   std::optional<double> target_tip;
   /// How far inside the joint limits every planned reading stays, per joint (rad or mm):

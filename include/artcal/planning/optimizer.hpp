@@ -54,6 +54,8 @@ struct OptimizerOptions {
   RefineAlgorithm algorithm = RefineAlgorithm::Subplex;
   int refine_evaluations = 0;  ///< per start; 0: automatic (by the number of pose variables)
   double smooth_power = 0.0;   ///< worst-tip refinement: 0 the max itself, p > 0 a p-norm
+  int polish = 0;  ///< the best designs polished at the end (refinement restarted, then kicked)
+  int kicks = 0;   ///< iterated-local-search kicks per polished design
   int threads = 0;             ///< 0: the hardware's
   std::function<void(const OptimizerProgress&)> progress;  ///< called after each start
 
@@ -112,6 +114,9 @@ class DesignCriterion {
   /// than anywhere in it (the few worst of them).
   double activate(const Eigen::MatrixXd& information_g);
   int activeSize() const { return static_cast<int>(active_.size()); }
+  /// S (mm) at each configuration of the active set (worst-tip); false, and `S` untouched,
+  /// when V_p does not exist or the set is empty.
+  bool activeTip(const Eigen::MatrixXd& information_g, Eigen::VectorXd& S);
 
  private:
   double evaluate(const Eigen::MatrixXd& information_g, double power);
