@@ -736,14 +736,37 @@ void writeFlagged(std::ostream& out, const json& cal) {
   }
   std::stable_sort(flags.begin(), flags.end(),
                    [](const Flag& a, const Flag& b) { return a.score > b.score; });
+  // Gross errors (calibrate's gross_errors), with the CSV file and row a reading came from.
+  std::map<std::pair<std::size_t, std::size_t>, std::string> gross;
+  if (const auto it = cal.find("gross_errors"); it != cal.end()) {
+    for (const json& g : *it) {
+      std::string where = "yes";
+      if (g.contains("csv_row"))
+        where += ": " + g.at("csv").get<std::string>() + " row " +
+                 std::to_string(g.at("csv_row").get<int>());
+      gross[{g.at("placement").get<std::size_t>(), g.at("measurement").get<std::size_t>()}] = where;
+    }
+  }
+  if (!gross.empty()) {
+    out << "<p><strong>" << gross.size() << (gross.size() == 1 ? " gross error" : " gross errors")
+        << "</strong> (|z| beyond the gross threshold times max(1, Birge ratio)): check each (a "
+           "ball not seated, a socket that moved). A reading from a CSV file is left out with "
+           "<code>\"exclude_rows\"</code> in its measurement entry.</p>\n";
+  }
   out << "<table>\n<tr><th>flagged reading</th><th>feature</th><th>score (largest |normalized "
-         "residual|)</th></tr>\n";
+         "residual|)</th>"
+      << (gross.empty() ? "" : "<th>gross error</th>") << "</tr>\n";
   for (std::size_t k = 0; k < std::min(flags.size(), kTabledOutliers); ++k) {
     const Flag& f = flags[k];
     const std::string base = format("/residuals/%zu/measurements/%zu/", f.placement, f.measurement);
     out << "<tr><td>placement " << f.placement << ", reading " << f.measurement << "</td>"
         << numberCell(cal, base + "feature", 1, "%.0f", "/calibration")
-        << numberCell(cal, base + "score", 1, "%.2f", "/calibration") << "</tr>\n";
+        << numberCell(cal, base + "score", 1, "%.2f", "/calibration");
+    if (!gross.empty()) {
+      const auto it = gross.find({f.placement, f.measurement});
+      out << "<td>" << svg::escape(it == gross.end() ? std::string() : it->second) << "</td>";
+    }
+    out << "</tr>\n";
   }
   out << "</table>\n";
   if (flags.size() > kTabledOutliers) {

@@ -547,6 +547,21 @@ TEST_F(ReportCli, SpatialArmHasPlanAndSideViewsAndTheWorstPoint) {
   EXPECT_EQ(worst_marks, 3u);  // table cell + two map views
 }
 
+// The real Panda readings: the calibration section names calibrate's gross errors with the CSV
+// file and row each came from (four balls not seated, |z| 10-14; docs/panda.md).
+TEST_F(ReportCli, CalibrationSectionNamesTheGrossErrorsWithTheirCsvRows) {
+  const fs::path html_path = dir_ / "panda.html";
+  const CliRun r = run("report \"" + test_support::planFile("panda-8positions.json") +
+                       "\" --calibrate -o \"" + html_path.string() + "\"");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const std::string html = slurp(html_path);
+  expectWellFormed(html, 6);  // the 5 of a 3-D plan and the residual plot
+  EXPECT_NE(html.find("<strong>4 gross errors</strong>"), std::string::npos);
+  for (const char* where : {"front_left/hole_1.csv row 22", "front_left/hole_1.csv row 23",
+                            "front_right/hole_0.csv row 15", "back_left/hole_1.csv row 31"})
+    EXPECT_NE(html.find(where), std::string::npos) << where;
+}
+
 TEST_F(ReportCli, TheWorkspaceMapsWorstIsTheEvaluatorsWorst) {
   // The map colours each configuration by S from TipEvaluator with the evaluator's V_p; its
   // largest value must be the evaluator's worst.
