@@ -3,7 +3,6 @@
 
 #include <unistd.h>
 
-#include <cmath>
 #include <iostream>
 
 #include "artcal/calibration/calibrator.hpp"
@@ -117,8 +116,7 @@ int runCalibrate(const CalibrateArguments& args) {
       // V_p travels with the estimate: `verify --machine` predicts the spread from it.
       if (calibration.covariance)
         machine["covariance"] =
-            covarianceToJson(plan.machine, calibration.covariance->V,
-                             calibration.dof > 0 ? std::sqrt(calibration.chi2_per_dof) : 0.0);
+            covarianceToJson(plan.machine, calibration.covariance->V, calibration.birgeRatio());
       writeJsonOutput(args.write_machine, machine);
     } else {
       std::cerr << "warning: not converged: " << args.write_machine << " not written\n";

@@ -46,7 +46,16 @@ std::string CalibrationSummary::briefReport() const {
 
 Eigen::VectorXd Calibration::posteriorU() const {
   if (!covariance || dof <= 0) return {};  // no redundancy: no a-posteriori scale
-  return covariance->u * std::sqrt(chi2_per_dof);
+  return covariance->u * birgeRatio();
+}
+
+double Calibration::birgeRatio() const {
+  return dof > 0 ? std::sqrt(chi2_per_dof) : 0.0;
+}
+
+std::optional<ParameterUncertainty> Calibration::uncertainty(const Machine& machine) const {
+  if (!covariance) return std::nullopt;
+  return ParameterUncertainty{machine.calibrated, covariance->V, birgeRatio()};
 }
 
 Calibrator::Calibrator(const Plan& plan, const CalibrationOptions& options)
@@ -289,8 +298,7 @@ void Calibrator::fillDetails(const std::vector<Placement>& placements, Calibrati
   const auto global = covarianceFromInformation(reducer_.normalWithPrior());
   // Gross errors are judged against the scatter the fit shows, not only the stated noise: with
   // unmodelled errors every reading is 1.4 sigma wide, and 5 sigma of that is the test.
-  const double gross_limit =
-      options_.gross_threshold * std::max(1.0, std::sqrt(std::max(out.chi2_per_dof, 0.0)));
+  const double gross_limit = options_.gross_threshold * std::max(1.0, out.birgeRatio());
   out.gross_limit = gross_limit;
   Eigen::VectorXd x;
   for (std::size_t j = 0; j < placements.size(); ++j) {

@@ -110,8 +110,7 @@ json calibrationToJson(const Plan& plan, const std::vector<Placement>& placement
   // Without redundancy (dof <= 0) there is no chi2/dof at all: null, not 0.
   const bool redundant = calibration.dof > 0;
   out["chi2_per_dof"] = redundant ? finiteOrNull(calibration.chi2_per_dof) : json(nullptr);
-  out["birge_ratio"] =
-      redundant ? finiteOrNull(std::sqrt(calibration.chi2_per_dof)) : json(nullptr);
+  out["birge_ratio"] = redundant ? finiteOrNull(calibration.birgeRatio()) : json(nullptr);
   out["u_posterior_caveat"] = posteriorCaveat(calibration.dof);
   const Eigen::VectorXd posterior = calibration.posteriorU();
   json parameters = json::array();
@@ -207,7 +206,7 @@ std::string calibrationTable(const Plan& plan, const std::vector<Placement>& pla
       << " degrees of freedom, chi2/dof = ";
   if (calibration.dof > 0) {
     out << format("%.4f", calibration.chi2_per_dof) << " (Birge ratio "
-        << format("%.3f", std::sqrt(calibration.chi2_per_dof)) << ")\n";
+        << format("%.3f", calibration.birgeRatio()) << ")\n";
   } else {
     out << "- (no redundancy)\n";
   }

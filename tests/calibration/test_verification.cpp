@@ -102,10 +102,8 @@ TEST(Verification, PredictedSpreadMatchesMonteCarlo) {
     const SimulatedRun training = simulator.simulate(truth, normal);
     const Calibration calibration = calibrator.run(training.placements);
     ASSERT_TRUE(calibration.summary.converged());
-    ASSERT_TRUE(calibration.covariance);
-    ParameterUncertainty u;
-    u.indices = plan.machine.calibrated;
-    u.V = calibration.covariance->V;
+    const auto u = calibration.uncertainty(plan.machine);
+    ASSERT_TRUE(u);
     held_out.placements = simulator.simulate(truth, normal).placements;
     const Verification v = verifyMachine(held_out, calibration.parameters, u);
     const Verification n = verifyMachine(held_out, calibration.parameters, std::nullopt);
@@ -135,15 +133,14 @@ TEST(Verification, PosteriorSpreadMatchesMonteCarloWhenTheNoiseIsUnderstated) {
     NormalSource normal(trialSeed(23, static_cast<std::uint64_t>(t)));
     const Calibration calibration = calibrator.run(simulator.simulate(truth, normal).placements);
     ASSERT_TRUE(calibration.summary.converged());
-    ASSERT_TRUE(calibration.covariance);
-    ParameterUncertainty u;
-    u.indices = plan.machine.calibrated;
-    u.V = calibration.covariance->V;
-    u.birge_ratio = std::sqrt(calibration.chi2_per_dof);
+    const auto u = calibration.uncertainty(plan.machine);
+    ASSERT_TRUE(u);
+    const double birge = std::sqrt(calibration.chi2 / calibration.dof);
+    EXPECT_NEAR(u->birge_ratio, birge, 1e-15 * birge);
     held_out.placements = simulator.simulate(truth, normal).placements;
     const Verification v = verifyMachine(held_out, calibration.parameters, u);
-    EXPECT_DOUBLE_EQ(v.birge_ratio, u.birge_ratio);
-    EXPECT_NEAR(v.predicted_spread_rms_posterior, v.predicted_spread_rms * u.birge_ratio, 1e-15);
+    EXPECT_DOUBLE_EQ(v.birge_ratio, u->birge_ratio);
+    EXPECT_NEAR(v.predicted_spread_rms_posterior, v.predicted_spread_rms * birge, 1e-14);
     observed2 += v.spread_rms * v.spread_rms / kTrials;
     predicted2 += v.predicted_spread_rms * v.predicted_spread_rms / kTrials;
     posterior2 += v.predicted_spread_rms_posterior * v.predicted_spread_rms_posterior / kTrials;
@@ -209,13 +206,10 @@ TEST(PandaReadings, LeaveOneOutPosteriorSpreadIsWithin30PercentOfTheObserved) {
         loadPlan(test_support::planFile(std::string("panda-position-") + held_out + ".json"));
     const Calibration c = calibratePlan(training);
     ASSERT_TRUE(c.summary.converged()) << held_out;
-    ASSERT_TRUE(c.covariance);
     for (const ResidualEntry& e : c.residuals) EXPECT_FALSE(e.gross) << held_out;
-    ParameterUncertainty u;
-    u.indices = training.machine.calibrated;
-    u.V = c.covariance->V;
-    u.birge_ratio = std::sqrt(c.chi2_per_dof);
-    EXPECT_GT(u.birge_ratio, 1.1) << held_out;  // the several positions misfit visibly
+    const auto u = c.uncertainty(training.machine);
+    ASSERT_TRUE(u) << held_out;
+    EXPECT_GT(std::sqrt(c.chi2 / c.dof), 1.1) << held_out;  // the several positions misfit visibly
     const Verification v = verifyMachine(position, c.parameters, u);
     EXPECT_NEAR(v.predicted_spread_rms_posterior / v.spread_rms, 1.0, 0.3) << held_out;
     EXPECT_LT(v.spread_mean, 0.349) << held_out;  // mm, the authors' held-out MAE

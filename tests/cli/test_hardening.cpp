@@ -21,6 +21,7 @@
 
 #include "artcal/artcal.hpp"
 #include "artcal/calibration/calibrator.hpp"
+#include "sanitizers.hpp"
 #include "test_paths.hpp"
 
 namespace artcal {
@@ -432,19 +433,8 @@ std::string planWithPlacements(int count) {
   return text;
 }
 
-// Under the sanitizers (tools/sanitize.sh) a tenth of it: 3x slower, 3x the memory. GCC says
-// __SANITIZE_ADDRESS__; clang, which tools/sanitize.sh builds with, says it through
-// __has_feature (the million ran there: 157 s of the sanitizer suite's CI time).
-#if defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define ARTCAL_TEST_UNDER_ASAN 1
-#endif
-#endif
-#if defined(__SANITIZE_ADDRESS__) || defined(ARTCAL_TEST_UNDER_ASAN)
-constexpr int kManyPlacements = 100'000;
-#else
-constexpr int kManyPlacements = 1'000'000;
-#endif
+// Under the sanitizers (tools/sanitize.sh) a tenth of it: 3x slower, 3x the memory.
+constexpr int kManyPlacements = test_support::kUnderSanitizers ? 100'000 : 1'000'000;
 
 long childPeakRssMiB() {
   rusage usage{};

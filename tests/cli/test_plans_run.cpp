@@ -16,6 +16,7 @@
 
 #include "artcal/artcal.hpp"
 #include "cli_runner.hpp"
+#include "sanitizers.hpp"
 
 namespace artcal {
 namespace {
@@ -25,22 +26,11 @@ using test_support::CliRun;
 using test_support::runCli;
 using test_support::Stderr;
 
-#if defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define ARTCAL_TEST_UNDER_ASAN 1
-#endif
-#endif
-#if defined(__SANITIZE_ADDRESS__) || defined(ARTCAL_TEST_UNDER_ASAN)
-constexpr bool kUnderSanitizers = true;
-#else
-constexpr bool kUnderSanitizers = false;
-#endif
-
 /// The leave-one-out pairs of the MUKCa Panda (panda-all-but-X, panda-position-X) but the first:
 /// the same readings and code paths in other combinations, left out under the sanitizers only
 /// (they cost a minute there; the Release run takes every plan).
 bool repeatsAnotherUnderSanitizers(const std::string& name) {
-  if (!kUnderSanitizers) return false;
+  if (!test_support::kUnderSanitizers) return false;
   const bool pair = name.rfind("panda-all-but-", 0) == 0 || name.rfind("panda-position-", 0) == 0;
   return pair && name.find("front-center") == std::string::npos;
 }

@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "artcal/calibration/levenberg_marquardt.hpp"
+#include "artcal/calibration/verification.hpp"
 #include "artcal/estimation/design_matrix.hpp"
 #include "artcal/estimation/evaluator.hpp"
 #include "artcal/estimation/normal_matrix.hpp"
@@ -110,6 +111,11 @@ struct Calibration {
   }
   /// u * sqrt(chi2_per_dof), internal units; empty without covariance or when dof <= 0.
   Eigen::VectorXd posteriorU() const;
+  /// sqrt(chi2_per_dof), the readings' scatter over the stated noise; 0 when dof <= 0.
+  double birgeRatio() const;
+  /// V_p over the machine's calibrated parameters with this fit's Birge ratio: what `verify`
+  /// predicts from (the machine file carries the same); std::nullopt without covariance.
+  std::optional<ParameterUncertainty> uncertainty(const Machine& machine) const;
 };
 
 /// The unknowns of the calibration: p (full vector), c (GlobalLayout order) and every r_j.
