@@ -5,6 +5,7 @@
 
 #include <iostream>
 
+#include "artcal/calibration/calibrate_readings.hpp"
 #include "artcal/calibration/calibrator.hpp"
 #include "artcal/calibration/confirmation.hpp"
 #include "artcal/calibration/simulation.hpp"
@@ -107,8 +108,9 @@ int runCalibrate(const CalibrateArguments& args) {
   std::string error;
   checkOptions(args.options.isValid(&error), "calibrate", error);
   if (!args.write_machine.empty()) checkOutputPath(args.write_machine);
-  const Plan plan = loadPlanReporting(args.plan);
-  const Calibration calibration = calibratePlan(plan, args.options);
+  Plan plan = loadPlanReporting(args.plan);
+  // Weakly determined parameters held at nominal and the noise estimated, in `plan` too.
+  const Calibration calibration = calibrateReadings(plan, args.options);
   if (!args.write_machine.empty()) {
     // Only a converged estimate may become the next plan's machine.
     if (calibration.summary.converged()) {

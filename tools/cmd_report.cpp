@@ -5,6 +5,7 @@
 #include <iostream>
 #include <optional>
 
+#include "artcal/calibration/calibrate_readings.hpp"
 #include "artcal/calibration/calibrator.hpp"
 #include "artcal/estimation/evaluator.hpp"
 #include "artcal/io/output_file.hpp"
@@ -139,11 +140,14 @@ void addReportCommand(CLI::App& app, Action& action) {
       std::optional<nlohmann::json> calibration_json;
       std::optional<bool> converged;
       std::optional<Calibration> calibration;
+      // calibrate holds weakly determined parameters at nominal and may estimate the noise: its
+      // own copy of the plan says with what it calibrated.
+      Plan calibrated = plan;
       if (wantsCalibration(*args, document)) {
         CalibrationOptions options;
         options.flag_threshold = args->flag_threshold;
-        calibration = calibratePlan(plan, options);
-        calibration_json = calibrationToJson(plan, plan.placements, *calibration);
+        calibration = calibrateReadings(calibrated, options);
+        calibration_json = calibrationToJson(calibrated, calibrated.placements, *calibration);
         converged = calibration->summary.converged();
       }
       const ReportInput input{plan,
@@ -153,7 +157,8 @@ void addReportCommand(CLI::App& app, Action& action) {
                               calibration_json ? &*calibration_json : nullptr,
                               args->flag_threshold};
       std::vector<ReportFigure> figures = reportFigures(input);
-      addErrorFunctionFigures(plan, document, args->plan, evaluation, calibration, figures);
+      addErrorFunctionFigures(calibration ? calibrated : plan, document, args->plan, evaluation,
+                              calibration, figures);
       const std::string html = htmlReport(input, figures);
       writeOutputFile(args->output, html);
       if (!args->svg_dir.empty()) writeSvgFiles(args->svg_dir, figures);

@@ -74,25 +74,66 @@ const std::vector<int>& Artifact::rigidDirections() const {
   return all3;
 }
 
-// W' = exp(delta) W: dW/dt = I, dW/dw = -[W]x (3-D) or (-W_y, W_x) (2-D).
+namespace {
+
+// Column `direction` of the full rigid motion at W: W' = exp(delta) W, dW/dt = I,
+// dW/dw = -[W]x (3-D) or (-W_y, W_x) (2-D).
+Eigen::Vector3d rigidColumn(int dimension, int direction, const Eigen::VectorXd& W) {
+  Eigen::Vector3d column = Eigen::Vector3d::Zero();
+  if (direction < dimension) {
+    column[direction] = 1.0;
+  } else if (dimension == 2) {
+    column.head<2>() << -W[1], W[0];
+  } else {
+    Eigen::Vector3d axis = Eigen::Vector3d::Zero();
+    axis[direction - 3] = 1.0;
+    column = axis.cross(W.head<3>());
+  }
+  return column;
+}
+
+}  // namespace
+
 void Artifact::rigidJacobian(const Eigen::VectorXd& W, Eigen::Ref<Eigen::MatrixXd> J) const {
   const auto& directions = rigidDirections();
   const int k = valuedPerFeature();
   for (std::size_t c = 0; c < directions.size(); ++c) {
-    Eigen::Vector3d column = Eigen::Vector3d::Zero();
-    const int dir = directions[c];
-    if (dir < dimension) {
-      column[dir] = 1.0;
-    } else if (dimension == 2) {
-      column.head<2>() << -W[1], W[0];
-    } else {
-      Eigen::Vector3d axis = Eigen::Vector3d::Zero();
-      axis[dir - 3] = 1.0;
-      column = axis.cross(W.head<3>());
-    }
+    const Eigen::Vector3d column = rigidColumn(dimension, directions[c], W);
     // Entry by entry: GCC 12 warns falsely (-Warray-bounds) on head(k) of a Vector3d under AVX.
     for (int r = 0; r < k; ++r) J(r, static_cast<int>(c)) = column[r];
   }
+}
+
+const std::vector<int>& Artifact::fullRigidOrder() const {
+  static const std::vector<int> all2{0, 1, 2}, gauge2{0, 2, 1};
+  static const std::vector<int> all3{0, 1, 2, 3, 4, 5}, bar3{0, 1, 2, 4, 5, 3},
+      gauge3{0, 4, 5, 1, 2, 3};
+  if (dimension == 2) return kind == ArtifactKind::StepGauge ? gauge2 : all2;
+  switch (kind) {
+    case ArtifactKind::BallBar:
+      return bar3;
+    case ArtifactKind::StepGauge:
+      return gauge3;
+    case ArtifactKind::BallPlate:
+      break;
+  }
+  return all3;
+}
+
+void Artifact::fullRigidJacobian(const Eigen::VectorXd& W, Eigen::Ref<Eigen::MatrixXd> J) const {
+  const std::vector<int>& order = fullRigidOrder();
+  const int k = valuedPerFeature();
+  for (std::size_t c = 0; c < order.size(); ++c) {
+    const Eigen::Vector3d column = rigidColumn(dimension, order[c], W);
+    for (int r = 0; r < k; ++r) J(r, static_cast<int>(c)) = column[r];
+  }
+}
+
+Eigen::VectorXd Artifact::expandFullRigidStep(const Eigen::VectorXd& step) const {
+  const std::vector<int>& order = fullRigidOrder();
+  Eigen::VectorXd full = Eigen::VectorXd::Zero(fullRigidDof());
+  for (std::size_t c = 0; c < order.size(); ++c) full[order[c]] = step[static_cast<int>(c)];
+  return full;
 }
 
 Eigen::VectorXd Artifact::expandRigidStep(const Eigen::VectorXd& step) const {

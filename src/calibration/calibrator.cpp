@@ -100,16 +100,29 @@ CalibrationState Calibrator::initialState(const std::vector<Placement>& placemen
   return state;
 }
 
+bool Calibrator::settled(const std::vector<Placement>& placements, bool& finite) {
+  // Two-step feasible generalised least squares: weights at the start, then re-evaluated once at
+  // the estimate and held while the fit converges again. Iterating further need not contract
+  // where the weights depend on a weakly determined direction, and gains nothing statistically.
+  if (current_lin_.fresh || reweightings_ >= kMaxReweightings) return true;
+  ++reweightings_;
+  // The weights at the current estimate replace the held ones; the loop goes on with them.
+  finite = linearize(placements, current_, current_lin_);
+  return false;
+}
+
 bool Calibrator::linearize(const std::vector<Placement>& placements, const CalibrationState& state,
-                           Linearization& out) {
+                           Linearization& out, const Linearization* weights) {
   const Plan& plan = *plan_;
   reducer_.reset();
   out.eliminations.resize(placements.size());
+  out.weights.resize(placements.size());
+  out.fresh = weights == nullptr;
   for (std::size_t j = 0; j < placements.size(); ++j) {
     const Artifact& artifact = artifactOf(plan, placements[j]);
     const Eigen::VectorXd c_j = artifactErrors(layout_, artifact, placements[j].artifact, state.c);
-    builder_.build(artifact, placements[j].measurements, state.p, state.poses[j], c_j, true,
-                   block_);
+    builder_.build(artifact, placements[j].measurements, state.p, state.poses[j], c_j, true, block_,
+                   weights ? &weights->weights[j] : nullptr, &out.weights[j]);
     // Rank policy (docs/method.md section 5): only the rigid directions the measured features can
     // see are eliminated and stepped; noise must not make an unseen one look observed.
     reducer_.add(block_, placements[j].artifact, &out.eliminations[j],
@@ -144,16 +157,57 @@ void Calibrator::step(const CalibrationState& from, const Linearization& at,
   to.poses.resize(from.poses.size());
   for (std::size_t j = 0; j < placements.size(); ++j) {
     // Back-substitution of r_j for the global step (docs/method.md section 3).
-    const Artifact& artifact = artifactOf(*plan_, placements[j]);
     const Eigen::VectorXd dr = at.eliminations[j].rigidStep(dg);
-    to.poses[j] = from.poses[j].perturbed(artifact.expandRigidStep(dr));
+    to.poses[j] =
+        from.poses[j].perturbed(artifactOf(*plan_, placements[j]).expandFullRigidStep(dr));
   }
 }
 
+void Calibrator::extendStep(const Eigen::VectorXd& dg, const std::vector<Placement>& placements,
+                            double& actual) {
+  for (double scale = 2.0; scale <= kMaxExtension; scale *= 2.0) {
+    step(current_, current_lin_, scale * dg, placements, extended_);
+    if (!linearize(placements, extended_, extended_lin_, &current_lin_) ||
+        !(extended_lin_.cost < trial_lin_.cost)) {
+      return;
+    }
+    std::swap(trial_, extended_);
+    std::swap(trial_lin_, extended_lin_);
+    actual = current_lin_.cost - trial_lin_.cost;
+  }
+}
+
+double Calibrator::stepInUncertainties(const Eigen::MatrixXd& N, const Eigen::VectorXd& dg) {
+  // max_i |dg_i| / u_i with u the marginal standard uncertainties sqrt(diag N^-1): a step along a
+  // weakly determined direction is judged against that direction's own u, not against the
+  // conditional 1 / sqrt(N_ii) (a thousand times smaller in a valley, where Gauss-Newton on
+  // large residuals creeps linearly). Without an inverse, the conditional ones.
+  if (const auto covariance = covarianceFromInformation(N)) {
+    return (dg.array() / covariance->u.array()).abs().maxCoeff();
+  }
+  return (dg.array() * N.diagonal().array().max(0.0).sqrt()).abs().maxCoeff();
+}
+
+double Calibrator::scatter(double cost) const {
+  return dof_ > 0 && std::isfinite(cost) ? std::max(1.0, std::sqrt(cost / dof_)) : 1.0;
+}
+
 double Calibrator::negligible(double cost) const {
-  // A cost change of s^2 is what moving s standard deviations along the best direction gives.
-  return std::max(options_.function_tolerance * cost,
-                  options_.step_tolerance * options_.step_tolerance);
+  // A cost change of s^2 is what moving s standard deviations along the best direction gives;
+  // the standard deviations the readings show, not the stated ones (scatter), so that a noise
+  // stated 20 times too small converges where the right one does.
+  const double tolerance = options_.step_tolerance * scatter(cost);
+  return std::max(options_.function_tolerance * cost, tolerance * tolerance);
+}
+
+int Calibrator::degreesOfFreedom(const std::vector<Placement>& placements) const {
+  int dof = layout_.priorRows() - layout_.parameters;  // a prior is one row each
+  for (const Placement& placement : placements) {
+    const Artifact& artifact = artifactOf(*plan_, placement);
+    dof += artifact.valuedPerFeature() * static_cast<int>(placement.measurements.size());
+    dof -= rigidRankOfFeatures(artifact, placement.measurements);  // effective N(r_j)
+  }
+  return dof;
 }
 
 Calibration Calibrator::run(const std::vector<Placement>& placements) {
@@ -164,6 +218,8 @@ Calibration Calibrator::run(const std::vector<Placement>& placements,
                             const Eigen::VectorXd& start) {
   Calibration out;
   CalibrationSummary& summary = out.summary;
+  dof_ = degreesOfFreedom(placements);
+  reweightings_ = 0;
   current_ = initialState(placements, start);
   strategy_.reset();
   bool finite = linearize(placements, current_, current_lin_);
@@ -179,31 +235,41 @@ Calibration Calibrator::run(const std::vector<Placement>& placements,
   for (int it = 1; finite && it <= options_.max_iterations; ++it) {
     summary.iterations = it;
     const bool solved = strategy_.computeStep(current_lin_.N, current_lin_.b, dg);
-    const double scaled_step =
-        solved ? (dg.array() * current_lin_.N.diagonal().array().max(0.0).sqrt()).abs().maxCoeff()
-               : 0.0;
-    // A tiny step only means convergence when the damping is not what made it tiny.
-    if (solved && scaled_step < options_.step_tolerance &&
-        current_lin_.rigid_reduction < options_.step_tolerance * options_.step_tolerance &&
-        strategy_.mu() <= 1.0) {
-      summary.termination = TerminationType::Converged;
-      summary.message = "step below step_tolerance";
-      break;
+    const double scaled_step = solved ? stepInUncertainties(current_lin_.N, dg) : 0.0;
+    // A tiny step only means convergence when the damping is not what made it tiny. Steps are
+    // measured in the standard uncertainties the readings' scatter gives (scatter()).
+    const double step_limit = options_.step_tolerance * scatter(current_lin_.cost);
+    // The rigid poses are nuisance parameters: once steps have been taken, their own crawl (a
+    // rigid fit of points with large residuals converges linearly) does not hold back a p that
+    // no longer moves; before that they must have settled too.
+    const bool poses_settled = current_lin_.rigid_reduction <= negligible(current_lin_.cost) ||
+                               summary.accepted_steps >= kPoseCrawlSteps;
+    if (solved && scaled_step < step_limit && poses_settled && strategy_.mu() <= 1.0) {
+      if (settled(placements, finite)) {
+        summary.termination = TerminationType::Converged;
+        summary.message = "step below step_tolerance";
+        break;
+      }
+      continue;
     }
     const double predicted = solved ? current_lin_.predictedReduction(dg) : 0.0;
     // The weights depend on p (docs/method.md section 2), so the reweighted Gauss-Newton fixed
     // point is where the linear model promises nothing more, not where the cost stops falling
     // exactly.
     if (solved && strategy_.mu() <= 1.0 && predicted <= negligible(current_lin_.cost)) {
-      summary.termination = TerminationType::Converged;
-      summary.message = "predicted cost change negligible";
-      break;
+      if (settled(placements, finite)) {
+        summary.termination = TerminationType::Converged;
+        summary.message = "predicted cost change negligible";
+        break;
+      }
+      continue;
     }
     bool accepted = false;
     double actual = 0.0;
     if (solved && predicted > 0.0) {
       step(current_, current_lin_, dg, placements, trial_);
-      if (linearize(placements, trial_, trial_lin_)) {
+      // The trial's cost under the current weights (iteratively reweighted least squares).
+      if (linearize(placements, trial_, trial_lin_, &current_lin_)) {
         actual = current_lin_.cost - trial_lin_.cost;
         accepted = actual > 0.0;
       }
@@ -214,9 +280,12 @@ Calibration Calibrator::run(const std::vector<Placement>& placements,
       // omits dW/dp), which damping further cannot improve. Convergence, not failure.
       const double resolvable = negligible(current_lin_.cost);
       if (solved && predicted <= resolvable && std::abs(actual) <= resolvable) {
-        summary.termination = TerminationType::Converged;
-        summary.message = "cost stationary within rounding";
-        break;
+        if (settled(placements, finite)) {
+          summary.termination = TerminationType::Converged;
+          summary.message = "cost stationary within rounding";
+          break;
+        }
+        continue;
       }
       strategy_.stepRejected();
       if (strategy_.exhausted()) {
@@ -226,30 +295,36 @@ Calibration Calibrator::run(const std::vector<Placement>& placements,
       }
       continue;
     }
+    // Gauss-Newton on large residuals (model mismatch) can fall short along a valley: the cost
+    // falls by more than the model promised. A line search along the same step then goes on
+    // while it keeps falling (doubling), instead of crawling one short step per linearisation.
+    if (actual > kExtendRatio * predicted && strategy_.mu() <= 1.0) {
+      extendStep(dg, placements, actual);
+    }
     const bool undamped = strategy_.mu() <= 1.0;  // a heavily damped step proves nothing
     strategy_.stepAccepted(actual / predicted);
     ++summary.accepted_steps;
     const double previous_cost = current_lin_.cost;
     std::swap(current_, trial_);
     std::swap(current_lin_, trial_lin_);
-    if (undamped && actual <= negligible(previous_cost)) {
+    if (undamped && actual <= negligible(previous_cost) && settled(placements, finite)) {
       summary.termination = TerminationType::Converged;
       summary.message = "cost change negligible";
       break;
     }
   }
+  if (!finite && summary.termination == TerminationType::NoConvergence) {
+    summary.termination = TerminationType::Failure;
+    summary.message = "the problem became non-finite";
+  }
+  // The figures at the estimate's own weights.
+  if (finite && !current_lin_.fresh) linearize(placements, current_, current_lin_);
   summary.final_cost = current_lin_.cost;
   out.parameters = current_.p;
   out.systematic = current_.c;
   out.poses = current_.poses;
   out.chi2 = current_lin_.cost;
-  int rows = 0;
-  for (const Placement& placement : placements) {
-    const Artifact& artifact = artifactOf(*plan_, placement);
-    rows += artifact.valuedPerFeature() * static_cast<int>(placement.measurements.size());
-    out.dof -= rigidRankOfFeatures(artifact, placement.measurements);  // effective N(r_j)
-  }
-  out.dof += rows + layout_.priorRows() - layout_.parameters;  // a prior is one row each
+  out.dof = dof_;
   out.chi2_per_dof = out.dof > 0 && std::isfinite(out.chi2) ? out.chi2 / out.dof : 0.0;
   if (options_.details && finite) fillDetails(placements, out);
   return out;

@@ -44,7 +44,7 @@ RigidTransform fitRigidOnly(DesignMatrixBuilder& builder, const Artifact& artifa
     builder.build(artifact, placement.measurements, p, pose, no_errors, true, block);
     const Eigen::MatrixXd M = block.A_r.transpose() * block.A_r;
     const Eigen::VectorXd step = -symmetricPseudoInverse(M) * (block.A_r.transpose() * block.e);
-    pose = pose.perturbed(artifact.expandRigidStep(step));
+    pose = pose.perturbed(artifact.expandFullRigidStep(step));
     if (!(step.lpNorm<Eigen::Infinity>() > options.step_tolerance)) break;
   }
   return pose;

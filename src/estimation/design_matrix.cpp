@@ -43,15 +43,17 @@ void DesignMatrixBuilder::build(const Artifact& artifact,
                                 const std::vector<Measurement>& measurements,
                                 const Eigen::VectorXd& p, const RigidTransform& r,
                                 const Eigen::VectorXd& c, bool with_residuals,
-                                ObservationBlock& block) {
+                                ObservationBlock& block, const ReadingWeights* held,
+                                ReadingWeights* record) {
   const Machine& machine = *machine_;
   const int k = artifact.valuedPerFeature();
   const int rows = k * static_cast<int>(measurements.size());
   const int n_p = machine.calibratedCount();
-  const int n_r = artifact.rigidDof();
+  const int n_r = artifact.fullRigidDof();  // rank policy: the full rigid block
   const int n_c = artifact.systematicCount();
   block.A_p.resize(rows, n_p);
   block.A_r.resize(rows, n_r);
+  block.rigid_primary = artifact.rigidDof();
   block.A_c.setZero(rows, n_c);
   if (with_residuals) block.e.resize(rows);
   const double sigma_p2 = noise_->probe * noise_->probe;
@@ -70,8 +72,7 @@ void DesignMatrixBuilder::build(const Artifact& artifact,
     for (int j = 0; j < n_p; ++j) {
       A_p.col(j).noalias() = R_valued.lazyProduct(J_x_p_.col(machine.calibrated[j]));
     }
-    J_valued_q_.noalias() = R_valued.lazyProduct(J_x_q_);
-    artifact.rigidJacobian(W_, J_r_);
+    artifact.fullRigidJacobian(W_, J_r_);
     A_r = J_r_;
     for (int s = 0; s < n_c; ++s) {
       const SystematicError& err = artifact.systematic[static_cast<std::size_t>(s)];
@@ -82,14 +83,42 @@ void DesignMatrixBuilder::build(const Artifact& artifact,
     }
     // Whitening (docs/method.md section 2): Sigma = s_p^2 I + J_q Sigma_q J_q^T = L L^T,
     // rows *= L^-1.
-    Small sigma = (J_valued_q_ * sigma_q2).lazyProduct(J_valued_q_.transpose());
-    sigma.diagonal().array() += sigma_p2;
-    const Eigen::LLT<Small> llt(sigma);
-    const Small L = llt.matrixL();
+    Small L;
+    if (held) {
+      L = held->factors[i].topLeftCorner(k, k);
+    } else {
+      J_valued_q_.noalias() = R_valued.lazyProduct(J_x_q_);
+      Small sigma = (J_valued_q_ * sigma_q2).lazyProduct(J_valued_q_.transpose());
+      sigma.diagonal().array() += sigma_p2;
+      L = Eigen::LLT<Small>(sigma).matrixL();
+    }
+    if (record) {
+      record->factors.resize(measurements.size());
+      record->factors[i].setZero();
+      record->factors[i].topLeftCorner(k, k) = L;
+    }
     whiten(L, A_p);
     whiten(L, A_r);
     if (n_c > 0) whiten(L, block.A_c.middleRows(row, k));
     if (with_residuals) whiten(L, block.e.segment(row, k));
+  }
+}
+
+void DesignMatrixBuilder::misfits(const Artifact& artifact,
+                                  const std::vector<Measurement>& measurements,
+                                  const Eigen::VectorXd& p, const RigidTransform& r,
+                                  const Eigen::VectorXd& c, std::vector<ReadingMisfit>& out) const {
+  const int k = artifact.valuedPerFeature();
+  const auto sigma_q2 = noise_->encoder.array().square().matrix().asDiagonal();
+  Eigen::VectorXd x;
+  Eigen::MatrixXd J_x_q;
+  for (const Measurement& m : measurements) {
+    forwardOrThrow(*machine_->mechanism, p, m.joints, x, nullptr, &J_x_q, m.stylus);
+    const Eigen::MatrixXd J_valued_q = r.R.topRows(k) * J_x_q;
+    ReadingMisfit misfit;
+    misfit.residual = (r.apply(x) - artifact.feature(m.feature, c)).head(k);
+    misfit.encoder_covariance = J_valued_q * sigma_q2 * J_valued_q.transpose();
+    out.push_back(std::move(misfit));
   }
 }
 

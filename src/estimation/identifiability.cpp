@@ -3,6 +3,7 @@
 #include "artcal/core/linear_algebra.hpp"
 #include "artcal/estimation/evaluator.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -81,10 +82,11 @@ Identifiability analyseIdentifiability(const Plan& plan, const std::vector<Place
   const SymmetricEigenSolver eig(scaled);
   const Eigen::VectorXd& lambda = eig.eigenvalues();  // ascending
   const double largest = n > 0 ? lambda[n - 1] : 0.0;
-  const double cutoff = tolerance * largest;
+  // Absolute (docs/method.md section 5): an eigenvalue of S is the fraction of a direction's own
+  // information that survives the elimination; a relative test is vacuous for one parameter.
   std::vector<int> null;
   for (int i = 0; i < n; ++i) {
-    if (!(lambda[i] > cutoff)) null.push_back(i);
+    if (!(lambda[i] > tolerance)) null.push_back(i);
   }
   result.deficiency = static_cast<int>(null.size());
   result.rank = n - result.deficiency;
@@ -155,18 +157,20 @@ CalibratedSetChoice chooseIdentifiableSet(const PlanInformation& information, do
   CalibratedSetChoice choice;
   const Eigen::MatrixXd S = scaledInformation(information);
   const int n = static_cast<int>(S.rows());
-  if (n == 0) return choice;
-  const double largest = SymmetricEigenSolver(S, Eigen::EigenvaluesOnly).eigenvalues()[n - 1];
-  const double cutoff = tolerance * largest;
+  // Absolute cutoff on the surviving fraction (docs/method.md section 5): a lone absorbed
+  // parameter (j1.theta alone) is dropped too.
+  const double cutoff = tolerance;
   for (int i = 0; i < n; ++i) {
     std::vector<int> trial = choice.kept;
     trial.push_back(i);
     // An unobserved parameter has a zero row and column in S (scaledInformation).
     const bool observed = S(i, i) > 0.0;
-    if (observed && smallestEigenvalue(principal(S, trial)) > cutoff) {
+    const double surviving = observed ? smallestEigenvalue(principal(S, trial)) : 0.0;
+    if (surviving > cutoff) {
       choice.kept = std::move(trial);
     } else {
       choice.dropped.push_back(i);
+      choice.dropped_fraction.push_back(std::max(surviving, 0.0));
       choice.ties.push_back(tieOf(S, trial));
     }
   }

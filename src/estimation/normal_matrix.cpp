@@ -74,10 +74,10 @@ Eigen::VectorXd PlacementElimination::rigidStep(const Eigen::VectorXd& dg) const
 int rigidRankOfFeatures(const Artifact& artifact, const std::vector<Measurement>& measurements) {
   const int k = artifact.valuedPerFeature();
   const Eigen::VectorXd no_c;
-  Eigen::MatrixXd J(k * static_cast<int>(measurements.size()), artifact.rigidDof());
+  Eigen::MatrixXd J(k * static_cast<int>(measurements.size()), artifact.fullRigidDof());
   for (std::size_t i = 0; i < measurements.size(); ++i) {
-    artifact.rigidJacobian(artifact.feature(measurements[i].feature, no_c),
-                           J.middleRows(k * static_cast<int>(i), k));
+    artifact.fullRigidJacobian(artifact.feature(measurements[i].feature, no_c),
+                               J.middleRows(k * static_cast<int>(i), k));
   }
   return numericalRank(J, std::sqrt(kRigidObservedTolerance));
 }
@@ -103,26 +103,74 @@ using RigidMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen:
 // kRigidObservedTolerance times the block's largest, never by a pivot against its own column's
 // diagonal (a column zero in exact arithmetic but carrying rounding, a step gauge's rotation,
 // would pass that test and its elimination would destroy real information about p).
-// Fast path: when the block is certainly well conditioned by that global test, S = L^-1 from the
-// Cholesky factor. The test is conservative: lambda_min >= 1 / ||L^-1||_F^2 and
-// lambda_max <= trace; otherwise the eigen-decomposition decides (S = D^+1/2 U^T).
-// `max_rank` (>= 0) keeps at most that many directions, the largest (the calibrator: the number
-// of observed directions is a property of the design, decided at the nominal readings).
+//
+// The block's columns are the artifact's estimated directions (the `primary` ones) and then the
+// rest of the full rigid motion (design_matrix.hpp). Fast path, a block LDL^T: when the primary
+// block M11 is certainly well conditioned by that global test (lambda_min >= 1 / ||L^-1||_F^2,
+// lambda_max <= trace), its Cholesky factor L eliminates it; the rest is eliminated only along
+// the eigen-directions of its Schur complement M22 - M21 M11^-1 M12 that exceed the tolerance
+// times trace(M): zero on consistent points (a ball bar's roll), so the result is exactly the
+// primary elimination; the mismatch of real readings on the roll, so a rigid motion of the whole
+// machine is absorbed entirely. Otherwise the eigen-decomposition of the whole block decides.
+// `max_rank` (>= 0) keeps at most that many directions (the calibrator: the number of observed
+// directions is a property of the design, decided at the calibrated features).
 class RigidBlockRoot {
  public:
-  RigidBlockRoot(const Eigen::MatrixXd& M, int max_rank) : llt_(RigidMatrix(M)) {
+  RigidBlockRoot(const Eigen::MatrixXd& M, int primary, int max_rank) {
     const int n = static_cast<int>(M.rows());
-    well_posed_ = llt_.info() == Eigen::Success && (max_rank < 0 || max_rank >= n) && n > 0;
-    if (well_posed_) {
-      RigidMatrix L_inverse = RigidMatrix::Identity(n, n);
-      llt_.matrixL().solveInPlace(L_inverse);
-      const double lower_bound_smallest = 1.0 / L_inverse.squaredNorm();
-      well_posed_ = lower_bound_smallest > kRigidObservedTolerance * M.trace();
+    root_.setZero(n, n);
+    const int n1 = std::min(primary, n);
+    if (n1 > 0 && (max_rank < 0 || max_rank >= n1) && blockFactor(M, n1, max_rank)) return;
+    eigenFactor(M, max_rank);
+  }
+  /// X <- S X.
+  template <typename Matrix>
+  void apply(Matrix& X) const {
+    X = (root_ * X).eval();
+  }
+  /// S^T S.
+  Eigen::MatrixXd pseudoInverse() const { return root_.transpose() * root_; }
+  /// The observed rigid directions.
+  int rank() const { return rank_; }
+
+ private:
+  // The block LDL^T path; false when M11 is not certainly well conditioned.
+  bool blockFactor(const Eigen::MatrixXd& M, int n1, int max_rank) {
+    const int n = static_cast<int>(M.rows());
+    const Eigen::LLT<RigidMatrix> llt{RigidMatrix(M.topLeftCorner(n1, n1))};
+    if (llt.info() != Eigen::Success) return false;
+    RigidMatrix L_inverse = RigidMatrix::Identity(n1, n1);
+    llt.matrixL().solveInPlace(L_inverse);
+    const double trace = M.trace();
+    if (!(1.0 / L_inverse.squaredNorm() >
+          kRigidObservedTolerance * M.topLeftCorner(n1, n1).trace()))
+      return false;
+    root_.topLeftCorner(n1, n1) = L_inverse;
+    rank_ = n1;
+    const int n2 = n - n1;
+    if (n2 == 0 || (max_rank >= 0 && max_rank <= n1)) return true;
+    // T = M21 L^-T: M21 M11^-1 = T L^-1. The rest's Schur complement M22 - T T^T.
+    const RigidMatrix T = M.bottomLeftCorner(n2, n1) * L_inverse.transpose();
+    const RigidMatrix schur = M.bottomRightCorner(n2, n2) - T * T.transpose();
+    const Eigen::SelfAdjointEigenSolver<RigidMatrix> eig(schur);
+    const auto& lambda = eig.eigenvalues();  // ascending
+    RigidMatrix W = RigidMatrix::Zero(n2, n2);
+    for (int i = n2 - 1; i >= 0; --i) {
+      const bool observed =
+          lambda[i] > kRigidObservedTolerance * trace && (max_rank < 0 || rank_ < max_rank);
+      if (!observed) continue;
+      W.row(i) = eig.eigenvectors().col(i).transpose() / std::sqrt(lambda[i]);
+      ++rank_;
     }
-    if (well_posed_) {
-      rank_ = n;
-      return;
-    }
+    // S = [[L^-1, 0], [-W T L^-1, W]].
+    root_.bottomLeftCorner(n2, n1) = -W * T * L_inverse;
+    root_.bottomRightCorner(n2, n2) = W;
+    return true;
+  }
+
+  // S = D^+1/2 U^T over the directions whose eigenvalue exceeds the tolerance (largest first).
+  void eigenFactor(const Eigen::MatrixXd& M, int max_rank) {
+    const int n = static_cast<int>(M.rows());
     const Eigen::SelfAdjointEigenSolver<RigidMatrix> eig{RigidMatrix(M)};
     const auto& lambda = eig.eigenvalues();  // ascending
     const double cutoff = kRigidObservedTolerance * std::max(lambda.cwiseAbs().maxCoeff(), 0.0);
@@ -135,26 +183,7 @@ class RigidBlockRoot {
       root_.row(i) *= observed ? 1.0 / std::sqrt(lambda[i]) : 0.0;
     }
   }
-  /// X <- S X.
-  template <typename Matrix>
-  void apply(Matrix& X) const {
-    if (well_posed_) {
-      llt_.matrixL().solveInPlace(X);
-    } else {
-      X = (root_ * X).eval();
-    }
-  }
-  /// S^T S.
-  Eigen::MatrixXd pseudoInverse() const {
-    if (well_posed_) return llt_.solve(RigidMatrix::Identity(llt_.rows(), llt_.cols()));
-    return root_.transpose() * root_;
-  }
-  /// The observed rigid directions.
-  int rank() const { return rank_; }
 
- private:
-  Eigen::LLT<RigidMatrix> llt_;
-  bool well_posed_ = false;
   int rank_ = 0;
   RigidMatrix root_;
 };
@@ -195,7 +224,7 @@ void NormalMatrixReducer::add(const ObservationBlock& block, int artifact_index,
   const auto& A_r = block.A_r;
 
   M_rr_.noalias() = A_r.transpose().lazyProduct(A_r);
-  const RigidBlockRoot S(M_rr_, max_rigid_rank);
+  const RigidBlockRoot S(M_rr_, block.rigid_primary, max_rigid_rank);
   rigid_ranks_.push_back(S.rank());
   unreduced_diagonal_ += A_p.colwise().squaredNorm().transpose();
   // A_c has a few non-zeros per column (the readings of one feature, whitened within each

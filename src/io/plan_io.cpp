@@ -137,11 +137,31 @@ Machine parseMachine(const Node& node, std::vector<std::string>& warnings) {
   return machine;
 }
 
+// noise.probe: a standard deviation (mm), or "estimate" / {"estimate": START} for the calibrator
+// to estimate from the fit (calibration/calibrate_readings.hpp); START (default
+// kDefaultProbeNoiseGuess) is what evaluate and the first iteration use.
+double parseProbeNoise(const Node& probe, bool& estimate) {
+  estimate = false;
+  if (probe.value().is_string()) {
+    if (probe.string() != "estimate")
+      probe.fail("expected a number, got a string: a standard deviation in mm, or \"estimate\"");
+    estimate = true;
+    return kDefaultProbeNoiseGuess;
+  }
+  if (probe.value().is_object()) {
+    if (probe.object().size() != 1 || !probe.has("estimate"))
+      probe.fail("expected {\"estimate\": starting standard deviation in mm}");
+    estimate = true;
+    return probe.at("estimate").positive();
+  }
+  return probe.positive();
+}
+
 Noise parseNoise(const Node& node, const Machine& machine, std::vector<std::string>& warnings) {
   node.object();
   node.warnUnknown({"probe", "encoder"}, warnings);
   Noise noise;
-  noise.probe = node.at("probe").positive();
+  noise.probe = parseProbeNoise(node.at("probe"), noise.estimate_probe);
   const Node encoder = node.at("encoder");
   const int joints = machine.jointCount();
   noise.encoder.resize(joints);
@@ -480,10 +500,10 @@ Eigen::VectorXd parseJointMargin(const std::optional<Node>& node, const Machine&
 
 DesignSpec parseDesign(const Node& node, const Plan& plan, std::vector<std::string>& warnings) {
   node.object();
-  node.warnUnknown({"artifact", "placements", "postures", "region", "criterion", "seed", "starts",
-                    "time_limit", "joint_margin", "pool", "evaluations", "polish", "kicks",
-                    "target_tip"},
-                   warnings);
+  node.warnUnknown(
+      {"artifact", "placements", "postures", "region", "criterion", "seed", "starts", "time_limit",
+       "joint_margin", "pool", "evaluations", "polish", "kicks", "target_tip"},
+      warnings);
   DesignSpec design;
   const Node artifact = node.at("artifact");
   design.artifact = plan.artifactIndex(artifact.string());

@@ -18,6 +18,8 @@ constexpr double kAbsoluteFloor = 1.0;      // mm: an uncalibrated machine errs 
 constexpr double kArtifactFraction = 0.25;  // wrong units err by the artifact's own size
 constexpr double kPoseFloor = 10.0;         // mm: a pose entered by hand may be this rough
 constexpr double kReachFactor = 10.0;       // an artifact 10 x the machine's diameter is not on it
+constexpr double kMachineFraction = 0.05;   // a real machine may be off nominal by 5 % of its reach
+constexpr double kCollapsedRatio = 0.5;     // features probed closer than half their true spacing
 
 std::string millimetres(double value) {
   char text[64];
@@ -37,15 +39,16 @@ double valuedDistance(const Artifact& artifact, const Eigen::VectorXd& W, int fe
   return d.head(artifact.valuedPerFeature()).norm();
 }
 
-/// The probe positions of a placement's readings at the nominal parameters; false when the
-/// machine cannot evaluate one of them (left to the numerical code to report).
-bool nominalPoints(const Plan& plan, const Placement& placement, Eigen::MatrixXd& points) {
+/// The probe positions of a placement's readings at parameters p; false when the machine cannot
+/// evaluate one of them (left to the numerical code to report).
+bool probedPoints(const Plan& plan, const Eigen::VectorXd& p, const Placement& placement,
+                  Eigen::MatrixXd& points) {
   const Mechanism& mech = *plan.machine.mechanism;
   points.resize(plan.machine.dimension(), static_cast<int>(placement.measurements.size()));
   Eigen::VectorXd x;
   for (std::size_t i = 0; i < placement.measurements.size(); ++i) {
     const Measurement& m = placement.measurements[i];
-    if (mech.forwardStylus(m.stylus, plan.machine.nominal, m.joints, x) != ForwardStatus::Ok) {
+    if (mech.forwardStylus(m.stylus, p, m.joints, x) != ForwardStatus::Ok) {
       return false;
     }
     if (x.size() != points.rows() || !x.allFinite()) return false;
@@ -119,12 +122,12 @@ int distinctFeatures(const Placement& placement) {
   return static_cast<int>(distinct.size());
 }
 
-/// The farthest the nominal machine probes from its origin over every reading of the plan (mm).
-double planReach(const Plan& plan) {
+/// The farthest the machine at p probes from its origin over every reading of the plan (mm).
+double planReach(const Plan& plan, const Eigen::VectorXd& p) {
   double reach = 0.0;
   Eigen::MatrixXd points;
   for (const Placement& placement : plan.placements) {
-    if (!nominalPoints(plan, placement, points) || points.cols() == 0) continue;
+    if (!probedPoints(plan, p, placement, points) || points.cols() == 0) continue;
     reach = std::max(reach, points.colwise().norm().maxCoeff());
   }
   return reach;
@@ -134,11 +137,10 @@ double planReach(const Plan& plan) {
 // units): a machine in metres is told by the artifact's size instead. Its features must fit
 // within kReachFactor times the diameter 2 R of the sphere the plan's readings probe within.
 void checkArtifactFitsTheMachine(const Plan& plan, const Placement& placement,
-                                 const std::string& where, double& reach) {
+                                 const std::string& where, double reach) {
   if (distinctFeatures(placement) != 1) return;
   const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
   const double diameter = artifactDiameter(artifact);
-  if (reach < 0.0) reach = planReach(plan);
   if (diameter <= kReachFactor * 2.0 * reach) return;
   throw InputError(plan.source, where,
                    "the nominal machine probes every reading of the plan within " +
@@ -147,30 +149,78 @@ void checkArtifactFitsTheMachine(const Plan& plan, const Placement& placement,
                        " across: check the units (lengths in mm, not metres)");
 }
 
+// Wrong units collapse the probed points (readings in radians read as degrees turn each joint a
+// 57th of the way; a machine in metres is a thousand times too small): the mean probed positions
+// of the measured features then lie much closer together than the features themselves, however
+// far off nominal the machine is. Compared as RMS distances from their centroids.
+void checkFeaturesNotCollapsed(const Plan& plan, const Placement& placement,
+                               const Eigen::MatrixXd& points, const std::string& where,
+                               const std::string& machine) {
+  const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
+  // A step gauge values one coordinate: where on a face it is probed is free, so only the
+  // features whose every coordinate is valued (balls) are compared.
+  const int k = artifact.valuedPerFeature();
+  std::set<int> features;
+  for (const Measurement& m : placement.measurements) features.insert(m.feature);
+  if (features.size() < 2 || k != artifact.dimension) return;
+  Eigen::MatrixXd probed(k, static_cast<int>(features.size()));
+  Eigen::MatrixXd true_features(k, probed.cols());
+  int column = 0;
+  for (const int feature : features) {
+    Eigen::VectorXd sum = Eigen::VectorXd::Zero(points.rows());
+    int count = 0;
+    for (std::size_t i = 0; i < placement.measurements.size(); ++i) {
+      if (placement.measurements[i].feature != feature) continue;
+      sum += points.col(static_cast<int>(i));
+      ++count;
+    }
+    probed.col(column) = (sum / count).head(k);
+    true_features.col(column++) = artifact.features.col(feature).head(k);
+  }
+  auto spread = [](const Eigen::MatrixXd& x) {
+    const Eigen::VectorXd centroid = x.rowwise().mean();
+    return std::sqrt((x.colwise() - centroid).colwise().squaredNorm().mean());
+  };
+  const double probed_spread = spread(probed);
+  const double true_spread = spread(true_features);
+  if (!(true_spread > 0.0) || probed_spread >= kCollapsedRatio * true_spread) return;
+  throw InputError(plan.source, where,
+                   machine + " probes the artifact's features " + millimetres(probed_spread) +
+                       " (RMS) from their centre where the artifact has them " +
+                       millimetres(true_spread) +
+                       " from it: check the units (joint readings in degrees, not radians; "
+                       "lengths in mm, not metres)");
+}
+
 }  // namespace
 
-double plausibleResidual(const Artifact& artifact, double probe_sigma) {
-  return std::max(
-      {kNoiseFactor * probe_sigma, kAbsoluteFloor, kArtifactFraction * artifactSpread(artifact)});
+double plausibleResidual(const Artifact& artifact, double probe_sigma, double reach) {
+  return std::max({kNoiseFactor * probe_sigma, kAbsoluteFloor,
+                   kArtifactFraction * artifactSpread(artifact), kMachineFraction * reach});
 }
 
 void checkPlausibility(const Plan& plan) {
-  double reach = -1.0;  // computed when a single-feature placement needs it
+  checkPlausibility(plan, plan.machine.nominal, "the nominal machine");
+}
+
+void checkPlausibility(const Plan& plan, const Eigen::VectorXd& p, const std::string& machine) {
+  const double reach = planReach(plan, p);
   for (std::size_t j = 0; j < plan.placements.size(); ++j) {
     const Placement& placement = plan.placements[j];
     if (placement.measurements.empty()) continue;
     const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
     Eigen::MatrixXd points;
-    if (!nominalPoints(plan, placement, points)) continue;
+    if (!probedPoints(plan, p, placement, points)) continue;
     const std::string where = "/placements/" + std::to_string(j);
-    const double threshold = plausibleResidual(artifact, plan.noise.probe);
+    checkFeaturesNotCollapsed(plan, placement, points, where, machine);
+    const double threshold = plausibleResidual(artifact, plan.noise.probe, reach);
     const double residual = fitResidual(artifact, placement, points);
     if (!(residual <= threshold)) {
       throw InputError(
           plan.source, where,
-          "the nominal machine puts these readings " + millimetres(residual) +
+          machine + " puts these readings " + millimetres(residual) +
               " (RMS) off the artifact's features after the best rigid fit, more than a machine "
-              "error or noise explains (" +
+              "error (5 % of the machine's reach) or noise explains (" +
               millimetres(threshold) +
               "): check the units (joint readings in degrees, not radians; lengths in mm, not "
               "metres) and that each reading's feature index is right");

@@ -96,6 +96,51 @@ std::string grossErrorText(const std::vector<Placement>& placements,
 
 }  // namespace
 
+namespace {
+
+json noiseEstimateToJson(const Calibration& calibration) {
+  const NoiseEstimate& e = *calibration.noise_estimate;
+  return {{"probe", finiteOrNull(e.probe)},
+          {"u", finiteOrNull(e.u)},
+          {"stated", finiteOrNull(e.stated)},
+          {"fits", e.fits},
+          {"unit", "mm"}};
+}
+
+json weaklyDeterminedToJson(const Plan& plan) {
+  json out = json::array();
+  if (!plan.calibrate_resolution) return out;
+  const CalibratedSetResolution& resolution = *plan.calibrate_resolution;
+  const auto& parameters = plan.machine.mechanism->parameters();
+  for (std::size_t i = 0; i < resolution.weak.size(); ++i) {
+    out.push_back({{"name", parameters[static_cast<std::size_t>(resolution.weak[i])].name},
+                   {"surviving_fraction", finiteOrNull(resolution.weak_fraction[i])}});
+  }
+  return out;
+}
+
+// The noise estimate, the parameters held at nominal and the warnings, for the table.
+std::string calibrationNotes(const Plan& plan, const Calibration& calibration) {
+  std::ostringstream out;
+  if (calibration.noise_estimate) {
+    const NoiseEstimate& e = *calibration.noise_estimate;
+    out << "probe noise estimated from the fit: " << format("%.4g", e.probe) << " mm (u "
+        << format("%.2g", e.u) << " mm; started from " << format("%.4g", e.stated) << " mm, "
+        << e.fits << (e.fits == 1 ? " fit" : " fits") << ")\n";
+  }
+  const json weak = weaklyDeterminedToJson(plan);
+  if (!weak.empty()) {
+    out << "held at nominal, weakly determined (surviving fraction of their information < 1e-6: "
+           "set by the model mismatch, not by the readings):";
+    for (const json& w : weak) out << " " << w["name"].get<std::string>();
+    out << "\n";
+  }
+  for (const std::string& warning : calibration.warnings) out << "warning: " << warning << "\n";
+  return out.str();
+}
+
+}  // namespace
+
 json calibrationToJson(const Plan& plan, const std::vector<Placement>& placements,
                        const Calibration& calibration) {
   const Machine& machine = plan.machine;
@@ -112,6 +157,9 @@ json calibrationToJson(const Plan& plan, const std::vector<Placement>& placement
   out["chi2_per_dof"] = redundant ? finiteOrNull(calibration.chi2_per_dof) : json(nullptr);
   out["birge_ratio"] = redundant ? finiteOrNull(calibration.birgeRatio()) : json(nullptr);
   out["u_posterior_caveat"] = posteriorCaveat(calibration.dof);
+  if (calibration.noise_estimate) out["noise_estimate"] = noiseEstimateToJson(calibration);
+  out["weakly_determined"] = weaklyDeterminedToJson(plan);
+  out["warnings"] = calibration.warnings;
   const Eigen::VectorXd posterior = calibration.posteriorU();
   json parameters = json::array();
   for (int k = 0; k < machine.calibratedCount(); ++k) {
@@ -213,6 +261,7 @@ std::string calibrationTable(const Plan& plan, const std::vector<Placement>& pla
   if (const json caveat = posteriorCaveat(calibration.dof); caveat.is_string()) {
     out << "note: " << caveat.get<std::string>() << "\n";
   }
+  out << calibrationNotes(plan, calibration);
   out << "\n";
   out << "parameter      nominal        estimate             u    u_posterior  unit\n";
   const Eigen::VectorXd posterior = calibration.posteriorU();

@@ -223,7 +223,7 @@ TEST(Calibrator, ReducedGradientMatchesFiniteDifferences) {
         const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(readings[j].artifact)];
         const Eigen::VectorXd dr =
             at.eliminations[j].rigidStep(dg) - at.eliminations[j].rigidStep(0.0 * dg);
-        moved.poses[j] = state.poses[j].perturbed(artifact.expandRigidStep(t * dr));
+        moved.poses[j] = state.poses[j].perturbed(artifact.expandFullRigidStep(t * dr));
       }
       Linearization lin;
       EXPECT_TRUE(calibrator.linearize(readings, moved, lin));

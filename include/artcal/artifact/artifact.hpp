@@ -46,6 +46,19 @@ class Artifact {
   void rigidJacobian(const Eigen::VectorXd& W, Eigen::Ref<Eigen::MatrixXd> J) const;
   /// The full rigid motion (translation, rotation) for a step in the estimated directions.
   Eigen::VectorXd expandRigidStep(const Eigen::VectorXd& step) const;
+  /// Size of the full rigid motion: 3 in 2-D (tx, ty, rz), 6 in 3-D (tx, ty, tz, wx, wy, wz).
+  int fullRigidDof() const { return dimension == 2 ? 3 : 6; }
+  /// The full rigid motion's directions, the estimated ones (rigidDirections()) first, then the
+  /// ones the table leaves out (a 3-D ball bar's roll; a step gauge's motions across its axis).
+  const std::vector<int>& fullRigidOrder() const;
+  /// dW_valued / dr over the full rigid motion at artifact-frame point W, columns in
+  /// fullRigidOrder(): valuedPerFeature() x fullRigidDof(). The observation blocks use it (rank
+  /// policy, docs/method.md section 5, "Real readings"): a rigid motion of the whole machine is
+  /// then absorbed by the placement exactly, whatever the points. On consistent points the
+  /// trailing columns move no valued coordinate (zero): gauges the reduction leaves out.
+  void fullRigidJacobian(const Eigen::VectorXd& W, Eigen::Ref<Eigen::MatrixXd> J) const;
+  /// The full rigid motion (translation, rotation) for a step over fullRigidOrder().
+  Eigen::VectorXd expandFullRigidStep(const Eigen::VectorXd& step) const;
   int systematicCount() const { return static_cast<int>(systematic.size()); }
   /// Calibrated coordinates of feature i with the systematic errors c added.
   Eigen::VectorXd feature(int i, const Eigen::VectorXd& c) const;

@@ -45,15 +45,18 @@ struct CalibrationOptions {
   /// directions (the MUKCa Panda on 8 positions, u of 28 mm along panda_joint6.y) walks its
   /// valley in up to about 60 Gauss-Newton steps at chi2/dof 1, so 50 stopped it short.
   int max_iterations = 200;
-  /// Converged when every |dg_i| sqrt(N_ii) < step_tolerance (the step is that small a fraction
-  /// of the parameter's conditional standard uncertainty) and the r_j steps are as small
+  /// Converged when every |dg_i| / u_i < step_tolerance (the step is that small a fraction of
+  /// the parameter's standard uncertainty, u_i = sqrt(diag N^-1) at the current linearisation)
+  /// and the r_j steps are as small
   /// (Linearization::rigid_reduction < step_tolerance^2) ...
   double step_tolerance = 1e-3;
   /// ... or when the predicted or actual cost change of a step is below
-  /// max(function_tolerance * cost, step_tolerance^2). The weights are re-evaluated at the
+  /// max(function_tolerance * cost, step_tolerance^2). Both tolerances are in the standard
+  /// uncertainties the readings show: times max(1, sqrt(chi2/dof)), so that convergence does not
+  /// depend on the stated noise's scale. The weights are re-evaluated at the
   /// estimate (they depend on p through J_q), so the iteration is a reweighted Gauss-Newton:
   /// near its fixed point the exact cost may not fall by the tiny amounts the model promises.
-  double function_tolerance = 1e-10;
+  double function_tolerance = 1e-6;
   DampingOptions damping;
   /// Normalised residuals larger than this (in absolute value) are flagged.
   double flag_threshold = 3.0;
@@ -93,8 +96,20 @@ struct ResidualEntry {
   bool gross = false;    ///< score > gross_threshold * max(1, Birge ratio)
 };
 
+/// `"noise": {"probe": "estimate"}` resolved by calibrateReadings (calibrate_readings.hpp).
+struct NoiseEstimate {
+  double stated = 0.0;  ///< the starting s_p, mm
+  double probe = 0.0;   ///< the estimate: chi2 = dof at the calibration's estimate, mm
+  double u = 0.0;       ///< its standard uncertainty, probe / sqrt(2 dof), mm
+  int fits = 0;         ///< calibrations run until it settled
+};
+
 struct Calibration {
   CalibrationSummary summary;
+  std::optional<NoiseEstimate> noise_estimate;  ///< when the plan asked for it
+  /// What a metrologist should look at before trusting the result (implausible corrections,
+  /// readings that fit to rounding): one sentence each, naming the parameter.
+  std::vector<std::string> warnings;
   Eigen::VectorXd parameters;  ///< full parameter vector, internal units
   Eigen::VectorXd systematic;  ///< c over the GlobalLayout order, mm
   std::vector<RigidTransform> poses;
@@ -136,6 +151,10 @@ struct Linearization {
   /// sum_j g_r^T (A_r^T A_r)^+ g_r: what re-fitting every r_j alone (dg = 0) would gain. The
   /// full model prediction is this plus 2 b^T dg - dg^T N dg.
   double rigid_reduction = 0.0;
+  /// Per placement, the weights used (held for the trials of the next step).
+  std::vector<ReadingWeights> weights;
+  /// Whitened with the weights at its own state (false: with another state's, held).
+  bool fresh = true;
   double predictedReduction(const Eigen::VectorXd& dg) const;
 };
 
@@ -153,17 +172,35 @@ class Calibrator {
   /// The starting state: p = start, c = 0, each r_j fitted (Umeyama) at `start`.
   CalibrationState initialState(const std::vector<Placement>& placements,
                                 const Eigen::VectorXd& start) const;
-  /// Linearises at `state` (weights evaluated there); false when anything is non-finite.
+  /// Linearises at `state`, with the weights evaluated there or, given `weights`, the ones that
+  /// linearisation used (iteratively reweighted least squares: the weights depend on p through
+  /// J_q, and a trial step is judged under the current weights); false when anything is
+  /// non-finite.
   bool linearize(const std::vector<Placement>& placements, const CalibrationState& state,
-                 Linearization& out);
+                 Linearization& out, const Linearization* weights = nullptr);
   /// The state after the global step dg, each r_j back-substituted (docs/method.md section 3).
   void step(const CalibrationState& from, const Linearization& at, const Eigen::VectorXd& dg,
             const std::vector<Placement>& placements, CalibrationState& to) const;
 
  private:
   void fillDetails(const std::vector<Placement>& placements, Calibration& out);
+  /// At a convergence test: true when the current linearisation has its own weights; otherwise
+  /// re-linearises with them (`finite` says whether that worked) and returns false: the loop
+  /// goes on under the new weights.
+  bool settled(const std::vector<Placement>& placements, bool& finite);
   /// A cost change too small to matter (see CalibrationOptions).
   double negligible(double cost) const;
+  /// max(1, sqrt(cost / dof)): the readings' scatter over the stated noise, which scales the
+  /// convergence tests so that they do not depend on the stated noise's scale.
+  double scatter(double cost) const;
+  /// After an accepted step that gained more than kExtendRatio times the prediction: tries
+  /// 2, 4, ... kMaxExtension times the step (weights held), keeping the best in trial_.
+  void extendStep(const Eigen::VectorXd& dg, const std::vector<Placement>& placements,
+                  double& actual);
+  /// The step's largest component in standard uncertainties (see the .cpp).
+  static double stepInUncertainties(const Eigen::MatrixXd& N, const Eigen::VectorXd& dg);
+  /// Valued coordinates observed + prior rows - N(p) - sum of the effective N(r_j).
+  int degreesOfFreedom(const std::vector<Placement>& placements) const;
 
   const Plan* plan_;
   CalibrationOptions options_;
@@ -172,8 +209,16 @@ class Calibrator {
   NormalMatrixReducer reducer_;
   ObservationBlock block_;
   LevenbergMarquardtStrategy strategy_;
-  CalibrationState current_, trial_;
-  Linearization current_lin_, trial_lin_;
+  CalibrationState current_, trial_, extended_;
+  Linearization current_lin_, trial_lin_, extended_lin_;
+  int dof_ = 0;
+  int reweightings_ = 0;  ///< weights re-evaluated at a converged estimate so far
+  /// Rounds of reweighting at a converged estimate (settled()).
+  static constexpr int kMaxReweightings = 1;
+  static constexpr double kExtendRatio = 1.5;
+  /// Accepted steps after which the poses' own convergence no longer holds back p's.
+  static constexpr int kPoseCrawlSteps = 5;
+  static constexpr double kMaxExtension = 64.0;
 };
 
 /// Convenience: Calibrator(plan, options).run(plan.placements).

@@ -16,10 +16,32 @@ namespace artcal {
 
 struct ObservationBlock {
   Eigen::MatrixXd A_p;  ///< rows x N(p): whitened dF/dp over the calibrated parameters
-  Eigen::MatrixXd A_r;  ///< rows x N(r_j): whitened dF/dr_j
+  /// rows x the full rigid motion (3 or 6): whitened dF/dr_j. Directions that move no valued
+  /// coordinate of the points (a ball bar's roll on consistent readings) are zero columns, left to
+  /// the rank policy of the reduction (normal_matrix.hpp).
+  Eigen::MatrixXd A_r;
+  /// The leading columns of A_r the artifact's table counts (Artifact::rigidDof(), its
+  /// fullRigidOrder()); the rest are eliminated only where the points observe them.
+  int rigid_primary = 0;
   Eigen::MatrixXd A_c;  ///< rows x the artifact's systematic errors: whitened dF/dc
   Eigen::VectorXd e;    ///< whitened residual F - W* (only when residuals were asked for)
   int rows() const { return static_cast<int>(A_p.rows()); }
+};
+
+/// One reading's misfit in its valued artifact coordinates, before whitening: the residual
+/// F - W* and the encoders' part of its covariance, J_q Sigma_q J_q^T (the probe adds s_p^2 I).
+/// The probe-noise estimate (calibration/calibrate_readings.hpp) solves for s_p from these.
+struct ReadingMisfit {
+  Eigen::VectorXd residual;
+  Eigen::MatrixXd encoder_covariance;
+};
+
+/// The whitening factors L of a placement's readings (Sigma_ij = L L^T, section 2), in reading
+/// order (the top-left k x k of each). The weights depend on p through J_q: the calibrator holds
+/// them while it tries steps (iteratively reweighted least squares), so that a trial's cost is
+/// compared with the current one under the same weights.
+struct ReadingWeights {
+  std::vector<Eigen::Matrix3d> factors;
 };
 
 /// Builds observation blocks; holds scratch space so that repeated builds do not allocate.
@@ -29,9 +51,17 @@ class DesignMatrixBuilder {
 
   /// The block of one placement at parameters `p` (full vector) and artifact pose `r`.
   /// `c` holds the artifact's systematic errors (may be empty: zero).
+  /// `held`: whiten with these factors instead of the ones at p; `record`: receives the factors
+  /// used.
   void build(const Artifact& artifact, const std::vector<Measurement>& measurements,
              const Eigen::VectorXd& p, const RigidTransform& r, const Eigen::VectorXd& c,
-             bool with_residuals, ObservationBlock& block);
+             bool with_residuals, ObservationBlock& block, const ReadingWeights* held = nullptr,
+             ReadingWeights* record = nullptr);
+
+  /// Appends the misfit of each measurement at (p, r, c) to `out` (see ReadingMisfit).
+  void misfits(const Artifact& artifact, const std::vector<Measurement>& measurements,
+               const Eigen::VectorXd& p, const RigidTransform& r, const Eigen::VectorXd& c,
+               std::vector<ReadingMisfit>& out) const;
 
   /// Machine-frame probe positions f(p, q) of the measurements (dimension x count).
   Eigen::MatrixXd probePositions(const std::vector<Measurement>& measurements,
@@ -41,7 +71,7 @@ class DesignMatrixBuilder {
   const Machine* machine_;
   const Noise* noise_;
   Eigen::VectorXd x_;
-  Eigen::MatrixXd J_x_p_, J_x_q_, J_valued_q_, sigma_, J_r_;
+  Eigen::MatrixXd J_x_p_, J_x_q_, J_valued_q_, J_r_;
   Eigen::VectorXd W_;
 };
 

@@ -8,13 +8,24 @@
 //
 // Rank policy (docs/method.md section 5): the real test is the numerical rank of the information of
 // p, N_red, scaled by the *unreduced* diagonal D = diag(sum_j A_pj^T A_pj):
-// S = D^-1/2 N_red D^-1/2, eigenvalues below `tolerance` times the largest mark a deficiency,
-// and their eigenvectors are the parameter combinations the plan cannot separate. A parameter
-// whose information the rigid motions absorb (j1.theta, j1.d of a serial arm: reduced/unreduced
-// ~ 1e-13) is thus unidentifiable; scaling by N_red's own diagonal would blow its rounding
-// residue up to 1. A parameter whose sqrt(D_i) is at most kUnobservedScale times the largest is
-// not observed at all (scale 0). The null space is reported in reduced row-echelon form, so that
-// a parameter unidentifiable on its own appears alone; coefficients are in the scaled parameters.
+// S = D^-1/2 N_red D^-1/2. An eigenvalue of S is the fraction of a direction's own information
+// that survives the elimination of the rigid motions and of the other parameters; one at or below
+// `tolerance` (absolute, 1e-10) marks a deficiency, also when it is the only parameter, and the
+// eigenvectors are the combinations the plan cannot separate. The rigid motions are eliminated
+// with each placement's *full* rigid block (design_matrix.hpp), so a parameter that moves the
+// whole machine rigidly (j1.theta, j1.d of a serial arm, a base rotation of a URDF chain) keeps
+// only rounding (~1e-13) whatever the readings' scatter; scaling by N_red's own diagonal would
+// blow that residue up to 1. A parameter whose sqrt(D_i) is at most kUnobservedScale times the
+// largest is not observed at all (scale 0). The null space is reported in reduced row-echelon
+// form, so that a parameter unidentifiable on its own appears alone; coefficients are in the
+// scaled parameters.
+//
+// Two thresholds, two questions (docs/method.md section 5): check, evaluate and optimize decide
+// what planned readings can separate at all (kDefaultRankTolerance). Calibrating *measured*
+// readings with "identifiable" further holds at nominal every parameter whose surviving fraction
+// is below kWeakInformationTolerance (1e-6, the independent reference's |R_kk|/|R_00| > 1e-3 of a
+// column-pivoted QR of the column-scaled reduced Jacobian): information of the order of the model
+// mismatch, not of the data (weaklyDetermined, calibration/calibrate_plan.hpp).
 
 #include <Eigen/Core>
 #include <string>
@@ -63,6 +74,9 @@ struct Identifiability {
 };
 
 inline constexpr double kDefaultRankTolerance = 1e-10;
+/// Surviving fraction below which calibrate holds a parameter of measured readings at nominal
+/// ("weakly determined": of the order of the model mismatch, docs/method.md section 5).
+inline constexpr double kWeakInformationTolerance = 1e-6;
 /// sqrt(D_i) at most this fraction of the largest: the parameter is not observed at all.
 inline constexpr double kUnobservedScale = 1e-9;
 
@@ -85,15 +99,17 @@ Eigen::MatrixXd scaledInformation(const PlanInformation& information);
 struct CalibratedSetChoice {
   std::vector<int> kept;     ///< positions into the listed parameters, in order
   std::vector<int> dropped;  ///< positions into the listed parameters
+  /// Per dropped parameter: the smallest eigenvalue of S over kept + {it}, the fraction of its
+  /// information that survives (0 when it is not observed at all).
+  std::vector<double> dropped_fraction;
   /// Per dropped parameter: the combination (positions, scaled coefficients, the dropped one
   /// +1) the plan cannot tell from zero.
   std::vector<std::vector<std::pair<int, double>>> ties;
 };
 
-/// The greedy rule of models.md section 1: S over all listed parameters; a parameter with
+/// The greedy rule of docs/models.md section 1: S over all listed parameters; a parameter with
 /// sqrt(D_i) <= kUnobservedScale max sqrt(D) is never kept; parameter i is kept when the smallest
-/// eigenvalue of S over kept + {i} exceeds `tolerance` times the largest eigenvalue of S over all
-/// listed parameters.
+/// eigenvalue of S over kept + {i} exceeds `tolerance` (absolute: a surviving fraction).
 CalibratedSetChoice chooseIdentifiableSet(const PlanInformation& information,
                                           double tolerance = kDefaultRankTolerance);
 

@@ -19,9 +19,15 @@ namespace artcal {
 /// Random errors (docs/method.md section 2): probing per coordinate (mm), encoders per joint (rad
 /// or mm).
 struct Noise {
-  double probe = 0.0;
+  double probe = 0.0;  ///< mm, per coordinate; the starting value when estimate_probe
   Eigen::VectorXd encoder;
+  /// `"probe": "estimate"`: calibrate estimates the probing noise from the fit (variance
+  /// component, calibration/calibrate_readings.hpp) instead of trusting `probe`.
+  bool estimate_probe = false;
 };
+
+/// The probe noise `"probe": "estimate"` starts from (mm): evaluate's planning figures use it.
+inline constexpr double kDefaultProbeNoiseGuess = 0.1;
 
 /// One reading: a feature probed with the given joint values (internal units).
 struct Measurement {
@@ -114,6 +120,10 @@ struct CalibratedSetResolution {
   std::vector<int> kept;
   std::vector<int> dropped;
   std::vector<std::vector<std::pair<int, double>>> ties;
+  /// Held at nominal by calibrate on measured readings (calibration/calibrate_readings.hpp):
+  /// surviving fraction below 1e-6 at the nominal parameters or at the estimate.
+  std::vector<int> weak;
+  std::vector<double> weak_fraction;  ///< each one's surviving fraction when it was held
 };
 
 struct Plan {

@@ -1,0 +1,43 @@
+#pragma once
+// Calibrating measured readings (docs/method.md sections 5 and 6, "Real readings"): the
+// calibrator (calibrator.hpp) with what readings of a real machine need and planned readings do
+// not.
+//
+// - Weakly determined parameters. With `"calibrate": "identifiable"`, the plan's resolution
+//   (identifiability.hpp) keeps what the readings can separate at all (surviving fraction of the
+//   scaled reduced information above 1e-10). On measured readings a direction whose surviving
+//   fraction is of the order of the model mismatch (below kWeakInformationTolerance = 1e-6, the
+//   independent reference's |R_kk|/|R_00| > 1e-3 of a column-pivoted QR of the column-scaled
+//   reduced Jacobian) would be set by that mismatch, not by the data: it is held at nominal. The
+//   rule runs at the nominal parameters, then again at the estimate (the calibration is repeated
+//   when the estimate drops more), greedily in the listed order.
+// - Noise that the data state. `"noise": {"probe": "estimate"}`: the probing noise s_p is the
+//   variance component that makes chi2 = dof at the estimate (encoder noise as stated), the fit
+//   repeated with it until s_p settles (the weights depend on s_p when encoders add noise).
+//   u(s_p) = s_p / sqrt(2 dof) (the chi-square's relative spread). u, gross errors and the
+//   machine file's covariance then use the estimated s_p.
+// - Warnings a metrologist would want: corrections no one would believe (corrections.hpp) and
+//   readings that fit to rounding (planned readings calibrated as if measured).
+
+#include <Eigen/Core>
+
+#include "artcal/calibration/calibrator.hpp"
+#include "artcal/plan/plan.hpp"
+
+namespace artcal {
+
+/// chi2/dof below this is no real probe's: the readings are consistent to rounding.
+inline constexpr double kRoundingChi2PerDof = 1e-8;
+
+/// Calibrates `plan`'s readings as calibratePlan does, with the weak-direction rule and the noise
+/// estimate above. `plan` is updated: machine.calibrated loses the weakly determined parameters
+/// (recorded in calibrate_resolution->weak) and noise.probe becomes the estimate, so that every
+/// output of the calibration names what was estimated and with which noise.
+Calibration calibrateReadings(Plan& plan, const CalibrationOptions& options = {});
+
+/// The probe noise s_p (mm) that makes chi2 = dof at the calibration's estimate, the encoder
+/// noise as stated; 0 when the encoders alone explain more than the scatter (see NoiseEstimate).
+double probeNoiseForUnitBirgeRatio(const Plan& plan, const std::vector<Placement>& placements,
+                                   const Calibration& calibration);
+
+}  // namespace artcal

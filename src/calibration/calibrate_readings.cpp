@@ -1,0 +1,146 @@
+#include "artcal/calibration/calibrate_readings.hpp"
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "artcal/calibration/corrections.hpp"
+#include "artcal/estimation/evaluator.hpp"
+#include "artcal/estimation/identifiability.hpp"
+
+namespace artcal {
+
+namespace {
+
+constexpr int kMaxWeakRounds = 4;       // calibrations repeated for directions weak at the estimate
+constexpr int kMaxNoiseFits = 8;        // calibrations while the probe noise settles
+constexpr double kNoiseSettled = 1e-3;  // relative change of s_p that counts as settled
+constexpr double kProbeNoiseFloor = 1e-6;  // mm: no real probe is better than a nanometre
+
+std::string number(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3g", value);
+  return text;
+}
+
+// Holds at nominal the calibrated parameters whose surviving fraction at p is below
+// kWeakInformationTolerance (greedy in the calibrated set's order); true when it held any.
+bool holdWeaklyDetermined(Plan& plan, const Eigen::VectorXd& p) {
+  const PlanInformation information = planInformation(plan, plan.placements, p);
+  const CalibratedSetChoice choice = chooseIdentifiableSet(information, kWeakInformationTolerance);
+
+  if (choice.dropped.empty()) return false;
+  CalibratedSetResolution& resolution = *plan.calibrate_resolution;
+  std::vector<int> kept;
+  for (const int k : choice.kept) kept.push_back(plan.machine.calibrated[k]);
+  for (std::size_t d = 0; d < choice.dropped.size(); ++d) {
+    resolution.weak.push_back(plan.machine.calibrated[choice.dropped[d]]);
+    resolution.weak_fraction.push_back(choice.dropped_fraction[d]);
+  }
+  plan.machine.calibrated = kept;
+  resolution.kept = std::move(kept);
+  return true;
+}
+
+// Whitened chi2 of the readings' misfits at probe noise s (encoders as stated).
+double readingsChi2(const std::vector<ReadingMisfit>& misfits, double s) {
+  double chi2 = 0.0;
+  for (const ReadingMisfit& m : misfits) {
+    Eigen::MatrixXd sigma = m.encoder_covariance;
+    sigma.diagonal().array() += s * s;
+    chi2 += m.residual.dot(sigma.ldlt().solve(m.residual));
+  }
+  return chi2;
+}
+
+// Calibrates at the plan's noise; with `"probe": "estimate"`, sets noise.probe to the variance
+// component that gives chi2 = dof and calibrates again until it settles.
+Calibration calibrateWithNoise(Plan& plan, const CalibrationOptions& options,
+                               const Eigen::VectorXd& start) {
+  Calibration calibration = Calibrator(plan, options).run(plan.placements, start);
+  if (!plan.noise.estimate_probe) return calibration;
+  NoiseEstimate estimate;
+  estimate.stated = plan.noise.probe;
+  for (estimate.fits = 1; estimate.fits < kMaxNoiseFits; ++estimate.fits) {
+    if (calibration.dof <= 0 || !std::isfinite(calibration.chi2)) break;
+    const double s =
+        std::max(probeNoiseForUnitBirgeRatio(plan, plan.placements, calibration), kProbeNoiseFloor);
+    if (std::abs(s - plan.noise.probe) <= kNoiseSettled * plan.noise.probe) break;
+    plan.noise.probe = s;
+    calibration = Calibrator(plan, options).run(plan.placements, calibration.parameters);
+  }
+  estimate.probe = plan.noise.probe;
+  estimate.u = calibration.dof > 0 ? estimate.probe / std::sqrt(2.0 * calibration.dof) : 0.0;
+  calibration.noise_estimate = estimate;
+  return calibration;
+}
+
+void addWarnings(const Plan& plan, Calibration& calibration) {
+  for (const ImplausibleCorrection& c :
+       implausibleCorrections(plan.machine, plan.machine.nominal, calibration.parameters)) {
+    calibration.warnings.push_back(describeCorrection(plan.machine, c));
+  }
+  const bool at_floor =
+      calibration.noise_estimate && calibration.noise_estimate->probe <= kProbeNoiseFloor;
+  const bool consistent =
+      calibration.dof > 0 && calibration.chi2_per_dof < kRoundingChi2PerDof && !at_floor;
+  if (consistent || (at_floor && calibration.dof > 0)) {
+    calibration.warnings.push_back(
+        "the readings fit the model to rounding (chi2/dof = " + number(calibration.chi2_per_dof) +
+        (at_floor ? ", probe noise estimated at the 1e-6 mm floor" : "") +
+        "): no real probe is this consistent; these look like planned (nominal) readings, for "
+        "which u_posterior means nothing. Calibrate measured readings, or simulated ones "
+        "(artcal simulate --truth)");
+  }
+}
+
+}  // namespace
+
+double probeNoiseForUnitBirgeRatio(const Plan& plan, const std::vector<Placement>& placements,
+                                   const Calibration& calibration) {
+  const GlobalLayout layout = GlobalLayout::of(plan);
+  const DesignMatrixBuilder builder(plan.machine, plan.noise);
+  std::vector<ReadingMisfit> misfits;
+  for (std::size_t j = 0; j < placements.size(); ++j) {
+    const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placements[j].artifact)];
+    const int offset = layout.artifact_offset[static_cast<std::size_t>(placements[j].artifact)] -
+                       layout.parameters;
+    const Eigen::VectorXd c = calibration.systematic.segment(offset, artifact.systematicCount());
+    builder.misfits(artifact, placements[j].measurements, calibration.parameters,
+                    calibration.poses[j], c, misfits);
+  }
+  // The priors' part of the cost does not depend on s_p: chi2(s) = readings(s) + priors = dof.
+  const double priors = std::max(0.0, calibration.chi2 - readingsChi2(misfits, plan.noise.probe));
+  const double target = calibration.dof - priors;
+  if (!(target > 0.0)) return plan.noise.probe;
+  // readings(s) decreases with s: bisection on log s (a closed form only without encoders).
+  double low = kProbeNoiseFloor * 1e-3, high = 1e6;
+  if (readingsChi2(misfits, low) <= target) return 0.0;  // the encoders explain it all
+  if (readingsChi2(misfits, high) >= target) return high;
+  for (int i = 0; i < 80 && high / low > 1.0 + 1e-12; ++i) {
+    const double mid = std::sqrt(low * high);
+    (readingsChi2(misfits, mid) > target ? low : high) = mid;
+  }
+  return std::sqrt(low * high);
+}
+
+Calibration calibrateReadings(Plan& plan, const CalibrationOptions& options) {
+  const bool resolve = plan.machine.calibrate_identifiable && plan.calibrate_resolution.has_value();
+  const Eigen::VectorXd& nominal = plan.machine.nominal;
+  // Rank policy on measured readings (docs/method.md section 5): at the nominal parameters ...
+  if (resolve) holdWeaklyDetermined(plan, nominal);
+  Calibration calibration = calibrateWithNoise(plan, options, nominal);
+  // ... and again at the estimate, the newly held parameters back at nominal.
+  for (int round = 0; resolve && round < kMaxWeakRounds && calibration.summary.converged();
+       ++round) {
+    if (!holdWeaklyDetermined(plan, calibration.parameters)) break;
+    const Eigen::VectorXd start =
+        plan.machine.withCalibrated(nominal, plan.machine.calibratedValues(calibration.parameters));
+    calibration = calibrateWithNoise(plan, options, start);
+  }
+  addWarnings(plan, calibration);
+  return calibration;
+}
+
+}  // namespace artcal
