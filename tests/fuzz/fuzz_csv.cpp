@@ -1,0 +1,30 @@
+// libFuzzer harness of the CSV reader of joint readings (models.md section 7): the input is a CSV
+// file read for a machine of three joints (revolute, prismatic, revolute), in degrees and in
+// radians and metres. An InputError is the proper answer; any other escape, a crash or a
+// non-finite reading is a finding.
+
+#include <unistd.h>
+
+#include <fstream>
+
+#include "fuzz_common.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  using namespace artcal;
+  if (size > fuzz::kMaxInputBytes) return 0;
+  const std::string path = "/tmp/artcal-fuzz-" + std::to_string(::getpid()) + ".csv";
+  std::ofstream(path, std::ios::binary | std::ios::trunc)
+      .write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
+  const std::vector<JointKind> kinds = {JointKind::Revolute, JointKind::Prismatic,
+                                        JointKind::Revolute};
+  for (const char* unit : {"deg", "rad", "m"}) {
+    try {
+      for (const Eigen::VectorXd& row : readJointCsv(path, kinds, *readingUnitsFromName(unit))) {
+        if (row.size() != 3 || !row.allFinite())
+          fuzz::finding("a CSV row not of 3 finite readings");
+      }
+    } catch (const InputError&) {
+    }
+  }
+  return 0;
+}
