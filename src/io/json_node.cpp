@@ -96,11 +96,8 @@ double Node::number() const {
 }
 
 double Node::standardDeviation(bool zero_allowed) const {
-  const double v = number();
-  if (v == 0.0 && zero_allowed) return v;
-  if (v <= 0.0)
-    fail(std::string("must be ") + (zero_allowed ? "non-negative" : "positive") + ", got " +
-         json(v).dump());
+  const double v = zero_allowed ? nonNegative() : positive();
+  if (v == 0.0) return v;
   if (v < kMinStandardDeviation || v > kMaxStandardDeviation) {
     fail("a standard deviation of " + shortNumber(v) + " is outside " +
          shortNumber(kMinStandardDeviation) + " .. " + shortNumber(kMaxStandardDeviation) +

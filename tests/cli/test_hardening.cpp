@@ -189,11 +189,11 @@ std::vector<BadInput> badInputs() {
       {"too many workspace samples", with([](json& p) {
          p["workspace"] = {{"samples", 1e12}};
        }),
-       "/workspace/samples", "must be at most 10000000"},
+       "/workspace/samples", "must be at most 1000000"},
       {"grid too large", with([](json& p) {
          p["workspace"] = {{"grid", {100000, 100000}}};
        }),
-       "/workspace/grid", "more than 10000000 configurations"},
+       "/workspace/grid", "more than 1000000 configurations"},
       // Plausibility (issue 9): valid JSON of the right types that only wrong units explain.
       {"reading outside joint_limits", with([](json& p) {
          p["machine"]["joint_limits"] = {{-180, 180}, {-170, 170}};

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "artcal/artcal.hpp"
+#include "artcal/core/linear_algebra.hpp"
 #include "artcal/core/parallel.hpp"
 #include "artcal/io/csv_readings.hpp"
 #include "artcal/report/procedure.hpp"
@@ -83,6 +84,21 @@ TEST(HostileCrashes, OverflowingAndUnderflowingNoiseIsRefusedWhereItEnters) {
   const std::string kept = testDataFile("hostile/underflowing-noise-identifiable.json");
   expectRefused("evaluate " + shellQuoted(kept), kept,
                 "/noise/probe: a standard deviation of 1e-300");
+}
+
+TEST(HostileCrashes, TheEigenSolverAnswersANonFiniteMatrixWithoutDecomposingIt) {
+  Eigen::MatrixXd A = Eigen::MatrixXd::Identity(4, 4);
+  A(1, 2) = A(2, 1) = std::numeric_limits<double>::quiet_NaN();
+  A(3, 3) = std::numeric_limits<double>::infinity();
+  const SymmetricEigenSolver eig(A);
+  EXPECT_EQ(eig.info(), Eigen::NumericalIssue);
+  EXPECT_EQ(eig.eigenvalues().size(), 4);
+  EXPECT_EQ(eig.eigenvectors().rows(), 4);
+  EXPECT_EQ(eig.eigenvectors().cols(), 4);
+  EXPECT_TRUE(eig.eigenvalues().array().isNaN().all());
+  const SymmetricEigenSolver finite(Eigen::MatrixXd::Identity(3, 3));
+  EXPECT_EQ(finite.info(), Eigen::Success);
+  EXPECT_EQ(finite.eigenvalues(), Eigen::VectorXd::Ones(3));
 }
 
 TEST(HostileCrashes, HugeParametersAndAxisRangesAreRefused) {

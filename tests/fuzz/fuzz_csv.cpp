@@ -3,18 +3,13 @@
 // radians and metres. An InputError is the proper answer; any other escape, a crash or a
 // non-finite reading is a finding.
 
-#include <unistd.h>
-
-#include <fstream>
-
+#include "artcal/io/csv_readings.hpp"
 #include "fuzz_common.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace artcal;
   if (size > fuzz::kMaxInputBytes) return 0;
-  const std::string path = "/tmp/artcal-fuzz-" + std::to_string(::getpid()) + ".csv";
-  std::ofstream(path, std::ios::binary | std::ios::trunc)
-      .write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
+  const std::string path = fuzz::writeInputFile(data, size, ".csv");
   const std::vector<JointKind> kinds = {JointKind::Revolute, JointKind::Prismatic,
                                         JointKind::Revolute};
   for (const char* unit : {"deg", "rad", "m"}) {

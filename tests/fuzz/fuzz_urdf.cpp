@@ -3,29 +3,14 @@
 // block and exported onto the same file. An InputError is the proper answer to a bad URDF; any
 // other escape, a crash, a hang or a non-finite number in the machine block is a finding.
 
-#include <unistd.h>
-
-#include <fstream>
-
+#include "artcal/io/chain_codec.hpp"
+#include "artcal/io/urdf.hpp"
 #include "fuzz_common.hpp"
 
-namespace {
-
-using namespace artcal;
-
-/// A file of this process holding `data` (the readers take paths).
-std::string writeInput(const std::uint8_t* data, std::size_t size, const char* suffix) {
-  const std::string path = "/tmp/artcal-fuzz-" + std::to_string(::getpid()) + suffix;
-  std::ofstream(path, std::ios::binary | std::ios::trunc)
-      .write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
-  return path;
-}
-
-}  // namespace
-
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  using namespace artcal;
   if (size > fuzz::kMaxInputBytes) return 0;
-  const std::string path = writeInput(data, size, ".urdf");
+  const std::string path = fuzz::writeInputFile(data, size, ".urdf");
   try {
     const nlohmann::json machine = importUrdf(path, "base", "tip");
     fuzz::requireFinite(machine, "import-urdf");
