@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -170,6 +171,9 @@ int runAction(const artcal::cli::Action& action, const std::string& input) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // A closed pipe on stdout (`artcal evaluate P | head -1`) is a write error that
+  // checkStandardOutput reports (exit 2), not a death by SIGPIPE (exit 141).
+  std::signal(SIGPIPE, SIG_IGN);
   CLI::App app{
       "artcal: plans and runs the kinematic calibration of measuring mechanisms with calibrated "
       "artifacts (ball bars, ball plates, step gauges). Units in files: mm and degrees.",

@@ -49,6 +49,26 @@ struct UrdfDocument {
   }
 };
 
+// Links whose parents lead back to themselves (each with one parent: a cycle apart from the
+// tree, which urdfdom accepts and then leaks and walks forever). Each link is walked up once.
+void checkNoCycle(const UrdfDocument& doc, const std::map<std::string, std::string>& parent_of) {
+  std::map<std::string, int> state;  // 1: on the current walk, 2: leads to a root
+  for (const auto& entry : parent_of) {
+    std::vector<std::string> walk;
+    for (std::string link = entry.first; state[link] != 2;) {
+      if (state[link] == 1) {
+        doc.fail(nullptr, "the links above \"" + link + "\" form a loop: a URDF is a tree");
+      }
+      state[link] = 1;
+      walk.push_back(link);
+      const auto parent = parent_of.find(link);
+      if (parent == parent_of.end()) break;
+      link = parent->second;
+    }
+    for (const std::string& link : walk) state[link] = 2;
+  }
+}
+
 // What urdfdom would loop or recurse on, refused from the XML before it parses: more than
 // kMaxUrdfElements joints or links, a link with two parent joints, a joint that is its own
 // parent (a URDF is a tree).
@@ -60,7 +80,8 @@ void checkTreeShape(const UrdfDocument& doc) {
     if (++links > kMaxUrdfElements)
       doc.fail(e, "more than " + std::to_string(kMaxUrdfElements) + " links");
   }
-  std::map<std::string, std::string> parent_joint;  // child link -> joint
+  std::map<std::string, std::string> parent_joint;    // child link -> joint
+  std::map<std::string, std::string> parent_link_of;  // child link -> parent link
   int joints = 0;
   for (const tinyxml2::XMLElement* e = robot->FirstChildElement("joint"); e;
        e = e->NextSiblingElement("joint")) {
@@ -82,7 +103,9 @@ void checkTreeShape(const UrdfDocument& doc) {
                       it->second + "\" and \"" + name +
                       "\": the links must form a tree (a closed loop is not a URDF chain)");
     }
+    parent_link_of[child_link] = parent_link;
   }
+  checkNoCycle(doc, parent_link_of);
 }
 
 void loadUrdf(const std::string& path, UrdfDocument& doc) {

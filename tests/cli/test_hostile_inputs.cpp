@@ -2,8 +2,10 @@
 // (URDF, CSV readings, machine files, output paths, stdout). One test per class; each asserts the
 // answer: exit status 2 with one line `error: FILE: ...` naming what to check, nothing replaced.
 
+#include <fcntl.h>
 #include <gtest/gtest.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <filesystem>
@@ -145,6 +147,9 @@ TEST(HostileResources, UrdfLinksThatFormALoopAreRefused) {
   const std::string file = testDataFile("hostile/two-parents.urdf");
   expectRefused("import-urdf " + shellQuoted(file) + " --base base --tip tip", file,
                 "link \"a\" is the child of joints \"j1\" and \"j3\"");
+  const std::string cycle = testDataFile("hostile/cycle.urdf");
+  expectRefused("import-urdf " + shellQuoted(cycle) + " --base base --tip a", cycle,
+                "the links above \"a\" form a loop");
 }
 
 TEST(HostileResources, NonRegularFilesAreRefusedAsEveryInput) {
@@ -234,6 +239,30 @@ TEST(HostileOutputs, AFullStandardOutputIsAnError) {
   }
 }
 
+// A pipe whose reader is gone (`artcal evaluate P | head -c 1` once head has left): the write
+// fails with EPIPE and the CLI exits 2 with its one line, instead of dying by SIGPIPE (141). The
+// reading end is closed before artcal starts, so that the outcome does not depend on timing.
+TEST(HostileOutputs, AClosedPipeOnStandardOutputIsAnErrorNotASignal) {
+  int fds[2];
+  ASSERT_EQ(::pipe(fds), 0);
+  ::close(fds[0]);
+  const std::string plan = testDataFile("ref-2r-5bars.json");
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    ::dup2(fds[1], STDOUT_FILENO);
+    const int null = ::open("/dev/null", O_WRONLY);
+    ::dup2(null, STDERR_FILENO);
+    ::execl(ARTCAL_CLI, ARTCAL_CLI, "evaluate", plan.c_str(), static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  ::close(fds[1]);
+  int status = 0;
+  ASSERT_EQ(::waitpid(child, &status, 0), child);
+  ASSERT_TRUE(WIFEXITED(status)) << "killed by signal " << WTERMSIG(status);
+  EXPECT_EQ(WEXITSTATUS(status), 2);
+}
+
 TEST(HostileOutputs, ReportFiguresAreCheckedBeforeAnyIsWritten) {
   Scratch scratch;
   const std::string plan = shellQuoted(testDataFile("ref-2r-5bars.json"));
@@ -258,6 +287,26 @@ TEST(HostileOutputs, ReportFiguresAreCheckedBeforeAnyIsWritten) {
   std::size_t entries = 0;
   for ([[maybe_unused]] const auto& entry : fs::directory_iterator(svg)) ++entries;
   EXPECT_EQ(entries, figures.size());  // no temporary file left
+}
+
+TEST(HostileOutputs, EveryPlanOfAPlacementSweepIsCheckedBeforeTheSearch) {
+  Scratch scratch;
+  const std::string spec = shellQuoted(planFile("seed-2r-5bars.spec.json"));
+  const std::string name = json::parse(readText(planFile("seed-2r-5bars.spec.json")))["name"];
+  const fs::path dir = scratch.dir / "sweep";
+  fs::create_directories(dir / (name + "-3.json"));  // the plan for 3 placements: a directory
+  const CliRun run =
+      runCli("optimize " + spec + " --placements 2..4 --quiet -o " + shellQuoted(dir.string()),
+             Stderr::Only);
+  EXPECT_EQ(run.status, 2) << run.out;
+  EXPECT_NE(run.out.find(name + "-3.json: is a directory"), std::string::npos) << run.out;
+  std::size_t entries = 0;
+  for ([[maybe_unused]] const auto& entry : fs::directory_iterator(dir)) ++entries;
+  EXPECT_EQ(entries, 1u);  // nothing written
+  const std::string file = scratch.write("file", "keep");
+  expectRefused("optimize " + spec + " --placements 2..4 --quiet -o " + shellQuoted(file), file,
+                "not a directory");
+  EXPECT_EQ(readText(file), "keep");
 }
 
 TEST(HostileOutputs, AMachineOfAnotherRobotIsRefusedNamingTheFirstDifference) {
