@@ -18,7 +18,7 @@ targets=(fuzz_plan fuzz_spec fuzz_urdf fuzz_csv)
 declare -A seeds_of=(
   [fuzz_plan]="plans tests/data tests/data/fuzz-regressions"
   [fuzz_spec]="plans tests/data tests/data/fuzz-regressions"
-  [fuzz_urdf]="tests/fuzz/corpus/urdf tests/data/urdf"
+  [fuzz_urdf]="tests/fuzz/corpus/urdf tests/data/urdf tests/data/hostile"
   [fuzz_csv]="tests/fuzz/corpus/csv tests/data/mukca"
 )
 declare -A dict_of=([fuzz_plan]=plan.dict [fuzz_spec]=plan.dict [fuzz_urdf]=urdf.dict

@@ -110,7 +110,13 @@ void checkTreeShape(const UrdfDocument& doc) {
 
 void loadUrdf(const std::string& path, UrdfDocument& doc) {
   doc.path = path;
-  const std::string text = readInputFile(path);
+  std::string text;
+  try {
+    text = readInputFile(path);
+  } catch (const InputError& e) {
+    if (std::string(e.what()) != "cannot be read") throw;
+    throw InputError(path, "", "cannot read the URDF file");
+  }
   if (doc.xml.Parse(text.c_str(), text.size()) != tinyxml2::XML_SUCCESS) {
     throw InputError(path, "line " + std::to_string(doc.xml.ErrorLineNum()),
                      std::string("not well-formed XML: ") + doc.xml.ErrorName());
