@@ -16,6 +16,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <new>
 #include <set>
 #include <sstream>
 
@@ -310,8 +311,12 @@ void appendCsvMeasurements(const Node& entry, const Plan& plan, const Artifact& 
   const std::string file = path.lexically_normal().string();
   const auto key = std::make_pair(file, std::make_pair(units.angle_to_rad, units.length_to_mm));
   auto cached = files.rows.find(key);
-  if (cached == files.rows.end())
-    cached = files.rows.emplace(key, readJointCsv(file, kinds, units)).first;
+  try {
+    if (cached == files.rows.end())
+      cached = files.rows.emplace(key, readJointCsv(file, kinds, units)).first;
+  } catch (const std::bad_alloc&) {
+    throw InputError(file, "", "not enough memory for its readings");
+  }
   const std::vector<Eigen::VectorXd>& rows = cached->second;
   files.readings += rows.size();
   if (files.readings > kMaxPlanCsvReadings) {
