@@ -1,7 +1,16 @@
 // artcal: plan and run the kinematic calibration of measuring mechanisms with artifacts.
 
 #include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
 #include <iostream>
+#include <new>
+#include <stdexcept>
 
 #include "artcal/core/error.hpp"
 #include "artcal/io/output_file.hpp"
@@ -36,11 +45,30 @@ Plan loadPlanReporting(const std::string& path, bool require_placements) {
   return plan;
 }
 
+/// RunError naming the first number of `document` that is not finite: nlohmann would write it as
+/// null (every output's numbers are finite, docs/hardening.md; "not computable" is an explicit
+/// null put there by finiteOrNull, never a NaN).
+void checkFiniteNumbers(const nlohmann::json& document, const std::string& pointer = "") {
+  if (document.is_number_float() && !std::isfinite(document.get<double>())) {
+    throw RunError("-", pointer.empty() ? "/" : pointer,
+                   "a result is not finite (an internal fault: please report it with the input)");
+  }
+  if (document.is_object()) {
+    for (const auto& [key, value] : document.items())
+      checkFiniteNumbers(value, pointer + "/" + key);
+  } else if (document.is_array()) {
+    for (std::size_t i = 0; i < document.size(); ++i)
+      checkFiniteNumbers(document[i], pointer + "/" + std::to_string(i));
+  }
+}
+
 void printJson(const nlohmann::json& document) {
+  checkFiniteNumbers(document);
   std::cout << document.dump(2) << std::endl;
 }
 
 void writeJsonOutput(const std::string& path, const nlohmann::json& document) {
+  checkFiniteNumbers(document);
   writeOutputFile(path,
                   path == kStandardOutput ? document.dump(2) + "\n" : document.dump(1) + "\n");
 }
@@ -51,7 +79,101 @@ std::ostream& summaryStream(const std::string& output) {
 
 }  // namespace artcal::cli
 
+namespace {
+
+/// The first argument (or the value of --option=value) that reads as a non-finite number ("nan",
+/// "-inf", "Infinity", "1e999"), or "": CLI11 converts them to double and its range checks let NaN
+/// through (--rank-tol nan) or print the range with 300 digits (--rank-tol inf). One guard for
+/// every number option of every command, before CLI11 parses.
+std::string nonFiniteArgument(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {
+    std::string value = argv[i];
+    if (value.starts_with("--") && value.find('=') != std::string::npos)
+      value = value.substr(value.find('=') + 1);
+    const char* begin = value.c_str();
+    char* end = nullptr;
+    const double number = std::strtod(begin, &end);
+    if (end != begin && *end == '\0' && !std::isfinite(number)) return argv[i];
+  }
+  return "";
+}
+
+bool isOutputOption(const CLI::Option& option) {
+  return option.check_lname("output") || option.check_lname("write-machine") ||
+         option.check_lname("svg");
+}
+
+/// The files the command line names as inputs (every value of an option but the outputs that
+/// is an existing file), noted so that no output replaces one; the first names the run's input
+/// in messages that have no file of their own.
+std::string noteCommandLineInputs(CLI::App& app) {
+  std::string first;
+  for (CLI::App* sub : app.get_subcommands()) {
+    for (const CLI::Option* option : sub->get_options()) {
+      if (isOutputOption(*option)) continue;
+      for (const std::string& value : option->results()) {
+        std::error_code error;
+        if (!std::filesystem::is_regular_file(value, error)) continue;
+        artcal::noteInputFile(value);
+        if (first.empty()) first = value;
+      }
+    }
+  }
+  return first;
+}
+
+/// A library's message without its own tag ("[json.exception.type_error.302] ...").
+std::string withoutTag(const std::string& message) {
+  if (!message.starts_with("[")) return message;
+  const auto end = message.find("] ");
+  return end == std::string::npos ? message : message.substr(end + 2);
+}
+
+/// Exit status 2 with "error: -: standard output cannot be written" when stdout failed (a full
+/// disk, a closed pipe): a command must not end with 0 and a truncated output.
+int checkStandardOutput(int status) {
+  std::cout.flush();
+  if (std::fflush(stdout) == 0 && !std::ferror(stdout) && std::cout.good()) return status;
+  std::cerr << "error: -: standard output cannot be written (" << std::strerror(errno)
+            << "): the output is incomplete" << std::endl;
+  return 2;
+}
+
+int runAction(const artcal::cli::Action& action, const std::string& input) {
+  const std::string file = input.empty() ? "artcal" : input;
+  try {
+    return action();
+  } catch (const artcal::InputError& e) {
+    std::cerr << "error: " << e.describe() << std::endl;
+    return 2;
+  } catch (const artcal::RunError& e) {
+    std::cerr << "error: " << e.describe() << std::endl;
+    return 1;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "error: " << file
+              << ": not enough memory for this input (make it smaller, or run on a machine "
+                 "with more memory)"
+              << std::endl;
+    return 2;
+  } catch (const std::filesystem::filesystem_error& e) {
+    std::cerr << "error: " << (e.path1().empty() ? file : e.path1().string()) << ": "
+              << e.code().message() << std::endl;
+    return 2;
+  } catch (const std::invalid_argument& e) {  // an option's value (checkOptions)
+    std::cerr << "error: " << e.what() << std::endl;
+    return 2;
+  } catch (const std::exception& e) {  // a library's (nlohmann::json, Eigen, ...)
+    std::cerr << "error: " << file << ": " << withoutTag(e.what()) << std::endl;
+    return 2;
+  }
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
+  // A closed pipe on stdout (`artcal evaluate P | head -1`) is a write error that
+  // checkStandardOutput reports (exit 2), not a death by SIGPIPE (exit 141).
+  std::signal(SIGPIPE, SIG_IGN);
   CLI::App app{
       "artcal: plans and runs the kinematic calibration of measuring mechanisms with calibrated "
       "artifacts (ball bars, ball plates, step gauges). Units in files: mm and degrees.",
@@ -60,6 +182,11 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", "artcal 0.1.0");
   artcal::cli::Action action;
   for (const auto factory : artcal::cli::registeredCommands()) factory(app, action);
+  if (const std::string bad = nonFiniteArgument(argc, argv); !bad.empty()) {
+    std::cerr << "error: " << bad << ": expected a finite number (every number option)"
+              << std::endl;
+    return 2;
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -72,16 +199,6 @@ int main(int argc, char** argv) {
     app.exit(e);
     return 2;
   }
-  try {
-    return action();
-  } catch (const artcal::InputError& e) {
-    std::cerr << "error: " << e.describe() << std::endl;
-    return 2;
-  } catch (const artcal::RunError& e) {
-    std::cerr << "error: " << e.describe() << std::endl;
-    return 1;
-  } catch (const std::exception& e) {
-    std::cerr << "error: " << e.what() << std::endl;
-    return 2;
-  }
+  const std::string input = noteCommandLineInputs(app);
+  return checkStandardOutput(runAction(action, input));
 }

@@ -9,6 +9,7 @@
 #include "artcal/calibration/calibrator.hpp"
 #include "artcal/calibration/confirmation.hpp"
 #include "artcal/calibration/simulation.hpp"
+#include "artcal/core/parallel.hpp"
 #include "artcal/io/machine_covariance.hpp"
 #include "artcal/io/output_file.hpp"
 #include "artcal/io/plan_io.hpp"
@@ -209,7 +210,7 @@ void addConfirmCommand(CLI::App& app, Action& action) {
   cmd->add_option("--seed", o.seed, "random seed (same seed, same result, any thread count)")
       ->capture_default_str();
   cmd->add_option("--threads", o.threads, "worker threads (0: all cores)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(CLI::Range(0, kMaxThreads))
       ->capture_default_str();
   cmd->add_option("--noise-scale", o.noise_scale,
                   "simulate K times the declared noise (K = 2 must not confirm)")

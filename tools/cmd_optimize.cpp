@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "artcal/core/error.hpp"
+#include "artcal/core/parallel.hpp"
 #include "artcal/io/output_file.hpp"
 #include "artcal/io/plan_io.hpp"
 #include "artcal/planning/design_identifiability.hpp"
@@ -247,7 +248,7 @@ void addOptimizeCommand(CLI::App& app, Action& action) {
   cmd->add_option("--time-limit", args->time_limit, "seconds (overrides design.time_limit)")
       ->check(CLI::PositiveNumber);
   cmd->add_option("--threads", args->threads, "worker threads; 0: all cores")
-      ->check(CLI::Range(0, 256))
+      ->check(CLI::Range(0, kMaxThreads))
       ->capture_default_str();
   cmd->add_option("--pool", args->pool,
                   "candidate placements (overrides design.pool); 0: design.pool or automatic")

@@ -19,17 +19,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
-/// The output directory: created when missing; anything else in its place is refused (exit 2).
-std::string outputDirectory(const std::string& path) {
-  if (path == kStandardOutput) {
-    throw InputError(path, "", "--placements writes several files: -o must name a directory");
-  }
-  std::error_code error;
-  if (!fs::exists(path, error)) fs::create_directories(path, error);
-  if (error || !fs::is_directory(path, error)) {
-    throw InputError(path, "", "not a directory: --placements writes one plan per count there");
-  }
-  return path;
+/// The file of the plan for `placements` placements.
+std::string planFile(const std::string& directory, const Plan& spec, int placements) {
+  const std::string name = (spec.name.empty() ? std::string("plan") : spec.name) + "-" +
+                           std::to_string(placements) + ".json";
+  return (fs::path(directory) / name).string();
 }
 
 /// The plan written for one count: the spec with the designed placements and its `predicted`.
@@ -57,7 +51,12 @@ int runPlacementSweep(const nlohmann::json& document, const Plan& spec,
   if (!range) {
     throw InputError(args.range, "", "--placements: expected A..B with 1 <= A <= B <= 1000");
   }
-  const std::string directory = outputDirectory(args.directory);
+  checkOutputDirectory(args.directory);
+  const std::string& directory = args.directory;
+  // Every file the sweep may write is checked before the search, not after it.
+  for (int m = range->first; m <= range->second; ++m) checkOutputPath(planFile(directory, spec, m));
+  for (const char* name : {"summary.json", "summary.txt", "summary.svg"})
+    checkOutputPath((fs::path(directory) / name).string());
   SweepOptions sweep_options;
   sweep_options.first = range->first;
   sweep_options.last = range->second;
@@ -72,6 +71,7 @@ int runPlacementSweep(const nlohmann::json& document, const Plan& spec,
   }
   const PlacementSweep sweep = sweepPlacements(spec, sweep_options);
   std::vector<SweepLine> lines;
+  std::vector<std::pair<std::string, std::string>> files;  // written together at the end
   for (const SweepPoint& point : sweep.points) {
     SweepLine line{&point, {}, nullptr};
     if (!point.designed.empty()) {
@@ -79,19 +79,19 @@ int runPlacementSweep(const nlohmann::json& document, const Plan& spec,
       plan.design->placements = point.placements;
       plan.placements.insert(plan.placements.end(), point.designed.begin(), point.designed.end());
       line.evaluation = evaluationToJson(plan, evaluatePlan(plan));
-      const std::string name = (spec.name.empty() ? std::string("plan") : spec.name) + "-" +
-                               std::to_string(point.placements) + ".json";
-      line.file = (fs::path(directory) / name).string();
-      writeOutputFile(line.file,
-                      planDocument(document, plan, line.evaluation, point).dump(1) + "\n");
+      line.file = planFile(directory, spec, point.placements);
+      files.emplace_back(line.file,
+                         planDocument(document, plan, line.evaluation, point).dump(1) + "\n");
     }
     lines.push_back(std::move(line));
   }
   const nlohmann::json summary = sweepSummaryToJson(spec, sweep, lines, sweep_options.target);
   const std::string table = sweepSummaryTable(summary);
-  writeOutputFile((fs::path(directory) / "summary.json").string(), summary.dump(1) + "\n");
-  writeOutputFile((fs::path(directory) / "summary.txt").string(), table);
-  writeOutputFile((fs::path(directory) / "summary.svg").string(), sweepFigure(summary));
+  files.emplace_back((fs::path(directory) / "summary.json").string(), summary.dump(1) + "\n");
+  files.emplace_back((fs::path(directory) / "summary.txt").string(), table);
+  files.emplace_back((fs::path(directory) / "summary.svg").string(), sweepFigure(summary));
+  createOutputDirectory(directory);
+  writeOutputFiles(files);
   if (args.json) {
     printJson(summary);
   } else {

@@ -38,12 +38,21 @@ bool wantsCalibration(const ReportArguments& args, const nlohmann::json& documen
   return args.calibrate || document.contains("simulation");
 }
 
-void writeSvgFiles(const std::string& dir, const std::vector<ReportFigure>& figures) {
-  std::filesystem::create_directories(dir);
-  for (const ReportFigure& figure : figures) {
-    writeOutputFile((std::filesystem::path(dir) / (figure.name + ".svg")).string(),
-                    "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n" + figure.svg);
+/// The HTML and, with --svg, every figure: written as one output (writeOutputFiles), so that a
+/// refused or failed file leaves the earlier report and figures as they were.
+void writeReportFiles(const ReportArguments& args, const std::string& html,
+                      const std::vector<ReportFigure>& figures) {
+  std::vector<std::pair<std::string, std::string>> files;
+  if (args.output != kStandardOutput) files.emplace_back(args.output, html);
+  if (!args.svg_dir.empty()) {
+    createOutputDirectory(args.svg_dir);
+    for (const ReportFigure& figure : figures) {
+      files.emplace_back((std::filesystem::path(args.svg_dir) / (figure.name + ".svg")).string(),
+                         "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n" + figure.svg);
+    }
   }
+  writeOutputFiles(files);
+  if (args.output == kStandardOutput) writeOutputFile(args.output, html);
 }
 
 /// A Cartesian CMM's error functions along its axes (cartesian_report.hpp): the predicted bands
@@ -132,6 +141,7 @@ void addReportCommand(CLI::App& app, Action& action) {
   cmd->callback([&action, args] {
     action = [args] {
       checkOutputPath(args->output);
+      if (!args->svg_dir.empty()) checkOutputDirectory(args->svg_dir);
       const nlohmann::json document = readJsonFile(args->plan);
       const Plan plan = parsePlan(document, args->plan);
       for (const std::string& warning : plan.warnings) std::cerr << "warning: " << warning << "\n";
@@ -160,8 +170,7 @@ void addReportCommand(CLI::App& app, Action& action) {
       addErrorFunctionFigures(calibration ? calibrated : plan, document, args->plan, evaluation,
                               calibration, figures);
       const std::string html = htmlReport(input, figures);
-      writeOutputFile(args->output, html);
-      if (!args->svg_dir.empty()) writeSvgFiles(args->svg_dir, figures);
+      writeReportFiles(*args, html, figures);
       const nlohmann::json summary =
           summaryJson(*args, html, figures, evaluation.identifiable(), converged);
       if (args->json) {

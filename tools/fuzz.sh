@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Bounded libFuzzer run of the plan and design-spec parsers and the evaluator behind them.
-#   tools/fuzz.sh [SECONDS]   (default 60: both harnesses run side by side for SECONDS each)
+# Bounded libFuzzer run of the plan, design-spec, URDF and CSV readers and what runs behind them.
+#   tools/fuzz.sh [SECONDS]   (default 60: four harnesses, two side by side at a time, SECONDS/2
+#                              each: the whole run takes SECONDS, as with two harnesses before)
 # Builds the harnesses in the sanitizer build, build-asan/ (tools/setup.sh build_sanitized, shared
 # with tools/sanitize.sh: after it, nothing is rebuilt).
 # The seed corpus is copied at run time from plans/, tests/data/ and tests/data/fuzz-regressions/
@@ -12,7 +13,17 @@ set -euo pipefail
 seconds=${1:-60}
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build="$root/build-asan"
-targets=(fuzz_plan fuzz_spec)
+targets=(fuzz_plan fuzz_spec fuzz_urdf fuzz_csv)
+# The JSON harnesses start from the plans and test data, the others from their own corpora.
+declare -A seeds_of=(
+  [fuzz_plan]="plans tests/data tests/data/fuzz-regressions"
+  [fuzz_spec]="plans tests/data tests/data/fuzz-regressions"
+  [fuzz_urdf]="tests/fuzz/corpus/urdf tests/data/urdf tests/data/hostile"
+  [fuzz_csv]="tests/fuzz/corpus/csv tests/data/mukca"
+)
+declare -A dict_of=([fuzz_plan]=plan.dict [fuzz_spec]=plan.dict [fuzz_urdf]=urdf.dict
+  [fuzz_csv]=csv.dict)
+half=$(((seconds + 1) / 2))
 
 cd "$root"
 source tools/setup.sh
@@ -20,11 +31,11 @@ build_sanitized "$build" "${targets[@]}"
 
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-seeds=(plans tests/data tests/data/fuzz-regressions)
 for target in "${targets[@]}"; do
   mkdir -p "$work/$target"
+  read -r -a seeds <<<"${seeds_of[$target]}"
   for dir in "${seeds[@]}"; do
-    if compgen -G "$root/$dir/*" >/dev/null; then
+    if [ -d "$root/$dir" ] && compgen -G "$root/$dir/*" >/dev/null; then
       find "$root/$dir" -maxdepth 1 -type f -exec cp {} "$work/$target/" \;
     fi
   done
@@ -58,25 +69,29 @@ cat >"$work/fuzz_spec/spec-dh.json" <<'JSON'
 JSON
 
 mkdir -p "$build/findings"
-pids=()
-for target in "${targets[@]}"; do
-  "$build/tests/fuzz/$target" "$work/$target" -dict="$root/tests/fuzz/plan.dict" \
-    -max_total_time="$seconds" -timeout=20 -rss_limit_mb=2048 -max_len=65536 \
-    -print_final_stats=1 -artifact_prefix="$build/findings/$target-" \
-    >"$build/$target.log" 2>&1 &
-  pids+=($!)
-done
 status=0
-for i in "${!targets[@]}"; do
-  target=${targets[$i]}
-  if wait "${pids[$i]}"; then
-    runs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$build/$target.log")
-    rate=$(sed -n 's/^stat::average_exec_per_sec: *//p' "$build/$target.log")
-    echo "fuzz.sh: $target: no finding in ${seconds} s, $runs executions ($rate/s)"
-  else
-    status=1
-    echo "fuzz.sh: $target: FINDING (log $build/$target.log, input in $build/findings/)" >&2
-    grep -E 'ERROR|fuzz finding|runtime error|==[0-9]+==' "$build/$target.log" | head -5 >&2 || true
-  fi
+# Two rounds of two harnesses side by side (two cores), SECONDS/2 each.
+for round in "fuzz_plan fuzz_urdf" "fuzz_spec fuzz_csv"; do
+  read -r -a pair <<<"$round"
+  pids=()
+  for target in "${pair[@]}"; do
+    "$build/tests/fuzz/$target" "$work/$target" -dict="$root/tests/fuzz/${dict_of[$target]}" \
+      -max_total_time="$half" -timeout=20 -rss_limit_mb=2048 -max_len=65536 \
+      -print_final_stats=1 -artifact_prefix="$build/findings/$target-" \
+      >"$build/$target.log" 2>&1 &
+    pids+=($!)
+  done
+  for i in "${!pair[@]}"; do
+    target=${pair[$i]}
+    if wait "${pids[$i]}"; then
+      runs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$build/$target.log")
+      rate=$(sed -n 's/^stat::average_exec_per_sec: *//p' "$build/$target.log")
+      echo "fuzz.sh: $target: no finding in ${half} s, $runs executions ($rate/s)"
+    else
+      status=1
+      echo "fuzz.sh: $target: FINDING (log $build/$target.log, input in $build/findings/)" >&2
+      grep -E 'ERROR|fuzz finding|runtime error|==[0-9]+==' "$build/$target.log" | head -5 >&2 || true
+    fi
+  done
 done
 exit $status

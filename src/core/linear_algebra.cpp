@@ -2,10 +2,22 @@
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/SVD>
+#include <limits>
 
 namespace artcal {
 
 SymmetricEigenSolver::SymmetricEigenSolver(const Eigen::MatrixXd& A, int options) {
+  if (!A.allFinite()) {
+    // Eigen's QR iteration on NaN or inf does not converge and leaves its results unspecified
+    // (issue 19: an out-of-bounds read downstream). Results of the right sizes, all NaN, and
+    // info() NumericalIssue: a caller that checks info() or the values' finiteness can answer.
+    info_ = Eigen::NumericalIssue;
+    eigenvalues_ = Eigen::VectorXd::Constant(A.rows(), std::numeric_limits<double>::quiet_NaN());
+    if ((options & Eigen::ComputeEigenvectors) != 0)
+      eigenvectors_ =
+          Eigen::MatrixXd::Constant(A.rows(), A.cols(), std::numeric_limits<double>::quiet_NaN());
+    return;
+  }
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> solver(A, options);
   info_ = solver.info();
   eigenvalues_ = solver.eigenvalues();

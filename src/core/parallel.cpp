@@ -4,13 +4,15 @@
 #include <atomic>
 #include <exception>
 #include <mutex>
+#include <system_error>
 #include <vector>
 
 namespace artcal {
 
 int threadCount(int requested, int count) {
   const int hardware = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  return std::clamp(requested > 0 ? requested : hardware, 1, std::max(count, 1));
+  return std::clamp(requested > 0 ? requested : hardware, 1,
+                    std::min(std::max(count, 1), kMaxThreads));
 }
 
 void parallelFor(int count, int threads, const std::function<void(int index, int worker)>& work) {
@@ -27,7 +29,11 @@ void parallelFor(int count, int threads, const std::function<void(int index, int
     }
   };
   std::vector<std::thread> pool;
-  for (int w = 1; w < threads; ++w) pool.emplace_back(run, w);
+  try {
+    for (int w = 1; w < threads; ++w) pool.emplace_back(run, w);
+  } catch (const std::system_error&) {
+    // no more threads: those started share the work
+  }
   run(0);
   for (std::thread& t : pool) t.join();
   if (failure) std::rethrow_exception(failure);

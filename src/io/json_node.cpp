@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 
 namespace artcal {
 
@@ -68,10 +69,40 @@ Node Node::operator[](std::size_t i) const {
   return {(*value_)[i], pointer_ + "/" + std::to_string(i), *source_};
 }
 
-double Node::number() const {
+namespace {
+
+std::string shortNumber(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.6g", v);
+  return text;
+}
+
+}  // namespace
+
+double Node::anyFiniteNumber() const {
   if (!value_->is_number()) fail("expected a number, got " + jsonTypeName(*value_));
   const double v = value_->get<double>();
   if (!std::isfinite(v)) fail("expected a finite number");
+  return v;
+}
+
+double Node::number() const {
+  const double v = anyFiniteNumber();
+  if (std::abs(v) > kMaxInputMagnitude) {
+    fail("magnitude " + shortNumber(std::abs(v)) + " beyond " + shortNumber(kMaxInputMagnitude) +
+         ": check the value and its units (mm, deg)");
+  }
+  return v;
+}
+
+double Node::standardDeviation(bool zero_allowed) const {
+  const double v = zero_allowed ? nonNegative() : positive();
+  if (v == 0.0) return v;
+  if (v < kMinStandardDeviation || v > kMaxStandardDeviation) {
+    fail("a standard deviation of " + shortNumber(v) + " is outside " +
+         shortNumber(kMinStandardDeviation) + " .. " + shortNumber(kMaxStandardDeviation) +
+         (zero_allowed ? " (or 0)" : "") + ": check the value and its units (mm, deg)");
+  }
   return v;
 }
 
@@ -108,13 +139,24 @@ std::string Node::string() const {
   return value_->get<std::string>();
 }
 
-Eigen::VectorXd Node::numbers(std::size_t count) const {
+void Node::checkNumberArray(std::size_t count) const {
   if (!value_->is_array() || value_->size() != count ||
       !std::all_of(value_->begin(), value_->end(), [](const json& v) { return v.is_number(); })) {
     fail("expected " + std::to_string(count) + " numbers, got " + describeArray());
   }
+}
+
+Eigen::VectorXd Node::numbers(std::size_t count) const {
+  checkNumberArray(count);
   Eigen::VectorXd v(count);
   for (std::size_t i = 0; i < count; ++i) v[static_cast<int>(i)] = (*this)[i].number();
+  return v;
+}
+
+Eigen::VectorXd Node::finiteNumbers(std::size_t count) const {
+  checkNumberArray(count);
+  Eigen::VectorXd v(count);
+  for (std::size_t i = 0; i < count; ++i) v[static_cast<int>(i)] = (*this)[i].anyFiniteNumber();
   return v;
 }
 

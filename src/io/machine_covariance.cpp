@@ -60,7 +60,13 @@ std::optional<ParameterUncertainty> parseMachineCovariance(const nlohmann::json&
   matrix.arraySize(n, n);
   out.V.resize(static_cast<int>(n), static_cast<int>(n));
   for (std::size_t i = 0; i < n; ++i) {
-    const Eigen::VectorXd row = matrix[i].numbers(n);
+    // Variances: the square of a number's bound bounds them.
+    const Eigen::VectorXd row = matrix[i].finiteNumbers(n);
+    if (row.cwiseAbs().maxCoeff() > kMaxInputMagnitude * kMaxInputMagnitude) {
+      matrix[i].fail("an entry beyond " +
+                     nlohmann::json(kMaxInputMagnitude * kMaxInputMagnitude).dump() +
+                     ": check the covariance and its units (mm^2, deg^2)");
+    }
     const double si = fileScale(mech.parameters()[static_cast<std::size_t>(out.indices[i])]);
     for (std::size_t j = 0; j < n; ++j) {
       const double sj = fileScale(mech.parameters()[static_cast<std::size_t>(out.indices[j])]);

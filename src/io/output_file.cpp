@@ -9,7 +9,11 @@
 #include <cstring>
 #include <filesystem>
 #include <iostream>
+#include <map>
+#include <mutex>
 #include <stdexcept>
+#include <utility>
+#include <vector>
 
 #include "artcal/core/error.hpp"
 
@@ -35,7 +39,25 @@ std::string specialFileKind(const struct stat& status) {
   return "";
 }
 
+/// The inputs of this run: (device, inode) and the name they were read by.
+std::map<std::pair<dev_t, ino_t>, std::string>& inputFiles() {
+  static std::map<std::pair<dev_t, ino_t>, std::string> files;
+  return files;
+}
+
+std::mutex& inputFilesMutex() {
+  static std::mutex mutex;
+  return mutex;
+}
+
 }  // namespace
+
+void noteInputFile(const std::string& path) {
+  struct stat status {};
+  if (::stat(path.c_str(), &status) != 0 || !S_ISREG(status.st_mode)) return;
+  const std::lock_guard lock(inputFilesMutex());
+  inputFiles().emplace(std::make_pair(status.st_dev, status.st_ino), path);
+}
 
 std::string resolveOutputPath(const std::string& path) {
   fs::path current(path);
@@ -61,6 +83,12 @@ void checkOutputPath(const std::string& path) {
                      ", not a regular file: refusing to replace it (use - for "
                      "standard output)");
   }
+  const std::lock_guard lock(inputFilesMutex());
+  const auto input = inputFiles().find({status.st_dev, status.st_ino});
+  if (input != inputFiles().end()) {
+    refuse(path, "is the input " + input->second +
+                     ": refusing to replace an input (write the output to another file)");
+  }
 }
 
 void writeOutputFile(const std::string& path, const std::string& content) {
@@ -79,7 +107,12 @@ void writeOutputFile(const std::string& path, const std::string& content) {
   }
 }
 
-void writeFileAtomically(const std::string& path, const std::string& content) {
+namespace {
+
+/// Writes `content` to a new temporary file beside the regular file `path` (which keeps its
+/// permissions when it exists), fsynced; returns its name. std::runtime_error on failure, the
+/// temporary file removed.
+std::string writeTemporaryBeside(const std::string& path, const std::string& content) {
   const fs::path target(path);
   const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
   std::string name = target.filename().string();
@@ -113,10 +146,68 @@ void writeFileAtomically(const std::string& path, const std::string& content) {
   ok = ok && ::fchmod(fd, mode) == 0;
   ok = ok && ::fsync(fd) == 0;
   ok = (::close(fd) == 0) && ok;
-  if (!ok || std::rename(pattern.c_str(), path.c_str()) != 0) {
+  if (!ok) {
     const int saved = errno;
     std::remove(pattern.c_str());
     throw std::runtime_error("cannot be written (" + std::string(std::strerror(saved)) + ")");
+  }
+  return pattern;
+}
+
+void renameOver(const std::string& temporary, const std::string& path) {
+  if (std::rename(temporary.c_str(), path.c_str()) != 0) {
+    const int saved = errno;
+    std::remove(temporary.c_str());
+    throw std::runtime_error("cannot be written (" + std::string(std::strerror(saved)) + ")");
+  }
+}
+
+}  // namespace
+
+void writeFileAtomically(const std::string& path, const std::string& content) {
+  renameOver(writeTemporaryBeside(path, content), path);
+}
+
+void checkOutputDirectory(const std::string& path) {
+  if (path == kStandardOutput || path.empty()) {
+    refuse(path, "several files are written: name a directory (not - or an empty name)");
+  }
+  struct stat status {};
+  if (::stat(resolveOutputPath(path).c_str(), &status) == 0 && !S_ISDIR(status.st_mode)) {
+    refuse(path, "not a directory: several files are written there");
+  }
+}
+
+void createOutputDirectory(const std::string& path) {
+  checkOutputDirectory(path);
+  std::error_code error;
+  fs::create_directories(resolveOutputPath(path), error);
+  if (error) refuse(path, "the directory cannot be created: " + error.message());
+}
+
+void writeOutputFiles(const std::vector<std::pair<std::string, std::string>>& files) {
+  for (const auto& [path, content] : files) checkOutputPath(path);
+  std::vector<std::pair<std::string, std::string>> staged;  // temporary, target
+  const auto discard = [&] {
+    for (const auto& [temporary, target] : staged) std::remove(temporary.c_str());
+  };
+  for (const auto& [path, content] : files) {
+    const std::string resolved = resolveOutputPath(path);
+    try {
+      staged.emplace_back(writeTemporaryBeside(resolved, content), resolved);
+    } catch (const std::runtime_error& e) {
+      discard();
+      refuse(path, e.what());
+    }
+  }
+  // Every file is written in full before the first rename: a failure above leaves the old set.
+  for (std::size_t i = 0; i < staged.size(); ++i) {
+    try {
+      renameOver(staged[i].first, staged[i].second);
+    } catch (const std::runtime_error& e) {
+      for (std::size_t j = i + 1; j < staged.size(); ++j) std::remove(staged[j].first.c_str());
+      refuse(files[i].first, e.what());
+    }
   }
 }
 

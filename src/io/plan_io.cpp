@@ -1,5 +1,7 @@
 #include "artcal/io/plan_io.hpp"
 
+#include <fcntl.h>
+
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -7,10 +9,14 @@
 #include <limits>
 #include <numbers>
 
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <new>
 #include <set>
 #include <sstream>
 
@@ -30,7 +36,10 @@ using nlohmann::json;
 constexpr std::size_t kMaxPlacements = 1'000'000;
 constexpr std::size_t kMaxMeasurements = 10'000;
 constexpr std::size_t kMaxFeatures = 10'000;
-constexpr long kMaxWorkspace = 10'000'000;
+// Workspace configurations evaluated: 3 to 10 KB each while the tip uncertainty is prepared
+// (planar2r 3.2 GB at 10^6, the hexapod 0.98 GB at 10^5): 10^7 ran out of memory, 10^6 holds (issue
+// 19).
+constexpr long kMaxWorkspace = 1'000'000;
 
 // machine.calibrate: [names], "identifiable" (every parameter in the model's order) or
 // {"identifiable": [names in preferred order]} (docs/plan-format.md; models.md section 1). The
@@ -80,8 +89,8 @@ Eigen::VectorXd parsePrior(const Node& prior, const Mechanism& mech) {
     const auto angle = defaults->find("angle");
     for (int i = 0; i < mech.parameterCount(); ++i) {
       const bool is_angle = mech.parameters()[static_cast<std::size_t>(i)].quantity.isAngle();
-      if (is_angle && angle) sigma[i] = degToRad(angle->positive());
-      if (!is_angle && length) sigma[i] = length->positive();
+      if (is_angle && angle) sigma[i] = degToRad(angle->standardDeviation(false));
+      if (!is_angle && length) sigma[i] = length->standardDeviation(false);
     }
   }
   for (const auto& [name, value] : prior.object().items()) {
@@ -89,7 +98,7 @@ Eigen::VectorXd parsePrior(const Node& prior, const Mechanism& mech) {
     const int index = mech.parameterIndex(name);
     if (index < 0) prior.at(name).fail("unknown parameter \"" + name + "\" of " + mech.modelName());
     const Quantity q = mech.parameters()[static_cast<std::size_t>(index)].quantity;
-    sigma[index] = fromFileUnit(q, prior.at(name).positive());
+    sigma[index] = fromFileUnit(q, prior.at(name).standardDeviation(false));
   }
   return sigma;
 }
@@ -152,9 +161,9 @@ double parseProbeNoise(const Node& probe, bool& estimate) {
     if (probe.object().size() != 1 || !probe.has("estimate"))
       probe.fail("expected {\"estimate\": starting standard deviation in mm}");
     estimate = true;
-    return probe.at("estimate").positive();
+    return probe.at("estimate").standardDeviation(false);
   }
-  return probe.positive();
+  return probe.standardDeviation(false);
 }
 
 Noise parseNoise(const Node& node, const Machine& machine, std::vector<std::string>& warnings) {
@@ -168,12 +177,12 @@ Noise parseNoise(const Node& node, const Machine& machine, std::vector<std::stri
   if (encoder.value().is_array()) {
     const Eigen::VectorXd values = encoder.numbers(static_cast<std::size_t>(joints));
     for (int i = 0; i < joints; ++i) {
-      const double v = encoder[static_cast<std::size_t>(i)].nonNegative();
+      const double v = encoder[static_cast<std::size_t>(i)].standardDeviation(true);
       noise.encoder[i] = fromFileUnit(jointQuantity(machine.mechanism->jointKind(i)), v);
       (void)values;
     }
   } else {
-    const double v = encoder.nonNegative();
+    const double v = encoder.standardDeviation(true);
     for (int i = 0; i < joints; ++i) {
       noise.encoder[i] = fromFileUnit(jointQuantity(machine.mechanism->jointKind(i)), v);
     }
@@ -181,8 +190,25 @@ Noise parseNoise(const Node& node, const Machine& machine, std::vector<std::stri
   return noise;
 }
 
-double optionalNonNegative(const Node& node, const char* key) {
-  return node.find(key) ? node.at(key).nonNegative() : 0.0;
+/// An artifact's calibration uncertainty (a standard deviation, 0 when absent).
+double optionalUncertainty(const Node& node, const char* key) {
+  return node.find(key) ? node.at(key).standardDeviation(true) : 0.0;
+}
+
+/// "centers i and j coincide" for the first pair of ball-plate centres closer than a 10^-9 of
+/// the plate's size (docs: the centres must be distinct), else "".
+std::string coincidentCenters(const Eigen::MatrixXd& points) {
+  const Eigen::MatrixXd centred = points.colwise() - points.rowwise().mean();
+  const double size = centred.colwise().norm().maxCoeff();
+  for (int i = 0; i < points.cols(); ++i) {
+    for (int j = i + 1; j < points.cols(); ++j) {
+      if ((points.col(i) - points.col(j)).norm() <= 1e-9 * size) {
+        return "centers " + std::to_string(i) + " and " + std::to_string(j) +
+               " coincide: every ball of a plate must have its own centre";
+      }
+    }
+  }
+  return "";
 }
 
 Artifact parseArtifact(const std::string& id, const Node& node, int dimension,
@@ -193,7 +219,7 @@ Artifact parseArtifact(const std::string& id, const Node& node, int dimension,
   if (type == "ball_bar") {
     node.warnUnknown({"type", "length", "u_length"}, warnings);
     return Artifact::ballBar(id, dimension, node.at("length").positive(),
-                             optionalNonNegative(node, "u_length"));
+                             optionalUncertainty(node, "u_length"));
   }
   if (type == "ball_plate") {
     node.warnUnknown({"type", "centers", "u"}, warnings);
@@ -208,10 +234,11 @@ Artifact parseArtifact(const std::string& id, const Node& node, int dimension,
     Eigen::MatrixXd centred = points.colwise() - points.rowwise().mean();
     const Eigen::VectorXd sv = singularValues(centred);
     if (sv[0] <= 0.0) centers.fail("centers must not coincide");
+    if (const std::string pair = coincidentCenters(points); !pair.empty()) centers.fail(pair);
     if (dimension == 3 && (sv.size() < 2 || sv[1] <= 1e-9 * sv[0])) {
       centers.fail("centers of a 3-D ball plate must not be collinear");
     }
-    return Artifact::ballPlate(id, points, optionalNonNegative(node, "u"));
+    return Artifact::ballPlate(id, points, optionalUncertainty(node, "u"));
   }
   if (type == "step_gauge") {
     node.warnUnknown({"type", "positions", "u"}, warnings);
@@ -222,7 +249,7 @@ Artifact parseArtifact(const std::string& id, const Node& node, int dimension,
     if (std::set<double>(values.begin(), values.end()).size() != values.size()) {
       positions.fail("positions must be distinct");
     }
-    return Artifact::stepGauge(id, dimension, values, optionalNonNegative(node, "u"));
+    return Artifact::stepGauge(id, dimension, values, optionalUncertainty(node, "u"));
   }
   typeNode.fail("unknown artifact type \"" + type +
                 "\" (expected ball_bar, ball_plate or step_gauge)");
@@ -269,10 +296,21 @@ std::set<long> excludedRows(const Node& entry, std::size_t rows) {
   return out;
 }
 
+/// Most readings a plan takes from CSV files in all (a file named by several placements counts
+/// each time): memory stays bounded by the input's size, ~150 bytes a reading.
+constexpr std::size_t kMaxPlanCsvReadings = 2'000'000;
+
+/// The CSV files a plan names, each read and parsed once however many placements name it.
+struct CsvFiles {
+  std::map<std::pair<std::string, std::pair<double, double>>, std::vector<Eigen::VectorXd>> rows;
+  std::size_t readings = 0;  ///< taken from them so far
+};
+
 /// A measurement entry {"feature", "csv", "unit", "exclude_rows"}: one measurement per row of
 /// the CSV file, which is relative to the plan file (models.md section 7), but the rows excluded.
 void appendCsvMeasurements(const Node& entry, const Plan& plan, const Artifact& artifact,
-                           std::vector<Measurement>& out, std::vector<std::string>& warnings) {
+                           CsvFiles& files, std::vector<Measurement>& out,
+                           std::vector<std::string>& warnings) {
   entry.warnUnknown({"feature", "csv", "unit", "exclude_rows"}, warnings);
   const int feature = static_cast<int>(entry.at("feature").integer(0, artifact.featureCount() - 1));
   const Node csv = entry.at("csv");
@@ -290,7 +328,22 @@ void appendCsvMeasurements(const Node& entry, const Plan& plan, const Artifact& 
   const Mechanism& mech = *plan.machine.mechanism;
   std::vector<JointKind> kinds;
   for (int i = 0; i < mech.jointCount(); ++i) kinds.push_back(mech.jointKind(i));
-  std::vector<Eigen::VectorXd> rows = readJointCsv(path.lexically_normal().string(), kinds, units);
+  const std::string file = path.lexically_normal().string();
+  const auto key = std::make_pair(file, std::make_pair(units.angle_to_rad, units.length_to_mm));
+  auto cached = files.rows.find(key);
+  try {
+    if (cached == files.rows.end())
+      cached = files.rows.emplace(key, readJointCsv(file, kinds, units)).first;
+  } catch (const std::bad_alloc&) {
+    throw InputError(file, "", "not enough memory for its readings");
+  }
+  const std::vector<Eigen::VectorXd>& rows = cached->second;
+  files.readings += rows.size();
+  if (files.readings > kMaxPlanCsvReadings) {
+    csv.fail("the plan takes more than " + std::to_string(kMaxPlanCsvReadings) +
+             " readings from CSV files in all (a file named by several placements counts each "
+             "time)");
+  }
   const std::set<long> excluded = excludedRows(entry, rows.size());
   for (std::size_t r = 0; r < rows.size(); ++r) {
     const long row = static_cast<long>(r) + 1;
@@ -299,7 +352,7 @@ void appendCsvMeasurements(const Node& entry, const Plan& plan, const Artifact& 
       csv.fail("more than " + std::to_string(kMaxMeasurements) + " readings in one placement");
     Measurement measurement;
     measurement.feature = feature;
-    measurement.joints = std::move(rows[r]);
+    measurement.joints = rows[r];
     measurement.csv = relative.string();
     measurement.csv_row = static_cast<int>(row);
     out.push_back(std::move(measurement));
@@ -330,8 +383,9 @@ void checkWithinJointLimits(const Node& joints, const Machine& machine, const Ei
   }
 }
 
-Placement parsePlacement(const Node& node, const Plan& plan, bool require_measurements,
-                         bool explicit_limits, std::vector<std::string>& warnings) {
+Placement parsePlacement(const Node& node, const Plan& plan, CsvFiles& csv_files,
+                         bool require_measurements, bool explicit_limits,
+                         std::vector<std::string>& warnings) {
   node.object();
   node.warnUnknown({"artifact", "pose", "measurements"}, warnings);
   Placement placement;
@@ -353,14 +407,14 @@ Placement parsePlacement(const Node& node, const Plan& plan, bool require_measur
     const Node m = (*measurements)[i];
     m.object();
     if (m.has("csv")) {
-      appendCsvMeasurements(m, plan, art, placement.measurements, warnings);
+      appendCsvMeasurements(m, plan, art, csv_files, placement.measurements, warnings);
       continue;
     }
     m.warnUnknown({"feature", "joints", "stylus"}, warnings);
     Measurement measurement;
     measurement.feature = static_cast<int>(m.at("feature").integer(0, art.featureCount() - 1));
-    measurement.joints =
-        jointsFromFile(mech, m.at("joints").numbers(static_cast<std::size_t>(mech.jointCount())));
+    measurement.joints = jointsFromFile(
+        mech, m.at("joints").finiteNumbers(static_cast<std::size_t>(mech.jointCount())));
     if (explicit_limits) checkWithinJointLimits(m.at("joints"), plan.machine, measurement.joints);
     if (const auto stylus = m.find("stylus")) {
       measurement.stylus = static_cast<int>(stylus->integer(0, mech.stylusCount() - 1));
@@ -529,17 +583,43 @@ DesignSpec parseDesign(const Node& node, const Plan& plan, std::vector<std::stri
 }  // namespace
 
 std::string readInputFile(const std::string& path) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) throw InputError(path, "", "is a directory");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path, "", "cannot be read");
-  const auto size = std::filesystem::file_size(path, ec);
-  if (!ec && size > kMaxPlanFileBytes) {
+  // O_NONBLOCK: opening a FIFO without a writer would wait for one.
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) throw InputError(path, "", "cannot be read");
+  struct Closer {
+    int fd;
+    ~Closer() { ::close(fd); }
+  } closer{fd};
+  struct stat status {};
+  if (::fstat(fd, &status) != 0) throw InputError(path, "", "cannot be read");
+  if (S_ISDIR(status.st_mode)) throw InputError(path, "", "is a directory");
+  if (!S_ISREG(status.st_mode)) {
+    throw InputError(path, "",
+                     "not a regular file (a device, a FIFO or a socket): give the file itself");
+  }
+  const auto size = static_cast<std::size_t>(status.st_size);
+  if (size > kMaxPlanFileBytes) {
     throw InputError(path, "", "larger than " + std::to_string(kMaxPlanFileBytes >> 20) + " MiB");
   }
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
+  noteInputFile(path);
+  std::string text;
+  try {
+    text.resize(size);
+  } catch (const std::bad_alloc&) {
+    throw InputError(path, "", "not enough memory to read its " + std::to_string(size) + " bytes");
+  }
+  std::size_t done = 0;
+  while (done < size) {
+    const ssize_t got = ::read(fd, text.data() + done, size - done);
+    if (got < 0 && errno == EINTR) continue;
+    if (got < 0) throw InputError(path, "", "cannot be read: " + std::string(std::strerror(errno)));
+    if (got == 0) break;  // the file shrank while read
+    done += static_cast<std::size_t>(got);
+  }
+  text.resize(done);
+  // A UTF-8 byte order mark (Windows editors write one) is not part of the content.
+  if (text.starts_with("\xEF\xBB\xBF")) text.erase(0, 3);
+  return text;
 }
 
 nlohmann::json readJsonFile(const std::string& path) {
@@ -619,9 +699,11 @@ Plan parsePlan(const nlohmann::json& document, const std::string& source, bool r
   if (const auto placements = root.find("placements")) {
     const std::size_t n = placements->arraySize(require_placements ? 1 : 0, kMaxPlacements);
     plan.placements.reserve(n);
+    CsvFiles csv_files;
     for (std::size_t i = 0; i < n; ++i) {
-      plan.placements.push_back(parsePlacement((*placements)[i], plan, require_placements,
-                                               plan.machine.limits_stated, plan.warnings));
+      plan.placements.push_back(parsePlacement((*placements)[i], plan, csv_files,
+                                               require_placements, plan.machine.limits_stated,
+                                               plan.warnings));
     }
   } else if (require_placements) {
     root.at("placements");

@@ -3,6 +3,8 @@
 #include <cmath>
 
 #include "artcal/core/error.hpp"
+#include "artcal/io/json_node.hpp"
+#include "artcal/io/model_registry.hpp"
 #include "artcal/io/plan_io.hpp"
 
 namespace artcal {
@@ -10,6 +12,38 @@ namespace artcal {
 namespace {
 
 using nlohmann::json;
+
+// The structure of two machines of one model (names, axes, styli: everything but the parameter
+// values) is equal when the codec writes the same block for both with the same parameters; the
+// first entry of the JSON diff is the first difference (a machine of another robot).
+void checkSameStructure(const Mechanism& mine, const Mechanism& theirs, const Eigen::VectorXd& same,
+                        const std::string& source, const std::string& pointer) {
+  const ModelCodec* codec = findModelCodec(mine.modelName());
+  if (!codec) return;
+  for (int i = 0; i < mine.parameterCount(); ++i) {
+    const std::string& name = mine.parameters()[static_cast<std::size_t>(i)].name;
+    if (theirs.parameters()[static_cast<std::size_t>(i)].name != name) {
+      throw InputError(source, pointer.empty() ? "/" : pointer,
+                       "parameter " + std::to_string(i + 1) + " is \"" +
+                           theirs.parameters()[static_cast<std::size_t>(i)].name +
+                           "\", the plan's machine has \"" + name +
+                           "\": a machine of another robot?");
+    }
+  }
+  json a, b;
+  codec->write(mine, same, a);
+  codec->write(theirs, same, b);
+  const json patch = json::diff(a, b);
+  if (patch.empty()) return;
+  const std::string at = patch[0].at("path").get<std::string>();
+  const json::json_pointer where(at);
+  const auto shown = [&](const json& doc) {
+    return doc.contains(where) ? doc.at(where).dump() : std::string("nothing");
+  };
+  throw InputError(source, pointer + at,
+                   "the plan's machine has " + shown(a) + " here, this machine " + shown(b) +
+                       ": a machine of another robot?");
+}
 
 // A machine block is read by the plan reader itself (one parser for one format): it is wrapped
 // in a minimal plan, and the reader's JSON pointers are mapped back into the TRUTH file.
@@ -46,6 +80,7 @@ Eigen::VectorXd parseMachineBlock(const json& block, const std::string& source,
                        "joint type differs from the plan's machine");
     }
   }
+  checkSameStructure(mine, theirs, plan.machine.nominal, source, pointer);
   return truth.machine.nominal;
 }
 
@@ -60,11 +95,9 @@ void applyNamedParameters(const json& values, const std::string& source, const P
       throw InputError(source, pointer + "/" + name,
                        "unknown parameter of model " + mech.modelName());
     }
-    if (!value.is_number() || !std::isfinite(value.get<double>())) {
-      throw InputError(source, pointer + "/" + name, "expected a finite number");
-    }
+    const std::string where = pointer + "/" + escapePointerToken(name);
     p[index] = fromFileUnit(mech.parameters()[static_cast<std::size_t>(index)].quantity,
-                            value.get<double>());
+                            Node(value, where, source).number());
   }
 }
 

@@ -9,10 +9,13 @@
 #include <cmath>
 #include <fstream>
 #include <map>
+#include <set>
 #include <sstream>
 
 #include "artcal/core/error.hpp"
 #include "artcal/core/units.hpp"
+#include "artcal/io/json_node.hpp"
+#include "artcal/io/plan_io.hpp"
 
 namespace artcal {
 
@@ -20,14 +23,9 @@ namespace {
 
 using nlohmann::json;
 
-std::string readText(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path, "", "cannot read the URDF file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (!in.good() && !in.eof()) throw InputError(path, "", "cannot read the URDF file");
-  return text.str();
-}
+/// Most joints and links a URDF may hold: real robots have tens; urdfdom's tree walk recurses
+/// once per level (a chain 150 000 joints deep overflowed the stack).
+constexpr int kMaxUrdfElements = 4096;
 
 // urdfdom reports through console_bridge; the first error becomes the one line the user sees,
 // and nothing else reaches stderr.
@@ -51,9 +49,74 @@ struct UrdfDocument {
   }
 };
 
+// Links whose parents lead back to themselves (each with one parent: a cycle apart from the
+// tree, which urdfdom accepts and then leaks and walks forever). Each link is walked up once.
+void checkNoCycle(const UrdfDocument& doc, const std::map<std::string, std::string>& parent_of) {
+  std::map<std::string, int> state;  // 1: on the current walk, 2: leads to a root
+  for (const auto& entry : parent_of) {
+    std::vector<std::string> walk;
+    for (std::string link = entry.first; state[link] != 2;) {
+      if (state[link] == 1) {
+        doc.fail(nullptr, "the links above \"" + link + "\" form a loop: a URDF is a tree");
+      }
+      state[link] = 1;
+      walk.push_back(link);
+      const auto parent = parent_of.find(link);
+      if (parent == parent_of.end()) break;
+      link = parent->second;
+    }
+    for (const std::string& link : walk) state[link] = 2;
+  }
+}
+
+// What urdfdom would loop or recurse on, refused from the XML before it parses: more than
+// kMaxUrdfElements joints or links, a link with two parent joints, a joint that is its own
+// parent (a URDF is a tree).
+void checkTreeShape(const UrdfDocument& doc) {
+  const tinyxml2::XMLElement* robot = doc.xml.RootElement();
+  int links = 0;
+  for (const tinyxml2::XMLElement* e = robot->FirstChildElement("link"); e;
+       e = e->NextSiblingElement("link")) {
+    if (++links > kMaxUrdfElements)
+      doc.fail(e, "more than " + std::to_string(kMaxUrdfElements) + " links");
+  }
+  std::map<std::string, std::string> parent_joint;    // child link -> joint
+  std::map<std::string, std::string> parent_link_of;  // child link -> parent link
+  int joints = 0;
+  for (const tinyxml2::XMLElement* e = robot->FirstChildElement("joint"); e;
+       e = e->NextSiblingElement("joint")) {
+    if (++joints > kMaxUrdfElements)
+      doc.fail(e, "more than " + std::to_string(kMaxUrdfElements) + " joints");
+    const tinyxml2::XMLElement* parent = e->FirstChildElement("parent");
+    const tinyxml2::XMLElement* child = e->FirstChildElement("child");
+    const char* parent_link = parent ? parent->Attribute("link") : nullptr;
+    const char* child_link = child ? child->Attribute("link") : nullptr;
+    if (!parent_link || !child_link) continue;  // urdfdom names it
+    const std::string name = e->Attribute("name") ? e->Attribute("name") : "";
+    if (std::string(parent_link) == child_link) {
+      doc.fail(e, "joint \"" + name + "\" has link \"" + child_link +
+                      "\" as both parent and child: the links must form a tree");
+    }
+    const auto [it, first] = parent_joint.emplace(child_link, name);
+    if (!first) {
+      doc.fail(e, "link \"" + std::string(child_link) + "\" is the child of joints \"" +
+                      it->second + "\" and \"" + name +
+                      "\": the links must form a tree (a closed loop is not a URDF chain)");
+    }
+    parent_link_of[child_link] = parent_link;
+  }
+  checkNoCycle(doc, parent_link_of);
+}
+
 void loadUrdf(const std::string& path, UrdfDocument& doc) {
   doc.path = path;
-  const std::string text = readText(path);
+  std::string text;
+  try {
+    text = readInputFile(path);
+  } catch (const InputError& e) {
+    if (std::string(e.what()) != "cannot be read") throw;
+    throw InputError(path, "", "cannot read the URDF file");
+  }
   if (doc.xml.Parse(text.c_str(), text.size()) != tinyxml2::XML_SUCCESS) {
     throw InputError(path, "line " + std::to_string(doc.xml.ErrorLineNum()),
                      std::string("not well-formed XML: ") + doc.xml.ErrorName());
@@ -62,6 +125,7 @@ void loadUrdf(const std::string& path, UrdfDocument& doc) {
   if (!robot || std::string(robot->Name()) != "robot") {
     throw InputError(path, "", "not a URDF file (expected a <robot> root element)");
   }
+  checkTreeShape(doc);
   FirstError errors;
   console_bridge::useOutputHandler(&errors);
   doc.model = urdf::parseURDF(text);
@@ -95,7 +159,15 @@ bool metresTextToMillimetres(const std::string& token, double& mm) {
     shifted = token.substr(0, e) + "e" + std::to_string(exponent + 3);
   }
   const auto [end, error] = std::from_chars(shifted.data(), shifted.data() + shifted.size(), mm);
-  return error == std::errc() && end == shifted.data() + shifted.size() && std::isfinite(mm);
+  return error == std::errc() && end == shifted.data() + shifted.size() && std::isfinite(mm) &&
+         std::abs(mm) <= kMaxInputMagnitude;
+}
+
+// A number of the URDF's text (an angle in rad, an axis component) within the input bound.
+bool boundedNumber(const std::string& token, double& value) {
+  const auto [end, error] = std::from_chars(token.data(), token.data() + token.size(), value);
+  return error == std::errc() && end == token.data() + token.size() && std::isfinite(value) &&
+         std::abs(radToDeg(value)) <= kMaxInputMagnitude;
 }
 
 std::vector<std::string> tokens(const char* text) {
@@ -122,20 +194,32 @@ OriginValues readOrigin(const UrdfDocument& doc, const tinyxml2::XMLElement* joi
     if (t.size() != 3) doc.fail(origin, std::string("<origin ") + attribute + "> needs 3 numbers");
     for (int i = 0; i < 3; ++i) {
       if (!convert(t[static_cast<std::size_t>(i)], v[i])) {
-        doc.fail(origin,
-                 std::string("<origin ") + attribute + ">: \"" + t[i] + "\" is not a number");
+        doc.fail(origin, std::string("<origin ") + attribute + ">: \"" + t[i] +
+                             "\" is not a number (or beyond 1e9 mm or deg)");
       }
     }
   };
   three("xyz", metresTextToMillimetres, out.xyz_mm);
-  three(
-      "rpy",
-      [](const std::string& token, double& value) {
-        const auto [end, error] = std::from_chars(token.data(), token.data() + token.size(), value);
-        return error == std::errc() && end == token.data() + token.size() && std::isfinite(value);
-      },
-      out.rpy);
+  three("rpy", boundedNumber, out.rpy);
   return out;
+}
+
+// A movable joint's <axis xyz> from the file's own text (urdfdom scales it, and a huge axis came
+// out as a zero one): three numbers within the input bound, not all zero; absent: 1 0 0.
+Eigen::Vector3d readAxis(const UrdfDocument& doc, const tinyxml2::XMLElement* joint,
+                         const std::string& name) {
+  const tinyxml2::XMLElement* axis = joint->FirstChildElement("axis");
+  const char* text = axis ? axis->Attribute("xyz") : nullptr;
+  if (!text) return Eigen::Vector3d::UnitX();
+  const std::vector<std::string> t = tokens(text);
+  Eigen::Vector3d v;
+  for (int i = 0; i < 3; ++i) {
+    if (t.size() != 3 || !boundedNumber(t[static_cast<std::size_t>(i)], v[i])) {
+      doc.fail(axis, "joint \"" + name + "\": <axis xyz> needs 3 numbers within +-1e9");
+    }
+  }
+  if (!(v.norm() > 1e-12)) doc.fail(axis, "joint \"" + name + "\": zero <axis>");
+  return v;
 }
 
 tinyxml2::XMLElement* jointElement(const UrdfDocument& doc, const std::string& name) {
@@ -153,9 +237,18 @@ std::vector<urdf::JointConstSharedPtr> chainJoints(const UrdfDocument& doc, cons
   }
   std::vector<urdf::JointConstSharedPtr> joints;
   for (urdf::LinkConstSharedPtr link = doc.model->getLink(tip); link->name != base;) {
-    if (!link->parent_joint) {
+    if (joints.size() > doc.model->joints_.size()) {
+      doc.fail(nullptr, "the links above \"" + tip + "\" form a loop: a URDF is a tree");
+    }
+    if (!link || !link->parent_joint) {
       doc.fail(nullptr,
                "link \"" + base + "\" is not above link \"" + tip + "\" (check --base and --tip)");
+    }
+    if (link->parent_joint->mimic) {
+      doc.fail(jointElement(doc, link->parent_joint->name),
+               "joint \"" + link->parent_joint->name + "\" mimics joint \"" +
+                   link->parent_joint->mimic->joint_name +
+                   "\": mimic joints are not supported in a chain (one reading per joint)");
     }
     joints.push_back(link->parent_joint);
     link = doc.model->getLink(link->parent_joint->parent_link_name);
@@ -191,7 +284,14 @@ json jointLimits(const UrdfDocument& doc, const urdf::Joint& joint) {
     doc.fail(jointElement(doc, joint.name),
              "joint \"" + joint.name + "\": <limit> needs lower < upper");
   }
-  const auto convert = [&](double v) { return prismatic ? v * 1000.0 : radToDeg(v); };
+  const auto convert = [&](double v) {
+    const double file = prismatic ? v * 1000.0 : radToDeg(v);
+    if (!std::isfinite(file) || std::abs(file) > kMaxInputMagnitude) {
+      doc.fail(jointElement(doc, joint.name),
+               "joint \"" + joint.name + "\": <limit> beyond +-1e9 " + (prismatic ? "mm" : "deg"));
+    }
+    return file;
+  };
   return json::array({convert(joint.limits->lower), convert(joint.limits->upper)});
 }
 
@@ -259,8 +359,7 @@ json importUrdf(const std::string& urdf_path, const std::string& base, const std
          {{"xyz", vectorJson(origin.xyz_mm)},
           {"rpy", vectorJson(origin.rpy.unaryExpr([](double r) { return radToDeg(r); }))}}}};
     if (joint->type != urdf::Joint::FIXED) {
-      const Eigen::Vector3d axis(joint->axis.x, joint->axis.y, joint->axis.z);
-      if (!(axis.norm() > 1e-12)) doc.fail(element, "joint \"" + joint->name + "\": zero <axis>");
+      const Eigen::Vector3d axis = readAxis(doc, element, joint->name);
       entry["axis"] = vectorJson(axis);
       limits.push_back(jointLimits(doc, *joint));
     }
@@ -279,9 +378,11 @@ std::string exportUrdf(const Chain& chain, const Eigen::VectorXd& p, const std::
   // What each joint's origin is premultiplied by: the offset of the movable joint above it.
   std::map<std::string, Eigen::Isometry3d> folds;
   std::map<std::string, bool> in_chain;
+  std::set<std::string> written;
   for (int i = 0; i < static_cast<int>(chain.joints().size()); ++i) {
     const ChainJoint& joint = chain.joints()[static_cast<std::size_t>(i)];
     in_chain[joint.name] = true;
+    written.insert(joint.name);
     const urdf::JointConstSharedPtr urdf_joint = doc.model->getJoint(joint.name);
     tinyxml2::XMLElement* element = jointElement(doc, joint.name);
     const std::string where = "/joints/" + std::to_string(i);
@@ -289,6 +390,11 @@ std::string exportUrdf(const Chain& chain, const Eigen::VectorXd& p, const std::
       throw InputError(machine_source, where,
                        "joint \"" + joint.name + "\" is not in " + urdf_path +
                            " (export to the URDF the machine was imported from)");
+    }
+    if (urdf_joint->mimic) {
+      throw InputError(machine_source, where,
+                       "joint \"" + joint.name + "\" mimics another joint in " + urdf_path +
+                           ": mimic joints are not supported");
     }
     if (!typesAgree(joint.type, *urdf_joint)) {
       throw InputError(machine_source, where,
@@ -312,7 +418,18 @@ std::string exportUrdf(const Chain& chain, const Eigen::VectorXd& p, const std::
                        "joint \"" + joint.name +
                            "\" has an offset but no joint below it in the URDF to fold it into");
     }
-    for (const urdf::JointSharedPtr& below : child->child_joints) folds[below->name] = M;
+    for (const urdf::JointSharedPtr& below : child->child_joints) {
+      // An origin already written (the machine lists its joints in another order than the
+      // URDF's tree) cannot take the offset any more: refused, never dropped.
+      if (written.count(below->name) || folds.count(below->name)) {
+        throw InputError(
+            machine_source, where,
+            "joint \"" + joint.name + "\": its offset cannot be folded into joint \"" +
+                below->name + "\" of " + urdf_path +
+                " (the machine's joints are not in the URDF's order from base to tip)");
+      }
+      folds[below->name] = M;
+    }
   }
   // Joints off the chain that hang from a link with a folded offset (e.g. a gripper's fingers).
   for (const auto& [name, M] : folds) {

@@ -1,5 +1,6 @@
 #include "artcal/plan/plan.hpp"
 
+#include <filesystem>
 #include <stdexcept>
 
 namespace artcal {
@@ -40,6 +41,18 @@ std::string criterionName(Criterion criterion) {
       return "E";
   }
   throw std::logic_error("unknown criterion");
+}
+
+ReadingLocation readingLocation(const Plan& plan, std::size_t placement, std::size_t reading) {
+  const Measurement& m = plan.placements.at(placement).measurements.at(reading);
+  if (m.csv_row > 0) {
+    const std::filesystem::path csv(m.csv);
+    const std::filesystem::path file =
+        csv.is_absolute() ? csv : std::filesystem::path(plan.source).parent_path() / csv;
+    return {file.lexically_normal().string(), "row " + std::to_string(m.csv_row)};
+  }
+  return {plan.source,
+          "/placements/" + std::to_string(placement) + "/measurements/" + std::to_string(reading)};
 }
 
 }  // namespace artcal

@@ -25,8 +25,10 @@ std::string format(const char* fmt, auto... args) {
   return buffer;
 }
 
+/// A data-value: the number's shortest exact text; "null" (as the JSON holds it) when it is not
+/// finite, never "nan" or "inf".
 std::string exact(double value) {
-  return format("%.17g", value);
+  return std::isfinite(value) ? format("%.17g", value) : "null";
 }
 
 constexpr const char* kMicro = "\xC2\xB5m";  // µm
@@ -544,10 +546,14 @@ void writeVerdict(std::ostream& out, const json& ev) {
     out << "<li>";
     const json& c = combinations[k];
     for (std::size_t i = 0; i < c.at("parameters").size(); ++i) {
+      // A coefficient that could not be computed is null in the JSON: a dash here, as in the
+      // tables (never nan, never a library exception).
+      const json& coefficient = c.at("coefficients")[i];
+      const bool known = coefficient.is_number() && std::isfinite(coefficient.get<double>());
       out << "<span data-field=\"" << format("/rank/combinations/%zu/coefficients/%zu", k, i)
-          << "\" data-value=\"" << exact(c.at("coefficients")[i]) << "\">"
-          << svg::escape(format("%+.4g ", c.at("coefficients")[i].get<double>())) << "</span>"
-          << svg::escape(c.at("parameters")[i].get<std::string>()) << " ";
+          << "\" data-value=\"" << (known ? exact(coefficient) : std::string("null")) << "\">"
+          << (known ? svg::escape(format("%+.4g ", coefficient.get<double>())) : "&#8212; ")
+          << "</span>" << svg::escape(c.at("parameters")[i].get<std::string>()) << " ";
     }
     out << "</li>\n";
   }

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <map>
 #include <sstream>
+#include <string_view>
 
 #include "artcal/artifact/rigid_transform.hpp"
 #include "artcal/core/error.hpp"
@@ -47,12 +48,8 @@ Pose poseOf(const RigidTransform& artifact_from_machine) {
   return pose;
 }
 
-std::string readingPointer(std::size_t placement, std::size_t reading) {
-  return "/placements/" + std::to_string(placement) + "/measurements/" + std::to_string(reading);
-}
-
 ProcedureReading targetOf(const Plan& plan, const Measurement& m, const Eigen::VectorXd& position,
-                          const std::string& where) {
+                          const ReadingLocation& where) {
   const Machine& machine = plan.machine;
   ProcedureReading reading;
   reading.feature = m.feature;
@@ -72,7 +69,7 @@ ProcedureReading targetOf(const Plan& plan, const Measurement& m, const Eigen::V
   options.max_iterations = 500;
   const auto solved = solveInverseKinematics(machine, machine.nominal, position, m.joints, options);
   if (!solved) {
-    throw RunError(plan.source, where,
+    throw RunError(where.file, where.where,
                    "no joint values within the limits put the probe on feature " +
                        std::to_string(m.feature) + " at the placement's pose");
   }
@@ -150,7 +147,8 @@ Procedure operatorProcedure(const Plan& plan) {
     std::map<int, int> postures;
     for (std::size_t k = 0; k < placement.measurements.size(); ++k) {
       const Measurement& m = placement.measurements[k];
-      ProcedureReading reading = targetOf(plan, m, features.col(m.feature), readingPointer(j, k));
+      ProcedureReading reading =
+          targetOf(plan, m, features.col(m.feature), readingLocation(plan, j, k));
       reading.posture = postures[m.feature]++;
       out.readings.push_back(std::move(reading));
     }
@@ -237,6 +235,23 @@ std::string procedureTable(const Plan& plan, const Procedure& procedure) {
   return out.str();
 }
 
+/// A text field of the CSV (RFC 4180): quoted when it holds a comma, a quote or a line break
+/// (quotes doubled), and a leading =, +, -, @, tab or carriage return neutralised by a ' so that a
+/// spreadsheet shows it as text instead of running it as a formula (OWASP, CSV injection).
+std::string csvTextField(const std::string& text) {
+  std::string field = text;
+  if (!field.empty() && std::string_view("=+-@\t\r").find(field.front()) != std::string::npos) {
+    field.insert(field.begin(), '\'');
+  }
+  if (field.find_first_of(",\"\r\n") == std::string::npos) return field;
+  std::string quoted = "\"";
+  for (const char c : field) {
+    if (c == '"') quoted += '"';
+    quoted += c;
+  }
+  return quoted + "\"";
+}
+
 std::string procedureCsv(const Plan& plan, const Procedure& procedure) {
   const Machine& machine = plan.machine;
   const char* axes[] = {"x", "y", "z"};
@@ -252,8 +267,8 @@ std::string procedureCsv(const Plan& plan, const Procedure& procedure) {
     const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
     for (std::size_t k = 0; k < placement.readings.size(); ++k) {
       const ProcedureReading& r = placement.readings[k];
-      out << j << "," << artifact.id << "," << k << "," << r.feature << "," << r.posture << ","
-          << r.stylus;
+      out << j << "," << csvTextField(artifact.id) << "," << k << "," << r.feature << ","
+          << r.posture << "," << r.stylus;
       for (int d = 0; d < r.position.size(); ++d) {
         std::snprintf(number, sizeof number, ",%.17g", r.position[d]);
         out << number;

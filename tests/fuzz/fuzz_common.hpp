@@ -4,10 +4,13 @@
 // reports as a finding; an InputError is the proper answer of the parser (or of the evaluator to a
 // plan without a usable workspace configuration) and ends the run quietly.
 
+#include <unistd.h>
+
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <fstream>
 #include <string>
 
 #include "artcal/artcal.hpp"
@@ -24,6 +27,14 @@ inline constexpr int kProfileSteps = 5;
 [[noreturn]] inline void finding(const std::string& what) {
   std::fprintf(stderr, "fuzz finding: %s\n", what.c_str());
   std::abort();
+}
+
+/// A file of this process holding `data`, for the readers that take a path (URDF, CSV).
+inline std::string writeInputFile(const std::uint8_t* data, std::size_t size, const char* suffix) {
+  const std::string path = "/tmp/artcal-fuzz-" + std::to_string(::getpid()) + suffix;
+  std::ofstream(path, std::ios::binary | std::ios::trunc)
+      .write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
+  return path;
 }
 
 /// Every number of a JSON output is finite (non-finite values must have become null).

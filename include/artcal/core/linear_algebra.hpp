@@ -12,7 +12,9 @@
 namespace artcal {
 
 /// Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>: eigenvalues in increasing order; the
-/// eigenvectors (columns, orthonormal) unless `options` is Eigen::EigenvaluesOnly.
+/// eigenvectors (columns, orthonormal) unless `options` is Eigen::EigenvaluesOnly. A matrix with
+/// a NaN or an infinite entry is not decomposed: info() is Eigen::NumericalIssue and every value
+/// NaN (the sizes those of A).
 class SymmetricEigenSolver {
  public:
   explicit SymmetricEigenSolver(const Eigen::MatrixXd& A, int options = Eigen::ComputeEigenvectors);

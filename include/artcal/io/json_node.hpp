@@ -15,6 +15,15 @@
 
 namespace artcal {
 
+/// Largest magnitude of a number in a plan or machine file but a joint reading (mm, deg, mm^2 ...):
+/// 10^9 mm is 1000 km. Bounded where numbers enter, so that their squares and products (the
+/// information, the tip variance) stay far inside double range (docs/hardening.md).
+inline constexpr double kMaxInputMagnitude = 1e9;
+/// The range of a standard deviation (noise, prior, artifact u; mm or deg): its inverse square
+/// weighs the readings, 10^-15 .. 10^6 keeps the weights between 10^-12 and 10^30.
+inline constexpr double kMinStandardDeviation = 1e-15;
+inline constexpr double kMaxStandardDeviation = 1e6;
+
 /// A JSON pointer token with '~' and '/' escaped (RFC 6901).
 std::string escapePointerToken(const std::string& token);
 
@@ -43,15 +52,22 @@ class Node {
   /// The size of an array of min..max entries; InputError otherwise.
   std::size_t arraySize(std::size_t min, std::size_t max) const;
   Node operator[](std::size_t i) const;
-  /// A finite number.
+  /// A finite number of magnitude at most kMaxInputMagnitude.
   double number() const;
+  /// A finite number of any magnitude (a joint reading: its joint limits bound it).
+  double anyFiniteNumber() const;
+  /// A standard deviation in [kMinStandardDeviation, kMaxStandardDeviation]; 0 too when
+  /// `zero_allowed` (an exact encoder, an artifact without calibration uncertainty).
+  double standardDeviation(bool zero_allowed) const;
   double nonNegative() const;
   double positive() const;
   /// A whole number in [min, max] (a float with no fractional part is accepted).
   long integer(long min, long max) const;
   std::string string() const;
-  /// An array of exactly `count` finite numbers.
+  /// An array of exactly `count` numbers (number()).
   Eigen::VectorXd numbers(std::size_t count) const;
+  /// An array of exactly `count` finite numbers of any magnitude (anyFiniteNumber()).
+  Eigen::VectorXd finiteNumbers(std::size_t count) const;
   /// Refuses members not in `known` (InputError naming the member, with "did you mean" when a
   /// known key is a few edits away): a misspelled optional field would otherwise take its
   /// default silently (`u_lenght`). Keys starting with "x-" are extensions, ignored
@@ -69,6 +85,7 @@ class Node {
  private:
   long checkRange(long v, long min, long max) const;
   std::string describeArray() const;
+  void checkNumberArray(std::size_t count) const;
 
   const nlohmann::json* value_;
   std::string pointer_;

@@ -23,8 +23,10 @@ inline constexpr int kMaxJsonDepth = 64;
 /// kMaxJsonDepth.
 nlohmann::json parseJsonText(const std::string& text, const std::string& source);
 
-/// The whole content of an input file (plan, CSV readings); InputError when it is a directory,
-/// unreadable or larger than kMaxPlanFileBytes.
+/// The whole content of an input file (plan, machine, CSV readings, URDF), a UTF-8 byte order
+/// mark dropped; InputError when it is a directory or not a regular file (a device such as
+/// /dev/zero, a FIFO: refused before reading), unreadable, larger than kMaxPlanFileBytes or
+/// beyond the memory left. Notes the file as an input (noteInputFile): no output may replace it.
 std::string readInputFile(const std::string& path);
 /// Reads and parses a JSON file; InputError when unreadable, larger than kMaxPlanFileBytes,
 /// malformed or nested deeper than kMaxJsonDepth.

@@ -40,6 +40,17 @@ struct Measurement {
   int csv_row = 0;
 };
 
+/// Where one reading stands in the input, for a message: its CSV file (the plan's folder joined
+/// with the name the plan gives) and "row N", or the plan and the reading's JSON pointer.
+struct ReadingLocation {
+  std::string file;
+  std::string where;
+};
+struct Plan;
+/// The location of reading `reading` of placement `placement` (indices into Plan::placements and
+/// Placement::measurements, which hold one entry per CSV row).
+ReadingLocation readingLocation(const Plan& plan, std::size_t placement, std::size_t reading);
+
 /// Where an artifact is put. 2-D: center and angle; 3-D: center, direction and roll.
 struct Pose {
   Eigen::VectorXd center;

@@ -53,6 +53,8 @@ nlohmann::json procedureToJson(const Plan& plan, const Procedure& procedure);
 std::string procedureTable(const Plan& plan, const Procedure& procedure);
 /// `artcal procedure --csv`: one row per reading, units in the header.
 std::string procedureCsv(const Plan& plan, const Procedure& procedure);
+/// One text field of procedureCsv: RFC 4180 quoting, a leading =, +, -, @ neutralised with '.
+std::string csvTextField(const std::string& text);
 /// The "Procedure" section of the HTML report: per placement a block with the pose, a drawing of
 /// the mechanism in each posture (Mechanism::skeleton) and the table of readings.
 std::string procedureHtml(const Plan& plan, const Procedure& procedure);
