@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -31,6 +32,7 @@ constexpr std::size_t kMaxPlacements = 1'000'000;
 constexpr std::size_t kMaxMeasurements = 10'000;
 constexpr std::size_t kMaxFeatures = 10'000;
 constexpr long kMaxWorkspace = 10'000'000;
+constexpr long kMaxPosturesPerRequest = 100;
 
 // machine.calibrate: [names], "identifiable" (every parameter in the model's order) or
 // {"identifiable": [names in preferred order]} (docs/plan-format.md; models.md section 1). The
@@ -64,6 +66,13 @@ void parseCalibrate(const Node& calibrate, const Mechanism& mech, Machine& machi
     }
     machine.calibrate_identifiable = true;
     parseCalibrateNames(calibrate.at("identifiable"), mech, machine);
+    // The listed names come first; the model's own order follows for the rest (models.md
+    // section 1): a preference, not a restriction.
+    std::vector<bool> listed(static_cast<std::size_t>(mech.parameterCount()), false);
+    for (int index : machine.calibrated) listed[static_cast<std::size_t>(index)] = true;
+    for (int i = 0; i < mech.parameterCount(); ++i) {
+      if (!listed[static_cast<std::size_t>(i)]) machine.calibrated.push_back(i);
+    }
   } else {
     parseCalibrateNames(calibrate, mech, machine);
   }
@@ -233,6 +242,38 @@ Eigen::VectorXd jointsFromFile(const Mechanism& mech, const Eigen::VectorXd& val
   return q;
 }
 
+// A reading outside the plan's joint_limits is a typo, other units (radians, metres) or the wrong
+// machine: the machine never reported it (docs/hardening.md). Only limits the plan states are
+// enforced: the default revolute range wraps, and a reading of -200 deg is one of 160 deg.
+// Compared in internal units, with 1e-9 of the range as slack for a reading written at a limit.
+// The first joint outside its limits and what to say about it; std::nullopt when all are inside.
+std::optional<std::pair<int, std::string>> jointLimitViolation(const Machine& machine,
+                                                               const Eigen::VectorXd& q) {
+  const Mechanism& mech = *machine.mechanism;
+  for (int i = 0; i < q.size(); ++i) {
+    const auto [lo, hi] = machine.joint_limits[static_cast<std::size_t>(i)];
+    const double slack = 1e-9 * (hi - lo);
+    if (q[i] >= lo - slack && q[i] <= hi + slack) continue;
+    const Quantity unit = jointQuantity(mech.jointKind(i));
+    auto file = [&](double v) {
+      char text[32];
+      std::snprintf(text, sizeof text, "%.10g", toFileUnit(unit, v));
+      return std::string(text);
+    };
+    const std::string u = " " + std::string(unitName(unit));
+    return std::pair{i,
+                     "reading " + file(q[i]) + u + " of joint " + std::to_string(i + 1) +
+                         " is outside its joint_limits [" + file(lo) + ", " + file(hi) + "]" + u +
+                         ": check the reading, its units (degrees, mm) and machine.joint_limits"};
+  }
+  return std::nullopt;
+}
+
+void checkWithinJointLimits(const Node& joints, const Machine& machine, const Eigen::VectorXd& q) {
+  if (const auto violation = jointLimitViolation(machine, q))
+    joints[static_cast<std::size_t>(violation->first)].fail(violation->second);
+}
+
 /// The "exclude_rows" of a CSV measurement entry: data rows (from 1) a person has judged gross
 /// errors (a ball not seated, a socket that moved), each in 1..rows and named once.
 std::set<long> excludedRows(const Node& entry, std::size_t rows) {
@@ -252,7 +293,8 @@ std::set<long> excludedRows(const Node& entry, std::size_t rows) {
 /// A measurement entry {"feature", "csv", "unit", "exclude_rows"}: one measurement per row of
 /// the CSV file, which is relative to the plan file (models.md section 7), but the rows excluded.
 void appendCsvMeasurements(const Node& entry, const Plan& plan, const Artifact& artifact,
-                           std::vector<Measurement>& out, std::vector<std::string>& warnings) {
+                           bool explicit_limits, int entry_index, std::vector<Measurement>& out,
+                           std::vector<std::string>& warnings) {
   entry.warnUnknown({"feature", "csv", "unit", "exclude_rows"}, warnings);
   const int feature = static_cast<int>(entry.at("feature").integer(0, artifact.featureCount() - 1));
   const Node csv = entry.at("csv");
@@ -270,11 +312,23 @@ void appendCsvMeasurements(const Node& entry, const Plan& plan, const Artifact& 
   const Mechanism& mech = *plan.machine.mechanism;
   std::vector<JointKind> kinds;
   for (int i = 0; i < mech.jointCount(); ++i) kinds.push_back(mech.jointKind(i));
-  std::vector<Eigen::VectorXd> rows = readJointCsv(path.lexically_normal().string(), kinds, units);
+  const std::string file = path.lexically_normal().string();
+  std::vector<long> lines;
+  std::vector<Eigen::VectorXd> rows = readJointCsv(file, kinds, units, &lines);
   const std::set<long> excluded = excludedRows(entry, rows.size());
   for (std::size_t r = 0; r < rows.size(); ++r) {
     const long row = static_cast<long>(r) + 1;
     if (excluded.count(row)) continue;
+    // A fault of a row names the file and its line and row, like the CSV reader's own errors.
+    const std::string where =
+        "line " + std::to_string(lines[r]) + " (row " + std::to_string(row) + ")";
+    if (explicit_limits) {
+      if (const auto violation = jointLimitViolation(plan.machine, rows[r]))
+        throw InputError(file, where, violation->second);
+    }
+    Eigen::VectorXd x;
+    const ForwardStatus status = mech.forwardStylus(0, plan.machine.nominal, rows[r], x);
+    if (status != ForwardStatus::Ok) throw InputError(file, where, forwardStatusName(status));
     if (out.size() >= kMaxMeasurements)
       csv.fail("more than " + std::to_string(kMaxMeasurements) + " readings in one placement");
     Measurement measurement;
@@ -282,39 +336,38 @@ void appendCsvMeasurements(const Node& entry, const Plan& plan, const Artifact& 
     measurement.joints = std::move(rows[r]);
     measurement.csv = relative.string();
     measurement.csv_row = static_cast<int>(row);
+    measurement.entry = entry_index;
     out.push_back(std::move(measurement));
   }
 }
 
-// A reading outside the plan's joint_limits is a typo, other units (radians, metres) or the wrong
-// machine: the machine never reported it (docs/hardening.md). Only limits the plan states are
-// enforced: the default revolute range wraps, and a reading of -200 deg is one of 160 deg.
-// Compared in internal units, with 1e-9 of the range as slack for a reading written at a limit.
-void checkWithinJointLimits(const Node& joints, const Machine& machine, const Eigen::VectorXd& q) {
-  const Mechanism& mech = *machine.mechanism;
-  for (int i = 0; i < q.size(); ++i) {
-    const auto [lo, hi] = machine.joint_limits[static_cast<std::size_t>(i)];
-    const double slack = 1e-9 * (hi - lo);
-    if (q[i] >= lo - slack && q[i] <= hi + slack) continue;
-    const Quantity unit = jointQuantity(mech.jointKind(i));
-    auto file = [&](double v) {
-      char text[32];
-      std::snprintf(text, sizeof text, "%.10g", toFileUnit(unit, v));
-      return std::string(text);
-    };
-    const std::string u = " " + std::string(unitName(unit));
-    joints[static_cast<std::size_t>(i)].fail(
-        "reading " + file(q[i]) + u + " of joint " + std::to_string(i + 1) +
-        " is outside its joint_limits [" + file(lo) + ", " + file(hi) + "]" + u +
-        ": check the reading, its units (degrees, mm) and machine.joint_limits");
+/// A measurement entry {"feature": k, "postures": N}: N readings of feature k to be planned from
+/// the placement's pose by `artcal plan --complete` (docs/plan-format.md); a plan to be run
+/// needs them planned first.
+PostureRequest parsePostureRequest(const Node& entry, const Artifact& artifact,
+                                   const Placement& placement, bool require_measurements,
+                                   std::vector<std::string>& warnings) {
+  entry.warnUnknown({"feature", "postures"}, warnings);
+  PostureRequest request;
+  request.feature = static_cast<int>(entry.at("feature").integer(0, artifact.featureCount() - 1));
+  request.postures = static_cast<int>(entry.at("postures").integer(1, kMaxPosturesPerRequest));
+  request.pointer = entry.pointer();
+  if (!placement.pose) entry.fail("\"postures\" needs the placement's pose to plan readings from");
+  if (require_measurements) {
+    entry.fail("readings to be planned: run `artcal plan --complete PLAN -o OUT` to write them");
   }
+  return request;
 }
 
 Placement parsePlacement(const Node& node, const Plan& plan, bool require_measurements,
                          bool explicit_limits, std::vector<std::string>& warnings) {
   node.object();
-  node.warnUnknown({"artifact", "pose", "measurements"}, warnings);
+  node.warnUnknown({"artifact", "pose", "measurements", "name"}, warnings);
   Placement placement;
+  if (const auto name = node.find("name")) {
+    placement.name = name->string();
+    if (placement.name.empty()) name->fail("expected a non-empty name");
+  }
   const Node artifact = node.at("artifact");
   const std::string id = artifact.string();
   placement.artifact = plan.artifactIndex(id);
@@ -333,11 +386,18 @@ Placement parsePlacement(const Node& node, const Plan& plan, bool require_measur
     const Node m = (*measurements)[i];
     m.object();
     if (m.has("csv")) {
-      appendCsvMeasurements(m, plan, art, placement.measurements, warnings);
+      appendCsvMeasurements(m, plan, art, explicit_limits, static_cast<int>(i),
+                            placement.measurements, warnings);
+      continue;
+    }
+    if (m.has("postures")) {
+      placement.posture_requests.push_back(
+          parsePostureRequest(m, art, placement, require_measurements, warnings));
       continue;
     }
     m.warnUnknown({"feature", "joints", "stylus"}, warnings);
     Measurement measurement;
+    measurement.entry = static_cast<int>(i);
     measurement.feature = static_cast<int>(m.at("feature").integer(0, art.featureCount() - 1));
     measurement.joints =
         jointsFromFile(mech, m.at("joints").numbers(static_cast<std::size_t>(mech.jointCount())));
@@ -480,10 +540,10 @@ Eigen::VectorXd parseJointMargin(const std::optional<Node>& node, const Machine&
 
 DesignSpec parseDesign(const Node& node, const Plan& plan, std::vector<std::string>& warnings) {
   node.object();
-  node.warnUnknown({"artifact", "placements", "postures", "region", "criterion", "seed", "starts",
-                    "time_limit", "joint_margin", "pool", "evaluations", "polish", "kicks",
-                    "target_tip"},
-                   warnings);
+  node.warnUnknown(
+      {"artifact", "placements", "postures", "region", "criterion", "seed", "starts", "time_limit",
+       "joint_margin", "pool", "evaluations", "polish", "kicks", "target_tip"},
+      warnings);
   DesignSpec design;
   const Node artifact = node.at("artifact");
   design.artifact = plan.artifactIndex(artifact.string());
@@ -599,9 +659,17 @@ Plan parsePlan(const nlohmann::json& document, const std::string& source, bool r
   if (const auto placements = root.find("placements")) {
     const std::size_t n = placements->arraySize(require_placements ? 1 : 0, kMaxPlacements);
     plan.placements.reserve(n);
+    std::map<std::string, std::size_t> named;  // placement names are unique
     for (std::size_t i = 0; i < n; ++i) {
       plan.placements.push_back(parsePlacement((*placements)[i], plan, require_placements,
                                                plan.machine.limits_stated, plan.warnings));
+      const std::string& name = plan.placements.back().name;
+      if (name.empty()) continue;
+      const auto [first, fresh] = named.emplace(name, i);
+      if (!fresh) {
+        (*placements)[i].at("name").fail("placement name \"" + name + "\" is also placement " +
+                                         std::to_string(first->second) + "'s");
+      }
     }
   } else if (require_placements) {
     root.at("placements");
@@ -625,6 +693,7 @@ nlohmann::json placementsToJson(const Plan& plan) {
   const Mechanism& mech = *plan.machine.mechanism;
   for (const Placement& placement : plan.placements) {
     json p;
+    if (!placement.name.empty()) p["name"] = placement.name;
     p["artifact"] = plan.artifacts[static_cast<std::size_t>(placement.artifact)].id;
     if (placement.pose) {
       const Pose& pose = *placement.pose;

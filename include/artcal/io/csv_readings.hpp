@@ -29,9 +29,11 @@ inline constexpr std::size_t kMaxCsvRows = 100'000;
 
 /// The readings of `path` in internal units (rad, mm), one vector per row, for joints of the
 /// given kinds. InputError(path, "line N", ...) on any fault; an unreadable or empty file names
-/// the file alone.
+/// the file alone. `lines`, when given, receives each row's line number in the file (from 1), for
+/// messages about a row that the caller finds wrong.
 std::vector<Eigen::VectorXd> readJointCsv(const std::string& path,
                                           const std::vector<JointKind>& kinds,
-                                          const ReadingUnits& units);
+                                          const ReadingUnits& units,
+                                          std::vector<long>* lines = nullptr);
 
 }  // namespace artcal

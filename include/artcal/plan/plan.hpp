@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "artcal/artifact/artifact.hpp"
+#include "artcal/artifact/rigid_transform.hpp"
 #include "artcal/core/units.hpp"
 #include "artcal/model/machine.hpp"
 
@@ -32,6 +33,8 @@ struct Measurement {
   /// its data row (from 1, header and blank lines not counted); empty and 0 when listed inline.
   std::string csv = {};
   int csv_row = 0;
+  /// The index of the plan file's measurement entry it came from (a CSV entry gives many).
+  int entry = 0;
 };
 
 /// Where an artifact is put. 2-D: center and angle; 3-D: center, direction and roll.
@@ -42,11 +45,32 @@ struct Pose {
   double roll = 0.0;                                     ///< 3-D, rad
 };
 
+/// `{"feature": k, "postures": N}` in a placement's measurements: N nominal readings of feature k
+/// still to be planned from the placement's pose (`artcal plan --complete`).
+struct PostureRequest {
+  int feature = 0;
+  int postures = 1;
+  std::string pointer;  ///< where the request stands in the plan file, for messages
+};
+
 struct Placement {
   int artifact = 0;  ///< index into Plan::artifacts
   std::optional<Pose> pose;
   std::vector<Measurement> measurements;
+  /// The placement's `"name"` (e.g. the folder its CSV files came from); empty when the plan
+  /// gives none. Outputs name a placement by it (placementLabel).
+  std::string name = {};
+  std::vector<PostureRequest> posture_requests = {};
 };
+
+/// The artifact-from-machine transform of a pose (placePlanar / placeSpatial, rigid_transform.hpp).
+RigidTransform poseTransform(int dimension, const Pose& pose);
+
+/// The placed artifact's features in the machine frame (dimension x features) for `pose`.
+Eigen::MatrixXd placedFeatures(const Artifact& artifact, const Pose& pose);
+
+/// How outputs name placement `index` of `plan`: its name, or its index (from 0) when unnamed.
+std::string placementLabel(const std::vector<Placement>& placements, std::size_t index);
 
 /// Where an artifact's features may lie when planning; where a task-space workspace samples.
 struct Region {
@@ -131,6 +155,15 @@ struct Plan {
 
   int artifactIndex(const std::string& id) const;
 };
+
+/// Where a reading stands for a person: an inline one at its JSON pointer in the plan file
+/// ("/placements/3/measurements/0"), one from a CSV file at the file and its data row ("row 12",
+/// as "exclude_rows" counts), never at an index the CSV expansion made up.
+struct ReadingLocation {
+  std::string file;
+  std::string where;
+};
+ReadingLocation readingLocation(const Plan& plan, std::size_t placement, std::size_t measurement);
 
 std::string criterionName(Criterion criterion);
 
