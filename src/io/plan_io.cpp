@@ -680,7 +680,12 @@ Plan parsePlan(const nlohmann::json& document, const std::string& source, bool r
   if (const auto design = root.find("design"))
     plan.design = parseDesign(*design, plan, plan.warnings);
   if (check_plausibility) checkPlausibility(plan);  // only wrong units or a wrong pose explain
-  resolveCalibratedSet(plan);  // "calibrate": "identifiable", decided once, here
+  // "calibrate": "identifiable", decided once, here; a plan whose readings are still to be
+  // planned (posture requests, for `plan --complete`) has nothing to decide it from yet.
+  const bool readings_pending =
+      std::any_of(plan.placements.begin(), plan.placements.end(),
+                  [](const Placement& p) { return !p.posture_requests.empty(); });
+  if (!readings_pending) resolveCalibratedSet(plan);
   return plan;
 }
 
