@@ -35,7 +35,7 @@ constexpr long kMaxWorkspace = 10'000'000;
 constexpr long kMaxPosturesPerRequest = 100;
 
 // machine.calibrate: [names], "identifiable" (every parameter in the model's order) or
-// {"identifiable": [names in preferred order]} (docs/plan-format.md; models.md section 1). The
+// {"identifiable": [names in preferred order]} (docs/plan-format.md; docs/models.md section 1). The
 // identifiable forms list candidates that resolveCalibratedSet decides from the readings.
 void parseCalibrateNames(const Node& names, const Mechanism& mech, Machine& machine) {
   const std::size_t n = names.arraySize(1, mech.parameters().size());
@@ -66,7 +66,7 @@ void parseCalibrate(const Node& calibrate, const Mechanism& mech, Machine& machi
     }
     machine.calibrate_identifiable = true;
     parseCalibrateNames(calibrate.at("identifiable"), mech, machine);
-    // The listed names come first; the model's own order follows for the rest (models.md
+    // The listed names come first; the model's own order follows for the rest (docs/models.md
     // section 1): a preference, not a restriction.
     std::vector<bool> listed(static_cast<std::size_t>(mech.parameterCount()), false);
     for (int index : machine.calibrated) listed[static_cast<std::size_t>(index)] = true;
@@ -291,7 +291,8 @@ std::set<long> excludedRows(const Node& entry, std::size_t rows) {
 }
 
 /// A measurement entry {"feature", "csv", "unit", "exclude_rows"}: one measurement per row of
-/// the CSV file, which is relative to the plan file (models.md section 7), but the rows excluded.
+/// the CSV file, which is relative to the plan file (docs/models.md section 7), but the rows
+/// excluded.
 void appendCsvMeasurements(const Node& entry, const Plan& plan, const Artifact& artifact,
                            bool explicit_limits, int entry_index, std::vector<Measurement>& out,
                            std::vector<std::string>& warnings) {
@@ -406,7 +407,7 @@ Placement parsePlacement(const Node& node, const Plan& plan, bool require_measur
       measurement.stylus = static_cast<int>(stylus->integer(0, mech.stylusCount() - 1));
     }
     // A closed chain's forward kinematics is numerical: a reading it cannot solve at nominal is
-    // bad input, named here (models.md section 3), not a failure deep in the estimation.
+    // bad input, named here (docs/models.md section 3), not a failure deep in the estimation.
     Eigen::VectorXd x;
     const ForwardStatus status =
         mech.forwardStylus(measurement.stylus, plan.machine.nominal, measurement.joints, x);
@@ -440,7 +441,7 @@ std::uint64_t parseSeed(const Node& node) {
   return static_cast<std::uint64_t>(node.integer(0, std::numeric_limits<long>::max()));
 }
 
-// models.md section 5: {"region": {...}, "samples": N, "seed": S, "tilt": deg}.
+// docs/models.md section 5: {"region": {...}, "samples": N, "seed": S, "tilt": deg}.
 WorkspaceSpec parseTaskSpaceWorkspace(const Node& node, const Machine& machine,
                                       std::vector<std::string>& warnings) {
   WorkspaceSpec spec;

@@ -174,7 +174,7 @@ Eigen::VectorXd DesignSpace::randomPose(std::mt19937_64& rng) const {
 
 namespace {
 
-// A Cartesian CMM has one posture per stylus (models.md section 4): the point read with styli
+// A Cartesian CMM has one posture per stylus (docs/models.md section 4): the point read with styli
 // 0 .. count - 1; fewer when a stylus cannot reach it within the axis ranges.
 std::vector<Measurement> stylusPostures(const Machine& machine, int feature,
                                         const Eigen::VectorXd& target, int count) {

@@ -190,7 +190,7 @@ std::string tieText(const Plan& plan, const std::vector<std::pair<int, double>>&
 }
 
 // "calibrate": "identifiable" resolved: the kept set, the dropped parameters, and the
-// combination tying each dropped one to the kept ones (models.md section 1).
+// combination tying each dropped one to the kept ones (docs/models.md section 1).
 std::string calibrateSelectionText(const Plan& plan) {
   if (!plan.calibrate_resolution) return {};
   const auto& params = plan.machine.mechanism->parameters();

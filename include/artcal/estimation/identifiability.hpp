@@ -80,8 +80,8 @@ Identifiability analyseIdentifiability(const Plan& plan, const std::vector<Place
 /// a zero row and column).
 Eigen::MatrixXd scaledInformation(const PlanInformation& information);
 
-/// `"calibrate": "identifiable"` resolved (models.md section 1): which of the listed parameters
-/// (machine.calibrated, in preferred order) the plan's nominal readings identify.
+/// `"calibrate": "identifiable"` resolved (docs/models.md section 1): which of the listed
+/// parameters (machine.calibrated, in preferred order) the plan's nominal readings identify.
 struct CalibratedSetChoice {
   std::vector<int> kept;     ///< positions into the listed parameters, in order
   std::vector<int> dropped;  ///< positions into the listed parameters
@@ -90,7 +90,7 @@ struct CalibratedSetChoice {
   std::vector<std::vector<std::pair<int, double>>> ties;
 };
 
-/// The greedy rule of models.md section 1: S over all listed parameters; a parameter with
+/// The greedy rule of docs/models.md section 1: S over all listed parameters; a parameter with
 /// sqrt(D_i) <= kUnobservedScale max sqrt(D) is never kept; parameter i is kept when the smallest
 /// eigenvalue of S over kept + {i} exceeds `tolerance` times the largest eigenvalue of S over all
 /// listed parameters.

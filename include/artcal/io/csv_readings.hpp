@@ -1,6 +1,6 @@
 #pragma once
-// Joint readings from CSV files (models.md section 7). Each row is one posture's readings of the
-// movable joints in chain order, comma-separated; the first line may be a header of joint names
+// Joint readings from CSV files (docs/models.md section 7). Each row is one posture's readings of
+// the movable joints in chain order, comma-separated; the first line may be a header of joint names
 // (a line of which no field is a number). Blank lines are skipped. `unit` names the unit of the
 // readings of its kind: "deg" (default) or "rad" for the revolute joints, "mm" or "m" for the
 // prismatic ones; the joints of the other kind keep their file unit (deg, mm). Every fault raises

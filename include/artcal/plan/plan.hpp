@@ -28,7 +28,7 @@ struct Noise {
 struct Measurement {
   int feature = 0;
   Eigen::VectorXd joints;
-  int stylus = 0;  ///< the probe's stylus (Cartesian CMMs, models.md section 4)
+  int stylus = 0;  ///< the probe's stylus (Cartesian CMMs, docs/models.md section 4)
   /// Where a reading from a CSV file came from, for a person: the file as the plan names it and
   /// its data row (from 1, header and blank lines not counted); empty and 0 when listed inline.
   std::string csv = {};
@@ -80,7 +80,7 @@ struct Region {
 };
 
 /// The joint configurations tip uncertainty is evaluated over (docs/method.md section 4).
-/// TaskSpace (models.md section 5): `samples` probe positions uniform in `region`, each turned
+/// TaskSpace (docs/models.md section 5): `samples` probe positions uniform in `region`, each turned
 /// into a configuration by the model's inverse kinematics in a random posture (an orientation
 /// within `tilt` of home for the hexapod); unreachable ones are dropped and counted.
 struct WorkspaceSpec {
