@@ -94,11 +94,7 @@ void addImportReadingsCommand(CLI::App& app, Action& action) {
       for (const std::string& warning : parsed.warnings)
         std::cerr << "warning: " << warning << "\n";
       writeJsonOutput(args->output, plan);
-      std::size_t readings = 0;
-      for (const Placement& placement : parsed.placements)
-        readings += placement.measurements.size();
-      summaryStream(args->output) << "import-readings: " << parsed.placements.size()
-                                  << " placements, " << readings << " readings\n";
+      printPlanSummary("import-readings", args->output, parsed);
       return 0;
     };
   });

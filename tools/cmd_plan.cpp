@@ -78,11 +78,7 @@ void addPlanCommand(CLI::App& app, Action& action) {
       // The completed plan is checked like any plan before it is written.
       const Plan checked = parsePlan(completed, args->plan);
       writeJsonOutput(args->output, completed);
-      std::size_t readings = 0;
-      for (const Placement& placement : checked.placements)
-        readings += placement.measurements.size();
-      summaryStream(args->output) << "plan --complete: " << checked.placements.size()
-                                  << " placements, " << readings << " readings\n";
+      printPlanSummary("plan --complete", args->output, checked);
       return 0;
     };
   });

@@ -13,6 +13,7 @@
 #include "artcal/artcal.hpp"
 #include "artcal/io/readings_import.hpp"
 #include "cli_runner.hpp"
+#include "temp_folder.hpp"
 #include "test_paths.hpp"
 
 namespace artcal {
@@ -24,33 +25,13 @@ using test_support::runCli;
 using test_support::Stderr;
 using test_support::testDataFile;
 
-/// A fresh folder for one test's files.
-class ImportFolder : public ::testing::Test {
- public:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("artcal-import-" + std::to_string(::getpid()) + "-" + info->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-  std::string write(const std::string& name, const std::string& text) const {
-    fs::create_directories((dir_ / name).parent_path());
-    std::ofstream(dir_ / name) << text;
-    return path(name);
-  }
-  fs::path dir_;
+class ImportFolder : public test_support::TempFolder {
+ protected:
+  ImportFolder() : TempFolder("import") {}
 };
 
 std::string mukca(const std::string& name) {
   return testDataFile("mukca/mukca/" + name);
-}
-
-json readJson(const std::string& path) {
-  std::ifstream in(path);
-  return json::parse(in);
 }
 
 /// Non-blank lines of a file: MUKCa's CSV files have no header, one posture per line.
@@ -85,7 +66,7 @@ int importRobot(const ImportFolder& folder, const std::string& robot, const std:
 /// The plan with only the named placements kept, written to `out`.
 std::string keepPlacements(const std::string& plan_path, const std::set<std::string>& names,
                            const std::string& out) {
-  json plan = readJson(plan_path);
+  json plan = readJsonFile(plan_path);
   json kept = json::array();
   for (const json& p : plan["placements"])
     if (names.count(p["name"].get<std::string>())) kept.push_back(p);
@@ -97,7 +78,7 @@ std::string keepPlacements(const std::string& plan_path, const std::set<std::str
 TEST_F(ImportFolder, PandaFolderBecomesAPlanNamedAfterItsPositions) {
   ASSERT_EQ(importRobot(*this, "panda_2", "panda.urdf", "panda_link0"), 0);
   const auto [positions, rows] = positionsAndRows("panda_2");
-  const json document = readJson(path("panda_2.json"));
+  const json document = readJsonFile(path("panda_2.json"));
   EXPECT_EQ(document["machine"]["calibrate"], "identifiable");
   EXPECT_EQ(document["noise"]["probe"], 0.1);
   EXPECT_EQ(document["artifacts"]["bar"]["length"], 50.0);
@@ -144,7 +125,7 @@ TEST_F(ImportFolder, Gen3LiteReadingsPastTheUrdfLimitsWidenThemWithAWarning) {
   ASSERT_EQ(run.status, 0) << run.out;
   // Joint 6 reads up to 157.128 deg (front, left) against the URDF's 2.09 rad = 119.748 deg.
   EXPECT_NE(run.out.find("warning: joint 6: readings reach"), std::string::npos) << run.out;
-  const json document = readJson(path("dinova_1.json"));
+  const json document = readJsonFile(path("dinova_1.json"));
   const auto [positions, rows] = positionsAndRows("dinova_1");
   const Plan plan = parsePlan(document, path("dinova_1.json"), true, false);
   ASSERT_EQ(plan.placements.size(), positions.size());
@@ -193,7 +174,7 @@ TEST_F(ImportFolder, KeptLimitsRefuseTheReadingNamingTheCsvFileAndRow) {
 
 /// A planar 2R machine file and the 2R reference plan's first placement as readings.
 struct TwoArm {
-  json plan = readJson(testDataFile("ref-2r-5bars.json"));
+  json plan = readJsonFile(testDataFile("ref-2r-5bars.json"));
   std::vector<std::vector<double>> readings(int placement, int feature) const {
     std::vector<std::vector<double>> out;
     for (const json& m : plan["placements"][placement]["measurements"])
@@ -274,11 +255,11 @@ TEST_F(ImportFolder, CsvReadingOutsideTheJointLimitsNamesFileAndRow) {
   // Excluded, the row no longer counts.
   plan["placements"][0]["measurements"][0]["exclude_rows"] = {2};
   write("plan.json", plan.dump());
-  EXPECT_NO_THROW(parsePlan(readJson(path("plan.json")), path("plan.json"), false, false));
+  EXPECT_NO_THROW(parsePlan(readJsonFile(path("plan.json")), path("plan.json"), false, false));
 }
 
 TEST_F(ImportFolder, PlacementNamesAreOptionalUniqueAndUsedByVerify) {
-  json plan = readJson(testDataFile("ref-2r-5bars.json"));
+  json plan = readJsonFile(testDataFile("ref-2r-5bars.json"));
   plan["placements"][0]["name"] = "near";
   plan["placements"][2]["name"] = "far";
   write("named.json", plan.dump());

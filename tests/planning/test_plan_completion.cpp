@@ -14,6 +14,7 @@
 #include "artcal/planning/design_space.hpp"
 #include "artcal/planning/plan_completion.hpp"
 #include "cli_runner.hpp"
+#include "temp_folder.hpp"
 #include "test_paths.hpp"
 
 namespace artcal {
@@ -25,32 +26,17 @@ using test_support::runCli;
 using test_support::Stderr;
 using test_support::testDataFile;
 
-class Layout : public ::testing::Test {
+class Layout : public test_support::TempFolder {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("artcal-layout-" + std::to_string(::getpid()) + "-" + info->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
+  Layout() : TempFolder("layout") {}
   std::string write(const std::string& name, const json& document) const {
-    std::ofstream(dir_ / name) << document.dump(1);
-    return path(name);
+    return TempFolder::write(name, document.dump(1));
   }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-  fs::path dir_;
 };
-
-json readJson(const std::string& path) {
-  std::ifstream in(path);
-  return json::parse(in);
-}
 
 /// The Panda of the chain reference case, a 50 mm bar at two poses, 3 + 3 and 4 + 2 postures.
 json pandaLayout() {
-  json plan = readJson(testDataFile("ref-chain-panda-2placements.json"));
+  json plan = readJsonFile(testDataFile("ref-chain-panda-2placements.json"));
   plan["placements"] = {
       {{"name", "front"},
        {"artifact", "bar"},
@@ -81,7 +67,7 @@ TEST_F(Layout, CompletedReadingsReachTheFeaturesWithinTheJointLimits) {
             std::string::npos)
       << refused.out;
   ASSERT_EQ(runCli("plan --complete " + in + " -o " + path("done.json")).status, 0);
-  const json done = readJson(path("done.json"));
+  const json done = readJsonFile(path("done.json"));
   EXPECT_EQ(done["placements"][1]["name"], "left");
   const Plan plan = loadPlan(path("done.json"));
   const std::vector<std::vector<int>> postures = {{3, 3}, {4, 2}};
@@ -120,7 +106,7 @@ TEST_F(Layout, SameSeedSameReadingsAndThePlannersRule) {
   const std::string in = write("layout.json", pandaLayout());
   ASSERT_EQ(runCli("plan --complete " + in + " -o " + path("a.json") + " --seed 7").status, 0);
   ASSERT_EQ(runCli("plan --complete " + in + " -o " + path("b.json") + " --seed 7").status, 0);
-  EXPECT_EQ(readJson(path("a.json")), readJson(path("b.json")));
+  EXPECT_EQ(readJsonFile(path("a.json")), readJsonFile(path("b.json")));
   // The readings are those of the planner's rule (featureReadings on the machine narrowed by
   // the default joint margin), drawn in order from one generator seeded with the seed.
   const Plan layout = parsePlan(pandaLayout(), in, false);
@@ -144,7 +130,7 @@ TEST_F(Layout, SameSeedSameReadingsAndThePlannersRule) {
 }
 
 TEST_F(Layout, PlanarArmGetsBothElbowBranches) {
-  json plan = readJson(testDataFile("ref-2r-5bars.json"));
+  json plan = readJsonFile(testDataFile("ref-2r-5bars.json"));
   plan["placements"] = {
       {{"artifact", plan["artifacts"].begin().key()},
        {"pose", {{"center", {120, 40}}, {"angle", 30}}},
