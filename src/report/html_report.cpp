@@ -427,7 +427,11 @@ ReportFigure residualFigure(const json& calibration, double threshold) {
         const double score = entry.at("score").get<double>();
         plot.marker({reading, worst}, svg::Shape::Diamond, 14.0, filled("#000000", "none", 2.0),
                     "flagged outlier", {{"data-field", field}, {"data-value", exact(score)}},
-                    format("placement %zu, reading %zu: score %.2f", j, m, score));
+                    format("placement %s, reading %zu: score %.2f",
+                           placements[j].contains("name")
+                               ? placements[j].at("name").get<std::string>().c_str()
+                               : std::to_string(j).c_str(),
+                           m, score));
         if (calibration.at("flagged").get<int>() <= kLabelledOutliers) {
           plot.label({reading, worst}, format("P%zu R%zu", j, m));
         }
