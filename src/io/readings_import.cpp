@@ -237,6 +237,12 @@ ImportedPlan importReadings(const ReadingsImport& import) {
   for (const fs::path& folder : placementFolders(dir, import.unit)) {
     json measurements = json::array();
     for (const FeatureFile& file : featureFiles(folder, import.unit)) {
+      if (import.ball_bar && file.feature > 1) {
+        throw InputError(file.path.string(), "",
+                         "feature " + std::to_string(file.feature) +
+                             " of a ball bar, whose features are 0 and 1: rename the file or "
+                             "move it out of the folder");
+      }
       const fs::path relative =
           fs::absolute(file.path).lexically_normal().lexically_relative(plan_folder);
       measurements.push_back(
