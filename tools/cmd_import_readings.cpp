@@ -88,9 +88,7 @@ void addImportReadingsCommand(CLI::App& app, Action& action) {
       const nlohmann::json& plan = imported.plan;
       // Checked like any plan (CSV rows, joint limits) before anything is written; whether the
       // nominal machine is plausible for the readings is check's and calibrate's to say.
-      const std::string source =
-          args->output == kStandardOutput ? std::string("plan") : args->output;
-      const Plan parsed = parsePlan(plan, source, true, /*check_plausibility=*/false);
+      const Plan parsed = parsePlan(plan, imported.source, true, /*check_plausibility=*/false);
       for (const std::string& warning : parsed.warnings)
         std::cerr << "warning: " << warning << "\n";
       writeJsonOutput(args->output, plan);

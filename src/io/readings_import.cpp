@@ -176,7 +176,8 @@ std::vector<fs::path> placementFolders(const fs::path& dir, const std::string& u
 constexpr double kWidestRevoluteDeg = 360.0;
 
 /// The machine's joint limits widened to the range of the plan's CSV readings (see the header).
-std::vector<std::string> widenJointLimits(json& document, const std::string& source) {
+std::vector<std::string> widenJointLimits(json& document, const std::string& source,
+                                          const fs::path& folder) {
   json machine_only = document;
   machine_only.erase("placements");
   const Plan plan = parsePlan(machine_only, source, /*require_placements=*/false, false);
@@ -187,7 +188,6 @@ std::vector<std::string> widenJointLimits(json& document, const std::string& sou
   for (int i = 0; i < mech.jointCount(); ++i) kinds.push_back(mech.jointKind(i));
   Eigen::VectorXd lo = Eigen::VectorXd::Constant(mech.jointCount(), INFINITY);
   Eigen::VectorXd hi = -lo;
-  const fs::path folder = fs::path(source).parent_path();
   for (const json& placement : document.at("placements")) {
     for (const json& entry : placement.at("measurements")) {
       const std::string file =
@@ -261,10 +261,9 @@ ImportedPlan importReadings(const ReadingsImport& import) {
               {"noise", {{"probe", import.probe}, {"encoder", import.encoder}}},
               {"artifacts", artifacts},
               {"placements", placements}};
+  out.source = to_stdout ? std::string("import-readings") : import.output;
   if (!out.plan["machine"].contains("joint_limits")) return out;
-  if (!import.keep_limits) {
-    out.warnings = widenJointLimits(out.plan, (plan_folder / "plan.json").string());
-  }
+  if (!import.keep_limits) out.warnings = widenJointLimits(out.plan, out.source, plan_folder);
   return out;
 }
 

@@ -47,7 +47,10 @@ struct ReadingsImport {
 };
 
 struct ImportedPlan {
-  nlohmann::json plan;                ///< the plan document (artcal-plan/1)
+  nlohmann::json plan;  ///< the plan document (artcal-plan/1)
+  /// What errors in the plan name it by: the output path, or "import-readings" for stdout. CSV
+  /// paths in the plan are relative to its folder.
+  std::string source;
   std::vector<std::string> warnings;  ///< joint limits widened to the readings
 };
 
