@@ -77,6 +77,13 @@ std::ostream& summaryStream(const std::string& output) {
   return output == kStandardOutput ? std::cerr : std::cout;
 }
 
+void printPlanSummary(const std::string& command, const std::string& output, const Plan& plan) {
+  std::size_t readings = 0;
+  for (const Placement& placement : plan.placements) readings += placement.measurements.size();
+  summaryStream(output) << command << ": " << plan.placements.size() << " placements, " << readings
+                        << " readings\n";
+}
+
 }  // namespace artcal::cli
 
 namespace {

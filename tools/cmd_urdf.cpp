@@ -1,4 +1,4 @@
-// artcal import-urdf / artcal export-urdf: a URDF chain as a machine block and back (models.md
+// artcal import-urdf / artcal export-urdf: a URDF chain as a machine block and back (docs/models.md
 // section 1).
 
 #include <iostream>

@@ -1,4 +1,4 @@
-// artcal verify (models.md section 6): a (calibrated) machine on readings it has not seen.
+// artcal verify (docs/models.md section 6): a (calibrated) machine on readings it has not seen.
 
 #include <iostream>
 

@@ -37,6 +37,10 @@ void printJson(const nlohmann::json& document);
 /// directories refused; symbolic links followed).
 void writeJsonOutput(const std::string& path, const nlohmann::json& document);
 
+/// "COMMAND: N placements, M readings" of a plan a command wrote to `output`, on
+/// summaryStream(output).
+void printPlanSummary(const std::string& command, const std::string& output, const Plan& plan);
+
 /// Where a command that writes `output` prints its own summary: stdout, or stderr when the
 /// output itself goes to stdout ("-"), so that stdout holds the output file alone.
 std::ostream& summaryStream(const std::string& output);

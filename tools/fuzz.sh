@@ -40,7 +40,7 @@ for target in "${targets[@]}"; do
     fi
   done
 done
-# Design specs (plan-format.md, optimize): a plan without placements plus a design block.
+# Design specs (docs/plan-format.md, optimize): a plan without placements plus a design block.
 cat >"$work/fuzz_spec/spec-2r.json" <<'JSON'
 {"format": "artcal-plan/1", "name": "spec-2r",
  "machine": {"model": "planar2r", "parameters": {"l1": 150, "l2": 100, "dt2": 0},

@@ -6,7 +6,7 @@ degree 3 (54 coefficients), probing 0.5 um, scales 0.2 um. A 5 x 5 ball plate (p
 certificate 0.5 um per coordinate) is laid three times in each of the planes XY, XZ and YZ; a
 1000 mm step gauge (faces every 50 mm) along the four space diagonals. Nominal readings are exact:
 at nominal the readings are the probe target minus the stylus, resolved along the axes
-(models.md section 4). Run from the repository: python3 tools/make_cmm_plans.py
+(docs/models.md section 4). Run from the repository: python3 tools/make_cmm_plans.py
 """
 import json
 import math

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Writes plans/hexapod-10bars.json (a hand-made plan) and plans/hexapod-10bars.spec.json (its
-optimization spec) for the Stewart-Gough hexapod of models.md section 3. The readings are the
+optimization spec) for the Stewart-Gough hexapod of docs/models.md section 3. The readings are the
 closed-form inverse kinematics q_i = |t + R a_i - b_i| (offsets 0), t = x* - R probe."""
 import json
 import math
@@ -88,7 +88,7 @@ def hand_made_placements():
     return out
 
 
-# The 33 parameters "calibrate": "identifiable" keeps (models.md section 3; the reference case
+# The 33 parameters "calibrate": "identifiable" keeps (docs/models.md section 3; the reference case
 # tests/data/ref-hexapod-6bars-identifiable): the base frame fixed by b4.z, b5.y, b5.z, b6.*,
 # the platform frame by a5.z, a6.y, a6.z and the probe.
 DROPPED = {"b4.z", "b5.y", "b5.z", "a5.z", "b6.x", "b6.y", "b6.z", "a6.y", "a6.z", "probe.x",

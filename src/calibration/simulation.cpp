@@ -187,8 +187,8 @@ SimulatedRun Simulator::simulate(const Eigen::VectorXd& p_true, NormalSource& no
       ik.stylus = m.stylus;
       SimulatedReading reading = simulatedReading(machine, p_true, target, m.joints, ik);
       if (!reading.q) {
-        const ReadingLocation at = readingLocation(plan, j, i);
-        throw RunError(at.file, at.where,
+        const ReadingLocation location = readingLocation(plan, j, i);
+        throw RunError(location.file, location.where,
                        "the simulated machine cannot reach this reading's point: " + reading.why);
       }
       Eigen::VectorXd& q = *reading.q;

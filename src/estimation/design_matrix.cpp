@@ -133,10 +133,7 @@ std::vector<RigidTransform> fitPlacements(const Plan& plan,
     std::set<int> distinct;
     for (const Measurement& m : placement.measurements) distinct.insert(m.feature);
     if (distinct.size() < 2 && placement.pose) {
-      const Pose& pose = *placement.pose;
-      poses.push_back(plan.machine.dimension() == 2
-                          ? placePlanar(pose.center.head<2>(), pose.angle)
-                          : placeSpatial(pose.center.head<3>(), pose.direction, pose.roll));
+      poses.push_back(poseTransform(plan.machine.dimension(), *placement.pose));
       continue;
     }
     const Eigen::MatrixXd machine_points = builder.probePositions(placement.measurements, p);

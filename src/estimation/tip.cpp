@@ -49,7 +49,7 @@ bool landsOn(const Machine& machine, const Eigen::VectorXd& q, const Eigen::Vect
          (x - target).norm() <= 1e-6;
 }
 
-// models.md section 5: probe positions uniform in the region, each in a random posture.
+// docs/models.md section 5: probe positions uniform in the region, each in a random posture.
 std::vector<Eigen::VectorXd> taskSpaceConfigurations(const Machine& machine,
                                                      const WorkspaceSpec& spec,
                                                      WorkspaceDrops& drops) {

@@ -50,7 +50,7 @@ MechanismPtr parseCartesian(const Node& machine, Eigen::VectorXd& nominal,
     axes.push_back(parseAxis(axes_node[k], names, warnings));
     directions.col(static_cast<int>(k)) = axes.back().direction;
   }
-  // The readings must resolve every point (models.md section 4, inverse kinematics).
+  // The readings must resolve every point (docs/models.md section 4, inverse kinematics).
   if (std::abs(directions.determinant()) < 1e-6) {
     axes_node.fail("axis directions must span space (they are nearly coplanar)");
   }

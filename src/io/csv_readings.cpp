@@ -71,7 +71,7 @@ std::optional<ReadingUnits> readingUnitsFromName(const std::string& name) {
 
 std::vector<Eigen::VectorXd> readJointCsv(const std::string& path,
                                           const std::vector<JointKind>& kinds,
-                                          const ReadingUnits& units) {
+                                          const ReadingUnits& units, std::vector<long>* lines) {
   const std::string text = readInputFile(path);
   const auto joints = kinds.size();
   std::vector<Eigen::VectorXd> rows;
@@ -109,6 +109,7 @@ std::vector<Eigen::VectorXd> readJointCsv(const std::string& path,
       q[static_cast<int>(i)] = *values[i] * scale;
     }
     rows.push_back(std::move(q));
+    if (lines) lines->push_back(line_number);
   }
   if (rows.empty()) throw InputError(path, "", "no readings");
   return rows;

@@ -40,9 +40,10 @@ constexpr std::size_t kMaxFeatures = 10'000;
 // (planar2r 3.2 GB at 10^6, the hexapod 0.98 GB at 10^5): 10^7 ran out of memory, 10^6 holds (issue
 // 19).
 constexpr long kMaxWorkspace = 1'000'000;
+constexpr long kMaxPosturesPerRequest = 100;
 
 // machine.calibrate: [names], "identifiable" (every parameter in the model's order) or
-// {"identifiable": [names in preferred order]} (docs/plan-format.md; models.md section 1). The
+// {"identifiable": [names in preferred order]} (docs/plan-format.md; docs/models.md section 1). The
 // identifiable forms list candidates that resolveCalibratedSet decides from the readings.
 void parseCalibrateNames(const Node& names, const Mechanism& mech, Machine& machine) {
   const std::size_t n = names.arraySize(1, mech.parameters().size());
@@ -73,6 +74,13 @@ void parseCalibrate(const Node& calibrate, const Mechanism& mech, Machine& machi
     }
     machine.calibrate_identifiable = true;
     parseCalibrateNames(calibrate.at("identifiable"), mech, machine);
+    // The listed names come first; the model's own order follows for the rest (docs/models.md
+    // section 1): a preference, not a restriction.
+    std::vector<bool> listed(static_cast<std::size_t>(mech.parameterCount()), false);
+    for (int index : machine.calibrated) listed[static_cast<std::size_t>(index)] = true;
+    for (int i = 0; i < mech.parameterCount(); ++i) {
+      if (!listed[static_cast<std::size_t>(i)]) machine.calibrated.push_back(i);
+    }
   } else {
     parseCalibrateNames(calibrate, mech, machine);
   }
@@ -280,6 +288,38 @@ Eigen::VectorXd jointsFromFile(const Mechanism& mech, const Eigen::VectorXd& val
   return q;
 }
 
+// A reading outside the plan's joint_limits is a typo, other units (radians, metres) or the wrong
+// machine: the machine never reported it (docs/hardening.md). Only limits the plan states are
+// enforced: the default revolute range wraps, and a reading of -200 deg is one of 160 deg.
+// Compared in internal units, with 1e-9 of the range as slack for a reading written at a limit.
+// The first joint outside its limits and what to say about it; std::nullopt when all are inside.
+std::optional<std::pair<int, std::string>> jointLimitViolation(const Machine& machine,
+                                                               const Eigen::VectorXd& q) {
+  const Mechanism& mech = *machine.mechanism;
+  for (int i = 0; i < q.size(); ++i) {
+    const auto [lo, hi] = machine.joint_limits[static_cast<std::size_t>(i)];
+    const double slack = 1e-9 * (hi - lo);
+    if (q[i] >= lo - slack && q[i] <= hi + slack) continue;
+    const Quantity unit = jointQuantity(mech.jointKind(i));
+    auto file = [&](double v) {
+      char text[32];
+      std::snprintf(text, sizeof text, "%.10g", toFileUnit(unit, v));
+      return std::string(text);
+    };
+    const std::string u = " " + std::string(unitName(unit));
+    return std::pair{i,
+                     "reading " + file(q[i]) + u + " of joint " + std::to_string(i + 1) +
+                         " is outside its joint_limits [" + file(lo) + ", " + file(hi) + "]" + u +
+                         ": check the reading, its units (degrees, mm) and machine.joint_limits"};
+  }
+  return std::nullopt;
+}
+
+void checkWithinJointLimits(const Node& joints, const Machine& machine, const Eigen::VectorXd& q) {
+  if (const auto violation = jointLimitViolation(machine, q))
+    joints[static_cast<std::size_t>(violation->first)].fail(violation->second);
+}
+
 /// The "exclude_rows" of a CSV measurement entry: data rows (from 1) a person has judged gross
 /// errors (a ball not seated, a socket that moved), each in 1..rows and named once.
 std::set<long> excludedRows(const Node& entry, std::size_t rows) {
@@ -302,14 +342,20 @@ constexpr std::size_t kMaxPlanCsvReadings = 2'000'000;
 
 /// The CSV files a plan names, each read and parsed once however many placements name it.
 struct CsvFiles {
-  std::map<std::pair<std::string, std::pair<double, double>>, std::vector<Eigen::VectorXd>> rows;
+  struct Parsed {
+    std::vector<Eigen::VectorXd> rows;
+    std::vector<long> lines;  ///< each row's line in the file
+  };
+  std::map<std::pair<std::string, std::pair<double, double>>, Parsed> files;
   std::size_t readings = 0;  ///< taken from them so far
 };
 
 /// A measurement entry {"feature", "csv", "unit", "exclude_rows"}: one measurement per row of
-/// the CSV file, which is relative to the plan file (models.md section 7), but the rows excluded.
+/// the CSV file, which is relative to the plan file (docs/models.md section 7), but the rows
+/// excluded.
 void appendCsvMeasurements(const Node& entry, const Plan& plan, const Artifact& artifact,
-                           CsvFiles& files, std::vector<Measurement>& out,
+                           CsvFiles& files, bool explicit_limits, int entry_index,
+                           std::vector<Measurement>& out,
                            std::vector<std::string>& warnings) {
   entry.warnUnknown({"feature", "csv", "unit", "exclude_rows"}, warnings);
   const int feature = static_cast<int>(entry.at("feature").integer(0, artifact.featureCount() - 1));
@@ -330,14 +376,18 @@ void appendCsvMeasurements(const Node& entry, const Plan& plan, const Artifact& 
   for (int i = 0; i < mech.jointCount(); ++i) kinds.push_back(mech.jointKind(i));
   const std::string file = path.lexically_normal().string();
   const auto key = std::make_pair(file, std::make_pair(units.angle_to_rad, units.length_to_mm));
-  auto cached = files.rows.find(key);
+  auto cached = files.files.find(key);
   try {
-    if (cached == files.rows.end())
-      cached = files.rows.emplace(key, readJointCsv(file, kinds, units)).first;
+    if (cached == files.files.end()) {
+      CsvFiles::Parsed parsed;
+      parsed.rows = readJointCsv(file, kinds, units, &parsed.lines);
+      cached = files.files.emplace(key, std::move(parsed)).first;
+    }
   } catch (const std::bad_alloc&) {
     throw InputError(file, "", "not enough memory for its readings");
   }
-  const std::vector<Eigen::VectorXd>& rows = cached->second;
+  const std::vector<Eigen::VectorXd>& rows = cached->second.rows;
+  const std::vector<long>& lines = cached->second.lines;
   files.readings += rows.size();
   if (files.readings > kMaxPlanCsvReadings) {
     csv.fail("the plan takes more than " + std::to_string(kMaxPlanCsvReadings) +
@@ -348,6 +398,16 @@ void appendCsvMeasurements(const Node& entry, const Plan& plan, const Artifact& 
   for (std::size_t r = 0; r < rows.size(); ++r) {
     const long row = static_cast<long>(r) + 1;
     if (excluded.count(row)) continue;
+    // A fault of a row names the file and its line and row, like the CSV reader's own errors.
+    const std::string where =
+        "line " + std::to_string(lines[r]) + " (row " + std::to_string(row) + ")";
+    if (explicit_limits) {
+      if (const auto violation = jointLimitViolation(plan.machine, rows[r]))
+        throw InputError(file, where, violation->second);
+    }
+    Eigen::VectorXd x;
+    const ForwardStatus status = mech.forwardStylus(0, plan.machine.nominal, rows[r], x);
+    if (status != ForwardStatus::Ok) throw InputError(file, where, forwardStatusName(status));
     if (out.size() >= kMaxMeasurements)
       csv.fail("more than " + std::to_string(kMaxMeasurements) + " readings in one placement");
     Measurement measurement;
@@ -355,40 +415,39 @@ void appendCsvMeasurements(const Node& entry, const Plan& plan, const Artifact& 
     measurement.joints = rows[r];
     measurement.csv = relative.string();
     measurement.csv_row = static_cast<int>(row);
+    measurement.entry = entry_index;
     out.push_back(std::move(measurement));
   }
 }
 
-// A reading outside the plan's joint_limits is a typo, other units (radians, metres) or the wrong
-// machine: the machine never reported it (docs/hardening.md). Only limits the plan states are
-// enforced: the default revolute range wraps, and a reading of -200 deg is one of 160 deg.
-// Compared in internal units, with 1e-9 of the range as slack for a reading written at a limit.
-void checkWithinJointLimits(const Node& joints, const Machine& machine, const Eigen::VectorXd& q) {
-  const Mechanism& mech = *machine.mechanism;
-  for (int i = 0; i < q.size(); ++i) {
-    const auto [lo, hi] = machine.joint_limits[static_cast<std::size_t>(i)];
-    const double slack = 1e-9 * (hi - lo);
-    if (q[i] >= lo - slack && q[i] <= hi + slack) continue;
-    const Quantity unit = jointQuantity(mech.jointKind(i));
-    auto file = [&](double v) {
-      char text[32];
-      std::snprintf(text, sizeof text, "%.10g", toFileUnit(unit, v));
-      return std::string(text);
-    };
-    const std::string u = " " + std::string(unitName(unit));
-    joints[static_cast<std::size_t>(i)].fail(
-        "reading " + file(q[i]) + u + " of joint " + std::to_string(i + 1) +
-        " is outside its joint_limits [" + file(lo) + ", " + file(hi) + "]" + u +
-        ": check the reading, its units (degrees, mm) and machine.joint_limits");
+/// A measurement entry {"feature": k, "postures": N}: N readings of feature k to be planned from
+/// the placement's pose by `artcal plan --complete` (docs/plan-format.md); a plan to be run
+/// needs them planned first.
+PostureRequest parsePostureRequest(const Node& entry, const Artifact& artifact,
+                                   const Placement& placement, bool require_measurements,
+                                   std::vector<std::string>& warnings) {
+  entry.warnUnknown({"feature", "postures"}, warnings);
+  PostureRequest request;
+  request.feature = static_cast<int>(entry.at("feature").integer(0, artifact.featureCount() - 1));
+  request.postures = static_cast<int>(entry.at("postures").integer(1, kMaxPosturesPerRequest));
+  request.pointer = entry.pointer();
+  if (!placement.pose) entry.fail("\"postures\" needs the placement's pose to plan readings from");
+  if (require_measurements) {
+    entry.fail("readings to be planned: run `artcal plan --complete PLAN -o OUT` to write them");
   }
+  return request;
 }
 
 Placement parsePlacement(const Node& node, const Plan& plan, CsvFiles& csv_files,
                          bool require_measurements, bool explicit_limits,
                          std::vector<std::string>& warnings) {
   node.object();
-  node.warnUnknown({"artifact", "pose", "measurements"}, warnings);
+  node.warnUnknown({"artifact", "pose", "measurements", "name"}, warnings);
   Placement placement;
+  if (const auto name = node.find("name")) {
+    placement.name = name->string();
+    if (placement.name.empty()) name->fail("expected a non-empty name");
+  }
   const Node artifact = node.at("artifact");
   const std::string id = artifact.string();
   placement.artifact = plan.artifactIndex(id);
@@ -407,11 +466,18 @@ Placement parsePlacement(const Node& node, const Plan& plan, CsvFiles& csv_files
     const Node m = (*measurements)[i];
     m.object();
     if (m.has("csv")) {
-      appendCsvMeasurements(m, plan, art, csv_files, placement.measurements, warnings);
+      appendCsvMeasurements(m, plan, art, csv_files, explicit_limits, static_cast<int>(i),
+                            placement.measurements, warnings);
+      continue;
+    }
+    if (m.has("postures")) {
+      placement.posture_requests.push_back(
+          parsePostureRequest(m, art, placement, require_measurements, warnings));
       continue;
     }
     m.warnUnknown({"feature", "joints", "stylus"}, warnings);
     Measurement measurement;
+    measurement.entry = static_cast<int>(i);
     measurement.feature = static_cast<int>(m.at("feature").integer(0, art.featureCount() - 1));
     measurement.joints = jointsFromFile(
         mech, m.at("joints").finiteNumbers(static_cast<std::size_t>(mech.jointCount())));
@@ -420,7 +486,7 @@ Placement parsePlacement(const Node& node, const Plan& plan, CsvFiles& csv_files
       measurement.stylus = static_cast<int>(stylus->integer(0, mech.stylusCount() - 1));
     }
     // A closed chain's forward kinematics is numerical: a reading it cannot solve at nominal is
-    // bad input, named here (models.md section 3), not a failure deep in the estimation.
+    // bad input, named here (docs/models.md section 3), not a failure deep in the estimation.
     Eigen::VectorXd x;
     const ForwardStatus status =
         mech.forwardStylus(measurement.stylus, plan.machine.nominal, measurement.joints, x);
@@ -454,7 +520,7 @@ std::uint64_t parseSeed(const Node& node) {
   return static_cast<std::uint64_t>(node.integer(0, std::numeric_limits<long>::max()));
 }
 
-// models.md section 5: {"region": {...}, "samples": N, "seed": S, "tilt": deg}.
+// docs/models.md section 5: {"region": {...}, "samples": N, "seed": S, "tilt": deg}.
 WorkspaceSpec parseTaskSpaceWorkspace(const Node& node, const Machine& machine,
                                       std::vector<std::string>& warnings) {
   WorkspaceSpec spec;
@@ -700,10 +766,18 @@ Plan parsePlan(const nlohmann::json& document, const std::string& source, bool r
     const std::size_t n = placements->arraySize(require_placements ? 1 : 0, kMaxPlacements);
     plan.placements.reserve(n);
     CsvFiles csv_files;
+    std::map<std::string, std::size_t> named;  // placement names are unique
     for (std::size_t i = 0; i < n; ++i) {
       plan.placements.push_back(parsePlacement((*placements)[i], plan, csv_files,
                                                require_placements, plan.machine.limits_stated,
                                                plan.warnings));
+      const std::string& name = plan.placements.back().name;
+      if (name.empty()) continue;
+      const auto [first, fresh] = named.emplace(name, i);
+      if (!fresh) {
+        (*placements)[i].at("name").fail("placement name \"" + name + "\" is also placement " +
+                                         std::to_string(first->second) + "'s");
+      }
     }
   } else if (require_placements) {
     root.at("placements");
@@ -714,7 +788,12 @@ Plan parsePlan(const nlohmann::json& document, const std::string& source, bool r
   if (const auto design = root.find("design"))
     plan.design = parseDesign(*design, plan, plan.warnings);
   if (check_plausibility) checkPlausibility(plan);  // only wrong units or a wrong pose explain
-  resolveCalibratedSet(plan);  // "calibrate": "identifiable", decided once, here
+  // "calibrate": "identifiable", decided once, here; a plan whose readings are still to be
+  // planned (posture requests, for `plan --complete`) has nothing to decide it from yet.
+  const bool readings_pending =
+      std::any_of(plan.placements.begin(), plan.placements.end(),
+                  [](const Placement& p) { return !p.posture_requests.empty(); });
+  if (!readings_pending) resolveCalibratedSet(plan);
   return plan;
 }
 
@@ -727,6 +806,7 @@ nlohmann::json placementsToJson(const Plan& plan) {
   const Mechanism& mech = *plan.machine.mechanism;
   for (const Placement& placement : plan.placements) {
     json p;
+    if (!placement.name.empty()) p["name"] = placement.name;
     p["artifact"] = plan.artifacts[static_cast<std::size_t>(placement.artifact)].id;
     if (placement.pose) {
       const Pose& pose = *placement.pose;

@@ -29,7 +29,7 @@ DHConvention readConvention(const Node& machine) {
   return DHConvention::Standard;
 }
 
-// models.md section 2: a joint may carry a Hayati "beta" (deg); jN.beta exists only then.
+// docs/models.md section 2: a joint may carry a Hayati "beta" (deg); jN.beta exists only then.
 MachineBlock readSerialDH(const Node& machine, std::vector<std::string>& warnings) {
   machine.warnUnknown({"joints", "probe", "convention"}, warnings);
   const DHConvention convention = readConvention(machine);

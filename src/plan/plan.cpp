@@ -20,6 +20,37 @@ bool Region::contains(const Eigen::VectorXd& x) const {
   return true;
 }
 
+RigidTransform poseTransform(int dimension, const Pose& pose) {
+  return dimension == 2 ? placePlanar(pose.center.head<2>(), pose.angle)
+                        : placeSpatial(pose.center.head<3>(), pose.direction, pose.roll);
+}
+
+Eigen::MatrixXd placedFeatures(const Artifact& artifact, const Pose& pose) {
+  const RigidTransform machine_from_artifact = poseTransform(artifact.dimension, pose).inverse();
+  Eigen::MatrixXd out(artifact.dimension, artifact.featureCount());
+  for (int i = 0; i < artifact.featureCount(); ++i) {
+    out.col(i) = machine_from_artifact.apply(artifact.features.col(i));
+  }
+  return out;
+}
+
+ReadingLocation readingLocation(const Plan& plan, std::size_t placement, std::size_t measurement) {
+  const Measurement& m = plan.placements.at(placement).measurements.at(measurement);
+  if (m.csv_row > 0) {
+    const std::filesystem::path csv(m.csv);
+    const std::filesystem::path file =
+        csv.is_absolute() ? csv : std::filesystem::path(plan.source).parent_path() / csv;
+    return {file.lexically_normal().string(), "row " + std::to_string(m.csv_row)};
+  }
+  return {plan.source,
+          "/placements/" + std::to_string(placement) + "/measurements/" + std::to_string(m.entry)};
+}
+
+std::string placementLabel(const std::vector<Placement>& placements, std::size_t index) {
+  if (index < placements.size() && !placements[index].name.empty()) return placements[index].name;
+  return std::to_string(index);
+}
+
 int Plan::artifactIndex(const std::string& id) const {
   for (std::size_t i = 0; i < artifacts.size(); ++i) {
     if (artifacts[i].id == id) return static_cast<int>(i);
@@ -41,18 +72,6 @@ std::string criterionName(Criterion criterion) {
       return "E";
   }
   throw std::logic_error("unknown criterion");
-}
-
-ReadingLocation readingLocation(const Plan& plan, std::size_t placement, std::size_t reading) {
-  const Measurement& m = plan.placements.at(placement).measurements.at(reading);
-  if (m.csv_row > 0) {
-    const std::filesystem::path csv(m.csv);
-    const std::filesystem::path file =
-        csv.is_absolute() ? csv : std::filesystem::path(plan.source).parent_path() / csv;
-    return {file.lexically_normal().string(), "row " + std::to_string(m.csv_row)};
-  }
-  return {plan.source,
-          "/placements/" + std::to_string(placement) + "/measurements/" + std::to_string(reading)};
 }
 
 }  // namespace artcal

@@ -30,6 +30,8 @@ std::array<Eigen::VectorXd, 2> regionExtent(const Region& region, int dimension)
   return {lo, hi};
 }
 
+}  // namespace
+
 Eigen::VectorXd defaultJointMargin(const Mechanism& mechanism) {
   Eigen::VectorXd margin(mechanism.jointCount());
   for (int i = 0; i < margin.size(); ++i) {
@@ -55,8 +57,6 @@ Machine withJointMargin(const Machine& machine, const Eigen::VectorXd& margin) {
   }
   return narrowed;
 }
-
-}  // namespace
 
 DesignSpace::DesignSpace(const Plan& plan) : plan_(&plan) {
   if (!plan.design) throw InputError(plan.source, "/design", "the spec has no design block");
@@ -174,7 +174,7 @@ Eigen::VectorXd DesignSpace::randomPose(std::mt19937_64& rng) const {
 
 namespace {
 
-// A Cartesian CMM has one posture per stylus (models.md section 4): the point read with styli
+// A Cartesian CMM has one posture per stylus (docs/models.md section 4): the point read with styli
 // 0 .. count - 1; fewer when a stylus cannot reach it within the axis ranges.
 std::vector<Measurement> stylusPostures(const Machine& machine, int feature,
                                         const Eigen::VectorXd& target, int count) {
@@ -192,6 +192,18 @@ std::vector<Measurement> stylusPostures(const Machine& machine, int feature,
 
 }  // namespace
 
+std::vector<Measurement> featureReadings(const Machine& reading_machine, int feature,
+                                         const Eigen::VectorXd& target, int count,
+                                         std::mt19937_64& rng) {
+  if (reading_machine.mechanism->stylusCount() > 1)
+    return stylusPostures(reading_machine, feature, target, count);
+  std::vector<Measurement> out;
+  for (Eigen::VectorXd& q :
+       posturesFor(reading_machine, reading_machine.nominal, target, count, rng))
+    out.push_back({feature, std::move(q)});
+  return out;
+}
+
 std::optional<Placement> DesignSpace::placeWithNewPostures(const Eigen::VectorXd& v,
                                                            std::mt19937_64& rng) const {
   if (regionViolation(v) > 0.0) return std::nullopt;
@@ -200,16 +212,9 @@ std::optional<Placement> DesignSpace::placeWithNewPostures(const Eigen::VectorXd
   placement.artifact = design().artifact;
   placement.pose = poseOf(v);
   for (int i = 0; i < x.cols(); ++i) {
-    if (plan_->machine.mechanism->stylusCount() > 1) {
-      const auto readings = stylusPostures(reading_machine_, i, x.col(i), design().postures);
-      if (static_cast<int>(readings.size()) < design().postures) return std::nullopt;
-      placement.measurements.insert(placement.measurements.end(), readings.begin(), readings.end());
-      continue;
-    }
-    const auto postures =
-        posturesFor(reading_machine_, reading_machine_.nominal, x.col(i), design().postures, rng);
-    if (static_cast<int>(postures.size()) < design().postures) return std::nullopt;
-    for (const Eigen::VectorXd& q : postures) placement.measurements.push_back({i, q});
+    const auto readings = featureReadings(reading_machine_, i, x.col(i), design().postures, rng);
+    if (static_cast<int>(readings.size()) < design().postures) return std::nullopt;
+    placement.measurements.insert(placement.measurements.end(), readings.begin(), readings.end());
   }
   return placement;
 }

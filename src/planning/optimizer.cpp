@@ -425,7 +425,7 @@ struct NloptProblem {
 };
 
 // Minimises f from x (overwritten with the best point found) with a derivative-free NLopt
-// algorithm. NLopt's C++ wrapper swallows exceptions thrown in the objective (style.md): the
+// algorithm. NLopt's C++ wrapper swallows exceptions thrown in the objective: the
 // first is kept, the run is stopped and the exception rethrown after. A roundoff-limited run
 // still leaves its best point in x: possibly usable, the caller judges it.
 void minimizeDerivativeFree(const NloptProblem& problem,
@@ -660,8 +660,7 @@ OptimizerSummary Search::run() {
     return results_[static_cast<std::size_t>(a)].refined <
            results_[static_cast<std::size_t>(b)].refined;
   });
-  ranked.resize(std::min<std::size_t>(ranked.size(),
-                                      static_cast<std::size_t>(options_.polish)));
+  ranked.resize(std::min<std::size_t>(ranked.size(), static_cast<std::size_t>(options_.polish)));
   parallelFor(static_cast<int>(ranked.size()), threads_, [&](int i, int worker) {
     if (remaining() <= 0.0) return;
     polish(ranked[static_cast<std::size_t>(i)], criteria_[static_cast<std::size_t>(worker)]);

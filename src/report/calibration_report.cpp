@@ -76,7 +76,8 @@ std::string grossErrorText(const std::vector<Placement>& placements,
   for (const ResidualEntry& e : calibration.residuals) {
     if (!e.gross) continue;
     const Measurement& m = measurementOf(placements, e);
-    out << "  placement " << e.placement << " reading " << e.measurement << " feature " << e.feature
+    out << "  placement " << placementLabel(placements, static_cast<std::size_t>(e.placement))
+        << " reading " << e.measurement << " feature " << e.feature
         << ": |z| = " << format("%.1f", e.score);
     if (m.csv_row > 0) out << ", " << m.csv << " row " << m.csv_row;
     out << "\n";
@@ -201,6 +202,7 @@ json calibrationToJson(const Plan& plan, const std::vector<Placement>& placement
           {{"placement", entry.placement},
            {"artifact", plan.artifacts[static_cast<std::size_t>(placement.artifact)].id},
            {"measurements", json::array()}});
+      if (!placement.name.empty()) residuals.back()["name"] = placement.name;
     }
     flagged += entry.flagged ? 1 : 0;
     residuals.back()["measurements"].push_back({{"measurement", entry.measurement},
@@ -221,6 +223,8 @@ json calibrationToJson(const Plan& plan, const std::vector<Placement>& placement
               {"feature", entry.feature},
               {"score", finiteOrNull(entry.score)}};
     const Measurement& m = measurementOf(placements, entry);
+    const std::string& name = placements[static_cast<std::size_t>(entry.placement)].name;
+    if (!name.empty()) g["name"] = name;
     if (m.csv_row > 0) {
       g["csv"] = m.csv;
       g["csv_row"] = m.csv_row;
@@ -236,6 +240,8 @@ json calibrationToJson(const Plan& plan, const std::vector<Placement>& placement
                                {"feature", largest.feature},
                                {"score", finiteOrNull(largest.score)},
                                {"flagged", largest.flagged}};
+    const std::string& name = placements[static_cast<std::size_t>(largest.placement)].name;
+    if (!name.empty()) out["largest_residual"]["name"] = name;
   } else {
     out["largest_residual"] = nullptr;
   }
@@ -302,8 +308,9 @@ std::string calibrationTable(const Plan& plan, const std::vector<Placement>& pla
       for (int k = 0; k < e.normalized.size(); ++k) z << format("%+.2f", e.normalized[k]) << " ";
       std::string residual_text = residual.str();
       residual_text.resize(std::max<std::size_t>(residual_text.size(), 30), ' ');
-      out << padded(std::to_string(e.placement), 9) << padded(std::to_string(e.measurement), 9)
-          << padded(std::to_string(e.feature), 9) << "  " << residual_text << z.str();
+      out << padded(placementLabel(placements, static_cast<std::size_t>(e.placement)), 9)
+          << padded(std::to_string(e.measurement), 9) << padded(std::to_string(e.feature), 9)
+          << "  " << residual_text << z.str();
       if (e.flagged) out << " <<";
       if (static_cast<int>(r) == calibration.largest_residual) out << " (largest)";
       out << "\n";

@@ -207,9 +207,10 @@ void drawArtifacts(svg::Plot& plot, const Plan& plan, const std::vector<Eigen::M
       plot.polyline({project(f.col(0), view), project(f.col(f.cols() - 1), view)}, bar, "artifact");
     }
     for (int i = 0; i < f.cols(); ++i) {
-      plot.marker(project(f.col(i), view), svg::Shape::Circle, 7.0 * density,
-                  filled("#000000", "#ffffff", density), "feature", {},
-                  format("placement %zu, feature %d", j, i));
+      plot.marker(
+          project(f.col(i), view), svg::Shape::Circle, 7.0 * density,
+          filled("#000000", "#ffffff", density), "feature", {},
+          format("placement %s, feature %d", placementLabel(plan.placements, j).c_str(), i));
     }
     if (numbered) plot.label(project(f.col(0), view), format("%zu", j));
   }
@@ -428,7 +429,11 @@ ReportFigure residualFigure(const json& calibration, double threshold) {
         const double score = entry.at("score").get<double>();
         plot.marker({reading, worst}, svg::Shape::Diamond, 14.0, filled("#000000", "none", 2.0),
                     "flagged outlier", {{"data-field", field}, {"data-value", exact(score)}},
-                    format("placement %zu, reading %zu: score %.2f", j, m, score));
+                    format("placement %s, reading %zu: score %.2f",
+                           placements[j].contains("name")
+                               ? placements[j].at("name").get<std::string>().c_str()
+                               : std::to_string(j).c_str(),
+                           m, score));
         if (calibration.at("flagged").get<int>() <= kLabelledOutliers) {
           plot.label({reading, worst}, format("P%zu R%zu", j, m));
         }
@@ -765,8 +770,11 @@ void writeFlagged(std::ostream& out, const json& cal) {
   for (std::size_t k = 0; k < std::min(flags.size(), kTabledOutliers); ++k) {
     const Flag& f = flags[k];
     const std::string base = format("/residuals/%zu/measurements/%zu/", f.placement, f.measurement);
-    out << "<tr><td>placement " << f.placement << ", reading " << f.measurement << "</td>"
-        << numberCell(cal, base + "feature", 1, "%.0f", "/calibration")
+    const json& entry = cal.at("residuals")[f.placement];
+    const std::string placement =
+        entry.contains("name") ? entry.at("name").get<std::string>() : std::to_string(f.placement);
+    out << "<tr><td>placement " << svg::escape(placement) << ", reading " << f.measurement
+        << "</td>" << numberCell(cal, base + "feature", 1, "%.0f", "/calibration")
         << numberCell(cal, base + "score", 1, "%.2f", "/calibration");
     if (!gross.empty()) {
       const auto it = gross.find({f.placement, f.measurement});

@@ -23,11 +23,6 @@ namespace {
 /// is; otherwise the target is solved from it.
 constexpr double kOnFeature = 1e-10;
 
-RigidTransform placementTransform(int dimension, const Pose& pose) {
-  return dimension == 2 ? placePlanar(pose.center.head<2>(), pose.angle)
-                        : placeSpatial(pose.center.head<3>(), pose.direction, pose.roll);
-}
-
 /// The pose (centre, direction, roll) of a machine-from-artifact transform x = R W + t: the
 /// inverse of placePlanar / placeSpatial (rigid_transform.hpp).
 Pose poseOf(const RigidTransform& artifact_from_machine) {
@@ -122,16 +117,6 @@ json poseToJson(const Plan& plan, const ProcedurePlacement& placement) {
 
 }  // namespace
 
-Eigen::MatrixXd placedFeatures(const Artifact& artifact, const Pose& pose) {
-  const RigidTransform machine_from_artifact =
-      placementTransform(artifact.dimension, pose).inverse();
-  Eigen::MatrixXd out(artifact.dimension, artifact.featureCount());
-  for (int i = 0; i < artifact.featureCount(); ++i) {
-    out.col(i) = machine_from_artifact.apply(artifact.features.col(i));
-  }
-  return out;
-}
-
 Procedure operatorProcedure(const Plan& plan) {
   const std::vector<RigidTransform> fitted =
       fitPlacements(plan, plan.placements, plan.machine.nominal);
@@ -184,6 +169,8 @@ json procedureToJson(const Plan& plan, const Procedure& procedure) {
                           {"kind", artifactKindName(artifact.kind)},
                           {"pose", poseToJson(plan, placement)},
                           {"readings", readings}});
+    if (j < plan.placements.size() && !plan.placements[j].name.empty())
+      placements.back()["name"] = plan.placements[j].name;
   }
   return {{"plan", plan.name},
           {"model", machine.mechanism->modelName()},
@@ -211,8 +198,8 @@ std::string procedureTable(const Plan& plan, const Procedure& procedure) {
   for (std::size_t j = 0; j < procedure.placements.size(); ++j) {
     const ProcedurePlacement& placement = procedure.placements[j];
     const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
-    out << "\nPlacement " << j << ": " << artifact.id << " (" << artifactKindName(artifact.kind)
-        << ") at " << poseText(plan, placement) << "\n"
+    out << "\nPlacement " << placementLabel(plan.placements, j) << ": " << artifact.id << " ("
+        << artifactKindName(artifact.kind) << ") at " << poseText(plan, placement) << "\n"
         << header << "\n";
     for (std::size_t k = 0; k < placement.readings.size(); ++k) {
       const ProcedureReading& r = placement.readings[k];
@@ -267,8 +254,8 @@ std::string procedureCsv(const Plan& plan, const Procedure& procedure) {
     const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
     for (std::size_t k = 0; k < placement.readings.size(); ++k) {
       const ProcedureReading& r = placement.readings[k];
-      out << j << "," << csvTextField(artifact.id) << "," << k << "," << r.feature << ","
-          << r.posture << "," << r.stylus;
+      out << csvTextField(placementLabel(plan.placements, j)) << "," << csvTextField(artifact.id)
+          << "," << k << "," << r.feature << "," << r.posture << "," << r.stylus;
       for (int d = 0; d < r.position.size(); ++d) {
         std::snprintf(number, sizeof number, ",%.17g", r.position[d]);
         out << number;

@@ -68,7 +68,7 @@ std::string placementView(const Plan& plan, const ProcedurePlacement& placement,
   auto named = [legend](const std::string& text) { return legend ? text : std::string(); };
   const Machine& machine = plan.machine;
   const bool spatial = machine.dimension() == 3;
-  const std::string title = "Placement " + std::to_string(j) +
+  const std::string title = "Placement " + placementLabel(plan.placements, j) +
                             (spatial ? std::string(", ") + viewTitle(view) : std::string());
   const char* x_label = view == ProcedureView::Oblique ? "oblique u / mm" : "x / mm";
   const char* y_label = view == ProcedureView::Plan   ? "y / mm"
@@ -201,7 +201,8 @@ std::string procedureHtml(const Plan& plan, const Procedure& procedure) {
   for (std::size_t j = 0; j < procedure.placements.size(); ++j) {
     const ProcedurePlacement& placement = procedure.placements[j];
     const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
-    out << "<section class=\"placement\">\n<h3>Placement " << j << ": " << svg::escape(artifact.id)
+    out << "<section class=\"placement\">\n<h3>Placement "
+        << svg::escape(placementLabel(plan.placements, j)) << ": " << svg::escape(artifact.id)
         << " (" << artifactKindName(artifact.kind) << ")</h3>\n"
         << "<p>" << svg::escape(poseLine(plan, placement)) << "</p>\n";
     if (draw) {

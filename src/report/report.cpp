@@ -160,7 +160,10 @@ std::string effectiveRigidText(const Plan& plan, const CountingCondition& c) {
     if (c.rigid_table[j] == c.rigid_effective[j]) continue;
     const Artifact& artifact =
         plan.artifacts[static_cast<std::size_t>(plan.placements[j].artifact)];
-    out << format(" /placements/%zu (%s) see %d of %d", j, artifactKindName(artifact.kind).c_str(),
+    const std::string name = plan.placements[j].name.empty()
+                                 ? format("/placements/%zu", j)
+                                 : "placement " + plan.placements[j].name;
+    out << format(" %s (%s) see %d of %d", name.c_str(), artifactKindName(artifact.kind).c_str(),
                   c.rigid_effective[j], c.rigid_table[j]);
   }
   out << " rigid directions\n";
@@ -187,7 +190,7 @@ std::string tieText(const Plan& plan, const std::vector<std::pair<int, double>>&
 }
 
 // "calibrate": "identifiable" resolved: the kept set, the dropped parameters, and the
-// combination tying each dropped one to the kept ones (models.md section 1).
+// combination tying each dropped one to the kept ones (docs/models.md section 1).
 std::string calibrateSelectionText(const Plan& plan) {
   if (!plan.calibrate_resolution) return {};
   const auto& params = plan.machine.mechanism->parameters();
@@ -216,8 +219,14 @@ std::string identifiabilityTable(const Plan& plan, const Identifiability& id) {
                 c.N_r, c.N_b - c.N_r, c.satisfied ? ">=" : "<", c.N_p,
                 c.satisfied ? "satisfied" : "NOT satisfied");
   out << effectiveRigidText(plan, c);
-  // More placements like the first help only a plan whose rank is full (docs/method.md section 5).
-  if (c.minimum_alike > 0 && id.deficiency == 0) {
+  // More placements like the first help a plan whose rank is full, and one with too few
+  // equations: there they are the answer, not fixing parameters (docs/method.md section 5).
+  const bool too_few_equations = !c.satisfied && c.minimum_alike > 0;
+  if (too_few_equations) {
+    out << format(
+        "  too few equations: placements like the first needed: m >= %d (the plan has %zu)\n",
+        c.minimum_alike, plan.placements.size());
+  } else if (c.minimum_alike > 0 && id.deficiency == 0) {
     out << format("  placements like the first needed: m >= %d\n", c.minimum_alike);
   }
   out << format("  rank of scaled N_red  %d of %d (deficiency %d, tolerance %.0e)\n", id.rank,
@@ -233,7 +242,7 @@ std::string identifiabilityTable(const Plan& plan, const Identifiability& id) {
     }
     out << "   (scaled parameters)\n";
   }
-  if (!id.to_fix.empty()) {
+  if (!id.to_fix.empty() && !too_few_equations) {
     out << "  more placements like these will not help; to calibrate the rest, fix:";
     for (const std::string& name : id.to_fix) out << " " << name;
     out << "\n";

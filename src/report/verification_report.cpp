@@ -34,7 +34,7 @@ json featureToJson(const FeatureSpread& f) {
           {"mean_position", std::vector<double>(f.mean.data(), f.mean.data() + f.mean.size())}};
 }
 
-json placementToJson(const PlacementVerification& v) {
+json placementToJson(const Plan& plan, const PlacementVerification& v) {
   json features = json::array();
   for (const FeatureSpread& f : v.features) features.push_back(featureToJson(f));
   json lengths = json::array();
@@ -44,11 +44,30 @@ json placementToJson(const PlacementVerification& v) {
                        {"error", finiteOrNull(e.error)},
                        {"predicted_u", finiteOrNull(e.predicted_u)}});
   }
-  return {{"index", v.index},
-          {"features", features},
-          {"length_errors", lengths},
-          {"residual_rms", finiteOrNull(v.residual_rms)},
-          {"residual_max", finiteOrNull(v.residual_max)}};
+  json out = {{"index", v.index},
+              {"features", features},
+              {"length_errors", lengths},
+              {"residual_rms", finiteOrNull(v.residual_rms)},
+              {"residual_max", finiteOrNull(v.residual_max)}};
+  const std::string& name = plan.placements[static_cast<std::size_t>(v.index)].name;
+  if (!name.empty()) out["name"] = name;
+  return out;
+}
+
+/// The placement column of the tables: each placement's label, right-aligned in a column at
+/// least as wide as the "placement" heading.
+int labelWidth(const Plan& plan) {
+  std::size_t width = 9;
+  for (std::size_t j = 0; j < plan.placements.size(); ++j)
+    width = std::max(width, placementLabel(plan.placements, j).size());
+  return static_cast<int>(width);
+}
+
+std::string label(const Plan& plan, int index, int width) {
+  const std::string text = placementLabel(plan.placements, static_cast<std::size_t>(index));
+  return std::string(static_cast<std::size_t>(std::max(0, width - static_cast<int>(text.size()))),
+                     ' ') +
+         text;
 }
 
 /// A reading's place for a person: placement, feature, the how-many-th posture of that feature
@@ -90,7 +109,7 @@ std::vector<ReadingPlace> largestDeviations(const Plan& plan, const Verification
 json verificationToJson(const Plan& plan, const Verification& verification) {
   json placements = json::array();
   for (const PlacementVerification& v : verification.placements)
-    placements.push_back(placementToJson(v));
+    placements.push_back(placementToJson(plan, v));
   json verify = {{"placements", placements},
                  {"spread_rms", finiteOrNull(verification.spread_rms)},
                  {"spread_mean", finiteOrNull(verification.spread_mean)},
@@ -110,6 +129,8 @@ json verificationToJson(const Plan& plan, const Verification& verification) {
                   {"posture", r.posture},
                   {"deviation", finiteOrNull(r.deviation)},
                   {"residual", finiteOrNull(r.residual)}};
+    const std::string& name = plan.placements[static_cast<std::size_t>(r.placement)].name;
+    if (!name.empty()) entry["name"] = name;
     if (r.csv_row > 0) {
       entry["csv"] = r.csv;
       entry["csv_row"] = r.csv_row;
@@ -133,14 +154,17 @@ std::string verificationTable(const Plan& plan, const Verification& verification
     out << "  posterior: times the calibration's Birge ratio " << fixed(verification.birge_ratio, 3)
         << " (for readings that scatter as the calibration's did)\n";
   }
-  out << "\nplacement feature postures  spread_mean  spread_rms  predicted_rms"
+  const int width = labelWidth(plan);
+  const std::string heading = std::string(static_cast<std::size_t>(width - 9), ' ') + "placement";
+  out << "\n"
+      << heading << " feature postures  spread_mean  spread_rms  predicted_rms"
       << (posterior ? "  posterior_rms" : "") << "\n";
   for (const PlacementVerification& v : verification.placements) {
     for (const FeatureSpread& f : v.features) {
       char line[160];
-      std::snprintf(line, sizeof line, "%9d %7d %8d %12.4f %11.4f %14.4f", v.index, f.feature,
-                    f.postures, f.spread_mean, f.spread_rms, f.predicted_spread_rms);
-      out << line;
+      std::snprintf(line, sizeof line, " %7d %8d %12.4f %11.4f %14.4f", f.feature, f.postures,
+                    f.spread_mean, f.spread_rms, f.predicted_spread_rms);
+      out << label(plan, v.index, width) << line;
       if (posterior) {
         std::snprintf(line, sizeof line, " %14.4f", f.predicted_spread_rms_posterior);
         out << line;
@@ -148,13 +172,14 @@ std::string verificationTable(const Plan& plan, const Verification& verification
       out << "\n";
     }
   }
-  out << "\nplacement  from  to   length error   predicted u   residual rms   residual max\n";
+  out << "\n"
+      << heading << "  from  to   length error   predicted u   residual rms   residual max\n";
   for (const PlacementVerification& v : verification.placements) {
     for (const LengthError& e : v.length_errors) {
       char line[160];
-      std::snprintf(line, sizeof line, "%9d %5d %3d %14.4f %13.4f %14.4f %14.4f\n", v.index, e.from,
-                    e.to, e.error, e.predicted_u, v.residual_rms, v.residual_max);
-      out << line;
+      std::snprintf(line, sizeof line, " %5d %3d %14.4f %13.4f %14.4f %14.4f\n", e.from, e.to,
+                    e.error, e.predicted_u, v.residual_rms, v.residual_max);
+      out << label(plan, v.index, width) << line;
     }
   }
   out << "\nall placements\n"
@@ -174,9 +199,10 @@ std::string verificationTable(const Plan& plan, const Verification& verification
     for (const ReadingPlace& r : largest) {
       char line[200];
       std::snprintf(line, sizeof line,
-                    "  placement %d feature %d posture %d (measurement %d): %.4f mm from the "
+                    "  placement %s feature %d posture %d (measurement %d): %.4f mm from the "
                     "mean, residual %.4f mm",
-                    r.placement, r.feature, r.posture, r.measurement, r.deviation, r.residual);
+                    placementLabel(plan.placements, static_cast<std::size_t>(r.placement)).c_str(),
+                    r.feature, r.posture, r.measurement, r.deviation, r.residual);
       out << line;
       if (r.csv_row > 0) out << ", " << r.csv << " row " << r.csv_row;
       out << "\n";

@@ -13,6 +13,7 @@
 #include "artcal/artcal.hpp"
 #include "artcal/io/csv_readings.hpp"
 #include "cli_runner.hpp"
+#include "temp_folder.hpp"
 #include "test_paths.hpp"
 
 namespace artcal {
@@ -21,23 +22,14 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-/// A fresh folder for one test's files.
-class CsvFolder : public ::testing::Test {
+/// A fresh folder for one test's files, with a "front" folder in it.
+class CsvFolder : public test_support::TempFolder {
  protected:
+  CsvFolder() : TempFolder("csv") {}
   void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("artcal-csv-" + std::to_string(::getpid()) + "-" + info->name());
-    fs::remove_all(dir_);
+    TempFolder::SetUp();
     fs::create_directories(dir_ / "front");
   }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string write(const std::string& name, const std::string& text) const {
-    const fs::path path = dir_ / name;
-    std::ofstream(path) << text;
-    return path.string();
-  }
-  fs::path dir_;
 };
 
 /// The 6-axis example plan with its readings.

@@ -6,7 +6,10 @@
 
 #include <numbers>
 
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <functional>
 #include <limits>
 
@@ -111,8 +114,7 @@ TEST(PlanIo, DesignPoolAndTargetTipRead) {
   doc["design"]["evaluations"] = 12000;
   doc["design"]["polish"] = 4;
   doc["design"]["kicks"] = 16;
-  const OptimizerOptions effort =
-      OptimizerOptions::fromDesign(*parsePlan(doc, "spec.json").design);
+  const OptimizerOptions effort = OptimizerOptions::fromDesign(*parsePlan(doc, "spec.json").design);
   EXPECT_EQ(effort.refine_evaluations, 12000);
   EXPECT_EQ(effort.polish, 4);
   EXPECT_EQ(effort.kicks, 16);
@@ -569,6 +571,51 @@ TEST(PlanIo, PlacementsWrittenBackReadTheSame) {
       EXPECT_LT((a[i].joints - b[i].joints).norm(), 1e-14);
     }
   }
+}
+
+}  // namespace
+}  // namespace artcal
+
+namespace artcal {
+namespace {
+
+/// The seed's 2R plan of the reference case (5 bars), identifiable with all of l1, l2, dt2.
+json referenceTwoArm() {
+  std::ifstream in(std::filesystem::path(ARTCAL_TEST_DATA) / "ref-2r-5bars.json");
+  return json::parse(in);
+}
+
+TEST(CalibrateChoice, ListedNamesComeFirstThenTheModelsOrder) {
+  json document = referenceTwoArm();
+  document["machine"]["calibrate"] = {{"identifiable", {"dt2"}}};
+  const Plan plan = parsePlan(document, "plan.json");
+  // dt2 first, then the model's own order for the rest (models.md section 1): l1, l2.
+  EXPECT_EQ(plan.machine.calibrated, (std::vector<int>{2, 0, 1}));
+  ASSERT_TRUE(plan.calibrate_resolution);
+  EXPECT_EQ(plan.calibrate_resolution->listed, (std::vector<int>{2, 0, 1}));
+  // The 5-bar plan identifies all three (the reference case), so none is left out any more.
+  std::vector<int> kept = plan.calibrate_resolution->kept;
+  std::sort(kept.begin(), kept.end());
+  EXPECT_EQ(kept, (std::vector<int>{0, 1, 2}));
+  EXPECT_TRUE(plan.calibrate_resolution->dropped.empty());
+}
+
+TEST(CalibrateChoice, TooFewEquationsAsksForPlacementsNotForFixedParameters) {
+  json document = referenceTwoArm();
+  document["placements"] = json::array({document["placements"][0]});
+  const Plan plan = parsePlan(document, "plan.json");
+  const PlanInformation information = planInformation(plan, plan.placements, plan.machine.nominal);
+  const Identifiability id = analyseIdentifiability(plan, plan.placements, information);
+  // One bar, one posture per ball: 2 x 2 coordinates less 3 rigid unknowns = 1 equation per
+  // placement for N(p) = 3 parameters: m >= 3.
+  EXPECT_FALSE(id.counting.satisfied);
+  EXPECT_EQ(id.counting.minimum_alike, 3);
+  const std::string table = identifiabilityTable(plan, id);
+  EXPECT_NE(table.find("too few equations: placements like the first needed: m >= 3 (the plan "
+                       "has 1)"),
+            std::string::npos)
+      << table;
+  EXPECT_EQ(table.find("fix:"), std::string::npos) << table;
 }
 
 }  // namespace

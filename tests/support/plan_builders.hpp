@@ -94,7 +94,9 @@ inline Placement randomSpatialBar(const Plan& plan, int postures, std::mt19937_6
     const RigidTransform toMachine = placeSpatial(center, direction, 0.0).inverse();
     Placement placement;
     placement.artifact = 0;
-    placement.pose = Pose{center, 0.0, direction.normalized(), 0.0};
+    placement.pose.emplace();
+    placement.pose->center = center;
+    placement.pose->direction = direction.normalized();
     bool reachable = true;
     for (int feature = 0; feature < bar.featureCount() && reachable; ++feature) {
       const Eigen::VectorXd target = toMachine.apply(bar.features.col(feature));

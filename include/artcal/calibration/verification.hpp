@@ -1,6 +1,6 @@
 #pragma once
-// Verification of a (calibrated) machine on readings it has not seen (models.md section 6): the
-// parameters are held fixed, every placement's rigid transform is fitted (Gauss-Newton on the
+// Verification of a (calibrated) machine on readings it has not seen (docs/models.md section 6):
+// the parameters are held fixed, every placement's rigid transform is fitted (Gauss-Newton on the
 // same whitened observation blocks the calibrator uses, started from the same Umeyama fit), and
 // the figures a metrologist reads are computed per placement:
 //

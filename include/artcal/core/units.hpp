@@ -17,7 +17,7 @@ constexpr double radToDeg(double rad) {
 
 /// What a parameter (or joint) measures and its unit in files: a length (mm), an angle (deg), or
 /// a named coefficient unit with its scale, e.g. a Cartesian CMM's rotation error functions in
-/// "um/m" (1e-6 rad per file unit, models.md section 4). Internal values are mm or rad; `kind`
+/// "um/m" (1e-6 rad per file unit, docs/models.md section 4). Internal values are mm or rad; `kind`
 /// says which (a dimensionless rotation coefficient counts as an angle: it turns a lever into a
 /// length, as the planner's scaling needs).
 struct Quantity {

@@ -1,5 +1,5 @@
 #pragma once
-// What a Cartesian CMM's calibration says about its error functions (models.md section 4), in
+// What a Cartesian CMM's calibration says about its error functions (docs/models.md section 4), in
 // the terms a metrologist uses: each axis's six functions e(u) = sum_n c_n P_n(s) and the
 // predicted standard uncertainty of each along its axis,
 //   u_e(u)^2 = g(u)^T V_e g(u),   g(u) = (P_n(s(u)))_n over the function's calibrated degrees,

@@ -94,8 +94,8 @@ Identifiability analyseIdentifiability(const Plan& plan, const std::vector<Place
 /// a zero row and column).
 Eigen::MatrixXd scaledInformation(const PlanInformation& information);
 
-/// `"calibrate": "identifiable"` resolved (models.md section 1): which of the listed parameters
-/// (machine.calibrated, in preferred order) the plan's nominal readings identify.
+/// `"calibrate": "identifiable"` resolved (docs/models.md section 1): which of the listed
+/// parameters (machine.calibrated, in preferred order) the plan's nominal readings identify.
 struct CalibratedSetChoice {
   std::vector<int> kept;     ///< positions into the listed parameters, in order
   std::vector<int> dropped;  ///< positions into the listed parameters

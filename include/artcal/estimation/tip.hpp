@@ -27,7 +27,7 @@ struct WorkspaceDrops {
 
 /// The joint configurations of a workspace spec (internal units). Samples are uniform within
 /// the joint limits from a fixed generator (std::mt19937_64), identical on every platform.
-/// Task-space samples (models.md section 5) are uniform in the region (rejection from its
+/// Task-space samples (docs/models.md section 5) are uniform in the region (rejection from its
 /// bounding box), each in the first of up to 24 random postures (posturesFor; the hexapod: a
 /// platform orientation within spec.tilt of home) that reaches it within the joint limits.
 /// Configurations whose forward kinematics fails or lands elsewhere than the sampled point are

@@ -1,5 +1,5 @@
 #pragma once
-// The plan-file form of the `cartesian` model (models.md section 4):
+// The plan-file form of the `cartesian` model (docs/models.md section 4):
 //   "axes": [{"name", "direction", "range"}, ...] from the base to the probe, "degree",
 //   "styli": [[x, y, z], ...], optional "parameters": {"y.tx.1": mm, "z.rx.2": um/m, ...}
 //   (nominal error coefficients; default 0, a calibrated machine writes its estimates here).

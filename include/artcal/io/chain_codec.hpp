@@ -1,5 +1,5 @@
 #pragma once
-// The chain machine block (models.md section 1): {"model": "chain", "joints": [{"name": ...,
+// The chain machine block (docs/models.md section 1): {"model": "chain", "joints": [{"name": ...,
 // "type": "revolute" | "prismatic" | "fixed", "origin": {"xyz": [mm], "rpy": [deg]}, "axis":
 // [x, y, z], "offset": deg or mm}, ...]}. `origin` and its members default to zeros, `offset` to 0
 // (a calibrated machine carries it); `axis` is required for a movable joint (normalised).

@@ -1,6 +1,6 @@
 #pragma once
-// Joint readings from CSV files (models.md section 7). Each row is one posture's readings of the
-// movable joints in chain order, comma-separated; the first line may be a header of joint names
+// Joint readings from CSV files (docs/models.md section 7). Each row is one posture's readings of
+// the movable joints in chain order, comma-separated; the first line may be a header of joint names
 // (a line of which no field is a number). Blank lines are skipped. `unit` names the unit of the
 // readings of its kind: "deg" (default) or "rad" for the revolute joints, "mm" or "m" for the
 // prismatic ones; the joints of the other kind keep their file unit (deg, mm). Every fault raises
@@ -29,9 +29,11 @@ inline constexpr std::size_t kMaxCsvRows = 100'000;
 
 /// The readings of `path` in internal units (rad, mm), one vector per row, for joints of the
 /// given kinds. InputError(path, "line N", ...) on any fault; an unreadable or empty file names
-/// the file alone.
+/// the file alone. `lines`, when given, receives each row's line number in the file (from 1), for
+/// messages about a row that the caller finds wrong.
 std::vector<Eigen::VectorXd> readJointCsv(const std::string& path,
                                           const std::vector<JointKind>& kinds,
-                                          const ReadingUnits& units);
+                                          const ReadingUnits& units,
+                                          std::vector<long>* lines = nullptr);
 
 }  // namespace artcal

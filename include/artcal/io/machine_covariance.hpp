@@ -1,7 +1,7 @@
 #pragma once
 // The calibrated parameters' covariance V_p carried in a machine file (`calibrate
 // --write-machine` writes it beside the machine block; `verify --machine` reads it for the
-// predicted figures, models.md section 6):
+// predicted figures, docs/models.md section 6):
 //   "covariance": {"parameters": [names], "matrix": [[...], ...], "birge_ratio": 1.21}
 // in file units: entry (i, j) in the units of parameter i times those of parameter j (mm, deg);
 // "birge_ratio" (optional) is sqrt(chi2/dof) of the fit that produced the matrix.

@@ -1,5 +1,5 @@
 #pragma once
-// URDF import and export of the `chain` model (models.md section 1).
+// URDF import and export of the `chain` model (docs/models.md section 1).
 //
 // Import: the chain of joints from a base link to a tip link, parsed with urdfdom (the model:
 // links, joints, types, axes, limits); the <origin> values are read from the file's own text with

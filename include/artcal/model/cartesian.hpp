@@ -1,7 +1,7 @@
 #pragma once
-// A Cartesian CMM with form-deviation error functions (models.md section 4; ISO 230-1 rigid-body
-// model). Axes are listed from the base to the probe; the reading of axis k is its scale value
-// u_k (mm). Each axis carries six error functions of its own position, three translations
+// A Cartesian CMM with form-deviation error functions (docs/models.md section 4; ISO 230-1
+// rigid-body model). Axes are listed from the base to the probe; the reading of axis k is its scale
+// value u_k (mm). Each axis carries six error functions of its own position, three translations
 // delta_k(u) and three rotations eps_k(u), each a Legendre series without constant term:
 //   e(u) = sum_{n=1..degree} c_n P_n(s),   s = 2 (u - mid_k) / width_k.
 // Forward model: T_k(u_k) = Trans(direction_k u_k + delta_k(u_k)) Rot(eps_k(u_k)),

@@ -1,5 +1,5 @@
 #pragma once
-// A serial chain with URDF semantics (models.md section 1). Joint i contributes
+// A serial chain with URDF semantics (docs/models.md section 1). Joint i contributes
 //   T_i(q_i) = Trans(xyz_i) Rot(rpy_i) M_i(q_i + offset_i),   Rot(r, p, y) = Rz(y) Ry(p) Rx(r),
 // where M_i is a rotation about axis_i (revolute), a translation along it (prismatic) or nothing
 // (fixed). x = f(p, q) is the origin of the last frame of T_1(q_1) ... T_n(q_n); the readings q are

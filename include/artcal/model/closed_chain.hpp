@@ -1,7 +1,7 @@
 #pragma once
-// Closed-chain mechanisms (models.md section 3): a model given as constraints g(s, p, q) = 0 on
-// a pose s of the moving body, with the probe centre x = h(s, p). One shared piece of code solves
-// and differentiates every such model:
+// Closed-chain mechanisms (docs/models.md section 3): a model given as constraints g(s, p, q) = 0
+// on a pose s of the moving body, with the probe centre x = h(s, p). One shared piece of code
+// solves and differentiates every such model:
 //
 //   forward kinematics  Newton on g from the model's home pose: s += ds, ds = -G_s^-1 g, to
 //                       max |g_i| < 1e-10 mm; 50 iterations without convergence, or a singular

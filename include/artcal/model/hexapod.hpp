@@ -1,5 +1,5 @@
 #pragma once
-// The Stewart-Gough hexapod (models.md section 3), the first closed-chain model
+// The Stewart-Gough hexapod (docs/models.md section 3), the first closed-chain model
 // (closed_chain.hpp). Leg i joins base point b_i (base frame) to platform point a_i (platform
 // frame); its reading q_i is a length in mm and its true length L_i = q_i + offset_i. The
 // platform pose (t, R) satisfies

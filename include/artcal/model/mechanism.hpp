@@ -58,8 +58,8 @@ class Mechanism {
                                               Eigen::VectorXd& x, Eigen::MatrixXd* J_x_p = nullptr,
                                               Eigen::MatrixXd* J_x_q = nullptr) const = 0;
 
-  /// Styli (probe offsets) a reading may choose (a Cartesian CMM's, models.md section 4); 1 for
-  /// models with one probe.
+  /// Styli (probe offsets) a reading may choose (a Cartesian CMM's, docs/models.md section 4); 1
+  /// for models with one probe.
   virtual int stylusCount() const { return 1; }
   /// forward() through stylus `stylus` (0 .. stylusCount() - 1); single-probe models ignore it.
   [[nodiscard]] virtual ForwardStatus forwardStylus(int stylus, const Eigen::VectorXd& p,

@@ -1,5 +1,5 @@
 #pragma once
-// A serial arm in Denavit-Hartenberg form (docs/plan-format.md; models.md section 2). Joint i
+// A serial arm in Denavit-Hartenberg form (docs/plan-format.md; docs/models.md section 2). Joint i
 // contributes, with the joint variable added to theta_i (revolute) or d_i (prismatic),
 //   standard (default):  A_i = Rz(theta_i) Tz(d_i) Tx(a_i) Rx(alpha_i) [Ry(beta_i)]
 //   modified (Craig):    A_i = Rx(alpha_i) Tx(a_i) [Ry(beta_i)] Rz(theta_i) Tz(d_i)

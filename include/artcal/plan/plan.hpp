@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "artcal/artifact/artifact.hpp"
+#include "artcal/artifact/rigid_transform.hpp"
 #include "artcal/core/units.hpp"
 #include "artcal/model/machine.hpp"
 
@@ -33,11 +34,13 @@ inline constexpr double kDefaultProbeNoiseGuess = 0.1;
 struct Measurement {
   int feature = 0;
   Eigen::VectorXd joints;
-  int stylus = 0;  ///< the probe's stylus (Cartesian CMMs, models.md section 4)
+  int stylus = 0;  ///< the probe's stylus (Cartesian CMMs, docs/models.md section 4)
   /// Where a reading from a CSV file came from, for a person: the file as the plan names it and
   /// its data row (from 1, header and blank lines not counted); empty and 0 when listed inline.
   std::string csv = {};
   int csv_row = 0;
+  /// The index of the plan file's measurement entry it came from (a CSV entry gives many).
+  int entry = 0;
 };
 
 /// Where one reading stands in the input, for a message: its CSV file (the plan's folder joined
@@ -59,11 +62,32 @@ struct Pose {
   double roll = 0.0;                                     ///< 3-D, rad
 };
 
+/// `{"feature": k, "postures": N}` in a placement's measurements: N nominal readings of feature k
+/// still to be planned from the placement's pose (`artcal plan --complete`).
+struct PostureRequest {
+  int feature = 0;
+  int postures = 1;
+  std::string pointer;  ///< where the request stands in the plan file, for messages
+};
+
 struct Placement {
   int artifact = 0;  ///< index into Plan::artifacts
   std::optional<Pose> pose;
   std::vector<Measurement> measurements;
+  /// The placement's `"name"` (e.g. the folder its CSV files came from); empty when the plan
+  /// gives none. Outputs name a placement by it (placementLabel).
+  std::string name = {};
+  std::vector<PostureRequest> posture_requests = {};
 };
+
+/// The artifact-from-machine transform of a pose (placePlanar / placeSpatial, rigid_transform.hpp).
+RigidTransform poseTransform(int dimension, const Pose& pose);
+
+/// The placed artifact's features in the machine frame (dimension x features) for `pose`.
+Eigen::MatrixXd placedFeatures(const Artifact& artifact, const Pose& pose);
+
+/// How outputs name placement `index` of `plan`: its name, or its index (from 0) when unnamed.
+std::string placementLabel(const std::vector<Placement>& placements, std::size_t index);
 
 /// Where an artifact's features may lie when planning; where a task-space workspace samples.
 struct Region {
@@ -73,7 +97,7 @@ struct Region {
 };
 
 /// The joint configurations tip uncertainty is evaluated over (docs/method.md section 4).
-/// TaskSpace (models.md section 5): `samples` probe positions uniform in `region`, each turned
+/// TaskSpace (docs/models.md section 5): `samples` probe positions uniform in `region`, each turned
 /// into a configuration by the model's inverse kinematics in a random posture (an orientation
 /// within `tilt` of home for the hexapod); unreachable ones are dropped and counted.
 struct WorkspaceSpec {
@@ -152,6 +176,7 @@ struct Plan {
 
   int artifactIndex(const std::string& id) const;
 };
+
 
 std::string criterionName(Criterion criterion);
 

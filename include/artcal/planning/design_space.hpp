@@ -28,6 +28,22 @@
 
 namespace artcal {
 
+/// The default of `design.joint_margin` (internal units): 2 deg per revolute joint, 1 mm per
+/// prismatic one.
+Eigen::VectorXd defaultJointMargin(const Mechanism& mechanism);
+
+/// The machine whose joint limits are narrowed by `margin` (internal units, per joint): where
+/// planned readings may lie. A revolute joint with a full turn of range or more wraps and keeps
+/// its limits; a margin that would leave less than half of a joint's range is cut to a quarter.
+Machine withJointMargin(const Machine& machine, const Eigen::VectorXd& margin);
+
+/// The planner's rule for the nominal readings of one feature at machine-frame point `target`:
+/// `count` postures (a Cartesian CMM: styli 0 .. count - 1; other models: posturesFor, spread in
+/// joint space) within `reading_machine`'s limits; fewer when not that many reach it.
+std::vector<Measurement> featureReadings(const Machine& reading_machine, int feature,
+                                         const Eigen::VectorXd& target, int count,
+                                         std::mt19937_64& rng);
+
 class DesignSpace {
  public:
   /// `plan.design` must be set; InputError when the design does not fit the plan.

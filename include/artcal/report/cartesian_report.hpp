@@ -1,6 +1,6 @@
 #pragma once
-// The answers to a CMM lab's questions about a plan of a Cartesian machine (models.md section 4),
-// beside the generic check / evaluate output: which frame rotations the placements absorb (a
+// The answers to a CMM lab's questions about a plan of a Cartesian machine (docs/models.md section
+// 4), beside the generic check / evaluate output: which frame rotations the placements absorb (a
 // property of any artifact calibration, not a defect of the plan), which error functions the plan
 // leaves unseparated (named as functions and degrees), and each error function's predicted
 // standard uncertainty along its axis. Translations in um and rotations in um/m in tables; in

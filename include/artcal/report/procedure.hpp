@@ -44,9 +44,6 @@ struct Procedure {
 /// within the limits put the probe on a placed feature.
 Procedure operatorProcedure(const Plan& plan);
 
-/// The placed artifact's features in the machine frame (dimension x features) for `pose`.
-Eigen::MatrixXd placedFeatures(const Artifact& artifact, const Pose& pose);
-
 /// `artcal procedure --json`: lengths in mm, angles in deg (joint units in `joint_units`).
 nlohmann::json procedureToJson(const Plan& plan, const Procedure& procedure);
 /// The table `artcal procedure` prints.

@@ -20,7 +20,7 @@ std::vector<double> jointsToFile(const Machine& machine, const Eigen::VectorXd& 
 nlohmann::json countingToJson(const CountingCondition& counting);
 nlohmann::json identifiabilityToJson(const Identifiability& identifiability);
 /// "calibrate_resolved", "calibrate_dropped", "calibrate_ties" of a plan whose calibrate was
-/// "identifiable" (models.md section 1); an empty object otherwise.
+/// "identifiable" (docs/models.md section 1); an empty object otherwise.
 nlohmann::json calibrateSelectionToJson(const Plan& plan);
 nlohmann::json tipToJson(const Machine& machine, const TipSummary& tip,
                          const std::vector<Eigen::VectorXd>& workspace);

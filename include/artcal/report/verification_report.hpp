@@ -1,5 +1,5 @@
 #pragma once
-// Results of `verify` (models.md section 6) as JSON (mm; the fields the spec lists, under
+// Results of `verify` (docs/models.md section 6) as JSON (mm; the fields the spec lists, under
 // "verify") and as a human table: per placement, each feature's spread beside its predicted
 // spread, the length errors beside their predicted u, the residuals of the rigid fit and the
 // readings that stand out.

@@ -1,0 +1,65 @@
+#pragma once
+// `artcal import-readings`: a plan from a folder of CSV readings and a machine
+// (docs/plan-format.md, "A plan from a folder of CSV files"; docs/calibrate-your-robot.md).
+//
+// Layout: DIR holds one sub-folder per artifact placement (the placement is named after it); each
+// sub-folder holds one CSV file per feature, one posture's joint readings per row (docs/models.md
+// section 7):
+//   - MUKCa's layout: `hole_<k>.csv`, joint angles in rad, no header (`hole_<k>_pose.csv`, the
+//     controller's own pose, is ignored);
+//   - the general layout: `feature_<k>.csv`, whose header names each column's unit as its last
+//     word: `q1_deg, q2_deg, ...`, `joint1 [rad]`, `z (mm)`; units deg, rad, mm or m.
+// A folder whose files are themselves feature files (no sub-folders) is one placement. Sub-folders
+// are taken in name order, features in index order. Every fault is an InputError naming the folder
+// or file.
+
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace artcal {
+
+struct ReadingsImport {
+  std::string folder;  ///< DIR
+  /// The machine: a machine block file (import-urdf, calibrate --write-machine) ...
+  std::string machine_file;
+  /// ... or a URDF chain from `base` to `tip` (imported as import-urdf does).
+  std::string urdf, base, tip;
+  /// The artifact: a ball bar of this length (mm) ...
+  std::optional<double> ball_bar;
+  double u_length = 0.0;
+  /// ... or an artifacts block ({"id": {"type": ...}}) read from this file (its first artifact is
+  /// placed).
+  std::string artifact_file;
+  /// noise.probe (mm, or "estimate" where the plan format allows it) and noise.encoder (deg).
+  nlohmann::json probe = 0.1;
+  double encoder = 0.0;
+  /// The readings' unit for every file ("deg", "rad", "mm", "m"), overriding the layout's.
+  std::string unit;
+  /// Keep the machine file's own "calibrate" instead of "identifiable".
+  bool keep_calibrate = false;
+  /// Keep the machine's joint limits even where the readings pass them (they are then refused).
+  bool keep_limits = false;
+  /// Where the plan will be written: CSV paths are made relative to its folder ("" or "-": the
+  /// current folder).
+  std::string output;
+};
+
+struct ImportedPlan {
+  nlohmann::json plan;  ///< the plan document (artcal-plan/1)
+  /// What errors in the plan name it by: the output path, or "import-readings" for stdout. CSV
+  /// paths in the plan are relative to its folder.
+  std::string source;
+  std::vector<std::string> warnings;  ///< joint limits widened to the readings
+};
+
+/// The plan of the import. Joint limits: a real robot's readings may pass the limits its URDF
+/// states (the Kinova Gen3 lite's joint 6 reads up to 157 deg against 120); the machine reported
+/// them, so a revolute joint's limits are widened to its readings' range, with a warning, as long
+/// as that stays within +-360 deg (beyond, the readings are refused like any reading outside
+/// its limits: wrong units, not a robot). `keep_limits` widens nothing. The plan is not validated
+/// here: the caller parses it (parsePlan) before writing it.
+ImportedPlan importReadings(const ReadingsImport& import);
+
+}  // namespace artcal

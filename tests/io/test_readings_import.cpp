@@ -1,0 +1,290 @@
+// `artcal import-readings` (docs/plan-format.md, "A plan from a folder of CSV files") on the real
+// MUKCa readings of two robots, and the plan-file features it relies on: placement names, CSV
+// readings checked against the joint limits with the file and row named.
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+#include <set>
+
+#include "artcal/artcal.hpp"
+#include "artcal/io/readings_import.hpp"
+#include "cli_runner.hpp"
+#include "temp_folder.hpp"
+#include "test_paths.hpp"
+
+namespace artcal {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+using test_support::runCli;
+using test_support::Stderr;
+using test_support::testDataFile;
+
+class ImportFolder : public test_support::TempFolder {
+ protected:
+  ImportFolder() : TempFolder("import") {}
+};
+
+std::string mukca(const std::string& name) {
+  return testDataFile("mukca/mukca/" + name);
+}
+
+/// Non-blank lines of a file: MUKCa's CSV files have no header, one posture per line.
+std::size_t rowsOf(const fs::path& file) {
+  std::ifstream in(file);
+  std::size_t rows = 0;
+  for (std::string line; std::getline(in, line);)
+    rows += line.find_first_not_of(" \t\r") != std::string::npos;
+  return rows;
+}
+
+/// The tool positions of a MUKCa robot folder, in name order, and its hole_<k>.csv rows.
+std::pair<std::vector<std::string>, std::size_t> positionsAndRows(const std::string& robot) {
+  std::set<std::string> names;
+  std::size_t rows = 0;
+  for (const auto& entry : fs::directory_iterator(mukca(robot))) {
+    names.insert(entry.path().filename().string());
+    for (const char* hole : {"hole_0.csv", "hole_1.csv"}) rows += rowsOf(entry.path() / hole);
+  }
+  return {{names.begin(), names.end()}, rows};
+}
+
+/// `import-readings` of a MUKCa robot into dir/NAME.json; the exit status.
+int importRobot(const ImportFolder& folder, const std::string& robot, const std::string& urdf,
+                const std::string& base, const std::string& extra = "") {
+  return runCli("import-readings " + mukca(robot) + " --urdf " + mukca("urdf/" + urdf) +
+                " --base " + base + " --tip ball_link --ball-bar 50 -o " +
+                folder.path(robot + ".json") + " " + extra)
+      .status;
+}
+
+/// The plan with only the named placements kept, written to `out`.
+std::string keepPlacements(const std::string& plan_path, const std::set<std::string>& names,
+                           const std::string& out) {
+  json plan = readJsonFile(plan_path);
+  json kept = json::array();
+  for (const json& p : plan["placements"])
+    if (names.count(p["name"].get<std::string>())) kept.push_back(p);
+  plan["placements"] = kept;
+  std::ofstream(out) << plan.dump(1);
+  return out;
+}
+
+TEST_F(ImportFolder, PandaFolderBecomesAPlanNamedAfterItsPositions) {
+  ASSERT_EQ(importRobot(*this, "panda_2", "panda.urdf", "panda_link0"), 0);
+  const auto [positions, rows] = positionsAndRows("panda_2");
+  const json document = readJsonFile(path("panda_2.json"));
+  EXPECT_EQ(document["machine"]["calibrate"], "identifiable");
+  EXPECT_EQ(document["noise"]["probe"], 0.1);
+  EXPECT_EQ(document["artifacts"]["bar"]["length"], 50.0);
+  // Loads as a plan (the nominal machine's plausibility is check's and calibrate's to judge).
+  const Plan plan = parsePlan(document, path("panda_2.json"), true, false);
+  ASSERT_EQ(plan.placements.size(), positions.size());
+  std::size_t readings = 0;
+  for (std::size_t j = 0; j < positions.size(); ++j) {
+    EXPECT_EQ(plan.placements[j].name, positions[j]);
+    EXPECT_EQ(placementLabel(plan.placements, j), positions[j]);
+    readings += plan.placements[j].measurements.size();
+  }
+  EXPECT_EQ(readings, rows);  // every posture of every hole file, the pose files ignored
+  EXPECT_EQ(plan.machine.jointCount(), 7);
+  // A reading is the CSV row in rad: row 1 of front_center/hole_0.csv, read here independently.
+  std::ifstream first(mukca("panda_2/front_center/hole_0.csv"));
+  std::string line;
+  std::getline(first, line);
+  const std::size_t fc = static_cast<std::size_t>(
+      std::find(positions.begin(), positions.end(), "front_center") - positions.begin());
+  const Measurement& m = plan.placements[fc].measurements.front();
+  EXPECT_EQ(m.feature, 0);
+  EXPECT_EQ(m.csv_row, 1);
+  EXPECT_NEAR(m.joints[0], std::stod(line.substr(0, line.find(','))), 1e-15);
+}
+
+TEST_F(ImportFolder, CalibrateRunsOnTheImportedPandaPlan) {
+  ASSERT_EQ(importRobot(*this, "panda_2", "panda.urdf", "panda_link0"), 0);
+  const std::string plan =
+      keepPlacements(path("panda_2.json"), {"front_center"}, path("panda-fc.json"));
+  const auto run = runCli("calibrate --json " + plan);
+  ASSERT_TRUE(run.status == 0 || run.status == 1) << run.status;  // ran: converged or not
+  const json out = json::parse(run.out);
+  EXPECT_TRUE(out.contains("converged"));
+  EXPECT_FALSE(out["parameters"].empty());
+  for (const json& g : out["gross_errors"]) EXPECT_EQ(g["name"], "front_center");
+}
+
+TEST_F(ImportFolder, Gen3LiteReadingsPastTheUrdfLimitsWidenThemWithAWarning) {
+  const auto run = runCli(
+      "import-readings " + mukca("dinova_1") + " --urdf " + mukca("urdf/gen3lite.urdf") +
+          " --base kinova_base_link --tip ball_link --ball-bar 50 -o " + path("dinova_1.json"),
+      Stderr::Only);
+  ASSERT_EQ(run.status, 0) << run.out;
+  // Joint 6 reads up to 157.128 deg (front, left) against the URDF's 2.09 rad = 119.748 deg.
+  EXPECT_NE(run.out.find("warning: joint 6: readings reach"), std::string::npos) << run.out;
+  const json document = readJsonFile(path("dinova_1.json"));
+  const auto [positions, rows] = positionsAndRows("dinova_1");
+  const Plan plan = parsePlan(document, path("dinova_1.json"), true, false);
+  ASSERT_EQ(plan.placements.size(), positions.size());
+  std::size_t readings = 0;
+  for (const Placement& p : plan.placements) readings += p.measurements.size();
+  EXPECT_EQ(readings, rows);
+  const double limit = document["machine"]["joint_limits"][5][1].get<double>();
+  EXPECT_GT(limit, 152.0);
+  EXPECT_LT(limit, 158.0);
+  EXPECT_NEAR(document["machine"]["joint_limits"][0][1].get<double>(),
+              2.68 * 180.0 / std::numbers::pi, 1e-9);  // the others as the URDF says
+}
+
+TEST_F(ImportFolder, CalibrateRunsOnTheImportedGen3LitePlan) {
+  ASSERT_EQ(importRobot(*this, "dinova_1", "gen3lite.urdf", "kinova_base_link"), 0);
+  const std::string plan =
+      keepPlacements(path("dinova_1.json"), {"front", "left", "lower_left"}, path("dinova-3.json"));
+  const auto run = runCli("calibrate --json " + plan);
+  ASSERT_TRUE(run.status == 0 || run.status == 1) << run.status;
+  const json out = json::parse(run.out);
+  EXPECT_TRUE(out.contains("converged"));
+  // The residuals and gross errors name the placements by their folders.
+  std::set<std::string> named;
+  for (const json& r : out["residuals"]) named.insert(r["name"].get<std::string>());
+  EXPECT_EQ(named, (std::set<std::string>{"front", "left", "lower_left"}));
+  const auto table = runCli("calibrate " + plan);
+  EXPECT_NE(table.out.find("    front        0        0"), std::string::npos);
+}
+
+TEST_F(ImportFolder, KeptLimitsRefuseTheReadingNamingTheCsvFileAndRow) {
+  const auto run =
+      runCli("import-readings " + mukca("dinova_1") + " --urdf " + mukca("urdf/gen3lite.urdf") +
+                 " --base kinova_base_link --tip ball_link --ball-bar 50 --keep-limits "
+                 "-o " +
+                 path("dinova_1.json"),
+             Stderr::Only);
+  EXPECT_EQ(run.status, 2);
+  // front/hole_0.csv row 13, joint 6: 2.43 rad = 139.23 deg > 119.75 deg (read from the file).
+  EXPECT_NE(run.out.find("dinova_1/front/hole_0.csv: line 13 (row 13): reading 139.23"),
+            std::string::npos)
+      << run.out;
+  EXPECT_EQ(run.out.find("/placements/"), std::string::npos) << run.out;
+  EXPECT_EQ(std::count(run.out.begin(), run.out.end(), '\n'), 1) << run.out;
+  EXPECT_FALSE(fs::exists(path("dinova_1.json")));
+}
+
+/// A planar 2R machine file and the 2R reference plan's first placement as readings.
+struct TwoArm {
+  json plan = readJsonFile(testDataFile("ref-2r-5bars.json"));
+  std::vector<std::vector<double>> readings(int placement, int feature) const {
+    std::vector<std::vector<double>> out;
+    for (const json& m : plan["placements"][placement]["measurements"])
+      if (m["feature"] == feature) out.push_back(m["joints"].get<std::vector<double>>());
+    return out;
+  }
+};
+
+std::string csvText(const std::vector<std::vector<double>>& rows, double scale,
+                    const std::string& header) {
+  std::ostringstream out;
+  out.precision(17);
+  if (!header.empty()) out << header << "\n";
+  for (const auto& row : rows) out << row[0] * scale << "," << row[1] * scale << "\n";
+  return out.str();
+}
+
+TEST_F(ImportFolder, GeneralLayoutTakesTheUnitsFromTheHeader) {
+  const TwoArm arm;
+  json machine = arm.plan["machine"];
+  machine["joint_limits"] = {{-180, 180}, {-170, 170}};
+  write("machine.json", machine.dump());
+  const double rad = std::numbers::pi / 180.0;
+  write("readings/b/feature_0.csv", csvText(arm.readings(0, 0), rad, "t1 [rad], t2 [rad]"));
+  write("readings/b/feature_1.csv", csvText(arm.readings(0, 1), 1.0, "t1_deg,t2_deg"));
+  write("readings/a/feature_0.csv", csvText(arm.readings(1, 0), 1.0, "t1 (deg), t2 (deg)"));
+  write("readings/a/feature_1.csv", csvText(arm.readings(1, 1), 1.0, "t1_deg,t2_deg"));
+  write("readings/a/notes.txt", "not a feature file\n");
+  const auto run =
+      runCli("import-readings " + path("readings") + " --machine " + path("machine.json") +
+             " --ball-bar 80 --probe 0.005 --encoder 0.001" + " -o " + path("plan.json"));
+  ASSERT_EQ(run.status, 0);
+  const Plan plan = loadPlan(path("plan.json"));
+  ASSERT_EQ(plan.placements.size(), 2u);
+  EXPECT_EQ(plan.placements[0].name, "a");  // folders in name order
+  EXPECT_EQ(plan.placements[1].name, "b");
+  EXPECT_TRUE(plan.machine.calibrate_identifiable);
+  EXPECT_DOUBLE_EQ(plan.noise.probe, 0.005);
+  // Placement "b" holds the reference's placement 0: the same readings, whatever the file unit.
+  const Plan reference = loadPlan(testDataFile("ref-2r-5bars.json"));
+  const auto& expected = reference.placements[0].measurements;
+  const auto& actual = plan.placements[1].measurements;
+  ASSERT_EQ(actual.size(), expected.size());
+  for (const Measurement& e : expected) {
+    const bool found = std::any_of(actual.begin(), actual.end(), [&](const Measurement& a) {
+      return a.feature == e.feature && (a.joints - e.joints).cwiseAbs().maxCoeff() < 1e-14;
+    });
+    EXPECT_TRUE(found);
+  }
+  // A header without units is refused, naming the file.
+  write("bare/p/feature_0.csv", csvText(arm.readings(0, 0), 1.0, "t1,t2"));
+  const auto bare = runCli("import-readings " + path("bare") + " --machine " +
+                               path("machine.json") + " --ball-bar 80 -o " + path("bare.json"),
+                           Stderr::Only);
+  EXPECT_EQ(bare.status, 2);
+  EXPECT_NE(bare.out.find("feature_0.csv: line 1: expected a header naming each column's unit"),
+            std::string::npos)
+      << bare.out;
+}
+
+TEST_F(ImportFolder, CsvReadingOutsideTheJointLimitsNamesFileAndRow) {
+  const TwoArm arm;
+  json plan = arm.plan;
+  plan["machine"]["joint_limits"] = {{-180, 180}, {-170, 170}};
+  write("p/hole_0.csv", "# t1, t2\n\n10,20\n10,175\n");
+  plan["placements"][0]["measurements"] = {{{"feature", 0}, {"csv", "p/hole_0.csv"}}};
+  write("plan.json", plan.dump());
+  try {
+    loadPlan(path("plan.json"));
+    FAIL() << "a reading of 175 deg passed joint 2's limits of 170 deg";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), path("p/hole_0.csv"));
+    EXPECT_EQ(e.pointer(), "line 4 (row 2)");
+    EXPECT_NE(std::string(e.what()).find("reading 175 deg of joint 2 is outside its joint_limits"),
+              std::string::npos)
+        << e.what();
+  }
+  // Excluded, the row no longer counts.
+  plan["placements"][0]["measurements"][0]["exclude_rows"] = {2};
+  write("plan.json", plan.dump());
+  EXPECT_NO_THROW(parsePlan(readJsonFile(path("plan.json")), path("plan.json"), false, false));
+}
+
+TEST_F(ImportFolder, PlacementNamesAreOptionalUniqueAndUsedByVerify) {
+  json plan = readJsonFile(testDataFile("ref-2r-5bars.json"));
+  plan["placements"][0]["name"] = "near";
+  plan["placements"][2]["name"] = "far";
+  write("named.json", plan.dump());
+  const Plan named = loadPlan(path("named.json"));
+  EXPECT_EQ(placementLabel(named.placements, 0), "near");
+  EXPECT_EQ(placementLabel(named.placements, 1), "1");
+  EXPECT_EQ(placementLabel(named.placements, 2), "far");
+  EXPECT_EQ(placementsToJson(named)[2]["name"], "far");
+  const auto verify = runCli("verify --json " + path("named.json"));
+  ASSERT_EQ(verify.status, 0);
+  const json v = json::parse(verify.out)["verify"];
+  EXPECT_EQ(v["placements"][0]["name"], "near");
+  EXPECT_FALSE(v["placements"][1].contains("name"));
+  const auto table = runCli("verify " + path("named.json"));
+  EXPECT_NE(table.out.find("\n     near       0"), std::string::npos) << table.out;
+  const auto procedure = runCli("procedure " + path("named.json"));
+  EXPECT_NE(procedure.out.find("Placement far: "), std::string::npos);
+  plan["placements"][1]["name"] = "far";
+  write("twice.json", plan.dump());
+  const auto twice = runCli("check " + path("twice.json"), Stderr::Only);
+  EXPECT_EQ(twice.status, 2);
+  EXPECT_NE(twice.out.find("/placements/2/name: placement name \"far\" is also placement 1's"),
+            std::string::npos)
+      << twice.out;
+}
+
+}  // namespace
+}  // namespace artcal

@@ -1,0 +1,105 @@
+// artcal import-readings DIR: a plan from a folder of CSV readings and a machine
+// (docs/plan-format.md, "A plan from a folder of CSV files"; docs/calibrate-your-robot.md).
+
+#include <iostream>
+
+#include "artcal/io/plan_io.hpp"
+#include "artcal/io/readings_import.hpp"
+#include "commands.hpp"
+
+namespace artcal::cli {
+
+namespace {
+
+struct ImportReadingsArguments {
+  ReadingsImport import;
+  std::string probe = "0.1";
+  std::string output = kStandardOutput;
+};
+
+/// --probe: a number (mm), or a word the plan format knows ("estimate") passed on as it is.
+nlohmann::json probeValue(const std::string& text) {
+  try {
+    std::size_t used = 0;
+    const double value = std::stod(text, &used);
+    if (used == text.size()) return value;
+  } catch (const std::exception&) {
+  }
+  return text;
+}
+
+void addImportReadingsCommand(CLI::App& app, Action& action) {
+  auto args = std::make_shared<ImportReadingsArguments>();
+  ReadingsImport& in = args->import;
+  CLI::App* cmd = app.add_subcommand(
+      "import-readings",
+      "a plan from a folder of CSV readings (one sub-folder per placement, one file per feature) "
+      "and a machine or URDF");
+  cmd->add_option("DIR", in.folder,
+                  "folder of placement sub-folders (hole_<k>.csv, feature_<k>.csv)")
+      ->required();
+  auto* machine = cmd->add_option("--machine", in.machine_file, "machine file (import-urdf -o)");
+  auto* urdf =
+      cmd->add_option("--urdf", in.urdf, "robot description (URDF), with --base and --tip");
+  machine->excludes(urdf);
+  cmd->add_option("--base", in.base, "URDF link the chain starts from")->needs(urdf);
+  cmd->add_option("--tip", in.tip, "URDF link whose origin is the probe centre")->needs(urdf);
+  auto* bar =
+      cmd->add_option("--ball-bar", in.ball_bar, "the artifact: a ball bar of this length, mm")
+          ->check(CLI::PositiveNumber);
+  cmd->add_option("--u-length", in.u_length, "standard uncertainty of the bar's length, mm")
+      ->check(CLI::NonNegativeNumber)
+      ->needs(bar);
+  auto* artifact =
+      cmd->add_option("--artifact", in.artifact_file,
+                      "the artifact: a file with an artifacts block {\"id\": {\"type\": ...}}");
+  bar->excludes(artifact);
+  cmd->add_option("--probe", args->probe, "noise.probe: mm per coordinate")->capture_default_str();
+  cmd->add_option("--encoder", in.encoder, "noise.encoder: deg (mm for prismatic joints)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  cmd->add_option("--unit", in.unit,
+                  "unit of every file's readings (deg, rad, mm, m), instead of "
+                  "the layout's (hole_<k>.csv: rad; feature_<k>.csv: header)");
+  cmd->add_flag("--keep-calibrate", in.keep_calibrate,
+                "keep the machine file's \"calibrate\" (default: \"identifiable\")");
+  cmd->add_flag(
+      "--keep-limits", in.keep_limits,
+      "keep the machine's joint_limits where the readings pass them (they are then "
+      "refused); default: widen a revolute joint's limits to its readings, with a warning");
+  cmd->add_option("-o,--output", args->output, "plan file to write (- for stdout)")
+      ->capture_default_str();
+  cmd->callback([&action, args] {
+    const ReadingsImport& given = args->import;
+    if (given.machine_file.empty() && given.urdf.empty())
+      throw CLI::ValidationError("import-readings", "needs --machine or --urdf");
+    if (!given.urdf.empty() && (given.base.empty() || given.tip.empty()))
+      throw CLI::ValidationError("import-readings", "--urdf needs --base and --tip");
+    if (!given.ball_bar && given.artifact_file.empty())
+      throw CLI::ValidationError("import-readings", "needs --ball-bar or --artifact");
+    action = [args] {
+      ReadingsImport& import = args->import;
+      checkOutputPath(args->output);
+      import.probe = probeValue(args->probe);
+      import.output = args->output;
+      const ImportedPlan imported = importReadings(import);
+      for (const std::string& warning : imported.warnings)
+        std::cerr << "warning: " << warning << "\n";
+      const nlohmann::json& plan = imported.plan;
+      // Checked like any plan (CSV rows, joint limits) before anything is written; whether the
+      // nominal machine is plausible for the readings is check's and calibrate's to say.
+      const Plan parsed = parsePlan(plan, imported.source, true, /*check_plausibility=*/false);
+      for (const std::string& warning : parsed.warnings)
+        std::cerr << "warning: " << warning << "\n";
+      writeJsonOutput(args->output, plan);
+      printPlanSummary("import-readings", args->output, parsed);
+      return 0;
+    };
+  });
+}
+
+}  // namespace
+
+const Registrar import_readings_registrar(79, addImportReadingsCommand);
+
+}  // namespace artcal::cli
