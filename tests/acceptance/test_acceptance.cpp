@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
 #include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -410,6 +411,30 @@ TEST(AcceptanceCli, JsonCarriesEveryItemAndTheStatistics) {
   EXPECT_TRUE(out["p_pass"].is_number());
   EXPECT_TRUE(out["p_pass_standard_error"].is_number());
   EXPECT_TRUE(out["quantiles"]["95"].is_number());
+}
+
+TEST(AcceptanceCli, MachineFileFromCalibrateGivesThePlansAnswer) {
+  const std::string plan = test_support::testDataFile(kReferencePlan);
+  const std::string machine =
+      (std::filesystem::temp_directory_path() /
+       ("artcal-acceptance-machine-" + std::to_string(::getpid()) + ".json"))
+          .string();
+  ASSERT_EQ(test_support::runCli("calibrate " + plan + " --write-machine " + machine).status, 0);
+  const std::string test = " --test iso10360-2 --mpe '2.3 + L/2600' --trials 20000 --json";
+  const test_support::CliRun from_plan = test_support::runCli("acceptance " + plan + test);
+  const test_support::CliRun from_machine =
+      test_support::runCli("acceptance " + machine + " --plan " + plan + test);
+  std::filesystem::remove(machine);
+  ASSERT_EQ(from_plan.status, 0);
+  ASSERT_EQ(from_machine.status, 0);
+  const nlohmann::json a = nlohmann::json::parse(from_plan.out);
+  const nlohmann::json b = nlohmann::json::parse(from_machine.out);
+  for (std::size_t i = 0; i < a["items"].size(); ++i) {
+    const double sys = a["items"][i]["sigma_sys"].get<double>();
+    EXPECT_NEAR(b["items"][i]["sigma_sys"].get<double>(), sys, 1e-6 * sys);
+  }
+  EXPECT_NEAR(a["p_pass"].get<double>(), b["p_pass"].get<double>(), 1e-3);
+  EXPECT_EQ(a["calibrated"], b["calibrated"]);
 }
 
 TEST(AcceptanceCli, BadInputIsOneErrorLineWithStatus2) {
