@@ -8,6 +8,7 @@
 
 #include "artcal/acceptance/length_test.hpp"
 #include "artcal/acceptance/pose_test.hpp"
+#include "artcal/io/acceptance_spec.hpp"
 #include "artcal/io/machine_covariance.hpp"
 #include "artcal/io/output_file.hpp"
 #include "artcal/io/plan_io.hpp"
@@ -31,14 +32,15 @@ struct AcceptanceArguments {
 struct LoadedInput {
   Plan plan;
   AcceptanceInput input;
+  std::optional<AcceptanceSpec> spec;  ///< the plan's "acceptance" block
 };
 
 bool isPlanDocument(const nlohmann::json& document) {
   return document.is_object() && document.contains("format");
 }
 
-LoadedInput loadFromPlan(const std::string& path) {
-  LoadedInput loaded{loadPlanReporting(path), {}};
+LoadedInput loadFromPlan(const std::string& path, const nlohmann::json& document) {
+  LoadedInput loaded{loadPlanReporting(path), {}, parseAcceptanceSpec(document, path)};
   const Evaluation evaluation = evaluatePlan(loaded.plan);
   auto input = acceptanceInputFromPlan(loaded.plan, evaluation);
   if (!input)
@@ -54,7 +56,8 @@ LoadedInput loadFromMachine(const AcceptanceArguments& args, const nlohmann::jso
     throw InputError(args.file, "",
                      "a machine file needs --plan PLAN, the plan it was calibrated from (its "
                      "noise and workspace)");
-  LoadedInput loaded{loadPlanReporting(args.plan), {}};
+  LoadedInput loaded{
+      loadPlanReporting(args.plan), {}, parseAcceptanceSpec(readJsonFile(args.plan), args.plan)};
   const Eigen::VectorXd parameters = parseTruth(document, args.file, loaded.plan);
   auto uncertainty = parseMachineCovariance(document, args.file, loaded.plan);
   if (!uncertainty)
@@ -75,7 +78,7 @@ LoadedInput loadInput(const AcceptanceArguments& args) {
       throw InputError(args.file, "", "--plan goes with a machine file, not with a plan");
     if (args.posterior)
       throw InputError(args.file, "", "--posterior goes with a calibrated machine file");
-    return loadFromPlan(args.file);
+    return loadFromPlan(args.file, document);
   }
   return loadFromMachine(args, document);
 }
@@ -170,8 +173,32 @@ int runPoseTest(const AcceptanceArguments& args, const LoadedInput& loaded) {
   return 0;
 }
 
-int runAcceptance(const AcceptanceArguments& args) {
-  const LoadedInput loaded = loadInput(args);
+/// The command line's choices over the plan's "acceptance" block.
+AcceptanceArguments withPlanDefaults(AcceptanceArguments args, const LoadedInput& loaded) {
+  if (!loaded.spec) {
+    if (args.test.empty())
+      throw InputError(args.plan.empty() ? args.file : args.plan, "/acceptance",
+                       "no test: give --test iso10360-2 or iso9283 (or an \"acceptance\" block "
+                       "in the plan)");
+    return args;
+  }
+  const AcceptanceSpec& spec = *loaded.spec;
+  if (args.test.empty()) args.test = spec.test;
+  if (args.test != spec.test) return args;  // another test than the plan's: nothing to take
+  if (args.mpe.empty()) args.mpe = spec.mpe;
+  if (!(args.cube > 0.0) && spec.cube) args.cube = *spec.cube;
+  if (args.center.empty() && spec.center) {
+    std::ostringstream center;
+    center.precision(17);
+    center << spec.center->x() << "," << spec.center->y() << "," << spec.center->z();
+    args.center = center.str();
+  }
+  return args;
+}
+
+int runAcceptance(const AcceptanceArguments& given) {
+  const LoadedInput loaded = loadInput(given);
+  const AcceptanceArguments args = withPlanDefaults(given, loaded);
   if (args.test == "iso10360-2") return runLengthTest(args, loaded);
   return runPoseTest(args, loaded);
 }
@@ -190,8 +217,8 @@ void addAcceptanceCommand(CLI::App& app, Action& action) {
       ->required();
   cmd->add_option("--plan", args->plan,
                   "with a machine file: the plan it was calibrated from (noise, workspace)");
-  cmd->add_option("--test", args->test, "iso10360-2 or iso9283")
-      ->required()
+  cmd->add_option("--test", args->test,
+                  "iso10360-2 or iso9283 (default: the plan's \"acceptance\" block)")
       ->check(CLI::IsMember({"iso10360-2", "iso9283"}));
   cmd->add_option("--mpe", args->mpe,
                   "iso10360-2: \"A + L/K\" (A in um, L in mm); iso9283: X in mm (optional)");

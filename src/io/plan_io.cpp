@@ -16,6 +16,7 @@
 
 #include "artcal/core/linear_algebra.hpp"
 #include "artcal/estimation/identifiability.hpp"
+#include "artcal/io/acceptance_spec.hpp"
 #include "artcal/io/csv_readings.hpp"
 #include "artcal/io/json_node.hpp"
 #include "artcal/io/model_registry.hpp"
@@ -580,7 +581,7 @@ Plan parsePlan(const nlohmann::json& document, const std::string& source, bool r
   root.object();
   root.warnUnknown(
       {"format", "name", "description", "machine", "noise", "artifacts", "placements", "workspace",
-       "design", "predicted", "readings", "calibration", "truth", "simulation"},
+       "design", "predicted", "readings", "calibration", "truth", "simulation", "acceptance"},
       plan.warnings);
   const Node format = root.at("format");
   if (format.string() != "artcal-plan/1") {
@@ -611,6 +612,7 @@ Plan parsePlan(const nlohmann::json& document, const std::string& source, bool r
   }
   if (const auto design = root.find("design"))
     plan.design = parseDesign(*design, plan, plan.warnings);
+  parseAcceptanceSpec(document, source);  // checked here, read by `artcal acceptance`
   if (check_plausibility) checkPlausibility(plan);  // only wrong units or a wrong pose explain
   resolveCalibratedSet(plan);  // "calibrate": "identifiable", decided once, here
   return plan;

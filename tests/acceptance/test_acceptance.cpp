@@ -437,6 +437,64 @@ TEST(AcceptanceCli, MachineFileFromCalibrateGivesThePlansAnswer) {
   EXPECT_EQ(a["calibrated"], b["calibrated"]);
 }
 
+/// The reference plan with `block` as its "acceptance" member, written to a temporary file.
+std::string planWithAcceptance(const nlohmann::json& block, const std::string& tag) {
+  nlohmann::json plan = readJson(test_support::testDataFile(kReferencePlan));
+  plan["acceptance"] = block;
+  const std::string path =
+      (std::filesystem::temp_directory_path() /
+       ("artcal-acceptance-" + tag + "-" + std::to_string(::getpid()) + ".json"))
+          .string();
+  std::ofstream(path) << plan.dump();
+  return path;
+}
+
+TEST(AcceptanceCli, ThePlansAcceptanceBlockNamesTheTest) {
+  const std::string path =
+      planWithAcceptance({{"test", "iso10360-2"}, {"mpe", "2.3 + L/2600"}}, "block");
+  const test_support::CliRun from_block =
+      test_support::runCli("acceptance " + path + " --trials 20000 --json");
+  const test_support::CliRun from_options = test_support::runCli(
+      "acceptance " + path + " --test iso10360-2 --mpe '2.3 + L/2600' --trials 20000 --json");
+  std::filesystem::remove(path);
+  ASSERT_EQ(from_block.status, 0);
+  ASSERT_EQ(from_options.status, 0);
+  EXPECT_EQ(nlohmann::json::parse(from_block.out), nlohmann::json::parse(from_options.out));
+}
+
+TEST(AcceptanceCli, AMalformedAcceptanceBlockIsRefusedAtLoad) {
+  for (const auto& [block, pointer] : std::vector<std::pair<nlohmann::json, std::string>>{
+           {{{"test", "iso10360"}, {"mpe", "1 + L/3"}}, "/acceptance/test"},
+           {{{"test", "iso10360-2"}, {"mpe", "1 + L"}}, "/acceptance/mpe"},
+           {{{"test", "iso10360-2"}}, "/acceptance"},
+           {{{"test", "iso9283"}, {"cube", -1}, {"center", {0, 0, 0}}}, "/acceptance/cube"},
+           {{{"test", "iso10360-2"}, {"mpe", "1"}, {"mpee", 2}}, "/acceptance"}}) {
+    const std::string path = planWithAcceptance(block, "bad");
+    const test_support::CliRun run =
+        test_support::runCli("check " + path, test_support::Stderr::Only);
+    std::filesystem::remove(path);
+    EXPECT_EQ(run.status, 2) << block.dump();
+    EXPECT_NE(run.out.find(pointer), std::string::npos) << run.out;
+  }
+}
+
+TEST(AcceptanceCli, PoseTestOfASerialArm) {
+  const test_support::CliRun run = test_support::runCli(
+      "acceptance " + test_support::planFile("aacmm-6axis-3bars.json") +
+      " --test iso9283 --cube 300 --center 0,300,200 --mpe 0.05 --trials 10000 --json");
+  ASSERT_EQ(run.status, 0) << run.out;
+  const nlohmann::json out = nlohmann::json::parse(run.out);
+  ASSERT_EQ(out["points"].size(), 5u);
+  EXPECT_EQ(out["points"][0]["joints"].size(), 6u);
+  EXPECT_TRUE(out["p_pass"].is_number());
+  const test_support::CliRun far =
+      test_support::runCli("acceptance " + test_support::planFile("aacmm-6axis-3bars.json") +
+                               " --test iso9283 --cube 300 --center 0,30000,200",
+                           test_support::Stderr::Only);
+  EXPECT_EQ(far.status, 1) << far.out;
+  EXPECT_NE(far.out.find("P1"), std::string::npos) << far.out;
+}
+
 TEST(AcceptanceCli, BadInputIsOneErrorLineWithStatus2) {
   const std::string plan = test_support::testDataFile(kReferencePlan);
   for (const std::string& arguments :
