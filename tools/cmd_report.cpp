@@ -10,6 +10,7 @@
 #include "artcal/io/output_file.hpp"
 #include "artcal/io/plan_io.hpp"
 #include "artcal/io/truth_io.hpp"
+#include "artcal/report/acceptance_report.hpp"
 #include "artcal/report/calibration_report.hpp"
 #include "artcal/report/cartesian_report.hpp"
 #include "artcal/report/html_report.hpp"
@@ -154,6 +155,8 @@ void addReportCommand(CLI::App& app, Action& action) {
                               args->flag_threshold};
       std::vector<ReportFigure> figures = reportFigures(input);
       addErrorFunctionFigures(plan, document, args->plan, evaluation, calibration, figures);
+      if (auto acceptance = acceptanceReportFigure(plan, document, evaluation))
+        figures.push_back(std::move(*acceptance));
       const std::string html = htmlReport(input, figures);
       writeOutputFile(args->output, html);
       if (!args->svg_dir.empty()) writeSvgFiles(args->svg_dir, figures);

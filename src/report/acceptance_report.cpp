@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <sstream>
 
+#include "artcal/io/acceptance_spec.hpp"
 #include "artcal/report/report.hpp"
 #include "artcal/report/svg.hpp"
 
@@ -189,6 +190,26 @@ std::string lengthTestSvg(const LengthTestPrediction& prediction) {
   plot.polyline(lower, mpe_style);
   plot.setXRange(0.0, longest * 1.05);
   return plot.render();
+}
+
+std::optional<ReportFigure> acceptanceReportFigure(const Plan& plan, const json& document,
+                                                   const Evaluation& evaluation) {
+  const auto spec = parseAcceptanceSpec(document, plan.source);
+  if (!spec || spec->test != "iso10360-2") return std::nullopt;
+  const auto input = acceptanceInputFromPlan(plan, evaluation);
+  if (!input) return std::nullopt;
+  LengthTestOptions options;
+  options.mpe = *parseMpe(spec->mpe);
+  const LengthTestPrediction prediction = predictLengthTest(*input, options);
+  const MonteCarloSummary& mc = prediction.monte_carlo;
+  char caption[400];
+  std::snprintf(caption, sizeof caption,
+                "ISO 10360-2 predicted from this plan's V_p (artcal acceptance): E0,MPE = %s um "
+                "(L in mm); P(pass) = %.3f +- %.3f (%ld Monte-Carlo trials); max |E|/MPE: median "
+                "%.3f, 95 %% quantile %.3f. Bars: each gauge's predicted 95 %% band of E.",
+                prediction.mpe.text().c_str(), mc.p_pass, mc.p_pass_standard_error, mc.trials,
+                mc.statistic.median, mc.statistic.q95);
+  return ReportFigure{"acceptance-e-vs-l", caption, lengthTestSvg(prediction)};
 }
 
 json poseTestToJson(const AcceptanceInput& input, const PoseTestPrediction& prediction,

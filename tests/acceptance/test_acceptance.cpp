@@ -462,6 +462,27 @@ TEST(AcceptanceCli, ThePlansAcceptanceBlockNamesTheTest) {
   EXPECT_EQ(nlohmann::json::parse(from_block.out), nlohmann::json::parse(from_options.out));
 }
 
+TEST(AcceptanceCli, TheReportShowsThePlansAcceptanceTest) {
+  const std::string path =
+      planWithAcceptance({{"test", "iso10360-2"}, {"mpe", "2.3 + L/2600"}}, "report");
+  const std::string html = path + ".html";
+  const test_support::CliRun report = test_support::runCli("report " + path + " -o " + html);
+  const test_support::CliRun acceptance = test_support::runCli("acceptance " + path + " --json");
+  std::filesystem::remove(path);
+  ASSERT_EQ(report.status, 0);
+  ASSERT_EQ(acceptance.status, 0);
+  std::ifstream in(html);
+  const std::string page((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::filesystem::remove(html);
+  EXPECT_NE(page.find("<h2>Acceptance test predicted</h2>"), std::string::npos);
+  EXPECT_NE(page.find("id=\"figure-acceptance-e-vs-l\""), std::string::npos);
+  // The same prediction as `artcal acceptance` (same default seed and trials).
+  char expected[64];
+  std::snprintf(expected, sizeof expected, "P(pass) = %.3f",
+                nlohmann::json::parse(acceptance.out)["p_pass"].get<double>());
+  EXPECT_NE(page.find(expected), std::string::npos) << expected;
+}
+
 TEST(AcceptanceCli, AMalformedAcceptanceBlockIsRefusedAtLoad) {
   for (const auto& [block, pointer] : std::vector<std::pair<nlohmann::json, std::string>>{
            {{{"test", "iso10360"}, {"mpe", "1 + L/3"}}, "/acceptance/test"},

@@ -5,11 +5,13 @@
 // `sigma_total` in mm, the reference's fields).
 
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "artcal/acceptance/length_test.hpp"
 #include "artcal/acceptance/pose_test.hpp"
+#include "artcal/report/html_report.hpp"
 
 namespace artcal {
 
@@ -25,6 +27,13 @@ std::string lengthTestTable(const AcceptanceInput& input, const LengthTestPredic
 /// E against L as a datasheet draws it: each gauge's predicted 95 % band (+-1.96 sigma_total,
 /// um), the +-MPE lines.
 std::string lengthTestSvg(const LengthTestPrediction& prediction);
+
+/// The report's "acceptance" figure (`artcal report`) when the plan document names an ISO
+/// 10360-2 test (its "acceptance" block) and the plan is identifiable: the E-against-L figure,
+/// P(pass) in its caption (default Monte-Carlo options). std::nullopt otherwise (an ISO 9283
+/// block is not drawn). InputError when the plan's machine is not a Cartesian CMM.
+std::optional<ReportFigure> acceptanceReportFigure(const Plan& plan, const nlohmann::json& document,
+                                                   const Evaluation& evaluation);
 
 nlohmann::json poseTestToJson(const AcceptanceInput& input, const PoseTestPrediction& prediction,
                               const PoseTestOptions& options);
