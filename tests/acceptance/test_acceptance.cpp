@@ -516,6 +516,51 @@ TEST(AcceptanceCli, PoseTestOfASerialArm) {
   EXPECT_NE(far.out.find("P1"), std::string::npos) << far.out;
 }
 
+TEST(AcceptanceCli, LinesFileReplacesTheSevenLines) {
+  const std::string plan = test_support::testDataFile(kReferencePlan);
+  const std::string lines = (std::filesystem::temp_directory_path() /
+                             ("artcal-acceptance-lines-" + std::to_string(::getpid()) + ".json"))
+                                .string();
+  std::ofstream(lines) << "[[1, 0, 0], [0.6, 0.8, 0]]";
+  const test_support::CliRun run = test_support::runCli(
+      "acceptance " + plan + " --test iso10360-2 --mpe 2 --trials 2000 --json --lines " + lines);
+  std::ofstream(lines) << "[[1, 1, 0]]";
+  const test_support::CliRun bad =
+      test_support::runCli("acceptance " + plan + " --test iso10360-2 --mpe 2 --lines " + lines,
+                           test_support::Stderr::Only);
+  std::filesystem::remove(lines);
+  ASSERT_EQ(run.status, 0) << run.out;
+  const nlohmann::json out = nlohmann::json::parse(run.out);
+  ASSERT_EQ(out["items"].size(), 10u);
+  EXPECT_EQ(out["results"], 30);
+  // Along x the box is 1000 mm long; along (0.6, 0.8, 0) the y extent (700 mm) limits it.
+  EXPECT_NEAR(out["items"][4]["length"].get<double>(), 900.0, 1e-9);
+  EXPECT_NEAR(out["items"][9]["length"].get<double>(), 0.9 * 700.0 / 0.8, 1e-9);
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.out.find("/0"), std::string::npos) << bad.out;
+}
+
+TEST(LengthTest, AnAxisOutsideTheMachineFramesDirectionsIsRefused) {
+  nlohmann::json document = readJson(test_support::testDataFile(kReferencePlan));
+  document["machine"]["axes"][1]["direction"] = {0.8, 0.6, 0.0};
+  document["machine"]["calibrate"] = nlohmann::json::array({"x.tx.1", "y.tx.1", "z.tx.1"});
+  document.erase("placements");
+  const Plan plan = parsePlan(document, "tilted.json", false, false);
+  AcceptanceInput input;
+  input.source = plan.source;
+  input.machine = &plan.machine;
+  input.parameters = plan.machine.nominal;
+  input.uncertainty.indices = plan.machine.calibrated;
+  input.uncertainty.V = Eigen::MatrixXd::Zero(3, 3);
+  input.noise = plan.noise;
+  try {
+    predictLengthTestLinear(input, referenceOptions());
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.pointer(), "/machine/axes/1/direction");
+  }
+}
+
 TEST(AcceptanceCli, BadInputIsOneErrorLineWithStatus2) {
   const std::string plan = test_support::testDataFile(kReferencePlan);
   for (const std::string& arguments :
