@@ -160,15 +160,34 @@ std::vector<UnseenParameter> unseenParameters(const AcceptanceInput& input,
   return unseen;
 }
 
-/// The gauges' g as rows.
-Eigen::MatrixXd gaugeDerivatives(const std::vector<Gauge>& gauges, const AcceptanceInput& input) {
-  Eigen::MatrixXd G(static_cast<Eigen::Index>(gauges.size()),
-                    static_cast<Eigen::Index>(input.uncertainty.indices.size()));
+}  // namespace
+
+Eigen::MatrixXd gaugeDerivatives(const std::vector<Gauge>& gauges) {
+  if (gauges.empty()) return {};
+  Eigen::MatrixXd G(static_cast<Eigen::Index>(gauges.size()), gauges.front().g.size());
   for (std::size_t i = 0; i < gauges.size(); ++i) G.row(static_cast<Eigen::Index>(i)) = gauges[i].g;
   return G;
 }
 
-}  // namespace
+double meanConditionalPassProbability(const LengthTestPrediction& prediction,
+                                      const Eigen::MatrixXd& S) {
+  double sum = 0.0;
+  for (Eigen::Index m = 0; m < S.cols(); ++m) {
+    double probability = 1.0;
+    for (std::size_t k = 0; k < prediction.gauges.size(); ++k) {
+      const Gauge& gauge = prediction.gauges[k];
+      const double s = S(static_cast<Eigen::Index>(k), m);
+      const double scale = 1.0 / (gauge.sigma_noise * std::sqrt(2.0));
+      const double p =
+          gauge.sigma_noise > 0.0
+              ? 0.5 * (std::erf((gauge.mpe - s) * scale) + std::erf((gauge.mpe + s) * scale))
+              : (std::abs(s) <= gauge.mpe ? 1.0 : 0.0);
+      probability *= std::pow(p, prediction.repetitions);
+    }
+    sum += probability;
+  }
+  return S.cols() > 0 ? sum / static_cast<double>(S.cols()) : 0.0;
+}
 
 LengthTestPrediction predictLengthTestLinear(const AcceptanceInput& input,
                                              const LengthTestOptions& options) {
@@ -187,7 +206,7 @@ LengthTestPrediction predictLengthTestLinear(const AcceptanceInput& input,
       prediction.gauges.push_back(std::move(gauge));
     }
   }
-  const Eigen::MatrixXd G = gaugeDerivatives(prediction.gauges, input);
+  const Eigen::MatrixXd G = gaugeDerivatives(prediction.gauges);
   prediction.systematic_covariance = G * input.uncertainty.V * G.transpose();
   prediction.unseen = unseenParameters(input, prediction.gauges);
   return prediction;
@@ -196,7 +215,7 @@ LengthTestPrediction predictLengthTestLinear(const AcceptanceInput& input,
 LinearGaussianTest lengthTestModel(const LengthTestPrediction& prediction,
                                    const AcceptanceInput& input) {
   LinearGaussianTest test;
-  test.A = gaugeDerivatives(prediction.gauges, input) * covarianceFactor(input.uncertainty.V);
+  test.A = gaugeDerivatives(prediction.gauges) * covarianceFactor(input.uncertainty.V);
   for (std::size_t i = 0; i < prediction.gauges.size(); ++i) {
     const Gauge& gauge = prediction.gauges[i];
     for (int r = 0; r < prediction.repetitions; ++r) {

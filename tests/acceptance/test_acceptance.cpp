@@ -266,6 +266,32 @@ TEST(LengthTest, SameSeedSameAnswerWhateverTheThreadCount) {
   EXPECT_EQ(one.statistic.median, three.statistic.median);
 }
 
+TEST(LengthTest, MeanConditionalPassProbabilityOverDrawsAgreesWithTheMonteCarlo) {
+  const Prepared prepared = prepare(test_support::testDataFile(kReferencePlan));
+  const LengthTestPrediction linear = predictLengthTestLinear(prepared.input, referenceOptions());
+  const LinearGaussianTest model = lengthTestModel(linear, prepared.input);
+  NormalSource normal(5);
+  Eigen::MatrixXd Z(model.A.cols(), 4000);
+  for (Eigen::Index m = 0; m < Z.cols(); ++m)
+    for (Eigen::Index k = 0; k < Z.rows(); ++k) Z(k, m) = normal();
+  const Eigen::MatrixXd S = model.A * Z;
+  // Each draw's P(pass | s) as conditionalPassProbability gives it over the 105 results.
+  double sum = 0.0, sum2 = 0.0;
+  for (Eigen::Index m = 0; m < S.cols(); ++m) {
+    const double p = conditionalPassProbability(model, S.col(m));
+    sum += p;
+    sum2 += p * p;
+  }
+  const double mean = sum / static_cast<double>(S.cols());
+  EXPECT_NEAR(meanConditionalPassProbability(linear, S), mean, 1e-12);
+  const double se = std::sqrt((sum2 / static_cast<double>(S.cols()) - mean * mean) /
+                              static_cast<double>(S.cols()));
+  const double expected =
+      readJson(test_support::testDataFile("ref-acceptance-cmm-3planes.expected.json"))["p_pass"]
+          .get<double>();
+  EXPECT_NEAR(mean, expected, 3.0 * se);
+}
+
 TEST(LengthTest, MpeParsing) {
   const auto mpe = parseMpe("1.5 + L/333");
   ASSERT_TRUE(mpe);
@@ -559,6 +585,41 @@ TEST(LengthTest, AnAxisOutsideTheMachineFramesDirectionsIsRefused) {
   } catch (const InputError& e) {
     EXPECT_EQ(e.pointer(), "/machine/axes/1/direction");
   }
+}
+
+TEST(AcceptanceCli, OptimizeForThePassProbability) {
+  nlohmann::json spec = readJson(test_support::planFile("cmm-plate-2styli.spec.json"));
+  spec["design"]["criterion"] = "pass";
+  spec["design"]["placements"] = 6;
+  spec["workspace"]["samples"] = 500;
+  const std::string tag = std::to_string(::getpid());
+  const auto temp = std::filesystem::temp_directory_path();
+  const std::string without = (temp / ("artcal-pass-spec-no-" + tag + ".json")).string();
+  std::ofstream(without) << spec.dump();
+  spec["acceptance"] = {{"test", "iso10360-2"}, {"mpe", "1.5 + L/333"}};
+  const std::string path = (temp / ("artcal-pass-spec-" + tag + ".json")).string();
+  const std::string output = (temp / ("artcal-pass-plan-" + tag + ".json")).string();
+  std::ofstream(path) << spec.dump();
+  const test_support::CliRun refused =
+      test_support::runCli("optimize " + without + " -o " + output, test_support::Stderr::Only);
+  const test_support::CliRun run =
+      test_support::runCli("optimize " + path + " -o " + output +
+                           " --starts 2 --evaluations 40 --pool 60 --seed 3 --quiet --json");
+  const test_support::CliRun check =
+      test_support::runCli("acceptance " + output + " --trials 40000 --json");
+  for (const std::string& f : {without, path, output}) std::filesystem::remove(f);
+  EXPECT_EQ(refused.status, 2);
+  EXPECT_NE(refused.out.find("/design/criterion"), std::string::npos) << refused.out;
+  ASSERT_EQ(run.status, 0) << run.out;
+  ASSERT_EQ(check.status, 0) << check.out;
+  const nlohmann::json optimized = nlohmann::json::parse(run.out);
+  const nlohmann::json predicted = nlohmann::json::parse(check.out);
+  // The criterion (1 - P(pass) over 256 fixed draws) against the Monte-Carlo of the plan written;
+  // the 256 draws' own scatter dominates the tolerance.
+  const double fail = optimized["optimization"]["value"].get<double>();
+  EXPECT_GT(fail, 0.0);
+  EXPECT_LT(fail, 1.0);
+  EXPECT_NEAR(1.0 - fail, predicted["p_pass"].get<double>(), 0.05);
 }
 
 TEST(AcceptanceCli, BadInputIsOneErrorLineWithStatus2) {

@@ -77,6 +77,16 @@ LengthTestPrediction predictLengthTestLinear(const AcceptanceInput& input,
 LinearGaussianTest lengthTestModel(const LengthTestPrediction& prediction,
                                    const AcceptanceInput& input);
 
+/// The gauges' g as rows (gauges x the covariance's parameters).
+Eigen::MatrixXd gaugeDerivatives(const std::vector<Gauge>& gauges);
+
+/// The mean over the columns s of S (one draw of the gauges' systematic parts each, mm) of the
+/// exact P(pass | s) = prod_k P(|s_k + n| <= MPE_k)^repetitions, n ~ N(0, sigma_noise,k^2): with
+/// S = G chol(V_p) Z for fixed standard normal Z (common random numbers) an estimate of P(pass)
+/// that is smooth in V_p (the optimizer's "pass" criterion).
+double meanConditionalPassProbability(const LengthTestPrediction& prediction,
+                                      const Eigen::MatrixXd& S);
+
 /// predictLengthTestLinear, then the Monte-Carlo.
 LengthTestPrediction predictLengthTest(const AcceptanceInput& input,
                                        const LengthTestOptions& options);
