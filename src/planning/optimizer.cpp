@@ -127,8 +127,13 @@ int OptimizerSummary::startsDone() const {
 std::string OptimizerSummary::briefReport() const {
   std::ostringstream out;
   out << (termination == Termination::Completed ? "completed" : "time limit reached") << ": "
-      << startsDone() << "/" << starts.size() << " starts, best " << value * 1000.0 << " um (start "
-      << best_start << "), pool " << pool_size << ", " << seconds << " s";
+      << startsDone() << "/" << starts.size() << " starts, best ";
+  if (criterion == Criterion::Pass) {
+    out << value << " (1 - P(pass))";
+  } else {
+    out << value * 1000.0 << " um";
+  }
+  out << " (start " << best_start << "), pool " << pool_size << ", " << seconds << " s";
   return out.str();
 }
 
@@ -711,13 +716,13 @@ OptimizerSummary Search::run() {
     return results_[static_cast<std::size_t>(a)].refined <
            results_[static_cast<std::size_t>(b)].refined;
   });
-  ranked.resize(std::min<std::size_t>(ranked.size(),
-                                      static_cast<std::size_t>(options_.polish)));
+  ranked.resize(std::min<std::size_t>(ranked.size(), static_cast<std::size_t>(options_.polish)));
   parallelFor(static_cast<int>(ranked.size()), threads_, [&](int i, int worker) {
     if (remaining() <= 0.0) return;
     polish(ranked[static_cast<std::size_t>(i)], criteria_[static_cast<std::size_t>(worker)]);
   });
   OptimizerSummary summary;
+  summary.criterion = options_.criterion;
   summary.starts = results_;
   summary.pool_size = static_cast<int>(pool_.size());
   summary.value = kInfinity;

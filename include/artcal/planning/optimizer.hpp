@@ -78,7 +78,8 @@ struct OptimizerSummary {
   enum class Termination { Completed, TimeLimit };
   Termination termination = Termination::Completed;
   std::vector<Placement> placements;  ///< the designed placements (the spec's fixed ones apart)
-  double value = 0.0;                 ///< criterion of the best plan, mm
+  double value = 0.0;                 ///< criterion of the best plan, mm (pass: 1 - P(pass))
+  Criterion criterion = Criterion::WorstTip;
   int best_start = -1;
   std::vector<StartResult> starts;
   int pool_size = 0;
