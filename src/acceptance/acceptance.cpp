@@ -9,16 +9,21 @@
 
 namespace artcal {
 
-std::optional<AcceptanceInput> acceptanceInputFromPlan(const Plan& plan,
-                                                       const Evaluation& evaluation) {
-  if (!evaluation.identifiable()) return std::nullopt;
+AcceptanceInput acceptanceInputAtNominal(const Plan& plan, Eigen::MatrixXd V) {
   AcceptanceInput input;
   input.source = plan.source;
   input.machine = &plan.machine;
   input.parameters = plan.machine.nominal;
   input.uncertainty.indices = plan.machine.calibrated;
-  input.uncertainty.V = evaluation.covariance->V;
+  input.uncertainty.V = std::move(V);
   input.noise = plan.noise;
+  return input;
+}
+
+std::optional<AcceptanceInput> acceptanceInputFromPlan(const Plan& plan,
+                                                       const Evaluation& evaluation) {
+  if (!evaluation.identifiable()) return std::nullopt;
+  AcceptanceInput input = acceptanceInputAtNominal(plan, evaluation.covariance->V);
   input.workspace = evaluation.workspace;
   return input;
 }
@@ -45,8 +50,10 @@ std::string Mpe::text() const {
 }
 
 std::optional<Mpe> parseMpe(const std::string& text, std::string* error) {
-  static const std::regex pattern(
-      R"(\s*([0-9]*\.?[0-9]+(?:[eE][-+]?[0-9]+)?)\s*(?:\+\s*L\s*/\s*([0-9]*\.?[0-9]+(?:[eE][-+]?[0-9]+)?)\s*)?)");
+  // "A" or "A + L/K", spaces free; A and K unsigned decimal numbers.
+  static const std::string number = R"(([0-9]*\.?[0-9]+(?:[eE][-+]?[0-9]+)?))";
+  static const std::regex pattern(R"(\s*)" + number + R"(\s*(?:\+\s*L\s*/\s*)" + number +
+                                  R"(\s*)?)");
   std::smatch match;
   auto fail = [error](const std::string& message) -> std::optional<Mpe> {
     if (error) *error = message;

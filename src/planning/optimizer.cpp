@@ -156,13 +156,7 @@ constexpr std::uint64_t kPassDrawSeed = 20261201;
 std::shared_ptr<const PassCriterionData> makePassCriterion(const Plan& plan) {
   if (!plan.acceptance) throw std::logic_error("criterion pass without an acceptance block");
   const int n = plan.machine.calibratedCount();
-  AcceptanceInput input;
-  input.source = plan.source;
-  input.machine = &plan.machine;
-  input.parameters = plan.machine.nominal;
-  input.uncertainty.indices = plan.machine.calibrated;
-  input.uncertainty.V = Eigen::MatrixXd::Zero(n, n);
-  input.noise = plan.noise;
+  const AcceptanceInput input = acceptanceInputAtNominal(plan, Eigen::MatrixXd::Zero(n, n));
   LengthTestOptions options;
   options.mpe = *parseMpe(plan.acceptance->mpe);
   auto data = std::make_shared<PassCriterionData>();
@@ -716,7 +710,8 @@ OptimizerSummary Search::run() {
     return results_[static_cast<std::size_t>(a)].refined <
            results_[static_cast<std::size_t>(b)].refined;
   });
-  ranked.resize(std::min<std::size_t>(ranked.size(), static_cast<std::size_t>(options_.polish)));
+  ranked.resize(std::min<std::size_t>(ranked.size(),
+                                      static_cast<std::size_t>(options_.polish)));
   parallelFor(static_cast<int>(ranked.size()), threads_, [&](int i, int worker) {
     if (remaining() <= 0.0) return;
     polish(ranked[static_cast<std::size_t>(i)], criteria_[static_cast<std::size_t>(worker)]);

@@ -572,13 +572,7 @@ TEST(LengthTest, AnAxisOutsideTheMachineFramesDirectionsIsRefused) {
   document["machine"]["calibrate"] = nlohmann::json::array({"x.tx.1", "y.tx.1", "z.tx.1"});
   document.erase("placements");
   const Plan plan = parsePlan(document, "tilted.json", false, false);
-  AcceptanceInput input;
-  input.source = plan.source;
-  input.machine = &plan.machine;
-  input.parameters = plan.machine.nominal;
-  input.uncertainty.indices = plan.machine.calibrated;
-  input.uncertainty.V = Eigen::MatrixXd::Zero(3, 3);
-  input.noise = plan.noise;
+  const AcceptanceInput input = acceptanceInputAtNominal(plan, Eigen::MatrixXd::Zero(3, 3));
   try {
     predictLengthTestLinear(input, referenceOptions());
     FAIL() << "no error";

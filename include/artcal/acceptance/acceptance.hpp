@@ -28,6 +28,10 @@ struct AcceptanceInput {
   std::vector<Eigen::VectorXd> workspace;
 };
 
+/// The plan's nominal machine with covariance V over its calibrated parameters and the plan's
+/// noise (no workspace).
+AcceptanceInput acceptanceInputAtNominal(const Plan& plan, Eigen::MatrixXd V);
+
 /// The plan's own prediction: nominal parameters, the evaluator's V_p, the plan's noise and
 /// workspace. std::nullopt when the plan does not identify its calibrated parameters.
 std::optional<AcceptanceInput> acceptanceInputFromPlan(const Plan& plan,
