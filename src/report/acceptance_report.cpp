@@ -236,7 +236,7 @@ json poseTestToJson(const AcceptanceInput& input, const PoseTestPrediction& pred
                 {"joints", "deg or mm per joint"}}},
               {"noise", noiseJson(input)},
               {"calibrated", calibratedNames(input)},
-              {"points", points},
+              {"items", points},
               {"max_ap", quantilesJson(prediction.max_ap)},
               {"monte_carlo", monteCarloJson(mc, options.monte_carlo)}};
   if (prediction.mpe) {

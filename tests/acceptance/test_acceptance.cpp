@@ -292,6 +292,22 @@ TEST(LengthTest, MeanConditionalPassProbabilityOverDrawsAgreesWithTheMonteCarlo)
   EXPECT_NEAR(mean, expected, 3.0 * se);
 }
 
+TEST(LengthTest, PosteriorScalesTheMachinesCovarianceByItsBirgeRatio) {
+  const Prepared prepared = prepare(test_support::testDataFile(kReferencePlan));
+  ParameterUncertainty uncertainty = prepared.input.uncertainty;
+  uncertainty.birge_ratio = 1.5;
+  const AcceptanceInput prior =
+      acceptanceInputFromMachine(prepared.plan, prepared.plan.machine.nominal, uncertainty, false);
+  const AcceptanceInput posterior =
+      acceptanceInputFromMachine(prepared.plan, prepared.plan.machine.nominal, uncertainty, true);
+  const LengthTestPrediction a = predictLengthTestLinear(prior, referenceOptions());
+  const LengthTestPrediction b = predictLengthTestLinear(posterior, referenceOptions());
+  for (std::size_t i = 0; i < a.gauges.size(); ++i) {
+    EXPECT_NEAR(b.gauges[i].sigma_sys, 1.5 * a.gauges[i].sigma_sys, 1e-12);
+    EXPECT_EQ(b.gauges[i].sigma_noise, a.gauges[i].sigma_noise);  // the plan's noise
+  }
+}
+
 TEST(LengthTest, MpeParsing) {
   const auto mpe = parseMpe("1.5 + L/333");
   ASSERT_TRUE(mpe);
@@ -531,8 +547,8 @@ TEST(AcceptanceCli, PoseTestOfASerialArm) {
       " --test iso9283 --cube 300 --center 0,300,200 --mpe 0.05 --trials 10000 --json");
   ASSERT_EQ(run.status, 0) << run.out;
   const nlohmann::json out = nlohmann::json::parse(run.out);
-  ASSERT_EQ(out["points"].size(), 5u);
-  EXPECT_EQ(out["points"][0]["joints"].size(), 6u);
+  ASSERT_EQ(out["items"].size(), 5u);
+  EXPECT_EQ(out["items"][0]["joints"].size(), 6u);
   EXPECT_TRUE(out["p_pass"].is_number());
   const test_support::CliRun far =
       test_support::runCli("acceptance " + test_support::planFile("aacmm-6axis-3bars.json") +
