@@ -42,6 +42,17 @@ double toMicrometres(double mm) {
   return mm * 1000.0;
 }
 
+/// How a criterion value is shown: um for the lengths, as is for "pass" (1 - P(pass)).
+struct CriterionDisplay {
+  double factor;
+  const char* unit;
+};
+
+CriterionDisplay displayOf(Criterion criterion) {
+  if (criterion == Criterion::Pass) return {1.0, "1 - P(pass)"};
+  return {1000.0, "um"};
+}
+
 OptimizerOptions optionsFrom(const Plan& plan, const OptimizeArguments& args) {
   OptimizerOptions options = OptimizerOptions::fromDesign(*plan.design);
   if (args.starts) options.starts = *args.starts;
@@ -54,9 +65,10 @@ OptimizerOptions optionsFrom(const Plan& plan, const OptimizeArguments& args) {
   if (args.kicks) options.kicks = *args.kicks;
   options.algorithm = *refineAlgorithmFromName(args.algorithm);
   if (!args.quiet && isatty(STDERR_FILENO)) {
-    options.progress = [](const OptimizerProgress& p) {
-      std::fprintf(stderr, "\roptimize: %d/%d starts, best %.3f um, %.1f s   ", p.starts_done,
-                   p.starts, toMicrometres(p.best), p.elapsed);
+    const CriterionDisplay display = displayOf(plan.design->criterion);
+    options.progress = [display](const OptimizerProgress& p) {
+      std::fprintf(stderr, "\roptimize: %d/%d starts, best %.3f %s, %.1f s   ", p.starts_done,
+                   p.starts, p.best * display.factor, display.unit, p.elapsed);
       std::fflush(stderr);
     };
   }
@@ -81,7 +93,7 @@ nlohmann::json optimizationToJson(const Plan& plan, const OptimizerOptions& opti
   nlohmann::json out;
   out["criterion"] = criterionName(plan.design->criterion);
   out["value"] = finiteOrNull(summary.value);
-  out["unit"] = "mm";
+  out["unit"] = plan.design->criterion == Criterion::Pass ? "1 - P(pass)" : "mm";
   out["seed"] = options.seed;
   out["starts"] = options.starts;
   out["starts_done"] = summary.startsDone();
@@ -108,10 +120,11 @@ std::string summaryTable(const Plan& plan, const OptimizerSummary& summary,
   out << "artcal optimize: " << plan.name << " -> " << output << "\n";
   out << "criterion " << criterionName(plan.design->criterion) << ", " << plan.design->placements
       << " placements x " << plan.design->postures << " posture(s)\n\n";
-  out << "  stage                    criterion (um)\n";
-  out << "  random initial design    " << std::setw(12) << toMicrometres(best.initial) << "\n";
-  out << "  after exchange           " << std::setw(12) << toMicrometres(best.exchanged) << "\n";
-  out << "  after refinement         " << std::setw(12) << toMicrometres(best.refined) << "\n\n";
+  const CriterionDisplay display = displayOf(plan.design->criterion);
+  out << "  stage                    criterion (" << display.unit << ")\n";
+  out << "  random initial design    " << std::setw(12) << best.initial * display.factor << "\n";
+  out << "  after exchange           " << std::setw(12) << best.exchanged * display.factor << "\n";
+  out << "  after refinement         " << std::setw(12) << best.refined * display.factor << "\n\n";
   if (evaluation.tip) {
     out << "  tip worst " << toMicrometres(evaluation.tip->worst.total) << " um, mean "
         << toMicrometres(evaluation.tip->mean) << " um\n";

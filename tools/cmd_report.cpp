@@ -11,6 +11,7 @@
 #include "artcal/io/output_file.hpp"
 #include "artcal/io/plan_io.hpp"
 #include "artcal/io/truth_io.hpp"
+#include "artcal/report/acceptance_report.hpp"
 #include "artcal/report/calibration_report.hpp"
 #include "artcal/report/cartesian_report.hpp"
 #include "artcal/report/html_report.hpp"
@@ -169,6 +170,8 @@ void addReportCommand(CLI::App& app, Action& action) {
       std::vector<ReportFigure> figures = reportFigures(input);
       addErrorFunctionFigures(calibration ? calibrated : plan, document, args->plan, evaluation,
                               calibration, figures);
+      if (auto acceptance = acceptanceReportFigure(plan, document, evaluation))
+        figures.push_back(std::move(*acceptance));
       const std::string html = htmlReport(input, figures);
       writeReportFiles(*args, html, figures);
       const nlohmann::json summary =

@@ -22,6 +22,7 @@
 
 #include "artcal/core/linear_algebra.hpp"
 #include "artcal/estimation/identifiability.hpp"
+#include "artcal/io/acceptance_spec.hpp"
 #include "artcal/io/csv_readings.hpp"
 #include "artcal/io/json_node.hpp"
 #include "artcal/io/model_registry.hpp"
@@ -581,11 +582,11 @@ WorkspaceSpec parseWorkspace(const Node& node, const Machine& machine,
 
 Criterion parseCriterion(const Node& node) {
   const std::string name = node.string();
-  for (Criterion c :
-       {Criterion::WorstTip, Criterion::MeanTip, Criterion::D, Criterion::A, Criterion::E}) {
+  for (Criterion c : {Criterion::WorstTip, Criterion::MeanTip, Criterion::D, Criterion::A,
+                      Criterion::E, Criterion::Pass}) {
     if (criterionName(c) == name) return c;
   }
-  node.fail("unknown criterion \"" + name + "\" (expected worst-tip, mean-tip, D, A or E)");
+  node.fail("unknown criterion \"" + name + "\" (expected worst-tip, mean-tip, D, A, E or pass)");
 }
 
 // design.joint_margin: one number for every joint or one per joint (deg revolute, mm prismatic),
@@ -631,7 +632,12 @@ DesignSpec parseDesign(const Node& node, const Plan& plan, std::vector<std::stri
   design.placements = static_cast<int>(node.at("placements").integer(1, 100'000));
   if (const auto v = node.find("postures")) design.postures = static_cast<int>(v->integer(1, 100));
   design.region = parseRegion(node.at("region"), plan.machine.dimension(), warnings);
-  if (const auto v = node.find("criterion")) design.criterion = parseCriterion(*v);
+  if (const auto v = node.find("criterion")) {
+    design.criterion = parseCriterion(*v);
+    if (design.criterion == Criterion::Pass &&
+        !(plan.acceptance && plan.acceptance->test == "iso10360-2"))
+      v->fail("criterion \"pass\" needs the plan's \"acceptance\" block with an iso10360-2 test");
+  }
   if (const auto v = node.find("seed"))
     design.seed = static_cast<std::uint64_t>(v->integer(0, std::numeric_limits<long>::max()));
   if (const auto v = node.find("starts")) design.starts = static_cast<int>(v->integer(1, 10'000));
@@ -746,7 +752,7 @@ Plan parsePlan(const nlohmann::json& document, const std::string& source, bool r
   root.object();
   root.warnUnknown(
       {"format", "name", "description", "machine", "noise", "artifacts", "placements", "workspace",
-       "design", "predicted", "readings", "calibration", "truth", "simulation"},
+       "design", "predicted", "readings", "calibration", "truth", "simulation", "acceptance"},
       plan.warnings);
   const Node format = root.at("format");
   if (format.string() != "artcal-plan/1") {
@@ -785,6 +791,7 @@ Plan parsePlan(const nlohmann::json& document, const std::string& source, bool r
   if (const auto workspace = root.find("workspace")) {
     plan.workspace = parseWorkspace(*workspace, plan.machine, plan.warnings);
   }
+  plan.acceptance = parseAcceptanceSpec(document, source);
   if (const auto design = root.find("design"))
     plan.design = parseDesign(*design, plan, plan.warnings);
   if (check_plausibility) checkPlausibility(plan);  // only wrong units or a wrong pose explain

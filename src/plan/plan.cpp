@@ -70,6 +70,8 @@ std::string criterionName(Criterion criterion) {
       return "A";
     case Criterion::E:
       return "E";
+    case Criterion::Pass:
+      return "pass";
   }
   throw std::logic_error("unknown criterion");
 }

@@ -14,6 +14,8 @@
 #include <sstream>
 #include <thread>
 
+#include "artcal/acceptance/length_test.hpp"
+#include "artcal/calibration/simulation.hpp"
 #include "artcal/core/error.hpp"
 #include "artcal/core/linear_algebra.hpp"
 #include "artcal/core/parallel.hpp"
@@ -125,13 +127,58 @@ int OptimizerSummary::startsDone() const {
 std::string OptimizerSummary::briefReport() const {
   std::ostringstream out;
   out << (termination == Termination::Completed ? "completed" : "time limit reached") << ": "
-      << startsDone() << "/" << starts.size() << " starts, best " << value * 1000.0 << " um (start "
-      << best_start << "), pool " << pool_size << ", " << seconds << " s";
+      << startsDone() << "/" << starts.size() << " starts, best ";
+  if (criterion == Criterion::Pass) {
+    out << value << " (1 - P(pass))";
+  } else {
+    out << value * 1000.0 << " um";
+  }
+  out << " (start " << best_start << "), pool " << pool_size << ", " << seconds << " s";
   return out.str();
 }
 
 // ---------------------------------------------------------------------------------------------
 // DesignCriterion
+
+// Criterion::Pass: the plan's ISO 10360-2 gauges at nominal (their g and noise parts do not
+// depend on the design), and fixed standard normal draws of the shared parameter error.
+struct PassCriterionData {
+  LengthTestPrediction gauges;
+  Eigen::MatrixXd G;  ///< gauges x calibrated parameters
+  Eigen::MatrixXd Z;  ///< calibrated parameters x draws
+};
+
+namespace {
+
+constexpr int kPassDraws = 256;
+constexpr std::uint64_t kPassDrawSeed = 20261201;
+
+std::shared_ptr<const PassCriterionData> makePassCriterion(const Plan& plan) {
+  if (!plan.acceptance) throw std::logic_error("criterion pass without an acceptance block");
+  const int n = plan.machine.calibratedCount();
+  const AcceptanceInput input = acceptanceInputAtNominal(plan, Eigen::MatrixXd::Zero(n, n));
+  LengthTestOptions options;
+  options.mpe = *parseMpe(plan.acceptance->mpe);
+  auto data = std::make_shared<PassCriterionData>();
+  data->gauges = predictLengthTestLinear(input, options);
+  data->G = gaugeDerivatives(data->gauges.gauges);
+  NormalSource normal(kPassDrawSeed);
+  data->Z.resize(n, kPassDraws);
+  for (Eigen::Index m = 0; m < data->Z.cols(); ++m)
+    for (Eigen::Index k = 0; k < n; ++k) data->Z(k, m) = normal();
+  return data;
+}
+
+/// 1 - P(pass) for V_p (PassCriterionData).
+double failProbability(const PassCriterionData& pass, const Eigen::MatrixXd& V) {
+  const Eigen::LLT<Eigen::MatrixXd> llt(V);
+  const Eigen::MatrixXd F =
+      llt.info() == Eigen::Success ? Eigen::MatrixXd(llt.matrixL()) : covarianceFactor(V);
+  const Eigen::MatrixXd S = pass.G * (F * pass.Z);
+  return 1.0 - meanConditionalPassProbability(pass.gauges, S);
+}
+
+}  // namespace
 
 DesignCriterion::DesignCriterion(const Plan& plan, Criterion criterion, double smooth_power)
     : plan_(&plan),
@@ -147,6 +194,7 @@ DesignCriterion::DesignCriterion(const Plan& plan, Criterion criterion, double s
   for (int k = 0; k < machine.calibratedCount(); ++k) {
     scale_[k] = machine.calibratedInfo(k).quantity.isAngle() ? reach : 1.0;
   }
+  if (criterion == Criterion::Pass) pass_ = makePassCriterion(plan);
 }
 
 Eigen::MatrixXd DesignCriterion::contribution(const Placement& placement) {
@@ -241,6 +289,8 @@ double DesignCriterion::evaluate(const Eigen::MatrixXd& information_g, double po
       if (criterion_ == Criterion::E) return std::sqrt(lambda.maxCoeff());
       return std::exp(lambda.array().log().sum() / (2.0 * n));
     }
+    case Criterion::Pass:
+      return failProbability(*pass_, V);
   }
   return kInfinity;
 }
@@ -666,6 +716,7 @@ OptimizerSummary Search::run() {
     polish(ranked[static_cast<std::size_t>(i)], criteria_[static_cast<std::size_t>(worker)]);
   });
   OptimizerSummary summary;
+  summary.criterion = options_.criterion;
   summary.starts = results_;
   summary.pool_size = static_cast<int>(pool_.size());
   summary.value = kInfinity;

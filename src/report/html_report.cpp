@@ -899,6 +899,12 @@ std::string htmlReport(const ReportInput& in, const std::vector<ReportFigure>& f
     out << "<h2>Error functions</h2>\n";
     writeFigures(out, figures, "error-functions");
   }
+  // The plan's acceptance test predicted (acceptance_report.hpp, added by the caller).
+  if (std::any_of(figures.begin(), figures.end(),
+                  [](const ReportFigure& f) { return f.name.starts_with("acceptance"); })) {
+    out << "<h2>Acceptance test predicted</h2>\n";
+    writeFigures(out, figures, "acceptance");
+  }
   writeProcedure(out, in.plan);
   out << "</body>\n</html>\n";
   return out.str();

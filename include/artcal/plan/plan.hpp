@@ -111,7 +111,8 @@ struct WorkspaceSpec {
   double tilt = 15.0 * kDegree;                 ///< Kind::TaskSpace, rad
 };
 
-enum class Criterion { WorstTip, MeanTip, D, A, E };
+/// Pass: 1 - P(pass) of the plan's ISO 10360-2 acceptance test (its "acceptance" block).
+enum class Criterion { WorstTip, MeanTip, D, A, E, Pass };
 
 /// The `design` block of an optimization spec.
 struct DesignSpec {
@@ -161,6 +162,15 @@ struct CalibratedSetResolution {
   std::vector<double> weak_fraction;  ///< each one's surviving fraction when it was held
 };
 
+/// The plan's optional `acceptance` block (docs/plan-format.md; spec acceptance.md): the test
+/// the calibrated machine must pass, as the file states it.
+struct AcceptanceSpec {
+  std::string test;                       ///< "iso10360-2" or "iso9283"
+  std::string mpe;                        ///< "A + L/K" (um, mm) or, for iso9283, mm as text
+  std::optional<double> cube;             ///< iso9283, mm
+  std::optional<Eigen::Vector3d> center;  ///< iso9283, mm
+};
+
 struct Plan {
   std::string source;  ///< the file it came from, for messages
   std::string name;
@@ -173,6 +183,7 @@ struct Plan {
   std::optional<DesignSpec> design;
   std::vector<std::string> warnings;  ///< e.g. unknown fields ignored
   std::optional<CalibratedSetResolution> calibrate_resolution;
+  std::optional<AcceptanceSpec> acceptance;
 
   int artifactIndex(const std::string& id) const;
 };

@@ -5,6 +5,8 @@
 //   worst-tip  G = max_q S(q) over the plan's workspace (minimax, G-optimality)
 //   mean-tip   sqrt(mean_q S(q)^2)  (the root of the I criterion)
 //   D          det(V_s)^(1/(2 N_p)),  A  sqrt(tr V_s / N_p),  E  sqrt(lambda_max(V_s))
+//   pass       1 - P(pass) of the plan's ISO 10360-2 acceptance test (dimensionless; the mean of
+//              the exact P(pass | dp) over 256 fixed draws of dp, acceptance/length_test.hpp)
 // where V_s is V_p with every angle parameter scaled by the machine's reach (mm per rad), so
 // that all parameters share a unit.
 //
@@ -23,6 +25,7 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -54,9 +57,9 @@ struct OptimizerOptions {
   RefineAlgorithm algorithm = RefineAlgorithm::Subplex;
   int refine_evaluations = 0;  ///< per start; 0: automatic (by the number of pose variables)
   double smooth_power = 0.0;   ///< worst-tip refinement: 0 the max itself, p > 0 a p-norm
-  int polish = 0;  ///< the best designs polished at the end (refinement restarted, then kicked)
-  int kicks = 0;   ///< iterated-local-search kicks per polished design
-  int threads = 0;             ///< 0: the hardware's
+  int polish = 0;   ///< the best designs polished at the end (refinement restarted, then kicked)
+  int kicks = 0;    ///< iterated-local-search kicks per polished design
+  int threads = 0;  ///< 0: the hardware's
   std::function<void(const OptimizerProgress&)> progress;  ///< called after each start
 
   /// The spec's design block (criterion, seed, starts, time_limit) over the defaults.
@@ -75,7 +78,8 @@ struct OptimizerSummary {
   enum class Termination { Completed, TimeLimit };
   Termination termination = Termination::Completed;
   std::vector<Placement> placements;  ///< the designed placements (the spec's fixed ones apart)
-  double value = 0.0;                 ///< criterion of the best plan, mm
+  double value = 0.0;                 ///< criterion of the best plan, mm (pass: 1 - P(pass))
+  Criterion criterion = Criterion::WorstTip;
   int best_start = -1;
   std::vector<StartResult> starts;
   int pool_size = 0;
@@ -87,6 +91,8 @@ struct OptimizerSummary {
 
 /// Evaluates the criterion of designs from their placements' additive information terms.
 /// Holds prepared workspace Jacobians and scratch: one per thread.
+struct PassCriterionData;
+
 class DesignCriterion {
  public:
   DesignCriterion(const Plan& plan, Criterion criterion, double smooth_power = 0.0);
@@ -132,6 +138,7 @@ class DesignCriterion {
   Eigen::VectorXd scale_, S_m2_;
   std::vector<int> active_;  ///< indices into the workspace configurations
   std::optional<TipEvaluator> active_tip_;
+  std::shared_ptr<const PassCriterionData> pass_;  ///< Criterion::Pass
 };
 
 /// Refuses a design that cannot be identifiable by counting (docs/method.md section 5): InputError

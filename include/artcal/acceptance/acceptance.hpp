@@ -1,0 +1,68 @@
+#pragma once
+// What an acceptance-test prediction starts from (spec acceptance.md): the calibrated machine
+// (its parameters), the covariance V_p of its calibrated parameters (a plan's predicted one, or
+// a machine file's), and the noise of the readings (the plan's: probing per point, encoders per
+// reading). Parameters outside the covariance are taken as exact.
+
+#include <Eigen/Core>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "artcal/calibration/verification.hpp"
+#include "artcal/estimation/evaluator.hpp"
+#include "artcal/plan/plan.hpp"
+
+namespace artcal {
+
+/// One micrometre in mm (the unit of E and the MPE in outputs).
+inline constexpr double kMicrometre = 1e-3;
+
+struct AcceptanceInput {
+  std::string source;  ///< the plan file, for messages
+  const Machine* machine = nullptr;
+  Eigen::VectorXd parameters;        ///< full vector, internal units
+  ParameterUncertainty uncertainty;  ///< V_p over uncertainty.indices, internal units
+  Noise noise;
+  /// The configurations the inverse kinematics may start from (ISO 9283); the plan's workspace.
+  std::vector<Eigen::VectorXd> workspace;
+};
+
+/// The plan's nominal machine with covariance V over its calibrated parameters and the plan's
+/// noise (no workspace).
+AcceptanceInput acceptanceInputAtNominal(const Plan& plan, Eigen::MatrixXd V);
+
+/// The plan's own prediction: nominal parameters, the evaluator's V_p, the plan's noise and
+/// workspace. std::nullopt when the plan does not identify its calibrated parameters.
+std::optional<AcceptanceInput> acceptanceInputFromPlan(const Plan& plan,
+                                                       const Evaluation& evaluation);
+
+/// A calibrated machine: its parameters and covariance (times birge_ratio^2 when `posterior`
+/// and the ratio is known), the noise and workspace of the plan it was calibrated from.
+AcceptanceInput acceptanceInputFromMachine(const Plan& plan, const Eigen::VectorXd& parameters,
+                                           ParameterUncertainty uncertainty, bool posterior);
+
+/// The maximum permissible error E0,MPE = A + L / K of ISO 10360-2: A in um, L in mm, L / K in
+/// um. Kept in mm: `a` = A in mm; K = 0 means a constant MPE.
+struct Mpe {
+  double a = 0.0;  ///< mm
+  double k = 0.0;  ///< dimensionless (L in mm gives L / K in um), 0: no length term
+  /// MPE(L) in mm for L in mm.
+  double at(double length) const { return k > 0.0 ? a + length / k * kMicrometre : a; }
+  /// "1.5 + L/333" (A in um).
+  std::string text() const;
+};
+
+/// Parses "A + L/K" or "A" (A in um, L in mm, K dimensionless; spaces free); std::nullopt and
+/// `error` set when malformed, A <= 0, K <= 0 or not finite.
+std::optional<Mpe> parseMpe(const std::string& text, std::string* error = nullptr);
+
+/// The columns `indices` of a full-parameter Jacobian.
+Eigen::MatrixXd calibratedColumns(const Eigen::MatrixXd& J_full, const std::vector<int>& indices);
+
+/// A factor F with F F^T = V for V symmetric positive semi-definite (Q sqrt(Lambda) of its
+/// eigen-decomposition, negative round-off eigenvalues taken as 0), so that a singular V, e.g.
+/// V_p = 0, is allowed.
+Eigen::MatrixXd covarianceFactor(const Eigen::MatrixXd& V);
+
+}  // namespace artcal

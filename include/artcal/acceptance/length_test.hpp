@@ -1,0 +1,94 @@
+#pragma once
+// The ISO 10360-2 length test of a Cartesian CMM predicted from the calibration (spec
+// acceptance.md, docs/method.md "Acceptance tests"):
+//
+// - the volume: the box of stylus-0 tip positions over the axis ranges (axes along the machine
+//   frame's x, y, z, either sign); its centre c;
+// - 7 lines through c (the 4 space diagonals, then x, y, z) or the caller's directions; on a line
+//   of direction u whose segment inside the box is D long, 5 gauges of lengths L = f D,
+//   f = 0.1, 0.3, 0.5, 0.7, 0.9, ends a = c - L/2 u, b = c + L/2 u, each measured 3 times;
+// - a result E = u . (x_b - x_a) - L: its systematic part g^T dp, g = (J_p(q_b) - J_p(q_a))^T u
+//   over the calibrated parameters (J_p the model's own, stylus 0, at the axis readings q that
+//   put the tip on the end), dp ~ N(0, V_p) ONE draw shared by every result; its noise part
+//   u . (e_b - e_a) + u . (J_q(q_b) eq_b - J_q(q_a) eq_a), fresh for every result:
+//   sigma_noise^2 = 2 s_p^2 + u^T (J_q,b Sigma_q J_q,b^T + J_q,a Sigma_q J_q,a^T) u.
+// - max_i |E_i| / MPE(L_i) over the 105 results by Monte-Carlo (acceptance/monte_carlo.hpp);
+//   P(pass) = P(max <= 1).
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "artcal/acceptance/acceptance.hpp"
+#include "artcal/acceptance/monte_carlo.hpp"
+
+namespace artcal {
+
+struct LengthTestOptions {
+  Mpe mpe;
+  /// Unit directions replacing the 7 lines (`--lines`); empty: the standard ones.
+  std::vector<Eigen::Vector3d> lines;
+  std::vector<double> fractions = {0.1, 0.3, 0.5, 0.7, 0.9};
+  int repetitions = 3;
+  MonteCarloOptions monte_carlo;
+};
+
+/// One gauge (a line and length); its `repetitions` results share everything below.
+struct Gauge {
+  int line = 0;
+  std::string kind;  ///< "diagonal", "x", "y", "z" or "custom"
+  Eigen::Vector3d direction = Eigen::Vector3d::UnitX();
+  double fraction = 0.0;
+  double length = 0.0;                                                       ///< mm
+  Eigen::Vector3d a = Eigen::Vector3d::Zero(), b = Eigen::Vector3d::Zero();  ///< tip, mm
+  Eigen::VectorXd joints_a, joints_b;                                        ///< axis readings, mm
+  Eigen::RowVectorXd g;        ///< dE/dp over the covariance's parameters
+  Eigen::RowVectorXd g_exact;  ///< dE/dp over the parameters outside it (exact ones)
+  double sigma_sys = 0.0;      ///< mm
+  double sigma_noise = 0.0;    ///< mm
+  double mpe = 0.0;            ///< mm
+  double sigmaTotal() const;
+};
+
+/// A parameter taken as exact that some results are sensitive to.
+struct UnseenParameter {
+  int parameter = 0;       ///< index into the model's parameters
+  std::vector<int> lines;  ///< the lines whose results depend on it
+};
+
+struct LengthTestPrediction {
+  Eigen::Vector3d box_lo, box_hi, center;  ///< the tip box, mm
+  int lines = 0;
+  int repetitions = 3;
+  std::vector<Gauge> gauges;
+  Eigen::MatrixXd systematic_covariance;  ///< of the gauges' systematic parts, mm^2
+  std::vector<UnseenParameter> unseen;
+  Mpe mpe;
+  MonteCarloSummary monte_carlo;
+};
+
+/// The layout and the linear statistics (no Monte-Carlo). InputError when the machine is not a
+/// Cartesian CMM with axes along x, y, z, or a line direction is not a unit vector; RunError
+/// when an end cannot be reached.
+LengthTestPrediction predictLengthTestLinear(const AcceptanceInput& input,
+                                             const LengthTestOptions& options);
+
+/// The Monte-Carlo model of a prediction's results (every gauge `repetitions` times).
+LinearGaussianTest lengthTestModel(const LengthTestPrediction& prediction,
+                                   const AcceptanceInput& input);
+
+/// The gauges' g as rows (gauges x the covariance's parameters).
+Eigen::MatrixXd gaugeDerivatives(const std::vector<Gauge>& gauges);
+
+/// The mean over the columns s of S (one draw of the gauges' systematic parts each, mm) of the
+/// exact P(pass | s) = prod_k P(|s_k + n| <= MPE_k)^repetitions, n ~ N(0, sigma_noise,k^2): with
+/// S = G chol(V_p) Z for fixed standard normal Z (common random numbers) an estimate of P(pass)
+/// that is smooth in V_p (the optimizer's "pass" criterion).
+double meanConditionalPassProbability(const LengthTestPrediction& prediction,
+                                      const Eigen::MatrixXd& S);
+
+/// predictLengthTestLinear, then the Monte-Carlo.
+LengthTestPrediction predictLengthTest(const AcceptanceInput& input,
+                                       const LengthTestOptions& options);
+
+}  // namespace artcal

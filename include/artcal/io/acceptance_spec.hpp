@@ -1,0 +1,20 @@
+#pragma once
+// The plan's optional acceptance test (docs/plan-format.md, "acceptance"; spec acceptance.md):
+//   "acceptance": {"test": "iso10360-2", "mpe": "1.5 + L/333"}
+//   "acceptance": {"test": "iso9283", "cube": 600, "center": [500, 0, 400], "mpe": 0.1}
+// parsePlan keeps it as Plan::acceptance; `artcal acceptance PLAN` takes what the command line
+// does not say from it. Faults are InputErrors naming the file and the JSON pointer.
+
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+
+#include "artcal/plan/plan.hpp"
+
+namespace artcal {
+
+/// The plan document's "acceptance" member; std::nullopt when absent.
+std::optional<AcceptanceSpec> parseAcceptanceSpec(const nlohmann::json& plan_document,
+                                                  const std::string& source);
+
+}  // namespace artcal

@@ -1,0 +1,43 @@
+#pragma once
+// Results of `acceptance` (spec acceptance.md) as JSON, human tables and the E-against-L figure.
+// Lengths, ends and joints in file units (mm, deg); E's standard deviations and the MPE in um in
+// the fields ending `_um` and in the tables (the items also carry `sigma_sys`, `sigma_noise`,
+// `sigma_total` in mm, the reference's fields).
+
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "artcal/acceptance/length_test.hpp"
+#include "artcal/acceptance/pose_test.hpp"
+#include "artcal/report/html_report.hpp"
+
+namespace artcal {
+
+/// One warning per parameter taken as exact that some results depend on, naming the lines.
+std::vector<std::string> unseenParameterWarnings(const AcceptanceInput& input,
+                                                 const LengthTestPrediction& prediction);
+
+nlohmann::json lengthTestToJson(const AcceptanceInput& input,
+                                const LengthTestPrediction& prediction,
+                                const MonteCarloOptions& options);
+std::string lengthTestTable(const AcceptanceInput& input, const LengthTestPrediction& prediction,
+                            const MonteCarloOptions& options);
+/// E against L as a datasheet draws it: each gauge's predicted 95 % band (+-1.96 sigma_total,
+/// um), the +-MPE lines.
+std::string lengthTestSvg(const LengthTestPrediction& prediction);
+
+/// The report's "acceptance" figure (`artcal report`) when the plan document names an ISO
+/// 10360-2 test (its "acceptance" block) and the plan is identifiable: the E-against-L figure,
+/// P(pass) in its caption (default Monte-Carlo options). std::nullopt otherwise (an ISO 9283
+/// block is not drawn). InputError when the plan's machine is not a Cartesian CMM.
+std::optional<ReportFigure> acceptanceReportFigure(const Plan& plan, const nlohmann::json& document,
+                                                   const Evaluation& evaluation);
+
+nlohmann::json poseTestToJson(const AcceptanceInput& input, const PoseTestPrediction& prediction,
+                              const PoseTestOptions& options);
+std::string poseTestTable(const AcceptanceInput& input, const PoseTestPrediction& prediction,
+                          const PoseTestOptions& options);
+
+}  // namespace artcal

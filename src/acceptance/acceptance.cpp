@@ -1,0 +1,87 @@
+#include "artcal/acceptance/acceptance.hpp"
+
+#include <cmath>
+#include <regex>
+#include <sstream>
+
+#include "artcal/core/linear_algebra.hpp"
+#include "artcal/core/units.hpp"
+
+namespace artcal {
+
+AcceptanceInput acceptanceInputAtNominal(const Plan& plan, Eigen::MatrixXd V) {
+  AcceptanceInput input;
+  input.source = plan.source;
+  input.machine = &plan.machine;
+  input.parameters = plan.machine.nominal;
+  input.uncertainty.indices = plan.machine.calibrated;
+  input.uncertainty.V = std::move(V);
+  input.noise = plan.noise;
+  return input;
+}
+
+std::optional<AcceptanceInput> acceptanceInputFromPlan(const Plan& plan,
+                                                       const Evaluation& evaluation) {
+  if (!evaluation.identifiable()) return std::nullopt;
+  AcceptanceInput input = acceptanceInputAtNominal(plan, evaluation.covariance->V);
+  input.workspace = evaluation.workspace;
+  return input;
+}
+
+AcceptanceInput acceptanceInputFromMachine(const Plan& plan, const Eigen::VectorXd& parameters,
+                                           ParameterUncertainty uncertainty, bool posterior) {
+  AcceptanceInput input;
+  input.source = plan.source;
+  input.machine = &plan.machine;
+  input.parameters = parameters;
+  if (posterior && uncertainty.birge_ratio > 0.0)
+    uncertainty.V *= uncertainty.birge_ratio * uncertainty.birge_ratio;
+  input.uncertainty = std::move(uncertainty);
+  input.noise = plan.noise;
+  input.workspace = workspaceConfigurations(plan.machine, plan.workspace);
+  return input;
+}
+
+std::string Mpe::text() const {
+  std::ostringstream out;
+  out << a / kMicrometre;
+  if (k > 0.0) out << " + L/" << k;
+  return out.str();
+}
+
+std::optional<Mpe> parseMpe(const std::string& text, std::string* error) {
+  // "A" or "A + L/K", spaces free; A and K unsigned decimal numbers.
+  static const std::string number = R"(([0-9]*\.?[0-9]+(?:[eE][-+]?[0-9]+)?))";
+  static const std::regex pattern(R"(\s*)" + number + R"(\s*(?:\+\s*L\s*/\s*)" + number +
+                                  R"(\s*)?)");
+  std::smatch match;
+  auto fail = [error](const std::string& message) -> std::optional<Mpe> {
+    if (error) *error = message;
+    return std::nullopt;
+  };
+  if (!std::regex_match(text, match, pattern))
+    return fail("MPE \"" + text + "\" is not of the form \"A + L/K\" (A in um, L in mm)");
+  Mpe mpe;
+  mpe.a = std::stod(match[1].str()) * kMicrometre;
+  if (match[2].matched) mpe.k = std::stod(match[2].str());
+  if (!(mpe.a > 0.0) || !std::isfinite(mpe.a)) return fail("MPE's A must be a number > 0 (um)");
+  if (match[2].matched && (!(mpe.k > 0.0) || !std::isfinite(mpe.k)))
+    return fail("MPE's K must be a number > 0");
+  return mpe;
+}
+
+Eigen::MatrixXd calibratedColumns(const Eigen::MatrixXd& J_full, const std::vector<int>& indices) {
+  Eigen::MatrixXd J(J_full.rows(), static_cast<Eigen::Index>(indices.size()));
+  for (std::size_t k = 0; k < indices.size(); ++k)
+    J.col(static_cast<Eigen::Index>(k)) = J_full.col(indices[k]);
+  return J;
+}
+
+Eigen::MatrixXd covarianceFactor(const Eigen::MatrixXd& V) {
+  if (V.size() == 0) return Eigen::MatrixXd(V.rows(), 0);
+  const SymmetricEigenSolver solver(0.5 * (V + V.transpose()));
+  const Eigen::VectorXd roots = solver.eigenvalues().cwiseMax(0.0).cwiseSqrt();
+  return solver.eigenvectors() * roots.asDiagonal();
+}
+
+}  // namespace artcal

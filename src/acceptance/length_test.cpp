@@ -1,0 +1,239 @@
+#include "artcal/acceptance/length_test.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "artcal/core/error.hpp"
+#include "artcal/model/cartesian.hpp"
+
+namespace artcal {
+
+double Gauge::sigmaTotal() const {
+  return std::sqrt(sigma_sys * sigma_sys + sigma_noise * sigma_noise);
+}
+
+namespace {
+
+constexpr double kDirectionTolerance = 1e-9;
+
+const Cartesian& cartesianOf(const AcceptanceInput& input) {
+  const auto* cartesian = dynamic_cast<const Cartesian*>(input.machine->mechanism.get());
+  if (!cartesian)
+    throw InputError(input.source, "/machine/model",
+                     "the ISO 10360-2 length test needs a Cartesian CMM (model \"cartesian\")");
+  for (std::size_t k = 0; k < cartesian->axes().size(); ++k) {
+    const Eigen::Vector3d& d = cartesian->axes()[k].direction;
+    if (d.cwiseAbs().maxCoeff() < 1.0 - kDirectionTolerance)
+      throw InputError(input.source, "/machine/axes/" + std::to_string(k) + "/direction",
+                       "the length test needs every axis along the machine frame's x, y or z");
+  }
+  return *cartesian;
+}
+
+/// The box of stylus-0 tip positions over the axis ranges (nominal geometry: the corners).
+void tipBox(const AcceptanceInput& input, LengthTestPrediction& prediction) {
+  const Machine& machine = *input.machine;
+  const int n = machine.jointCount();
+  prediction.box_lo.setConstant(std::numeric_limits<double>::infinity());
+  prediction.box_hi.setConstant(-std::numeric_limits<double>::infinity());
+  Eigen::VectorXd q(n), x;
+  for (int corner = 0; corner < (1 << n); ++corner) {
+    for (int k = 0; k < n; ++k) q[k] = machine.joint_limits[k][(corner >> k) & 1];
+    forwardOrThrow(*machine.mechanism, machine.nominal, q, x, nullptr, nullptr, 0);
+    prediction.box_lo = prediction.box_lo.cwiseMin(x.head<3>());
+    prediction.box_hi = prediction.box_hi.cwiseMax(x.head<3>());
+  }
+  prediction.center = 0.5 * (prediction.box_lo + prediction.box_hi);
+}
+
+struct Line {
+  std::string kind;
+  Eigen::Vector3d direction;
+};
+
+std::vector<Line> standardLines(const Eigen::Vector3d& half) {
+  std::vector<Line> lines;
+  for (const auto& signs : {Eigen::Vector3d(1, 1, 1), Eigen::Vector3d(-1, 1, 1),
+                            Eigen::Vector3d(1, -1, 1), Eigen::Vector3d(-1, -1, 1)})
+    lines.push_back({"diagonal", signs.cwiseProduct(half).normalized()});
+  lines.push_back({"x", Eigen::Vector3d::UnitX()});
+  lines.push_back({"y", Eigen::Vector3d::UnitY()});
+  lines.push_back({"z", Eigen::Vector3d::UnitZ()});
+  return lines;
+}
+
+std::vector<Line> testLines(const AcceptanceInput& input, const LengthTestOptions& options,
+                            const Eigen::Vector3d& half) {
+  if (options.lines.empty()) return standardLines(half);
+  std::vector<Line> lines;
+  for (std::size_t i = 0; i < options.lines.size(); ++i) {
+    const Eigen::Vector3d& u = options.lines[i];
+    if (!u.allFinite() || std::abs(u.norm() - 1.0) > 1e-6)
+      throw InputError(input.source, "/lines/" + std::to_string(i),
+                       "a line direction must be a unit vector");
+    lines.push_back({"custom", u.normalized()});
+  }
+  return lines;
+}
+
+/// Length of the segment through the centre along u inside the box of half-extents `half`.
+double segmentLength(const Eigen::Vector3d& half, const Eigen::Vector3d& u) {
+  double t = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < 3; ++i)
+    if (std::abs(u[i]) > 1e-15) t = std::min(t, half[i] / std::abs(u[i]));
+  return 2.0 * t;
+}
+
+/// Axis readings putting stylus 0 on `tip`, with J_p and J_q there.
+Eigen::VectorXd readingsAt(const AcceptanceInput& input, const Cartesian& cartesian,
+                           const Eigen::Vector3d& tip, Eigen::MatrixXd& J_p, Eigen::MatrixXd& J_q) {
+  auto q = cartesian.inverse(input.parameters, tip, 0);
+  if (!q)
+    throw RunError(input.source, "/machine",
+                   "the length test's end (" + std::to_string(tip.x()) + ", " +
+                       std::to_string(tip.y()) + ", " + std::to_string(tip.z()) +
+                       ") mm cannot be reached by stylus 0");
+  Eigen::VectorXd x;
+  forwardOrThrow(cartesian, input.parameters, *q, x, &J_p, &J_q, 0);
+  return *q;
+}
+
+/// u^T J_q Sigma_q J_q^T u.
+double encoderVariance(const AcceptanceInput& input, const Eigen::MatrixXd& J_q,
+                       const Eigen::Vector3d& u) {
+  if (input.noise.encoder.size() == 0) return 0.0;
+  const Eigen::RowVectorXd projected = u.transpose() * J_q;
+  return projected.cwiseProduct(input.noise.encoder.transpose()).squaredNorm();
+}
+
+std::vector<int> exactParameters(const AcceptanceInput& input) {
+  std::vector<int> exact;
+  const auto& calibrated = input.uncertainty.indices;
+  for (int j = 0; j < input.machine->mechanism->parameterCount(); ++j)
+    if (std::find(calibrated.begin(), calibrated.end(), j) == calibrated.end()) exact.push_back(j);
+  return exact;
+}
+
+Gauge makeGauge(const AcceptanceInput& input, const Cartesian& cartesian,
+                const LengthTestPrediction& prediction, const Line& line, double fraction,
+                const Mpe& mpe) {
+  Gauge gauge;
+  gauge.kind = line.kind;
+  gauge.direction = line.direction;
+  gauge.fraction = fraction;
+  const Eigen::Vector3d half = 0.5 * (prediction.box_hi - prediction.box_lo);
+  gauge.length = fraction * segmentLength(half, line.direction);
+  gauge.a = prediction.center - 0.5 * gauge.length * line.direction;
+  gauge.b = prediction.center + 0.5 * gauge.length * line.direction;
+  Eigen::MatrixXd J_p_a, J_q_a, J_p_b, J_q_b;
+  gauge.joints_a = readingsAt(input, cartesian, gauge.a, J_p_a, J_q_a);
+  gauge.joints_b = readingsAt(input, cartesian, gauge.b, J_p_b, J_q_b);
+  const Eigen::RowVectorXd g_full = line.direction.transpose() * (J_p_b - J_p_a).topRows(3);
+  gauge.g = calibratedColumns(g_full, input.uncertainty.indices);
+  gauge.g_exact = calibratedColumns(g_full, exactParameters(input));
+  gauge.sigma_sys =
+      std::sqrt(std::max(0.0, (gauge.g * input.uncertainty.V * gauge.g.transpose())(0, 0)));
+  const double probe = input.noise.probe;
+  gauge.sigma_noise =
+      std::sqrt(2.0 * probe * probe + encoderVariance(input, J_q_a, line.direction) +
+                encoderVariance(input, J_q_b, line.direction));
+  gauge.mpe = mpe.at(gauge.length);
+  return gauge;
+}
+
+/// The exact parameters some results depend on, with the lines affected.
+std::vector<UnseenParameter> unseenParameters(const AcceptanceInput& input,
+                                              const std::vector<Gauge>& gauges) {
+  const std::vector<int> exact = exactParameters(input);
+  std::vector<UnseenParameter> unseen;
+  for (std::size_t j = 0; j < exact.size(); ++j) {
+    UnseenParameter entry{exact[j], {}};
+    for (const Gauge& gauge : gauges) {
+      const double tolerance = 1e-9 * (1.0 + gauge.length);
+      const bool sensitive = std::abs(gauge.g_exact[static_cast<Eigen::Index>(j)]) > tolerance;
+      if (sensitive && (entry.lines.empty() || entry.lines.back() != gauge.line))
+        entry.lines.push_back(gauge.line);
+    }
+    if (!entry.lines.empty()) unseen.push_back(std::move(entry));
+  }
+  return unseen;
+}
+
+}  // namespace
+
+Eigen::MatrixXd gaugeDerivatives(const std::vector<Gauge>& gauges) {
+  if (gauges.empty()) return {};
+  Eigen::MatrixXd G(static_cast<Eigen::Index>(gauges.size()), gauges.front().g.size());
+  for (std::size_t i = 0; i < gauges.size(); ++i) G.row(static_cast<Eigen::Index>(i)) = gauges[i].g;
+  return G;
+}
+
+double meanConditionalPassProbability(const LengthTestPrediction& prediction,
+                                      const Eigen::MatrixXd& S) {
+  double sum = 0.0;
+  for (Eigen::Index m = 0; m < S.cols(); ++m) {
+    double probability = 1.0;
+    for (std::size_t k = 0; k < prediction.gauges.size(); ++k) {
+      const Gauge& gauge = prediction.gauges[k];
+      const double s = S(static_cast<Eigen::Index>(k), m);
+      const double scale = 1.0 / (gauge.sigma_noise * std::sqrt(2.0));
+      const double p =
+          gauge.sigma_noise > 0.0
+              ? 0.5 * (std::erf((gauge.mpe - s) * scale) + std::erf((gauge.mpe + s) * scale))
+              : (std::abs(s) <= gauge.mpe ? 1.0 : 0.0);
+      probability *= std::pow(p, prediction.repetitions);
+    }
+    sum += probability;
+  }
+  return S.cols() > 0 ? sum / static_cast<double>(S.cols()) : 0.0;
+}
+
+LengthTestPrediction predictLengthTestLinear(const AcceptanceInput& input,
+                                             const LengthTestOptions& options) {
+  const Cartesian& cartesian = cartesianOf(input);
+  LengthTestPrediction prediction;
+  prediction.mpe = options.mpe;
+  prediction.repetitions = options.repetitions;
+  tipBox(input, prediction);
+  const std::vector<Line> lines =
+      testLines(input, options, 0.5 * (prediction.box_hi - prediction.box_lo));
+  prediction.lines = static_cast<int>(lines.size());
+  for (std::size_t l = 0; l < lines.size(); ++l) {
+    for (double fraction : options.fractions) {
+      Gauge gauge = makeGauge(input, cartesian, prediction, lines[l], fraction, options.mpe);
+      gauge.line = static_cast<int>(l);
+      prediction.gauges.push_back(std::move(gauge));
+    }
+  }
+  const Eigen::MatrixXd G = gaugeDerivatives(prediction.gauges);
+  prediction.systematic_covariance = G * input.uncertainty.V * G.transpose();
+  prediction.unseen = unseenParameters(input, prediction.gauges);
+  return prediction;
+}
+
+LinearGaussianTest lengthTestModel(const LengthTestPrediction& prediction,
+                                   const AcceptanceInput& input) {
+  LinearGaussianTest test;
+  test.A = gaugeDerivatives(prediction.gauges) * covarianceFactor(input.uncertainty.V);
+  for (std::size_t i = 0; i < prediction.gauges.size(); ++i) {
+    const Gauge& gauge = prediction.gauges[i];
+    for (int r = 0; r < prediction.repetitions; ++r) {
+      TestResult result;
+      result.first_row = static_cast<int>(i);
+      result.noise_factor(0, 0) = gauge.sigma_noise;
+      result.scale = 1.0 / gauge.mpe;
+      test.results.push_back(std::move(result));
+    }
+  }
+  return test;
+}
+
+LengthTestPrediction predictLengthTest(const AcceptanceInput& input,
+                                       const LengthTestOptions& options) {
+  LengthTestPrediction prediction = predictLengthTestLinear(input, options);
+  prediction.monte_carlo = runMonteCarlo(lengthTestModel(prediction, input), options.monte_carlo);
+  return prediction;
+}
+
+}  // namespace artcal

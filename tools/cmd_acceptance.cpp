@@ -1,0 +1,248 @@
+// artcal acceptance (spec acceptance.md): will the calibrated machine pass its acceptance test?
+// ISO 10360-2 (Cartesian CMMs) and ISO 9283 (arms, robots) predicted from a plan's V_p or a
+// calibrated machine file's covariance.
+
+#include <cmath>
+#include <iostream>
+#include <sstream>
+
+#include "artcal/acceptance/length_test.hpp"
+#include "artcal/acceptance/pose_test.hpp"
+#include "artcal/io/acceptance_spec.hpp"
+#include "artcal/io/machine_covariance.hpp"
+#include "artcal/io/output_file.hpp"
+#include "artcal/io/plan_io.hpp"
+#include "artcal/io/truth_io.hpp"
+#include "artcal/report/acceptance_report.hpp"
+#include "commands.hpp"
+
+namespace artcal::cli {
+
+namespace {
+
+struct AcceptanceArguments {
+  std::string file, plan, test, mpe, lines, center, svg;
+  double cube = 0.0;
+  bool posterior = false;
+  bool json = false;
+  MonteCarloOptions monte_carlo;
+};
+
+/// What FILE and --plan give: the plan (noise, workspace) and the prediction's input.
+struct LoadedInput {
+  Plan plan;
+  AcceptanceInput input;
+  std::optional<AcceptanceSpec> spec;  ///< the plan's "acceptance" block
+};
+
+bool isPlanDocument(const nlohmann::json& document) {
+  return document.is_object() && document.contains("format");
+}
+
+LoadedInput loadFromPlan(const std::string& path, const nlohmann::json& document) {
+  LoadedInput loaded{loadPlanReporting(path), {}, parseAcceptanceSpec(document, path)};
+  const Evaluation evaluation = evaluatePlan(loaded.plan);
+  auto input = acceptanceInputFromPlan(loaded.plan, evaluation);
+  if (!input)
+    throw InputError(path, "/placements",
+                     "the plan does not identify its calibrated parameters (no V_p): run "
+                     "`artcal evaluate` and follow its advice");
+  loaded.input = std::move(*input);
+  return loaded;
+}
+
+LoadedInput loadFromMachine(const AcceptanceArguments& args, const nlohmann::json& document) {
+  if (args.plan.empty())
+    throw InputError(args.file, "",
+                     "a machine file needs --plan PLAN, the plan it was calibrated from (its "
+                     "noise and workspace)");
+  LoadedInput loaded{
+      loadPlanReporting(args.plan), {}, parseAcceptanceSpec(readJsonFile(args.plan), args.plan)};
+  const Eigen::VectorXd parameters = parseTruth(document, args.file, loaded.plan);
+  auto uncertainty = parseMachineCovariance(document, args.file, loaded.plan);
+  if (!uncertainty)
+    throw InputError(args.file, "/covariance",
+                     "no covariance: write the machine with `artcal calibrate --write-machine`");
+  if (args.posterior && !(uncertainty->birge_ratio > 0.0))
+    throw InputError(args.file, "/covariance/birge_ratio",
+                     "--posterior needs the calibration's Birge ratio in the machine file");
+  loaded.input =
+      acceptanceInputFromMachine(loaded.plan, parameters, std::move(*uncertainty), args.posterior);
+  return loaded;
+}
+
+LoadedInput loadInput(const AcceptanceArguments& args) {
+  const nlohmann::json document = readJsonFile(args.file);
+  if (isPlanDocument(document)) {
+    if (!args.plan.empty())
+      throw InputError(args.file, "", "--plan goes with a machine file, not with a plan");
+    if (args.posterior)
+      throw InputError(args.file, "", "--posterior goes with a calibrated machine file");
+    return loadFromPlan(args.file, document);
+  }
+  return loadFromMachine(args, document);
+}
+
+/// `--lines FILE`: a JSON list of unit directions.
+std::vector<Eigen::Vector3d> loadLines(const std::string& path) {
+  const nlohmann::json document = readJsonFile(path);
+  if (!document.is_array() || document.empty())
+    throw InputError(path, "", "expected a non-empty list of unit directions [x, y, z]");
+  std::vector<Eigen::Vector3d> lines;
+  for (std::size_t i = 0; i < document.size(); ++i) {
+    const nlohmann::json& entry = document[i];
+    const std::string pointer = "/" + std::to_string(i);
+    if (!entry.is_array() || entry.size() != 3)
+      throw InputError(path, pointer, "expected 3 numbers (a unit direction)");
+    Eigen::Vector3d u;
+    for (int k = 0; k < 3; ++k) {
+      if (!entry[static_cast<std::size_t>(k)].is_number())
+        throw InputError(path, pointer + "/" + std::to_string(k), "expected a number");
+      u[k] = entry[static_cast<std::size_t>(k)].get<double>();
+    }
+    if (!u.allFinite() || std::abs(u.norm() - 1.0) > 1e-6)
+      throw InputError(path, pointer, "a line direction must be a unit vector (|u| = 1)");
+    lines.push_back(u);
+  }
+  return lines;
+}
+
+Mpe parseMpeOption(const std::string& text) {
+  std::string error;
+  const auto mpe = parseMpe(text, &error);
+  if (!mpe) throw InputError("--mpe", "", error);
+  return *mpe;
+}
+
+Eigen::Vector3d parseCenter(const std::string& text) {
+  std::istringstream in(text);
+  Eigen::Vector3d center;
+  char comma = ',';
+  for (int k = 0; k < 3; ++k) {
+    if ((k > 0 && !(in >> comma)) || comma != ',' || !(in >> center[k]))
+      throw InputError("--center", "", "expected X,Y,Z in mm, e.g. 500,0,400");
+  }
+  std::string rest;
+  if (in >> rest || !center.allFinite())
+    throw InputError("--center", "", "expected X,Y,Z in mm, e.g. 500,0,400");
+  return center;
+}
+
+int runLengthTest(const AcceptanceArguments& args, const LoadedInput& loaded) {
+  if (args.mpe.empty()) throw InputError("--mpe", "", "the length test needs --mpe \"A + L/K\"");
+  LengthTestOptions options;
+  options.mpe = parseMpeOption(args.mpe);
+  if (!args.lines.empty()) options.lines = loadLines(args.lines);
+  options.monte_carlo = args.monte_carlo;
+  if (!args.svg.empty()) checkOutputPath(args.svg);
+  const LengthTestPrediction prediction = predictLengthTest(loaded.input, options);
+  if (!args.svg.empty()) writeOutputFile(args.svg, lengthTestSvg(prediction));
+  if (args.json) {
+    for (const std::string& w : unseenParameterWarnings(loaded.input, prediction))
+      std::cerr << "warning: " << w << "\n";
+    printJson(lengthTestToJson(loaded.input, prediction, args.monte_carlo));
+  } else {
+    std::cout << lengthTestTable(loaded.input, prediction, args.monte_carlo);
+  }
+  return 0;
+}
+
+int runPoseTest(const AcceptanceArguments& args, const LoadedInput& loaded) {
+  if (!(args.cube > 0.0)) throw InputError("--cube", "", "the pose test needs --cube E (mm, > 0)");
+  if (args.center.empty()) throw InputError("--center", "", "the pose test needs --center X,Y,Z");
+  if (!args.svg.empty())
+    throw InputError("--svg", "", "the E-against-L figure belongs to the length test");
+  PoseTestOptions options;
+  options.cube = args.cube;
+  options.center = parseCenter(args.center);
+  if (!args.mpe.empty()) {
+    std::istringstream in(args.mpe);
+    double mpe = 0.0;
+    std::string rest;
+    if (!(in >> mpe) || (in >> rest) || !(mpe > 0.0) || !std::isfinite(mpe))
+      throw InputError("--mpe", "", "the pose test's MPE is one number in mm (> 0)");
+    options.mpe = mpe;
+  }
+  options.monte_carlo = args.monte_carlo;
+  const PoseTestPrediction prediction = predictPoseTest(loaded.input, options);
+  if (args.json) {
+    printJson(poseTestToJson(loaded.input, prediction, options));
+  } else {
+    std::cout << poseTestTable(loaded.input, prediction, options);
+  }
+  return 0;
+}
+
+/// The command line's choices over the plan's "acceptance" block.
+AcceptanceArguments withPlanDefaults(AcceptanceArguments args, const LoadedInput& loaded) {
+  if (!loaded.spec) {
+    if (args.test.empty())
+      throw InputError(args.plan.empty() ? args.file : args.plan, "/acceptance",
+                       "no test: give --test iso10360-2 or iso9283 (or an \"acceptance\" block "
+                       "in the plan)");
+    return args;
+  }
+  const AcceptanceSpec& spec = *loaded.spec;
+  if (args.test.empty()) args.test = spec.test;
+  if (args.test != spec.test) return args;  // another test than the plan's: nothing to take
+  if (args.mpe.empty()) args.mpe = spec.mpe;
+  if (!(args.cube > 0.0) && spec.cube) args.cube = *spec.cube;
+  if (args.center.empty() && spec.center) {
+    std::ostringstream center;
+    center.precision(17);
+    center << spec.center->x() << "," << spec.center->y() << "," << spec.center->z();
+    args.center = center.str();
+  }
+  return args;
+}
+
+int runAcceptance(const AcceptanceArguments& given) {
+  const LoadedInput loaded = loadInput(given);
+  const AcceptanceArguments args = withPlanDefaults(given, loaded);
+  if (args.test == "iso10360-2") return runLengthTest(args, loaded);
+  return runPoseTest(args, loaded);
+}
+
+void addAcceptanceCommand(CLI::App& app, Action& action) {
+  auto args = std::make_shared<AcceptanceArguments>();
+  CLI::App* cmd = app.add_subcommand(
+      "acceptance",
+      "predicts the acceptance test of the calibrated machine: ISO 10360-2 (Cartesian CMMs: E0 "
+      "against its MPE, P(pass)) or ISO 9283 (arms, robots: pose accuracy AP at the 5 points of "
+      "the cube), from a plan's predicted V_p or a calibrated machine file's covariance");
+  MonteCarloOptions& mc = args->monte_carlo;
+  cmd->add_option("FILE", args->file,
+                  "plan file, or a machine file as `calibrate --write-machine` writes it (then "
+                  "--plan)")
+      ->required();
+  cmd->add_option("--plan", args->plan,
+                  "with a machine file: the plan it was calibrated from (noise, workspace)");
+  cmd->add_option("--test", args->test,
+                  "iso10360-2 or iso9283 (default: the plan's \"acceptance\" block)")
+      ->check(CLI::IsMember({"iso10360-2", "iso9283"}));
+  cmd->add_option("--mpe", args->mpe,
+                  "iso10360-2: \"A + L/K\" (A in um, L in mm); iso9283: X in mm (optional)");
+  cmd->add_option("--lines", args->lines,
+                  "iso10360-2: JSON file with a list of unit directions replacing the 7 lines");
+  cmd->add_option("--cube", args->cube, "iso9283: the cube's edge, mm");
+  cmd->add_option("--center", args->center, "iso9283: the cube's centre X,Y,Z, mm (base frame)");
+  cmd->add_option("--trials", mc.trials, "Monte-Carlo trials (0: adaptive, GUM S1 7.9)")
+      ->check(CLI::Range(0L, 10000000L))
+      ->capture_default_str();
+  cmd->add_option("--seed", mc.seed, "random seed (same seed, same result, any thread count)")
+      ->capture_default_str();
+  cmd->add_option("--threads", mc.threads, "worker threads (0: all cores)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  cmd->add_flag("--posterior", args->posterior,
+                "with a machine file: scale its covariance by its Birge ratio squared");
+  cmd->add_option("--svg", args->svg, "iso10360-2: write the E-against-L figure (SVG) here");
+  cmd->add_flag("--json", args->json, "print one JSON document instead of the tables");
+  cmd->callback([&action, args] { action = [args] { return runAcceptance(*args); }; });
+}
+
+const Registrar acceptance_registrar(67, addAcceptanceCommand);
+
+}  // namespace
+
+}  // namespace artcal::cli
