@@ -33,13 +33,14 @@ Eigen::MatrixXd reduceInformation(const Plan& plan, const std::vector<Placement>
                                   const Eigen::VectorXd& p,
                                   const std::vector<RigidTransform>& poses,
                                   DesignMatrixBuilder& builder, NormalMatrixReducer& reducer,
-                                  ObservationBlock& block, ParameterPrior prior) {
+                                  ObservationBlock& block, ParameterPrior prior,
+                                  const std::vector<int>* rigid_caps = nullptr) {
   reducer.reset();
   const Eigen::VectorXd no_c;
   for (std::size_t j = 0; j < placements.size(); ++j) {
     const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placements[j].artifact)];
     builder.build(artifact, placements[j].measurements, p, poses[j], no_c, false, block);
-    reducer.add(block, placements[j].artifact);
+    reducer.add(block, placements[j].artifact, nullptr, rigid_caps ? (*rigid_caps)[j] : -1);
   }
   return reducer.parameterInformation(prior);
 }
@@ -53,16 +54,29 @@ PlanInformation planInformation(const Plan& plan, const std::vector<Placement>& 
   ObservationBlock block;
   PlanInformation out;
   // The readings' own information decides identifiability; the prior only narrows V_p.
-  out.reduced = reduceInformation(plan, placements, p, fitPlacements(plan, placements, p), builder,
-                                  reducer, block, ParameterPrior::Excluded);
+  const std::vector<RigidTransform> poses = fitPlacements(plan, placements, p);
+  out.reduced = reduceInformation(plan, placements, p, poses, builder, reducer, block,
+                                  ParameterPrior::Excluded);
   out.unreduced_diagonal = reducer.unreducedDiagonal();
   out.rigid_ranks = reducer.rigidRanks();
+  // V_p eliminates only what the calibrated features see (PlanInformation::estimable): a second
+  // pass where the readings made more look observed.
+  std::vector<int> caps;
+  bool capped = false;
+  for (std::size_t j = 0; j < placements.size(); ++j) {
+    const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placements[j].artifact)];
+    caps.push_back(rigidRankOfFeatures(artifact, placements[j].measurements));
+    capped = capped || out.rigid_ranks[j] > caps.back();
+  }
+  out.estimable = capped ? reduceInformation(plan, placements, p, poses, builder, reducer, block,
+                                             ParameterPrior::Excluded, &caps)
+                         : out.reduced;
   return out;
 }
 
 Eigen::MatrixXd parameterInformation(const Plan& plan, const std::vector<Placement>& placements,
                                      const Eigen::VectorXd& p) {
-  return addParameterPrior(planInformation(plan, placements, p).reduced, GlobalLayout::of(plan));
+  return addParameterPrior(planInformation(plan, placements, p).estimable, GlobalLayout::of(plan));
 }
 
 namespace {
@@ -122,7 +136,7 @@ Evaluation evaluatePlan(const Plan& plan, const EvaluateOptions& options) {
   PlanInformation information = planInformation(plan, plan.placements, plan.machine.nominal);
   evaluation.identifiability =
       analyseIdentifiability(plan, plan.placements, information, options.rank_tolerance);
-  evaluation.information = addParameterPrior(information.reduced, GlobalLayout::of(plan));
+  evaluation.information = addParameterPrior(information.estimable, GlobalLayout::of(plan));
   evaluation.unreduced_diagonal = std::move(information.unreduced_diagonal);
   if (evaluation.identifiability.deficiency > 0) return evaluation;
   evaluation.covariance = covarianceFromInformation(evaluation.information);

@@ -2,6 +2,7 @@
 
 #include "artcal/core/linear_algebra.hpp"
 #include "artcal/estimation/evaluator.hpp"
+#include "artcal/estimation/normal_matrix.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -17,8 +18,12 @@ CountingCondition countingCondition(const Plan& plan, const std::vector<Placemen
     const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placements[j].artifact)];
     count.N_b += artifact.valuedPerFeature() * static_cast<int>(placements[j].measurements.size());
     const int table = artifact.rigidDof();
-    const int effective =
-        effective_rigid && j < effective_rigid->size() ? (*effective_rigid)[j] : table;
+    // What the readings see, but never more than the calibrated features can: real readings make
+    // a ball bar's roll look observed by their mismatch, which creates no equation.
+    const int effective = effective_rigid && j < effective_rigid->size()
+                              ? std::min((*effective_rigid)[j],
+                                         rigidRankOfFeatures(artifact, placements[j].measurements))
+                              : table;
     count.rigid_table.push_back(table);
     count.rigid_effective.push_back(effective);
     count.N_r_table += table;

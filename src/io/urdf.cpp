@@ -371,6 +371,24 @@ json importUrdf(const std::string& urdf_path, const std::string& base, const std
   return machine;
 }
 
+Eigen::VectorXd urdfNominal(const Chain& chain, const Eigen::VectorXd& p,
+                            const std::string& urdf_path) {
+  UrdfDocument doc;
+  loadUrdf(urdf_path, doc);
+  Eigen::VectorXd nominal = p;
+  for (int i = 0; i < static_cast<int>(chain.joints().size()); ++i) {
+    const ChainJoint& joint = chain.joints()[static_cast<std::size_t>(i)];
+    const tinyxml2::XMLElement* element = jointElement(doc, joint.name);
+    if (!element) continue;
+    const OriginValues origin = readOrigin(doc, element);
+    const int k = chain.parameterOffset(i);
+    nominal.segment<3>(k) = origin.xyz_mm;
+    nominal.segment<3>(k + 3) = origin.rpy;
+    if (joint.type != ChainJointType::Fixed) nominal[k + 6] = 0.0;
+  }
+  return nominal;
+}
+
 std::string exportUrdf(const Chain& chain, const Eigen::VectorXd& p, const std::string& urdf_path,
                        const std::string& machine_source) {
   UrdfDocument doc;

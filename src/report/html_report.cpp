@@ -788,6 +788,29 @@ void writeFlagged(std::ostream& out, const json& cal) {
   }
 }
 
+/// calibrate's noise estimate, the parameters it held at nominal and its warnings (implausible
+/// corrections, readings that fit to rounding), as calibrate --json has them.
+void writeCalibrationWarnings(std::ostream& out, const json& cal) {
+  if (const auto it = cal.find("noise_estimate"); it != cal.end()) {
+    out << "<p>Probe noise estimated from the fit: "
+        << format("%.4g", it->at("probe").get<double>() * 1e3) << " " << kMicro << " (u "
+        << format("%.2g", it->at("u").get<double>() * 1e3) << " " << kMicro << ").</p>\n";
+  }
+  if (const auto it = cal.find("weakly_determined"); it != cal.end() && !it->empty()) {
+    out << "<p>Held at nominal, weakly determined (the surviving fraction of their information "
+           "is below 1e-6: set by the model mismatch, not by the readings):";
+    for (const json& w : *it)
+      out << " <code>" << svg::escape(w.at("name").get<std::string>()) << "</code>";
+    out << "</p>\n";
+  }
+  if (const auto it = cal.find("warnings"); it != cal.end() && !it->empty()) {
+    out << "<ul class=\"warnings\">\n";
+    for (const json& w : *it)
+      out << "<li class=\"bad\">warning: " << svg::escape(w.get<std::string>()) << "</li>\n";
+    out << "</ul>\n";
+  }
+}
+
 /// The calibration of the plan's readings (calibrate --json, pointers under /calibration).
 void writeCalibration(std::ostream& out, const ReportInput& in,
                       const std::vector<ReportFigure>& figures) {
@@ -829,6 +852,7 @@ void writeCalibration(std::ostream& out, const ReportInput& in,
     out << "</tr>\n";
   }
   out << "</table>\n";
+  writeCalibrationWarnings(out, cal);
   writeFigures(out, figures, "residuals");
   writeFlagged(out, cal);
 }

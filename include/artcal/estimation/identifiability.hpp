@@ -50,7 +50,15 @@ struct CountingCondition {
 
 /// The information of p a set of placements gives (evaluator.hpp, planInformation).
 struct PlanInformation {
-  Eigen::MatrixXd reduced;             ///< N_red of p (c eliminated with its prior)
+  /// N_red of p (c eliminated with its prior), each placement's full rigid motion eliminated
+  /// where its readings observe it: what the rank decisions use (a base rotation absorbed).
+  Eigen::MatrixXd reduced;
+  /// N_red with each placement eliminating only the rigid directions its calibrated features
+  /// see (a ball bar's roll is a gauge: the Fisher information of ideal readings does not lose
+  /// to it): what V_p is the inverse of. Equal to `reduced` on consistent readings; on real ones
+  /// the roll the mismatch makes look observed would otherwise take a share of every
+  /// parameter's information, however weakly it is observed.
+  Eigen::MatrixXd estimable;
   Eigen::VectorXd unreduced_diagonal;  ///< diag(sum_j A_pj^T A_pj), the rank test's scale
   std::vector<int> rigid_ranks;        ///< per placement, observed rigid directions
 };

@@ -30,6 +30,12 @@ namespace artcal {
 nlohmann::json importUrdf(const std::string& urdf_path, const std::string& base,
                           const std::string& tip);
 
+/// `p` with the origins of `chain`'s joints as the URDF file at `urdf_path` states them (offsets
+/// 0): the nominal machine a calibrated one is compared with (export-urdf's warnings,
+/// calibration/corrections.hpp). Joints missing from the file keep their values from `p`.
+Eigen::VectorXd urdfNominal(const Chain& chain, const Eigen::VectorXd& p,
+                            const std::string& urdf_path);
+
 /// The text of the URDF file at `urdf_path` with the origins of `chain`'s joints set from the
 /// parameters `p` (internal units, offsets folded as above). `machine_source` names the machine
 /// file in errors (a joint of the chain missing from the URDF, of another type, or an offset
