@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <numbers>
 
 #include "artcal/calibration/corrections.hpp"
 #include "artcal/estimation/evaluator.hpp"
@@ -76,6 +77,19 @@ Calibration calibrateWithNoise(Plan& plan, const CalibrationOptions& options,
   return calibration;
 }
 
+// An angle and the same angle plus a turn describe the same machine (rpy, DH theta and alpha,
+// joint offsets): each estimated angle is reported as the one nearest its nominal value.
+void nearestTurn(const Plan& plan, Calibration& calibration) {
+  const Machine& machine = plan.machine;
+  const auto& parameters = machine.mechanism->parameters();
+  for (const int i : machine.calibrated) {
+    if (!(parameters[static_cast<std::size_t>(i)].quantity == Quantity::Angle)) continue;
+    const double nominal = machine.nominal[i];
+    calibration.parameters[i] =
+        nominal + std::remainder(calibration.parameters[i] - nominal, 2.0 * std::numbers::pi);
+  }
+}
+
 void addWarnings(const Plan& plan, Calibration& calibration) {
   for (const ImplausibleCorrection& c :
        implausibleCorrections(plan.machine, plan.machine.nominal, calibration.parameters)) {
@@ -139,6 +153,7 @@ Calibration calibrateReadings(Plan& plan, const CalibrationOptions& options) {
         plan.machine.withCalibrated(nominal, plan.machine.calibratedValues(calibration.parameters));
     calibration = calibrateWithNoise(plan, options, start);
   }
+  nearestTurn(plan, calibration);
   addWarnings(plan, calibration);
   return calibration;
 }

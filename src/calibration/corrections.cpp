@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <numbers>
 
 namespace artcal {
 
@@ -44,6 +45,8 @@ std::vector<ImplausibleCorrection> implausibleCorrections(const Machine& machine
     ImplausibleCorrection c;
     c.parameter = i;
     c.correction = p[i] - nominal[i];
+    // An angle a whole turn away describes the same machine.
+    if (q == Quantity::Angle) c.correction = std::remainder(c.correction, 2.0 * std::numbers::pi);
     const bool has_prior = machine.prior_sigma.size() > i && machine.prior_sigma[i] > 0.0;
     if (has_prior) {
       c.limit = tolerance.prior_multiple * machine.prior_sigma[i];
