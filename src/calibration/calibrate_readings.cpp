@@ -28,7 +28,8 @@ std::string number(double value) {
 // Holds at nominal the calibrated parameters whose surviving fraction at p is below
 // kWeakInformationTolerance (greedy in the calibrated set's order); true when it held any.
 bool holdWeaklyDetermined(Plan& plan, const Eigen::VectorXd& p) {
-  const PlanInformation information = planInformation(plan, plan.placements, p);
+  const PlanInformation information =
+      planInformation(plan, plan.placements, p, /*with_estimable=*/false);
   const CalibratedSetChoice choice = chooseIdentifiableSet(information, kWeakInformationTolerance);
 
   if (choice.dropped.empty()) return false;
@@ -69,7 +70,12 @@ Calibration calibrateWithNoise(Plan& plan, const CalibrationOptions& options,
         std::max(probeNoiseForUnitBirgeRatio(plan, plan.placements, calibration), kProbeNoiseFloor);
     if (std::abs(s - plan.noise.probe) <= kNoiseSettled * plan.noise.probe) break;
     plan.noise.probe = s;
-    calibration = Calibrator(plan, options).run(plan.placements, calibration.parameters);
+    // From where the last fit converged: the poses and c too, so that only the reweighting moves.
+    CalibrationState state;
+    state.p = calibration.parameters;
+    state.c = calibration.systematic;
+    state.poses = calibration.poses;
+    calibration = Calibrator(plan, options).run(plan.placements, state);
   }
   estimate.probe = plan.noise.probe;
   estimate.u = calibration.dof > 0 ? estimate.probe / std::sqrt(2.0 * calibration.dof) : 0.0;

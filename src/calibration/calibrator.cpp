@@ -216,11 +216,16 @@ Calibration Calibrator::run(const std::vector<Placement>& placements) {
 
 Calibration Calibrator::run(const std::vector<Placement>& placements,
                             const Eigen::VectorXd& start) {
+  return run(placements, initialState(placements, start));
+}
+
+Calibration Calibrator::run(const std::vector<Placement>& placements,
+                            const CalibrationState& start) {
   Calibration out;
   CalibrationSummary& summary = out.summary;
   dof_ = degreesOfFreedom(placements);
   reweightings_ = 0;
-  current_ = initialState(placements, start);
+  current_ = start;
   strategy_.reset();
   bool finite = linearize(placements, current_, current_lin_);
   summary.initial_cost = current_lin_.cost;

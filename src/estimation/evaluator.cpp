@@ -48,7 +48,7 @@ Eigen::MatrixXd reduceInformation(const Plan& plan, const std::vector<Placement>
 }  // namespace
 
 PlanInformation planInformation(const Plan& plan, const std::vector<Placement>& placements,
-                                const Eigen::VectorXd& p) {
+                                const Eigen::VectorXd& p, bool with_estimable) {
   DesignMatrixBuilder builder(plan.machine, plan.noise);
   NormalMatrixReducer reducer(GlobalLayout::of(plan));
   ObservationBlock block;
@@ -59,6 +59,7 @@ PlanInformation planInformation(const Plan& plan, const std::vector<Placement>& 
                                   ParameterPrior::Excluded);
   out.unreduced_diagonal = reducer.unreducedDiagonal();
   out.rigid_ranks = reducer.rigidRanks();
+  if (!with_estimable) return out;
   // V_p eliminates only what the calibrated features see (PlanInformation::estimable): a second
   // pass where the readings made more look observed.
   std::vector<int> caps;

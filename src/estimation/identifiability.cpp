@@ -184,7 +184,8 @@ CalibratedSetChoice chooseIdentifiableSet(const PlanInformation& information, do
 
 CalibratedSetResolution resolveListedSet(const Plan& plan,
                                          const std::vector<Placement>& placements) {
-  const PlanInformation information = planInformation(plan, placements, plan.machine.nominal);
+  const PlanInformation information =
+      planInformation(plan, placements, plan.machine.nominal, /*with_estimable=*/false);
   const CalibratedSetChoice choice = chooseIdentifiableSet(information);
   const std::vector<int>& listed = plan.machine.calibrated;
   CalibratedSetResolution resolution;

@@ -10,7 +10,9 @@
 #include <benchmark/benchmark.h>
 
 #include "artcal/artcal.hpp"
+#include "artcal/calibration/calibrate_readings.hpp"
 #include "artcal/calibration/calibrator.hpp"
+#include "artcal/io/plan_io.hpp"
 #include "test_paths.hpp"
 
 namespace artcal {
@@ -36,6 +38,25 @@ void BM_CalibratePanda8Positions(benchmark::State& state) {
   state.counters["parameters"] = plan.machine.calibratedCount();
 }
 BENCHMARK(BM_CalibratePanda8Positions)->Unit(benchmark::kMillisecond);
+
+// The same readings the plain way of issue 18: "calibrate": {"identifiable": [the 25]} (the weak
+// rule at the nominal parameters and at the estimate) and "noise": {"probe": "estimate"} (fits
+// repeated until s_p settles). Target: at most 20 % above BM_CalibratePanda8Positions.
+void BM_CalibrateReadingsPanda8Positions(benchmark::State& state) {
+  nlohmann::json document = readJsonFile(test_support::planFile("panda-8positions.json"));
+  document["machine"]["calibrate"] = {{"identifiable", document["machine"]["calibrate"]}};
+  document["noise"]["probe"] = "estimate";
+  const Plan plan = parsePlan(document, test_support::planFile("panda-8positions.json"));
+  CalibrationOptions options;
+  options.details = false;
+  for (auto _ : state) {
+    Plan calibrated = plan;
+    const Calibration calibration = calibrateReadings(calibrated, options);
+    if (!calibration.summary.converged()) state.SkipWithError("not converged");
+    benchmark::DoNotOptimize(calibration.parameters.data());
+  }
+}
+BENCHMARK(BM_CalibrateReadingsPanda8Positions)->Unit(benchmark::kMillisecond);
 
 void BM_EvaluatePanda10000Samples(benchmark::State& state) {
   Plan plan = pandaPlan();

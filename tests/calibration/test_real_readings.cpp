@@ -314,7 +314,9 @@ TEST_F(MukcaReadings, Gen3LiteOnePositionConvergesAndWarnsWhereFooled) {
     const Calibration c = calibrateReadings(training);
     ASSERT_TRUE(c.summary.converged()) << train << ": " << c.summary.message;
     expectUsableUncertainties(training, c, train);
-    if (train == "front") EXPECT_FALSE(c.warnings.empty());
+    if (train == "front") {
+      EXPECT_FALSE(c.warnings.empty());
+    }
   }
 }
 

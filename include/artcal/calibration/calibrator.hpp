@@ -168,6 +168,9 @@ class Calibrator {
   Calibration run(const std::vector<Placement>& placements);
   /// Same, starting from the full parameter vector `start`.
   Calibration run(const std::vector<Placement>& placements, const Eigen::VectorXd& start);
+  /// Same, starting from a whole state (p, c and every r_j): a calibration repeated from where
+  /// another converged (calibrate_readings.hpp: the noise re-estimated).
+  Calibration run(const std::vector<Placement>& placements, const CalibrationState& start);
 
   /// The starting state: p = start, c = 0, each r_j fitted (Umeyama) at `start`.
   CalibrationState initialState(const std::vector<Placement>& placements,

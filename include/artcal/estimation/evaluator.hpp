@@ -33,9 +33,10 @@ std::optional<ParameterCovariance> covarianceFromInformation(const Eigen::Matrix
 Eigen::MatrixXd parameterInformation(const Plan& plan, const std::vector<Placement>& placements,
                                      const Eigen::VectorXd& p);
 /// The same with what the rank policy needs (identifiability.hpp): the unreduced diagonal and
-/// each placement's observed rigid directions.
+/// each placement's observed rigid directions. Without `with_estimable` (a rank decision alone)
+/// PlanInformation::estimable is left empty and its second pass skipped.
 PlanInformation planInformation(const Plan& plan, const std::vector<Placement>& placements,
-                                const Eigen::VectorXd& p);
+                                const Eigen::VectorXd& p, bool with_estimable = true);
 
 struct Evaluation {
   Identifiability identifiability;
