@@ -5,9 +5,11 @@
 // one-line message ("FILE: POINTER: what to check").
 
 #include <pybind11/functional.h>
+#include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <filesystem>
@@ -195,25 +197,36 @@ json checkDocument(const PyPlan& p, double rank_tolerance) {
   return out;
 }
 
-/// The tip uncertainty S, S_m, S_q (mm) at each configuration of the evaluated workspace.
+/// A column vector as a numpy array (copied).
+py::array_t<double> toArray(const Eigen::VectorXd& v) {
+  py::array_t<double> out(v.size());
+  std::copy(v.data(), v.data() + v.size(), out.mutable_data());
+  return out;
+}
+
+/// The tip uncertainty S, S_m, S_q (mm) at each configuration of the evaluated workspace, and
+/// the configurations (file units): the per-configuration values evaluate's summary is taken
+/// from (TipEvaluator::kinematicVariance, as TipEvaluator::summarize).
 py::dict tipPerConfiguration(const Plan& plan, const Evaluation& evaluation) {
-  py::list total, kinematic, encoder, joints;
-  if (evaluation.covariance && !evaluation.workspace.empty()) {
-    const TipEvaluator tip(plan.machine, plan.noise, evaluation.workspace);
-    for (int i = 0; i < tip.size(); ++i) {
-      const TipPoint point = tip.at(i, evaluation.covariance->V);
-      total.append(point.total);
-      kinematic.append(point.kinematic);
-      encoder.append(point.encoder);
-      joints.append(
-          py::cast(jointsToFile(plan.machine, evaluation.workspace[static_cast<std::size_t>(i)])));
-    }
-  }
   py::dict out;
-  out["total"] = total;
-  out["kinematic"] = kinematic;
-  out["encoder"] = encoder;
-  out["joints"] = joints;
+  if (!evaluation.covariance || evaluation.workspace.empty()) return out;
+  const TipEvaluator tip(plan.machine, plan.noise, evaluation.workspace);
+  Eigen::VectorXd kinematic2;
+  tip.kinematicVariance(evaluation.covariance->V, kinematic2);
+  const Eigen::VectorXd& encoder2 = tip.encoderVariance();
+  out["total"] = toArray((kinematic2 + encoder2).cwiseSqrt());
+  out["kinematic"] = toArray(kinematic2.cwiseSqrt());
+  out["encoder"] = toArray(encoder2.cwiseSqrt());
+  const std::size_t n = evaluation.workspace.size();
+  const std::size_t joints = static_cast<std::size_t>(evaluation.workspace.front().size());
+  py::array_t<double> q({n, joints});
+  auto view = q.mutable_unchecked<2>();
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::vector<double> row = jointsToFile(plan.machine, evaluation.workspace[i]);
+    for (std::size_t k = 0; k < joints; ++k)
+      view(static_cast<py::ssize_t>(i), static_cast<py::ssize_t>(k)) = row[k];
+  }
+  out["joints"] = q;
   return out;
 }
 

@@ -113,11 +113,11 @@ class Plan:
                              for p in document.get("parameters", [])], dtype=float),
             "covariance": matrix,
         }
-        if tip is not None:
-            arrays["tip_total"] = np.asarray(tip["total"], dtype=float)
-            arrays["tip_kinematic"] = np.asarray(tip["kinematic"], dtype=float)
-            arrays["tip_encoder"] = np.asarray(tip["encoder"], dtype=float)
-            arrays["tip_joints"] = np.asarray(tip["joints"], dtype=float)
+        if tip:
+            arrays["tip_total"] = tip["total"]
+            arrays["tip_kinematic"] = tip["kinematic"]
+            arrays["tip_encoder"] = tip["encoder"]
+            arrays["tip_joints"] = tip["joints"]
         return Result(document, **arrays)
 
     def calibrate(self, *, max_iterations: int = 200, step_tol: float = 1e-3,

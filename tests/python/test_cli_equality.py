@@ -30,8 +30,8 @@ def test_evaluate_equals_cli(plan):
     assert np.allclose(corr, result["correlation"], atol=1e-12)
     tip = result["tip"]
     assert result.tip_total.shape == (tip["configurations"],)
-    assert result.tip_total.max() == pytest.approx(tip["worst"]["total"], rel=1e-8)
-    assert result.tip_total.mean() == pytest.approx(tip["mean"], rel=1e-8)
+    assert result.tip_total.max() == pytest.approx(tip["worst"]["total"], rel=1e-12)
+    assert result.tip_total.mean() == pytest.approx(tip["mean"], rel=1e-9)
     assert np.allclose(result.tip_total ** 2, result.tip_kinematic ** 2 + result.tip_encoder ** 2,
                        rtol=1e-9)
     assert result.tip_joints.shape[0] == tip["configurations"]
