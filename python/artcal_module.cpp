@@ -89,6 +89,17 @@ json fromPython(const py::handle& object, const std::string& source) {
 
 // ------------------------------------------------------------------------------------- errors
 
+/// The input of the call under way (its plan file, or the URDF): a library's own exception
+/// (nlohmann::json, Eigen) is answered "INPUT: message" as the command line names its input.
+std::string& currentInput() {
+  static std::string input = "artcal";
+  return input;
+}
+
+void noteInput(const std::string& input) {
+  currentInput() = input.empty() ? "artcal" : input;
+}
+
 /// The command line's answers (tools/artcal.cpp) for the exceptions that are not LocatedError.
 std::string withoutTag(const std::string& message) {
   if (!message.starts_with("[")) return message;
@@ -116,11 +127,13 @@ std::shared_ptr<PyPlan> planFromDocument(json document, const std::string& sourc
 }
 
 std::shared_ptr<PyPlan> loadPlanFile(const std::string& path, bool require_placements) {
+  noteInput(path);
   return planFromDocument(readJsonFile(path), path, require_placements);
 }
 
 std::shared_ptr<PyPlan> planFromDict(const py::handle& dict, const std::string& source,
                                      bool require_placements) {
+  noteInput(source);
   return planFromDocument(fromPython(dict, source), source, require_placements);
 }
 
@@ -172,6 +185,7 @@ class ProgressRelay {
 /// One placement's readings as read (inline or from CSV files): joints in file units (mm, deg)
 /// per reading, each reading's feature, and its CSV file and row ("" and 0 when inline).
 py::tuple readings(const PyPlan& p, long placement) {
+  noteInput(p.source);
   const long count = static_cast<long>(p.plan.placements.size());
   if (placement < 0) placement += count;
   if (placement < 0 || placement >= count) throw py::index_error("placement index out of range");
@@ -186,6 +200,7 @@ py::tuple readings(const PyPlan& p, long placement) {
 }
 
 json checkDocument(const PyPlan& p, double rank_tolerance) {
+  noteInput(p.source);
   const Plan& plan = p.plan;
   const PlanInformation information = planInformation(plan, plan.placements, plan.machine.nominal);
   const Identifiability id =
@@ -232,6 +247,7 @@ py::dict tipPerConfiguration(const Plan& plan, const Evaluation& evaluation) {
 
 py::tuple evaluate(const PyPlan& p, double rank_tolerance, int profile_steps,
                    bool per_configuration) {
+  noteInput(p.source);
   const Plan& plan = p.plan;
   if (profile_steps < 2 || profile_steps > 10000)
     throw std::invalid_argument("--profile-steps: expected 2 to 10000");
@@ -268,6 +284,7 @@ class PyEvaluator {
 
 py::tuple calibrate(const PyPlan& p, int max_iterations, double step_tolerance,
                     double flag_threshold, double gross_threshold) {
+  noteInput(p.source);
   CalibrationOptions options;
   options.max_iterations = max_iterations;
   options.step_tolerance = step_tolerance;
@@ -292,6 +309,7 @@ py::tuple calibrate(const PyPlan& p, int max_iterations, double step_tolerance,
 }
 
 json verify(const PyPlan& p, const py::object& machine, const std::string& machine_source) {
+  noteInput(p.source);
   // As `artcal verify` (tools/cmd_verify.cpp): the readings checked against the machine verified.
   const bool calibrated = !machine.is_none();
   Plan plan = parsePlan(p.document, p.source, true, !calibrated);
@@ -317,6 +335,7 @@ json verify(const PyPlan& p, const py::object& machine, const std::string& machi
 
 json simulate(const PyPlan& p, const py::object& truth, std::uint64_t seed, double noise_scale,
               bool artifact_errors) {
+  noteInput(p.source);
   const Plan& plan = p.plan;
   const Eigen::VectorXd true_parameters =
       py::isinstance<py::str>(truth) ? loadTruth(py::cast<std::string>(truth), plan)
@@ -345,6 +364,7 @@ json simulate(const PyPlan& p, const py::object& truth, std::uint64_t seed, doub
 }
 
 json confirm(const PyPlan& p, ConfirmationOptions options, const py::object& progress) {
+  noteInput(p.source);
   std::string error;
   if (!options.isValid(&error)) throw std::invalid_argument("confirm: " + error);
   auto relay = std::make_shared<ProgressRelay>(progress);
@@ -361,6 +381,7 @@ json confirm(const PyPlan& p, ConfirmationOptions options, const py::object& pro
 // `artcal optimize` does (tools/cmd_optimize.cpp).
 json optimize(const PyPlan& p, std::optional<int> starts, std::optional<std::uint64_t> seed,
               std::optional<double> time_limit, int threads, const py::object& progress) {
+  noteInput(p.source);
   Plan spec = p.plan;
   if (!spec.design)
     throw InputError(p.source, "/design", "missing: an optimization spec needs a design block");
@@ -405,6 +426,7 @@ AcceptanceInput acceptanceInput(const PyPlan& p) {
 }
 
 json acceptanceLength(const PyPlan& p, const std::string& mpe, const MonteCarloOptions& mc) {
+  noteInput(p.source);
   LengthTestOptions options;
   std::string error;
   const auto parsed = parseMpe(mpe, &error);
@@ -419,6 +441,7 @@ json acceptanceLength(const PyPlan& p, const std::string& mpe, const MonteCarloO
 
 json acceptancePose(const PyPlan& p, double cube, const std::array<double, 3>& center,
                     std::optional<double> mpe, const MonteCarloOptions& mc) {
+  noteInput(p.source);
   if (!(cube > 0.0)) throw InputError("--cube", "", "the pose test needs --cube E (mm, > 0)");
   PoseTestOptions options;
   options.cube = cube;
@@ -463,7 +486,7 @@ void registerExceptions(py::module_& m) {
                       "not enough memory for this input (make it smaller, or run on a machine "
                       "with more memory)");
     } catch (const std::filesystem::filesystem_error& e) {
-      const std::string file = e.path1().empty() ? "artcal" : e.path1().string();
+      const std::string file = e.path1().empty() ? currentInput() : e.path1().string();
       input((file + ": " + e.code().message()).c_str());
     } catch (const std::invalid_argument& e) {
       input(e.what());
@@ -472,7 +495,7 @@ void registerExceptions(py::module_& m) {
     } catch (const py::error_already_set&) {
       throw;
     } catch (const std::exception& e) {  // a library's (nlohmann::json, Eigen, ...)
-      input(("artcal: " + withoutTag(e.what())).c_str());
+      input((currentInput() + ": " + withoutTag(e.what())).c_str());
     }
   });
 }
@@ -572,6 +595,7 @@ PYBIND11_MODULE(_native, m) {
   m.def(
       "import_urdf",
       [](const std::string& path, const std::string& base, const std::string& tip) {
+        artcal::python::noteInput(path);
         return toPython(artcal::importUrdf(path, base, tip));
       },
       py::arg("path"), py::arg("base"), py::arg("tip"));

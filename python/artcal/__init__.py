@@ -189,9 +189,12 @@ class Evaluator:
     ``tip()`` returns (worst, mean, rms) of the tip uncertainty, mm, or None."""
 
     def __init__(self, plan: Plan) -> None:
+        """Prepares the plan's workspace (its Jacobians, once)."""
         self._evaluator = _native._Evaluator(plan._plan)
 
     def tip(self) -> Optional[tuple[float, float, float]]:
+        """(worst, mean, rms) of the tip uncertainty over the plan's workspace, mm; None when the
+        placements do not identify the calibrated parameters."""
         return self._evaluator.tip()
 
 
