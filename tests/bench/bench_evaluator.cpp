@@ -13,6 +13,9 @@
 #include <sys/resource.h>
 
 #include "../support/plan_builders.hpp"
+#include "artcal/io/plan_io.hpp"
+#include "artcal/report/cartesian_report.hpp"
+#include "artcal/report/report.hpp"
 
 namespace artcal {
 namespace {
@@ -70,6 +73,38 @@ void Seed2R20Bars(benchmark::State& state) {
   runEvaluations(state, evaluator, placements);
 }
 BENCHMARK(Seed2R20Bars)->Unit(benchmark::kMicrosecond);
+
+// The shipped plans/paper-2r-5bars.json as the Python module runs it (docs/python.md, "Cost of a
+// call"; tests/bench/bench_python_evaluate.py times the same calls from Python): the prepared
+// evaluation (artcal.Evaluator.tip: each r_j fitted per call) and the whole evaluate, with and
+// without the JSON document (Plan.evaluate(per_configuration=False) returns that document).
+void Paper2R5BarsPrepared(benchmark::State& state) {
+  const Plan plan = loadPlan(std::string(ARTCAL_PLANS_DIR) + "/paper-2r-5bars.json");
+  PlanEvaluator evaluator(plan);
+  double worst = 0.0;
+  for (auto _ : state) {
+    const auto tip = evaluator.tip(plan.placements);
+    if (tip) worst = tip->worst.total;
+  }
+  state.counters["worst_tip_mm"] = worst;
+}
+BENCHMARK(Paper2R5BarsPrepared)->Unit(benchmark::kMicrosecond);
+
+void Paper2R5BarsEvaluate(benchmark::State& state) {
+  const Plan plan = loadPlan(std::string(ARTCAL_PLANS_DIR) + "/paper-2r-5bars.json");
+  const bool with_json = state.range(0) != 0;
+  std::size_t size = 0;
+  for (auto _ : state) {
+    const Evaluation evaluation = evaluatePlan(plan);
+    if (with_json) {
+      nlohmann::json out = evaluationToJson(plan, evaluation);
+      out.update(cartesianAnswersToJson(plan, cartesianAnswers(plan, &evaluation)));
+      size = out.size();
+    }
+  }
+  state.counters["json_members"] = static_cast<double>(size);
+}
+BENCHMARK(Paper2R5BarsEvaluate)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 
 // Target: <= 1 ms (21 parameters, 30 bars x 2 balls x 3 postures, 10,000 configurations).
 void Aacmm30Bars(benchmark::State& state) {

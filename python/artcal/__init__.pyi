@@ -1,0 +1,128 @@
+"""Type stubs of the artcal package (docs/python.md). Units: mm and degrees, as the files."""
+
+import os
+from typing import Any, Callable, Mapping, Optional, Union
+
+import numpy as np
+
+PathLike = Union[str, os.PathLike[str]]
+
+class Error(ValueError):
+    """An artcal error: str(e) is the command line's line without "error: "."""
+
+class InputError(Error):
+    """Bad input (the command line's exit status 2): "FILE: POINTER: what to check"."""
+
+class RunError(Error):
+    """A valid input that cannot be run as asked (exit status 1)."""
+
+class Result(dict[str, Any]):
+    """A command's --json document, numpy views as attributes."""
+
+    parameter_names: list[str]
+    u: np.ndarray
+    covariance: Optional[np.ndarray]
+    tip_total: np.ndarray
+    tip_kinematic: np.ndarray
+    tip_encoder: np.ndarray
+    tip_joints: np.ndarray
+    estimates: np.ndarray
+    residuals: list[dict[str, Any]]
+    converged: bool
+    machine: Optional[dict[str, Any]]
+    def __init__(self, document: Mapping[str, Any], **arrays: Any) -> None: ...
+
+class Plan:
+    """An artcal plan (artcal-plan/1)."""
+
+    def __init__(self, path: PathLike, *, require_placements: bool = True) -> None: ...
+    @classmethod
+    def from_dict(
+        cls, document: Mapping[str, Any], *, source: str = "<dict>", require_placements: bool = True
+    ) -> Plan: ...
+    @property
+    def name(self) -> str: ...
+    @property
+    def source(self) -> str: ...
+    @property
+    def warnings(self) -> list[str]: ...
+    def to_dict(self) -> dict[str, Any]: ...
+    @property
+    def placement_count(self) -> int: ...
+    def readings(self, placement: int) -> tuple[np.ndarray, np.ndarray]:
+        """Joint readings (n, joints), mm and deg, and each reading's feature (n,)."""
+    def check(self, *, rank_tol: float = 1e-10) -> Result:
+        """artcal check --json."""
+    def evaluate(
+        self, *, rank_tol: float = 1e-10, profile_steps: int = 21, per_configuration: bool = True
+    ) -> Result:
+        """artcal evaluate --json; parameter_names, u, covariance, tip_* arrays."""
+    def calibrate(
+        self,
+        *,
+        max_iterations: int = 200,
+        step_tol: float = 1e-3,
+        flag_threshold: float = 3.0,
+        gross_threshold: float = 5.0,
+    ) -> Result:
+        """artcal calibrate --json; estimates, covariance, residuals, machine."""
+    def verify(self, machine: Union[PathLike, Mapping[str, Any], None] = None) -> Result:
+        """artcal verify --json [--machine FILE]."""
+    def simulate(
+        self,
+        truth: Union[PathLike, Mapping[str, Any]],
+        *,
+        seed: int = 1,
+        noise_scale: float = 1.0,
+        artifact_errors: bool = True,
+    ) -> Plan:
+        """artcal simulate --truth TRUTH -o -: the plan with simulated readings."""
+    def confirm(
+        self,
+        *,
+        trials: int = 200,
+        seed: int = 1,
+        threads: int = 0,
+        noise_scale: float = 1.0,
+        perturbation: float = 3.0,
+        level: float = 0.01,
+        allowance: float = 0.05,
+        progress: Optional[Callable[[int, int], None]] = None,
+    ) -> Result:
+        """artcal confirm --json; progress(done, total)."""
+    def acceptance_length(
+        self, mpe: str, *, trials: int = 0, seed: int = 20261201, threads: int = 0
+    ) -> Result:
+        """artcal acceptance PLAN --test length --mpe MPE --json."""
+    def acceptance_pose(
+        self,
+        cube: float,
+        center: tuple[float, float, float],
+        *,
+        mpe: Optional[float] = None,
+        trials: int = 0,
+        seed: int = 20261201,
+        threads: int = 0,
+    ) -> Result:
+        """artcal acceptance PLAN --test pose --cube E --center X,Y,Z --json."""
+
+class Evaluator:
+    """Prepared evaluation of a plan's placements."""
+
+    def __init__(self, plan: Plan) -> None: ...
+    def tip(self) -> Optional[tuple[float, float, float]]:
+        """(worst, mean, rms) tip uncertainty, mm; None when not identifiable."""
+
+def load_plan(path: PathLike, *, require_placements: bool = True) -> Plan: ...
+def import_urdf(path: PathLike, base: str, tip: str) -> dict[str, Any]:
+    """artcal import-urdf URDF --base BASE --tip TIP."""
+def optimize(
+    spec: Union[PathLike, Mapping[str, Any], Plan],
+    *,
+    starts: Optional[int] = None,
+    seed: Optional[int] = None,
+    time_limit: Optional[float] = None,
+    threads: int = 0,
+    progress: Optional[Callable[[int, int, float, float], None]] = None,
+) -> Plan:
+    """artcal optimize SPEC -o PLAN; progress(starts_done, starts, best_mm, seconds)."""

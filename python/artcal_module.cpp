@@ -1,0 +1,605 @@
+// artcal._native: the Python bindings of the artcal library (docs/python.md). Every result is the
+// JSON document the command line prints with --json, built by the same library functions
+// (report/, io/), handed to Python as dicts and lists; the package (python/artcal/__init__.py)
+// adds the numpy views. Errors become artcal.InputError / artcal.RunError with the command line's
+// one-line message ("FILE: POINTER: what to check").
+
+#include <pybind11/functional.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <filesystem>
+#include <memory>
+#include <mutex>
+#include <new>
+#include <optional>
+#include <string>
+
+#include "artcal/acceptance/length_test.hpp"
+#include "artcal/acceptance/pose_test.hpp"
+#include "artcal/calibration/calibrate_readings.hpp"
+#include "artcal/calibration/confirmation.hpp"
+#include "artcal/calibration/simulation.hpp"
+#include "artcal/calibration/verification.hpp"
+#include "artcal/core/error.hpp"
+#include "artcal/core/random.hpp"
+#include "artcal/estimation/evaluator.hpp"
+#include "artcal/io/acceptance_spec.hpp"
+#include "artcal/io/machine_covariance.hpp"
+#include "artcal/io/plan_io.hpp"
+#include "artcal/io/plausibility.hpp"
+#include "artcal/io/truth_io.hpp"
+#include "artcal/io/urdf.hpp"
+#include "artcal/planning/optimizer.hpp"
+#include "artcal/report/acceptance_report.hpp"
+#include "artcal/report/calibration_report.hpp"
+#include "artcal/report/cartesian_report.hpp"
+#include "artcal/report/report.hpp"
+#include "artcal/report/verification_report.hpp"
+
+namespace py = pybind11;
+using nlohmann::json;
+
+namespace artcal::python {
+
+namespace {
+
+// ------------------------------------------------------------------------------ JSON <-> Python
+
+py::object toPython(const json& value) {
+  switch (value.type()) {
+    case json::value_t::null:
+      return py::none();
+    case json::value_t::boolean:
+      return py::bool_(value.get<bool>());
+    case json::value_t::number_integer:
+      return py::int_(value.get<std::int64_t>());
+    case json::value_t::number_unsigned:
+      return py::int_(value.get<std::uint64_t>());
+    case json::value_t::number_float:
+      return py::float_(value.get<double>());
+    case json::value_t::string:
+      return py::str(value.get_ref<const std::string&>());
+    case json::value_t::array: {
+      py::list list(value.size());
+      for (std::size_t i = 0; i < value.size(); ++i) list[i] = toPython(value[i]);
+      return list;
+    }
+    case json::value_t::object: {
+      py::dict dict;
+      for (const auto& [key, item] : value.items()) dict[py::str(key)] = toPython(item);
+      return dict;
+    }
+    default:
+      return py::none();  // binary, discarded: never in artcal's documents
+  }
+}
+
+/// A Python dict (the plan file's form) as JSON, through json.dumps: what it cannot encode
+/// (a set, an object) raises TypeError naming it.
+json fromPython(const py::handle& object, const std::string& source) {
+  const py::object dumps = py::module_::import("json").attr("dumps");
+  const std::string text = py::cast<std::string>(dumps(object, py::arg("allow_nan") = false));
+  return parseJsonText(text, source);
+}
+
+// ------------------------------------------------------------------------------------- errors
+
+/// The input of the call under way (its plan file, or the URDF): a library's own exception
+/// (nlohmann::json, Eigen) is answered "INPUT: message" as the command line names its input.
+std::string& currentInput() {
+  static std::string input = "artcal";
+  return input;
+}
+
+void noteInput(const std::string& input) {
+  currentInput() = input.empty() ? "artcal" : input;
+}
+
+/// The command line's answers (tools/artcal.cpp) for the exceptions that are not LocatedError.
+std::string withoutTag(const std::string& message) {
+  if (!message.starts_with("[")) return message;
+  const auto end = message.find("] ");
+  return end == std::string::npos ? message : message.substr(end + 2);
+}
+
+// --------------------------------------------------------------------------------- the plan
+
+/// A plan as the command line reads it: the parsed plan and the document it came from (simulate
+/// and verify re-read the document as the commands do).
+struct PyPlan {
+  json document;
+  std::string source;
+  Plan plan;
+};
+
+std::shared_ptr<PyPlan> planFromDocument(json document, const std::string& source,
+                                         bool require_placements) {
+  auto out = std::make_shared<PyPlan>();
+  out->plan = parsePlan(document, source, require_placements);
+  out->document = std::move(document);
+  out->source = source;
+  return out;
+}
+
+std::shared_ptr<PyPlan> loadPlanFile(const std::string& path, bool require_placements) {
+  noteInput(path);
+  return planFromDocument(readJsonFile(path), path, require_placements);
+}
+
+std::shared_ptr<PyPlan> planFromDict(const py::handle& dict, const std::string& source,
+                                     bool require_placements) {
+  noteInput(source);
+  return planFromDocument(fromPython(dict, source), source, require_placements);
+}
+
+/// Releases the GIL around `work` (a long computation of the library).
+template <typename Work>
+auto withoutGil(Work&& work) {
+  py::gil_scoped_release release;
+  return work();
+}
+
+/// A Python progress callback called from worker threads: the GIL taken for it, its first
+/// exception kept and raised once the computation is over.
+class ProgressRelay {
+ public:
+  explicit ProgressRelay(py::object callback) : callback_(std::move(callback)) {}
+  ~ProgressRelay() {
+    py::gil_scoped_acquire gil;
+    callback_ = py::object();
+    error_.reset();
+  }
+  bool active() const { return !callback_.is_none(); }
+  template <typename... Args>
+  void operator()(Args&&... args) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    py::gil_scoped_acquire gil;
+    if (error_) return;
+    try {
+      callback_(std::forward<Args>(args)...);
+    } catch (py::error_already_set& e) {
+      error_ = std::make_unique<py::error_already_set>(std::move(e));
+    }
+  }
+  void raiseIfFailed() {
+    if (error_) {
+      py::error_already_set e = std::move(*error_);
+      error_.reset();
+      throw e;
+    }
+  }
+
+ private:
+  py::object callback_;
+  std::mutex mutex_;
+  std::unique_ptr<py::error_already_set> error_;
+};
+
+// ---------------------------------------------------------------------------- the commands
+
+/// One placement's readings as read (inline or from CSV files): joints in file units (mm, deg)
+/// per reading, each reading's feature, and its CSV file and row ("" and 0 when inline).
+py::tuple readings(const PyPlan& p, long placement) {
+  noteInput(p.source);
+  const long count = static_cast<long>(p.plan.placements.size());
+  if (placement < 0) placement += count;
+  if (placement < 0 || placement >= count) throw py::index_error("placement index out of range");
+  py::list joints, features, csv, rows;
+  for (const Measurement& m : p.plan.placements[static_cast<std::size_t>(placement)].measurements) {
+    joints.append(py::cast(jointsToFile(p.plan.machine, m.joints)));
+    features.append(m.feature);
+    csv.append(m.csv);
+    rows.append(m.csv_row);
+  }
+  return py::make_tuple(joints, features, csv, rows);
+}
+
+json checkDocument(const PyPlan& p, double rank_tolerance) {
+  noteInput(p.source);
+  const Plan& plan = p.plan;
+  const PlanInformation information = planInformation(plan, plan.placements, plan.machine.nominal);
+  const Identifiability id =
+      analyseIdentifiability(plan, plan.placements, information, rank_tolerance);
+  json out = identifiabilityToJson(id);
+  out.update(calibrateSelectionToJson(plan));
+  out.update(cartesianAnswersToJson(plan, cartesianAnswers(plan, nullptr)));
+  out["plan"] = plan.name;
+  return out;
+}
+
+/// A column vector as a numpy array (copied).
+py::array_t<double> toArray(const Eigen::VectorXd& v) {
+  py::array_t<double> out(v.size());
+  std::copy(v.data(), v.data() + v.size(), out.mutable_data());
+  return out;
+}
+
+/// The tip uncertainty S, S_m, S_q (mm) at each configuration of the evaluated workspace, and
+/// the configurations (file units): the per-configuration values evaluate's summary is taken
+/// from (TipEvaluator::kinematicVariance, as TipEvaluator::summarize).
+py::dict tipPerConfiguration(const Plan& plan, const Evaluation& evaluation) {
+  py::dict out;
+  if (!evaluation.covariance || evaluation.workspace.empty()) return out;
+  const TipEvaluator tip(plan.machine, plan.noise, evaluation.workspace);
+  Eigen::VectorXd kinematic2;
+  tip.kinematicVariance(evaluation.covariance->V, kinematic2);
+  const Eigen::VectorXd& encoder2 = tip.encoderVariance();
+  out["total"] = toArray((kinematic2 + encoder2).cwiseSqrt());
+  out["kinematic"] = toArray(kinematic2.cwiseSqrt());
+  out["encoder"] = toArray(encoder2.cwiseSqrt());
+  const std::size_t n = evaluation.workspace.size();
+  const std::size_t joints = static_cast<std::size_t>(evaluation.workspace.front().size());
+  py::array_t<double> q({n, joints});
+  auto view = q.mutable_unchecked<2>();
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::vector<double> row = jointsToFile(plan.machine, evaluation.workspace[i]);
+    for (std::size_t k = 0; k < joints; ++k)
+      view(static_cast<py::ssize_t>(i), static_cast<py::ssize_t>(k)) = row[k];
+  }
+  out["joints"] = q;
+  return out;
+}
+
+py::tuple evaluate(const PyPlan& p, double rank_tolerance, int profile_steps,
+                   bool per_configuration) {
+  noteInput(p.source);
+  const Plan& plan = p.plan;
+  if (profile_steps < 2 || profile_steps > 10000)
+    throw std::invalid_argument("--profile-steps: expected 2 to 10000");
+  const auto [evaluation, document] = withoutGil([&] {
+    Evaluation ev = evaluatePlan(plan, {rank_tolerance, profile_steps});
+    json out = evaluationToJson(plan, ev);
+    out.update(cartesianAnswersToJson(plan, cartesianAnswers(plan, &ev)));
+    return std::make_pair(std::move(ev), std::move(out));
+  });
+  py::object covariance = py::none();
+  if (evaluation.covariance)
+    covariance = toPython(covarianceToJson(plan.machine, evaluation.covariance->V, 0.0));
+  py::object tip = per_configuration ? py::object(tipPerConfiguration(plan, evaluation))
+                                     : py::object(py::none());
+  return py::make_tuple(toPython(document), covariance, tip);
+}
+
+/// The prepared evaluation of a plan's placements (estimation/evaluator.hpp's PlanEvaluator):
+/// the cost the optimizer pays per candidate design.
+class PyEvaluator {
+ public:
+  explicit PyEvaluator(std::shared_ptr<PyPlan> plan)
+      : plan_(std::move(plan)), evaluator_(plan_->plan) {}
+  py::object tip() {
+    const std::optional<TipSummary> tip = evaluator_.tip(plan_->plan.placements);
+    if (!tip) return py::none();
+    return py::make_tuple(tip->worst.total, tip->mean, tip->rms);
+  }
+
+ private:
+  std::shared_ptr<PyPlan> plan_;
+  PlanEvaluator evaluator_;
+};
+
+py::tuple calibrate(const PyPlan& p, int max_iterations, double step_tolerance,
+                    double flag_threshold, double gross_threshold) {
+  noteInput(p.source);
+  CalibrationOptions options;
+  options.max_iterations = max_iterations;
+  options.step_tolerance = step_tolerance;
+  options.flag_threshold = flag_threshold;
+  options.gross_threshold = gross_threshold;
+  std::string error;
+  if (!options.isValid(&error)) throw std::invalid_argument("calibrate: " + error);
+  Plan plan = p.plan;  // calibrateReadings holds weak parameters at nominal in its plan
+  const auto [document, machine] = withoutGil([&] {
+    const Calibration calibration = calibrateReadings(plan, options);
+    json result = calibrationToJson(plan, plan.placements, calibration);
+    json machine_block;
+    if (calibration.summary.converged()) {
+      machine_block = machineToJson(plan.machine, calibration.parameters);
+      if (calibration.covariance)
+        machine_block["covariance"] =
+            covarianceToJson(plan.machine, calibration.covariance->V, calibration.birgeRatio());
+    }
+    return std::make_pair(std::move(result), std::move(machine_block));
+  });
+  return py::make_tuple(toPython(document), toPython(machine));
+}
+
+json verify(const PyPlan& p, const py::object& machine, const std::string& machine_source) {
+  noteInput(p.source);
+  // As `artcal verify` (tools/cmd_verify.cpp): the readings checked against the machine verified.
+  const bool calibrated = !machine.is_none();
+  Plan plan = parsePlan(p.document, p.source, true, !calibrated);
+  Eigen::VectorXd parameters = plan.machine.nominal;
+  std::optional<ParameterUncertainty> uncertainty;
+  if (calibrated) {
+    std::string source = machine_source;
+    json document;
+    if (py::isinstance<py::str>(machine) ||
+        py::isinstance(machine, py::module_::import("os").attr("PathLike"))) {
+      source = py::cast<std::string>(py::str(machine));
+      document = readJsonFile(source);
+    } else {
+      document = fromPython(machine, source);
+    }
+    parameters = parseTruth(document, source, plan);
+    uncertainty = parseMachineCovariance(document, source, plan);
+    checkPlausibility(plan, parameters, "the machine of " + source);
+  }
+  return withoutGil(
+      [&] { return verificationToJson(plan, verifyMachine(plan, parameters, uncertainty)); });
+}
+
+json simulate(const PyPlan& p, const py::object& truth, std::uint64_t seed, double noise_scale,
+              bool artifact_errors) {
+  noteInput(p.source);
+  const Plan& plan = p.plan;
+  const Eigen::VectorXd true_parameters =
+      py::isinstance<py::str>(truth) ? loadTruth(py::cast<std::string>(truth), plan)
+                                     : parseTruth(fromPython(truth, "truth"), "truth", plan);
+  SimulationOptions options;
+  options.noise_scale = noise_scale;
+  options.artifact_errors = artifact_errors;
+  std::string error;
+  if (!options.isValid(&error)) throw std::invalid_argument("simulate: " + error);
+  return withoutGil([&] {
+    const Simulator simulator(plan, options);
+    NormalSource normal(seed);
+    const SimulatedRun run = simulator.simulate(true_parameters, normal);
+    Plan simulated = plan;
+    simulated.placements = run.placements;
+    json document = p.document;
+    document["placements"] = placementsToJson(simulated);
+    json record = truthToJson(plan.machine, true_parameters);
+    record["seed"] = seed;
+    record["noise_scale"] = noise_scale;
+    record["artifact_errors"] =
+        std::vector<double>(run.systematic.data(), run.systematic.data() + run.systematic.size());
+    document["simulation"] = record;
+    return document;
+  });
+}
+
+json confirm(const PyPlan& p, ConfirmationOptions options, const py::object& progress) {
+  noteInput(p.source);
+  std::string error;
+  if (!options.isValid(&error)) throw std::invalid_argument("confirm: " + error);
+  auto relay = std::make_shared<ProgressRelay>(progress);
+  if (relay->active()) options.progress = [relay](int done, int total) { (*relay)(done, total); };
+  json out = withoutGil([&] {
+    const Confirmation confirmation = confirmPlan(p.plan, options);
+    return confirmationToJson(p.plan, options, confirmation);
+  });
+  relay->raiseIfFailed();
+  return out;
+}
+
+// `"calibrate": "identifiable"` in a spec, resolved on random placements of the design space as
+// `artcal optimize` does (tools/cmd_optimize.cpp).
+json optimize(const PyPlan& p, std::optional<int> starts, std::optional<std::uint64_t> seed,
+              std::optional<double> time_limit, int threads, const py::object& progress) {
+  noteInput(p.source);
+  Plan spec = p.plan;
+  if (!spec.design)
+    throw InputError(p.source, "/design", "missing: an optimization spec needs a design block");
+  OptimizerOptions options = OptimizerOptions::fromDesign(*spec.design);
+  if (starts) options.starts = *starts;
+  if (seed) options.seed = *seed;
+  if (time_limit) options.time_limit = *time_limit;
+  options.threads = threads;
+  auto relay = std::make_shared<ProgressRelay>(progress);
+  if (relay->active()) {
+    options.progress = [relay](const OptimizerProgress& s) {
+      (*relay)(s.starts_done, s.starts, s.best, s.elapsed);
+    };
+  }
+  json document = withoutGil([&]() -> json {
+    const OptimizerSummary summary = optimizePlan(spec, options);
+    if (summary.best_start < 0) throw RunError(p.source, "/design/placements", summary.message);
+    Plan plan = spec;
+    for (const Placement& placement : summary.placements) plan.placements.push_back(placement);
+    const Evaluation evaluation = evaluatePlan(plan);
+    if (!evaluation.identifiability.identifiable())
+      throw RunError(p.source, "/design/placements", "the optimized design is not identifiable");
+    json out = p.document;
+    out["placements"] = placementsToJson(plan);
+    json predicted = evaluationToJson(plan, evaluation);
+    predicted.erase("plan");
+    out["predicted"] = predicted;
+    return out;
+  });
+  relay->raiseIfFailed();
+  return document;
+}
+
+AcceptanceInput acceptanceInput(const PyPlan& p) {
+  const Evaluation evaluation = evaluatePlan(p.plan);
+  auto input = acceptanceInputFromPlan(p.plan, evaluation);
+  if (!input)
+    throw InputError(p.source, "/placements",
+                     "the plan does not identify its calibrated parameters (no V_p): run "
+                     "`artcal evaluate` and follow its advice");
+  return std::move(*input);
+}
+
+json acceptanceLength(const PyPlan& p, const std::string& mpe, const MonteCarloOptions& mc) {
+  noteInput(p.source);
+  LengthTestOptions options;
+  std::string error;
+  const auto parsed = parseMpe(mpe, &error);
+  if (!parsed) throw InputError("--mpe", "", error);
+  options.mpe = *parsed;
+  options.monte_carlo = mc;
+  return withoutGil([&] {
+    const AcceptanceInput input = acceptanceInput(p);
+    return lengthTestToJson(input, predictLengthTest(input, options), mc);
+  });
+}
+
+json acceptancePose(const PyPlan& p, double cube, const std::array<double, 3>& center,
+                    std::optional<double> mpe, const MonteCarloOptions& mc) {
+  noteInput(p.source);
+  if (!(cube > 0.0)) throw InputError("--cube", "", "the pose test needs --cube E (mm, > 0)");
+  PoseTestOptions options;
+  options.cube = cube;
+  options.center = Eigen::Vector3d(center[0], center[1], center[2]);
+  if (!options.center.allFinite())
+    throw InputError("--center", "", "expected X,Y,Z in mm, e.g. 500,0,400");
+  if (mpe && !(*mpe > 0.0 && std::isfinite(*mpe)))
+    throw InputError("--mpe", "", "the pose test's MPE is one number in mm (> 0)");
+  options.mpe = mpe;
+  options.monte_carlo = mc;
+  return withoutGil([&] {
+    const AcceptanceInput input = acceptanceInput(p);
+    return poseTestToJson(input, predictPoseTest(input, options), options);
+  });
+}
+
+MonteCarloOptions monteCarlo(long trials, std::uint64_t seed, int threads) {
+  MonteCarloOptions mc;
+  if (trials < 0) throw std::invalid_argument("--trials: expected 0 (adaptive) or more");
+  mc.trials = trials;
+  mc.seed = seed;
+  mc.threads = threads;
+  return mc;
+}
+
+// ------------------------------------------------------------------------------ the module
+
+void registerExceptions(py::module_& m) {
+  static py::exception<LocatedError> base(m, "Error", PyExc_ValueError);
+  static py::exception<InputError> input(m, "InputError", base.ptr());
+  static py::exception<RunError> run(m, "RunError", base.ptr());
+  // The command line's one line (tools/artcal.cpp), without "error: ".
+  py::register_exception_translator([](std::exception_ptr thrown) {
+    try {
+      if (thrown) std::rethrow_exception(thrown);
+    } catch (const InputError& e) {
+      input(e.describe().c_str());
+    } catch (const RunError& e) {
+      run(e.describe().c_str());
+    } catch (const std::bad_alloc&) {
+      PyErr_SetString(PyExc_MemoryError,
+                      "not enough memory for this input (make it smaller, or run on a machine "
+                      "with more memory)");
+    } catch (const std::filesystem::filesystem_error& e) {
+      const std::string file = e.path1().empty() ? currentInput() : e.path1().string();
+      input((file + ": " + e.code().message()).c_str());
+    } catch (const std::invalid_argument& e) {
+      input(e.what());
+    } catch (const py::builtin_exception&) {
+      throw;
+    } catch (const py::error_already_set&) {
+      throw;
+    } catch (const std::exception& e) {  // a library's (nlohmann::json, Eigen, ...)
+      input((currentInput() + ": " + withoutTag(e.what())).c_str());
+    }
+  });
+}
+
+ConfirmationOptions confirmationOptions(int trials, std::uint64_t seed, int threads,
+                                        double noise_scale, double perturbation, double level,
+                                        double allowance) {
+  ConfirmationOptions options;
+  options.trials = trials;
+  options.seed = seed;
+  options.threads = threads;
+  options.noise_scale = noise_scale;
+  options.perturbation = perturbation;
+  options.level = level;
+  options.allowance = allowance;
+  return options;
+}
+
+void definePlan(py::module_& m) {
+  py::class_<PyPlan, std::shared_ptr<PyPlan>>(m, "_Plan")
+      .def_property_readonly("name", [](const PyPlan& p) { return p.plan.name; })
+      .def_property_readonly("source", [](const PyPlan& p) { return p.source; })
+      .def_property_readonly("warnings", [](const PyPlan& p) { return p.plan.warnings; })
+      .def("document", [](const PyPlan& p) { return toPython(p.document); })
+      .def("placement_count", [](const PyPlan& p) { return p.plan.placements.size(); })
+      .def("readings", &readings, py::arg("placement"))
+      .def(
+          "check", [](const PyPlan& p, double tol) { return toPython(checkDocument(p, tol)); },
+          py::arg("rank_tol") = kDefaultRankTolerance)
+      .def("evaluate", &evaluate, py::arg("rank_tol") = kDefaultRankTolerance,
+           py::arg("profile_steps") = 21, py::arg("per_configuration") = true)
+      .def("calibrate", &calibrate, py::arg("max_iterations"), py::arg("step_tol"),
+           py::arg("flag_threshold"), py::arg("gross_threshold"))
+      .def(
+          "verify",
+          [](const PyPlan& p, const py::object& machine) {
+            return toPython(verify(p, machine, "machine"));
+          },
+          py::arg("machine") = py::none())
+      .def(
+          "simulate",
+          [](const PyPlan& p, const py::object& truth, std::uint64_t seed, double noise_scale,
+             bool artifact_errors) {
+            return toPython(simulate(p, truth, seed, noise_scale, artifact_errors));
+          },
+          py::arg("truth"), py::arg("seed"), py::arg("noise_scale"), py::arg("artifact_errors"))
+      .def(
+          "confirm",
+          [](const PyPlan& p, int trials, std::uint64_t seed, int threads, double noise_scale,
+             double perturbation, double level, double allowance, const py::object& progress) {
+            return toPython(confirm(p,
+                                    confirmationOptions(trials, seed, threads, noise_scale,
+                                                        perturbation, level, allowance),
+                                    progress));
+          },
+          py::arg("trials"), py::arg("seed"), py::arg("threads"), py::arg("noise_scale"),
+          py::arg("perturbation"), py::arg("level"), py::arg("allowance"),
+          py::arg("progress") = py::none())
+      .def(
+          "optimize",
+          [](const PyPlan& p, std::optional<int> starts, std::optional<std::uint64_t> seed,
+             std::optional<double> time_limit, int threads, const py::object& progress) {
+            return toPython(optimize(p, starts, seed, time_limit, threads, progress));
+          },
+          py::arg("starts"), py::arg("seed"), py::arg("time_limit"), py::arg("threads"),
+          py::arg("progress") = py::none())
+      .def(
+          "acceptance_length",
+          [](const PyPlan& p, const std::string& mpe, long trials, std::uint64_t seed,
+             int threads) {
+            return toPython(acceptanceLength(p, mpe, monteCarlo(trials, seed, threads)));
+          },
+          py::arg("mpe"), py::arg("trials"), py::arg("seed"), py::arg("threads"))
+      .def(
+          "acceptance_pose",
+          [](const PyPlan& p, double cube, const std::array<double, 3>& center,
+             std::optional<double> mpe, long trials, std::uint64_t seed, int threads) {
+            return toPython(
+                acceptancePose(p, cube, center, mpe, monteCarlo(trials, seed, threads)));
+          },
+          py::arg("cube"), py::arg("center"), py::arg("mpe"), py::arg("trials"), py::arg("seed"),
+          py::arg("threads"));
+}
+
+}  // namespace
+
+}  // namespace artcal::python
+
+PYBIND11_MODULE(_native, m) {
+  using namespace artcal::python;
+  m.doc() = "artcal's C++ core; use the artcal package (docs/python.md)";
+  registerExceptions(m);
+  definePlan(m);
+  m.def("load_plan", &loadPlanFile, py::arg("path"), py::arg("require_placements") = true);
+  m.def("plan_from_dict", &planFromDict, py::arg("document"), py::arg("source"),
+        py::arg("require_placements") = true);
+  m.def(
+      "import_urdf",
+      [](const std::string& path, const std::string& base, const std::string& tip) {
+        artcal::python::noteInput(path);
+        return toPython(artcal::importUrdf(path, base, tip));
+      },
+      py::arg("path"), py::arg("base"), py::arg("tip"));
+  py::class_<PyEvaluator>(m, "_Evaluator")
+      .def(py::init<std::shared_ptr<PyPlan>>(), py::keep_alive<1, 2>())
+      .def("tip", &PyEvaluator::tip);
+}
