@@ -6,6 +6,7 @@
 #include <fstream>
 
 #include "artcal/artcal.hpp"
+#include "artcal/calibration/calibrate_readings.hpp"
 #include "artcal/calibration/station_verification.hpp"
 #include "test_paths.hpp"
 
@@ -109,6 +110,19 @@ TEST(Instrument, SimulatedPointsRoundTripThroughThePlanFile) {
               .norm(),
           1e-9);
     }
+  }
+}
+
+// Without its points a tracker plan is for planning only: calibrate refuses it, naming the reading.
+TEST(Instrument, CalibrateNeedsTheMeasuredPoints) {
+  nlohmann::json document = trackerDocument();
+  for (auto& reading : document["placements"][1]["measurements"]) reading.erase("point");
+  Plan plan = parsePlan(document, "tracker.json");
+  try {
+    calibrateReadings(plan);
+    FAIL() << "calibrated a reading without its point";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.pointer(), "/placements/1/measurements/0");
   }
 }
 
