@@ -8,6 +8,7 @@
 #include "artcal/artcal.hpp"
 #include "artcal/calibration/calibrate_readings.hpp"
 #include "artcal/calibration/station_verification.hpp"
+#include "cli_runner.hpp"
 #include "test_paths.hpp"
 
 namespace artcal {
@@ -167,6 +168,26 @@ TEST(Instrument, VerifyHeldOutStationsAgainstThePrediction) {
   EXPECT_LT(v.all.rms, 1.5 * v.all.predicted_rms);
   const StationsVerification nominal = verifyStations(held, plan.machine.nominal, std::nullopt);
   EXPECT_GT(nominal.all.rms, 2.0 * v.all.rms);
+}
+
+// The command line: a collinear station is exit 2 with one line naming it; verify of the
+// nominal points at nominal reports the stations' held-out figures (zero deviations).
+TEST(Instrument, CommandLineRefusesACollinearStationAndVerifiesStations) {
+  const std::string collinear = test_support::testDataFile("ref-instrument-arm6-collinear.json");
+  const test_support::CliRun refused =
+      test_support::runCli("check " + collinear, test_support::Stderr::Only);
+  EXPECT_EQ(refused.status, 2);
+  EXPECT_NE(refused.out.find(collinear + ": /placements/1: station \"station 2\""),
+            std::string::npos)
+      << refused.out;
+  EXPECT_EQ(std::count(refused.out.begin(), refused.out.end(), '\n'), 1);
+  const std::string plan = test_support::testDataFile("ref-instrument-arm6-2stations.json");
+  const test_support::CliRun verified = test_support::runCli("verify --json " + plan);
+  ASSERT_EQ(verified.status, 0);
+  const nlohmann::json out = nlohmann::json::parse(verified.out);
+  ASSERT_EQ(out["instrument"]["stations"].size(), 2u);
+  EXPECT_EQ(out["instrument"]["all"]["readings"], 50);
+  EXPECT_LT(out["instrument"]["all"]["max"].get<double>(), 1e-9);
 }
 
 }  // namespace
