@@ -7,6 +7,7 @@
 #include "artcal/io/plan_io.hpp"
 #include "artcal/io/plausibility.hpp"
 #include "artcal/io/truth_io.hpp"
+#include "artcal/report/station_report.hpp"
 #include "artcal/report/verification_report.hpp"
 #include "commands.hpp"
 
@@ -35,10 +36,15 @@ int runVerify(const VerifyArguments& args) {
     checkPlausibility(plan, p, "the machine of " + args.machine);
   }
   const Verification verification = verifyMachine(plan, p, uncertainty);
+  // An instrument's stations (instruments.md): held-out readings against a fitted station.
+  const StationsVerification stations = verifyStations(plan, p, uncertainty);
   if (args.json) {
-    printJson(verificationToJson(plan, verification));
+    nlohmann::json out = verificationToJson(plan, verification);
+    if (!stations.stations.empty()) out["instrument"] = stationsVerificationToJson(plan, stations);
+    printJson(out);
   } else {
     std::cout << verificationTable(plan, verification, args.outliers);
+    if (!stations.stations.empty()) std::cout << stationsVerificationTable(plan, stations);
   }
   return 0;
 }

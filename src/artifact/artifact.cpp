@@ -13,6 +13,8 @@ std::string artifactKindName(ArtifactKind kind) {
       return "ball_plate";
     case ArtifactKind::StepGauge:
       return "step_gauge";
+    case ArtifactKind::Instrument:
+      return "instrument";
   }
   throw std::logic_error("unknown artifact kind");
 }
@@ -57,6 +59,23 @@ Artifact Artifact::stepGauge(std::string id, int dimension, const std::vector<do
   return a;
 }
 
+Artifact Artifact::instrument(std::string id, int dimension, double noise) {
+  Artifact a;
+  a.id = std::move(id);
+  a.kind = ArtifactKind::Instrument;
+  a.dimension = dimension;
+  a.features = Eigen::MatrixXd::Zero(dimension, 0);
+  a.noise = noise;
+  return a;
+}
+
+int Artifact::appendFeature(const Eigen::VectorXd& point) {
+  const int index = featureCount();
+  features.conservativeResize(Eigen::NoChange, index + 1);
+  features.col(index) = point;
+  return index;
+}
+
 // Full rigid motion = (translation, rotation): 2-D (tx, ty, rz), 3-D (tx, ty, tz, wx, wy, wz).
 // A ball bar in 3-D does not see its roll about X; a step gauge sees only motions that change X.
 const std::vector<int>& Artifact::rigidDirections() const {
@@ -69,6 +88,7 @@ const std::vector<int>& Artifact::rigidDirections() const {
     case ArtifactKind::StepGauge:
       return gauge3;
     case ArtifactKind::BallPlate:
+    case ArtifactKind::Instrument:
       break;
   }
   return all3;
@@ -115,6 +135,7 @@ const std::vector<int>& Artifact::fullRigidOrder() const {
     case ArtifactKind::StepGauge:
       return gauge3;
     case ArtifactKind::BallPlate:
+    case ArtifactKind::Instrument:
       break;
   }
   return all3;

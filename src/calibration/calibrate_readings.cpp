@@ -7,6 +7,7 @@
 #include <numbers>
 
 #include "artcal/calibration/corrections.hpp"
+#include "artcal/core/error.hpp"
 #include "artcal/estimation/evaluator.hpp"
 #include "artcal/estimation/identifiability.hpp"
 
@@ -145,7 +146,23 @@ double probeNoiseForUnitBirgeRatio(const Plan& plan, const std::vector<Placement
   return std::sqrt(low * high);
 }
 
+// An instrument's reading without its measured point is for planning only (instruments.md):
+// calibrating it would fit the nominal machine's own tip points.
+void requireMeasuredPoints(const Plan& plan) {
+  for (std::size_t j = 0; j < plan.placements.size(); ++j) {
+    for (const Measurement& m : plan.placements[j].measurements) {
+      if (m.point_given) continue;
+      throw InputError(
+          plan.source,
+          "/placements/" + std::to_string(j) + "/measurements/" + std::to_string(m.entry),
+          "calibrate needs the point the instrument measured (\"point\"); a reading "
+          "without it is for planning only (check, evaluate, optimize, simulate)");
+    }
+  }
+}
+
 Calibration calibrateReadings(Plan& plan, const CalibrationOptions& options) {
+  requireMeasuredPoints(plan);
   const bool resolve = plan.machine.calibrate_identifiable && plan.calibrate_resolution.has_value();
   const Eigen::VectorXd& nominal = plan.machine.nominal;
   // Rank policy on measured readings (docs/method.md section 5): at the nominal parameters ...

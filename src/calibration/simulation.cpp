@@ -144,6 +144,25 @@ SimulatedReading simulatedReading(const Machine& machine, const Eigen::VectorXd&
               "] (plan the readings farther inside the limits: design.joint_margin)"};
 }
 
+// An instrument's station (instruments.md): the machine drives to the planned configurations
+// q, the instrument reports the true tip in its frame, point = r_j f(p_true, q) + its noise and
+// the probe's (each coordinate drawn), and the joints read q + delta_q. Draw order per reading:
+// the d point deviates, then the joint deviates.
+void simulateStation(const Plan& plan, const Eigen::VectorXd& p_true, const RigidTransform& station,
+                     const Artifact& instrument, double scale, Placement& placement,
+                     NormalSource& normal) {
+  const double point_sigma = scale * std::hypot(plan.noise.probe, instrument.noise);
+  Eigen::VectorXd x;
+  for (Measurement& m : placement.measurements) {
+    forwardOrThrow(*plan.machine.mechanism, p_true, m.joints, x, nullptr, nullptr, m.stylus);
+    m.point = station.apply(x);
+    m.point_given = true;
+    for (int k = 0; k < m.point.size(); ++k) m.point[k] += point_sigma * normal();
+    for (int k = 0; k < m.joints.size(); ++k)
+      m.joints[k] += scale * plan.noise.encoder[k] * normal();
+  }
+}
+
 }  // namespace
 
 Simulator::Simulator(const Plan& plan, const SimulationOptions& options)
@@ -179,6 +198,10 @@ SimulatedRun Simulator::simulate(const Eigen::VectorXd& p_true, NormalSource& no
     Placement& placement = run.placements[j];
     const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
     const Eigen::VectorXd& c = artifact_c[static_cast<std::size_t>(placement.artifact)];
+    if (artifact.kind == ArtifactKind::Instrument) {
+      simulateStation(plan, p_true, poses_[j], artifact, scale, placement, normal);
+      continue;
+    }
     for (std::size_t i = 0; i < placement.measurements.size(); ++i) {
       Measurement& m = placement.measurements[i];
       target = inverse_poses_[j].apply(artifact.feature(m.feature, c));

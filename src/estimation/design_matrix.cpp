@@ -56,7 +56,8 @@ void DesignMatrixBuilder::build(const Artifact& artifact,
   block.rigid_primary = artifact.rigidDof();
   block.A_c.setZero(rows, n_c);
   if (with_residuals) block.e.resize(rows);
-  const double sigma_p2 = noise_->probe * noise_->probe;
+  // An instrument's own noise adds in quadrature to the probe's (instruments.md).
+  const double sigma_p2 = noise_->probe * noise_->probe + artifact.noise * artifact.noise;
   const auto sigma_q2 = noise_->encoder.array().square().matrix().asDiagonal();
   J_r_.resize(k, n_r);
   for (std::size_t i = 0; i < measurements.size(); ++i) {
@@ -79,7 +80,7 @@ void DesignMatrixBuilder::build(const Artifact& artifact,
       if (err.feature == m.feature && err.coordinate < k) block.A_c(row + err.coordinate, s) = -1.0;
     }
     if (with_residuals) {
-      block.e.segment(row, k) = W_.head(k) - artifact.feature(m.feature, c).head(k);
+      block.e.segment(row, k) = W_.head(k) - readingTarget(artifact, m, c).head(k);
     }
     // Whitening (docs/method.md section 2): Sigma = s_p^2 I + J_q Sigma_q J_q^T = L L^T,
     // rows *= L^-1.
@@ -116,8 +117,10 @@ void DesignMatrixBuilder::misfits(const Artifact& artifact,
     forwardOrThrow(*machine_->mechanism, p, m.joints, x, nullptr, &J_x_q, m.stylus);
     const Eigen::MatrixXd J_valued_q = r.R.topRows(k) * J_x_q;
     ReadingMisfit misfit;
-    misfit.residual = (r.apply(x) - artifact.feature(m.feature, c)).head(k);
+    misfit.residual = (r.apply(x) - readingTarget(artifact, m, c)).head(k);
     misfit.encoder_covariance = J_valued_q * sigma_q2 * J_valued_q.transpose();
+    // An instrument's stated noise is known: it joins the part the probe-noise estimate keeps.
+    misfit.encoder_covariance.diagonal().array() += artifact.noise * artifact.noise;
     out.push_back(std::move(misfit));
   }
 }
@@ -140,7 +143,7 @@ std::vector<RigidTransform> fitPlacements(const Plan& plan,
     Eigen::MatrixXd artifact_points(artifact.dimension, machine_points.cols());
     for (std::size_t i = 0; i < placement.measurements.size(); ++i) {
       artifact_points.col(static_cast<int>(i)) =
-          artifact.features.col(placement.measurements[i].feature);
+          readingTarget(artifact, placement.measurements[i], Eigen::VectorXd());
     }
     poses.push_back(fitRigid(machine_points, artifact_points));
   }

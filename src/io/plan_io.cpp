@@ -24,6 +24,7 @@
 #include "artcal/estimation/identifiability.hpp"
 #include "artcal/io/acceptance_spec.hpp"
 #include "artcal/io/csv_readings.hpp"
+#include "artcal/io/instrument_codec.hpp"
 #include "artcal/io/json_node.hpp"
 #include "artcal/io/model_registry.hpp"
 #include "artcal/io/plausibility.hpp"
@@ -220,11 +221,13 @@ std::string coincidentCenters(const Eigen::MatrixXd& points) {
   return "";
 }
 
-Artifact parseArtifact(const std::string& id, const Node& node, int dimension,
+Artifact parseArtifact(const std::string& id, const Node& node, const Machine& machine,
                        std::vector<std::string>& warnings) {
   node.object();
+  const int dimension = machine.dimension();
   const Node typeNode = node.at("type");
   const std::string type = typeNode.string();
+  if (type == "instrument") return parseInstrumentArtifact(id, node, machine, warnings);
   if (type == "ball_bar") {
     node.warnUnknown({"type", "length", "u_length"}, warnings);
     return Artifact::ballBar(id, dimension, node.at("length").positive(),
@@ -261,7 +264,7 @@ Artifact parseArtifact(const std::string& id, const Node& node, int dimension,
     return Artifact::stepGauge(id, dimension, values, optionalUncertainty(node, "u"));
   }
   typeNode.fail("unknown artifact type \"" + type +
-                "\" (expected ball_bar, ball_plate or step_gauge)");
+                "\" (expected ball_bar, ball_plate, step_gauge or instrument)");
 }
 
 Pose parsePose(const Node& node, int dimension, std::vector<std::string>& warnings) {
@@ -356,8 +359,7 @@ struct CsvFiles {
 /// excluded.
 void appendCsvMeasurements(const Node& entry, const Plan& plan, const Artifact& artifact,
                            CsvFiles& files, bool explicit_limits, int entry_index,
-                           std::vector<Measurement>& out,
-                           std::vector<std::string>& warnings) {
+                           std::vector<Measurement>& out, std::vector<std::string>& warnings) {
   entry.warnUnknown({"feature", "csv", "unit", "exclude_rows"}, warnings);
   const int feature = static_cast<int>(entry.at("feature").integer(0, artifact.featureCount() - 1));
   const Node csv = entry.at("csv");
@@ -439,8 +441,40 @@ PostureRequest parsePostureRequest(const Node& entry, const Artifact& artifact,
   return request;
 }
 
-Placement parsePlacement(const Node& node, const Plan& plan, CsvFiles& csv_files,
-                         bool require_measurements, bool explicit_limits,
+/// An instrument placement's readings (instrument_codec.hpp): each reading's joints parsed and
+/// checked as any other's; the station then checked.
+void parseStation(const Node& node, const Node& measurements, Plan& plan, Placement& placement,
+                  std::size_t index, bool explicit_limits, std::vector<std::string>& warnings) {
+  const Machine& machine = plan.machine;
+  const Mechanism& mech = *machine.mechanism;
+  auto joints_from_node = [&](const Node& joints) {
+    const Eigen::VectorXd q =
+        jointsFromFile(mech, joints.finiteNumbers(static_cast<std::size_t>(mech.jointCount())));
+    if (explicit_limits) checkWithinJointLimits(joints, machine, q);
+    Eigen::VectorXd x;
+    const ForwardStatus status = mech.forwardStylus(0, machine.nominal, q, x);
+    if (status != ForwardStatus::Ok) joints.fail(forwardStatusName(status));
+    return q;
+  };
+  auto check_csv_joints = [&](const Eigen::VectorXd& q, const std::string& file,
+                              const std::string& where) {
+    if (explicit_limits) {
+      if (const auto violation = jointLimitViolation(machine, q))
+        throw InputError(file, where, violation->second);
+    }
+    Eigen::VectorXd x;
+    const ForwardStatus status = mech.forwardStylus(0, machine.nominal, q, x);
+    if (status != ForwardStatus::Ok) throw InputError(file, where, forwardStatusName(status));
+  };
+  Artifact& instrument = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
+  parseStationReadings(measurements, plan.source, machine, instrument, placement, joints_from_node,
+                       check_csv_joints, warnings);
+  const std::string label = placement.name.empty() ? std::to_string(index) : placement.name;
+  checkStation(node, machine, placement, label);
+}
+
+Placement parsePlacement(const Node& node, Plan& plan, CsvFiles& csv_files,
+                         bool require_measurements, bool explicit_limits, std::size_t index,
                          std::vector<std::string>& warnings) {
   node.object();
   node.warnUnknown({"artifact", "pose", "measurements", "name"}, warnings);
@@ -458,6 +492,11 @@ Placement parsePlacement(const Node& node, const Plan& plan, CsvFiles& csv_files
   const auto measurements = node.find("measurements");
   if (!measurements) {
     if (require_measurements || !placement.pose) node.at("measurements");  // raises "missing"
+    return placement;
+  }
+  if (plan.artifacts[static_cast<std::size_t>(placement.artifact)].kind ==
+      ArtifactKind::Instrument) {
+    parseStation(node, *measurements, plan, placement, index, explicit_limits, warnings);
     return placement;
   }
   const std::size_t n = measurements->arraySize(1, kMaxMeasurements);
@@ -765,8 +804,7 @@ Plan parsePlan(const nlohmann::json& document, const std::string& source, bool r
   const Node artifacts = root.at("artifacts");
   if (artifacts.object().empty()) artifacts.fail("expected at least one artifact");
   for (const auto& [id, value] : artifacts.object().items()) {
-    plan.artifacts.push_back(
-        parseArtifact(id, artifacts.at(id), plan.machine.dimension(), plan.warnings));
+    plan.artifacts.push_back(parseArtifact(id, artifacts.at(id), plan.machine, plan.warnings));
   }
   if (const auto placements = root.find("placements")) {
     const std::size_t n = placements->arraySize(require_placements ? 1 : 0, kMaxPlacements);
@@ -775,7 +813,7 @@ Plan parsePlan(const nlohmann::json& document, const std::string& source, bool r
     std::map<std::string, std::size_t> named;  // placement names are unique
     for (std::size_t i = 0; i < n; ++i) {
       plan.placements.push_back(parsePlacement((*placements)[i], plan, csv_files,
-                                               require_placements, plan.machine.limits_stated,
+                                               require_placements, plan.machine.limits_stated, i,
                                                plan.warnings));
       const std::string& name = plan.placements.back().name;
       if (name.empty()) continue;
@@ -827,10 +865,20 @@ nlohmann::json placementsToJson(const Plan& plan) {
       }
     }
     json measurements = json::array();
+    const bool instrument = plan.artifacts[static_cast<std::size_t>(placement.artifact)].kind ==
+                            ArtifactKind::Instrument;
     for (const Measurement& m : placement.measurements) {
       std::vector<double> joints;
       for (int i = 0; i < m.joints.size(); ++i) {
         joints.push_back(toFileUnit(jointQuantity(mech.jointKind(i)), m.joints[i]));
+      }
+      if (instrument) {  // a station's reading: its joints and the point measured (mm)
+        json entry = {{"joints", joints}};
+        if (m.point_given)
+          entry["point"] = std::vector<double>(m.point.data(), m.point.data() + m.point.size());
+        if (m.stationing) entry["stationing"] = true;
+        measurements.push_back(entry);
+        continue;
       }
       json entry = {{"feature", m.feature}, {"joints", joints}};
       if (m.stylus != 0) entry["stylus"] = m.stylus;

@@ -20,6 +20,13 @@ bool Region::contains(const Eigen::VectorXd& x) const {
   return true;
 }
 
+Eigen::VectorXd readingTarget(const Artifact& artifact, const Measurement& m,
+                              const Eigen::VectorXd& c) {
+  if (artifact.kind == ArtifactKind::Instrument && m.point.size() == artifact.dimension)
+    return m.point;
+  return artifact.feature(m.feature, c);
+}
+
 RigidTransform poseTransform(int dimension, const Pose& pose) {
   return dimension == 2 ? placePlanar(pose.center.head<2>(), pose.angle)
                         : placeSpatial(pose.center.head<3>(), pose.direction, pose.roll);

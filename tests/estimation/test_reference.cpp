@@ -115,5 +115,53 @@ TEST(Reference, Hexapod6BarsIdentifiable) {
   expectResolvedSetMatchesReference("ref-hexapod-6bars-identifiable");
 }
 
+// Instruments (instruments.md): a tracker's two stations, each a full rigid motion eliminated.
+TEST(Reference, InstrumentArm6TwoStations) {
+  expectMatchesReference("ref-instrument-arm6-2stations");
+}
+
+// The same covariance as a ball plate whose centres are the nominal tip points, each read once
+// (the seed's equivalence): the plate's rigid placement is the station, the noise the tracker's
+// added in quadrature to the probe's.
+TEST(Reference, InstrumentEqualsBallPlateOfItsTipPoints) {
+  const Plan plan = readPlan("ref-instrument-arm6-2stations");
+  const Evaluation tracker = evaluatePlan(plan);
+  Plan plate = plan;
+  plate.noise.probe = std::hypot(plan.noise.probe, plan.artifacts[0].noise);
+  plate.artifacts.clear();
+  for (std::size_t j = 0; j < plan.placements.size(); ++j) {
+    Placement& placement = plate.placements[j];
+    const Eigen::MatrixXd tips = DesignMatrixBuilder(plan.machine, plan.noise)
+                                     .probePositions(placement.measurements, plan.machine.nominal);
+    plate.artifacts.push_back(Artifact::ballPlate("plate" + std::to_string(j), tips, 0.0));
+    placement.artifact = static_cast<int>(j);
+    for (std::size_t i = 0; i < placement.measurements.size(); ++i) {
+      placement.measurements[i].feature = static_cast<int>(i);
+      placement.measurements[i].point.resize(0);
+    }
+  }
+  const Evaluation balls = evaluatePlan(plate);
+  const nlohmann::json a = evaluationToJson(plan, tracker);
+  const nlohmann::json b = evaluationToJson(plate, balls);
+  ASSERT_EQ(a["parameters"].size(), b["parameters"].size());
+  for (std::size_t i = 0; i < a["parameters"].size(); ++i) {
+    expectRelative(a["parameters"][i]["u"].get<double>(), b["parameters"][i]["u"].get<double>(),
+                   1e-9, a["parameters"][i]["name"]);
+  }
+}
+
+// A station of collinear points is refused, naming it (the expected file says "collinear").
+TEST(Reference, InstrumentCollinearStationIsRefused) {
+  ASSERT_EQ(readExpected("ref-instrument-arm6-collinear")["error"], "collinear");
+  try {
+    readPlan("ref-instrument-arm6-collinear");
+    FAIL() << "a collinear station was accepted";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("collinear"), std::string::npos) << what;
+    EXPECT_NE(what.find("station 2"), std::string::npos) << what;
+  }
+}
+
 }  // namespace
 }  // namespace artcal

@@ -10,7 +10,10 @@
 
 namespace artcal {
 
-enum class ArtifactKind { BallBar, BallPlate, StepGauge };
+/// Instrument: a laser tracker, total station or optical tracker (docs: instruments.md). Each
+/// placement is one station; every reading is its own feature, the point the instrument reported
+/// in its own frame (all coordinates valued, N(r_j) = 6 as for a ball plate).
+enum class ArtifactKind { BallBar, BallPlate, StepGauge, Instrument };
 
 std::string artifactKindName(ArtifactKind kind);
 
@@ -29,11 +32,18 @@ class Artifact {
   int dimension = 2;
   Eigen::MatrixXd features;  ///< dimension x featureCount, calibrated nominal coordinates W*_0
   std::vector<SystematicError> systematic;  ///< only errors with sigma > 0
+  /// An instrument's random error per coordinate (mm), added in quadrature to the probe noise of
+  /// its readings; 0 for calibrated artifacts.
+  double noise = 0.0;
 
   static Artifact ballBar(std::string id, int dimension, double length, double u_length);
   static Artifact ballPlate(std::string id, const Eigen::MatrixXd& centers, double u);
   static Artifact stepGauge(std::string id, int dimension, const std::vector<double>& positions,
                             double u);
+  /// An instrument with no reading yet: each reading appends its measured point as a feature.
+  static Artifact instrument(std::string id, int dimension, double noise);
+  /// Appends a measured point (an instrument's reading) as a feature; returns its index.
+  int appendFeature(const Eigen::VectorXd& point);
 
   int featureCount() const { return static_cast<int>(features.cols()); }
   /// k: valued coordinates per feature (all of them for a ball, the first for a step-gauge face).

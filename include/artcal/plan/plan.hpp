@@ -41,7 +41,19 @@ struct Measurement {
   int csv_row = 0;
   /// The index of the plan file's measurement entry it came from (a CSV entry gives many).
   int entry = 0;
+  /// An instrument's reading (instruments.md): the point it reported, in its station's frame
+  /// (mm); empty for a calibrated artifact. Simulation rewrites it with the readings it draws.
+  Eigen::VectorXd point = {};
+  /// An instrument's reading only: `stationing` (verify fits the new station on these).
+  bool stationing = false;
+  /// An instrument's reading only: false when the plan left `point` out (planning only).
+  bool point_given = true;
 };
+
+/// The coordinates reading `m` targets in the artifact frame: an instrument's measured point,
+/// otherwise the artifact's feature with the systematic errors c added.
+Eigen::VectorXd readingTarget(const Artifact& artifact, const Measurement& m,
+                              const Eigen::VectorXd& c);
 
 /// Where one reading stands in the input, for a message: its CSV file (the plan's folder joined
 /// with the name the plan gives) and "row N", or the plan and the reading's JSON pointer.
@@ -187,7 +199,6 @@ struct Plan {
 
   int artifactIndex(const std::string& id) const;
 };
-
 
 std::string criterionName(Criterion criterion);
 

@@ -1,0 +1,54 @@
+#pragma once
+// Verification of a calibrated machine on an instrument's held-out station (instruments.md,
+// "What verify and the report give"). With the parameters held, each station is fitted (a plain
+// least-squares rigid fit, fitRigid) on its readings marked `"stationing": true` (on all of them
+// when none is marked); the result is the deviations of the other readings: |W_i - (R f(p, q_i) +
+// t)|, their mean, RMS and max per station and in all.
+//
+// Predicted RMS, to first order: with y_s = A_s dr + J_s dp + e_s the stationing readings' misfit
+// (A the rigid columns at W, J = R df/dp, e the reading's error, Sigma_i = (s_p^2 + s_inst^2) I +
+// R J_q Sigma_q J_q^T R^T), the fit takes dr = K (J_s dp + e_s), K = (A_s^T A_s)^-1 A_s^T, and a
+// held-out reading's deviation is d_i = (J_i - A_i K J_s) dp + e_i - A_i K e_s, so
+//   E|d_i|^2 = tr(G V_p G^T) + tr(Sigma_i) + tr(A_i K Sigma_s K^T A_i^T),  G = J_i - A_i K J_s,
+// and predicted_rms = sqrt(mean_i E|d_i|^2) over the held-out readings (the posterior one scales
+// V_p and the Sigma by the calibration's Birge ratio squared).
+
+#include <Eigen/Core>
+#include <optional>
+#include <vector>
+
+#include "artcal/calibration/verification.hpp"
+#include "artcal/plan/plan.hpp"
+
+namespace artcal {
+
+struct DeviationSummary {
+  int count = 0;
+  double mean = 0.0;                     ///< mm
+  double rms = 0.0;                      ///< mm
+  double max = 0.0;                      ///< mm
+  double predicted_rms = 0.0;            ///< mm, 0 without V_p
+  double predicted_rms_posterior = 0.0;  ///< mm, 0 without a Birge ratio
+};
+
+struct StationVerification {
+  int placement = 0;           ///< index into Plan::placements
+  int stationing = 0;          ///< readings the station was fitted on
+  RigidTransform station;      ///< fitted, machine -> instrument
+  Eigen::VectorXd deviations;  ///< mm, per held-out reading, in measurement order
+  std::vector<int> held_out;   ///< the held-out readings' indices in the placement
+  DeviationSummary summary;
+};
+
+struct StationsVerification {
+  std::vector<StationVerification> stations;
+  DeviationSummary all;
+};
+
+/// The instrument placements of `plan` verified at full parameters `p`; `uncertainty` (optional)
+/// gives the predicted RMS. A station with fewer than 3 stationing readings, or none held out,
+/// raises InputError naming the placement.
+StationsVerification verifyStations(const Plan& plan, const Eigen::VectorXd& p,
+                                    const std::optional<ParameterUncertainty>& uncertainty);
+
+}  // namespace artcal

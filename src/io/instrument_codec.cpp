@@ -1,0 +1,173 @@
+#include "artcal/io/instrument_codec.hpp"
+
+#include <filesystem>
+
+#include "artcal/core/error.hpp"
+#include "artcal/core/linear_algebra.hpp"
+#include "artcal/io/csv_readings.hpp"
+
+namespace artcal {
+
+namespace {
+
+constexpr std::size_t kMaxStationReadings = 10'000;
+
+bool modelGivesOrientation(const Machine& machine) {
+  const std::string model = machine.mechanism->modelName();
+  return model == "chain" || model == "serial-dh";
+}
+
+/// mm per unit of `point_unit` ("mm" or "m").
+double pointUnitToMm(const Node& entry) {
+  const auto unit = entry.find("point_unit");
+  if (!unit) return 1.0;
+  const std::string name = unit->string();
+  if (name == "mm") return 1.0;
+  if (name == "m") return 1000.0;
+  unit->fail("unknown point_unit \"" + name + "\" (expected mm or m)");
+}
+
+void appendReading(Measurement measurement, const Eigen::VectorXd& point, Artifact& instrument,
+                   Placement& placement) {
+  measurement.feature = instrument.appendFeature(point);
+  measurement.point = point;
+  placement.measurements.push_back(std::move(measurement));
+}
+
+/// The nominal tip point of a reading: where the instrument sees it when the plan gives no point
+/// (planning only; the station is then the identity).
+Eigen::VectorXd nominalTip(const Machine& machine, const Eigen::VectorXd& q) {
+  Eigen::VectorXd x;
+  forwardOrThrow(*machine.mechanism, machine.nominal, q, x, nullptr, nullptr, 0);
+  return x;
+}
+
+void appendCsvReadings(const Node& entry, const std::string& plan_source, const Machine& machine,
+                       Artifact& instrument, Placement& placement, int entry_index,
+                       const CheckCsvJoints& check_csv_joints, std::vector<std::string>& warnings) {
+  entry.warnUnknown({"csv", "unit", "point_unit", "stationing"}, warnings);
+  const Node csv = entry.at("csv");
+  const std::filesystem::path relative(csv.string());
+  if (relative.empty()) csv.fail("expected a file name");
+  const std::filesystem::path path =
+      relative.is_absolute() ? relative
+                             : std::filesystem::path(plan_source).parent_path() / relative;
+  ReadingUnits units;
+  if (const auto unit = entry.find("unit")) {
+    const auto named = readingUnitsFromName(unit->string());
+    if (!named) unit->fail("unknown unit \"" + unit->string() + "\" (expected deg, rad, mm or m)");
+    units = *named;
+  }
+  const double point_scale = pointUnitToMm(entry);
+  const bool stationing = entry.find("stationing") && entry.at("stationing").value().is_boolean() &&
+                          entry.at("stationing").value().get<bool>();
+  const Mechanism& mech = *machine.mechanism;
+  const int joints = mech.jointCount();
+  const int d = instrument.dimension;
+  // The measured coordinates read as lengths (the file's length unit), rescaled to point_unit.
+  std::vector<JointKind> kinds;
+  for (int i = 0; i < joints; ++i) kinds.push_back(mech.jointKind(i));
+  for (int k = 0; k < d; ++k) kinds.push_back(JointKind::Prismatic);
+  const std::string file = path.lexically_normal().string();
+  std::vector<long> lines;
+  const std::vector<Eigen::VectorXd> rows = readJointCsv(file, kinds, units, &lines);
+  for (std::size_t r = 0; r < rows.size(); ++r) {
+    const std::string where =
+        "line " + std::to_string(lines[r]) + " (row " + std::to_string(r + 1) + ")";
+    Measurement measurement;
+    measurement.joints = rows[r].head(joints);
+    check_csv_joints(measurement.joints, file, where);
+    if (placement.measurements.size() >= kMaxStationReadings)
+      csv.fail("more than " + std::to_string(kMaxStationReadings) + " readings in one station");
+    measurement.csv = relative.string();
+    measurement.csv_row = static_cast<int>(r + 1);
+    measurement.entry = entry_index;
+    measurement.stationing = stationing;
+    const Eigen::VectorXd point = rows[r].tail(d) / units.length_to_mm * point_scale;
+    appendReading(std::move(measurement), point, instrument, placement);
+  }
+}
+
+}  // namespace
+
+Artifact parseInstrumentArtifact(const std::string& id, const Node& node, const Machine& machine,
+                                 std::vector<std::string>& warnings) {
+  node.warnUnknown({"type", "measures", "noise", "noise_angle"}, warnings);
+  const double noise = node.find("noise") ? node.at("noise").standardDeviation(true) : 0.0;
+  if (const auto measures = node.find("measures")) {
+    const std::string what = measures->string();
+    if (what == "pose") {
+      if (!modelGivesOrientation(machine)) {
+        measures->fail(
+            "a \"pose\" measurement needs a model whose forward kinematics gives an "
+            "orientation (chain, serial-dh); model " +
+            machine.mechanism->modelName() + " gives points: use \"point\"");
+      }
+      measures->fail("\"pose\" measurements are not supported by this version: use \"point\"");
+    }
+    if (what != "point")
+      measures->fail("unknown measures \"" + what + "\" (expected point or pose)");
+  }
+  return Artifact::instrument(id, machine.dimension(), noise);
+}
+
+void parseStationReadings(const Node& measurements, const std::string& plan_source,
+                          const Machine& machine, Artifact& instrument, Placement& placement,
+                          const JointsFromNode& joints_from_node,
+                          const CheckCsvJoints& check_csv_joints,
+                          std::vector<std::string>& warnings) {
+  const std::size_t n = measurements.arraySize(1, kMaxStationReadings);
+  const auto d = static_cast<std::size_t>(instrument.dimension);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Node m = measurements[i];
+    m.object();
+    if (m.has("csv")) {
+      appendCsvReadings(m, plan_source, machine, instrument, placement, static_cast<int>(i),
+                        check_csv_joints, warnings);
+      continue;
+    }
+    m.warnUnknown({"joints", "point", "point_unit", "stationing"}, warnings);
+    if (m.has("feature")) m.at("feature").fail("an instrument's reading has no feature");
+    Measurement measurement;
+    measurement.entry = static_cast<int>(i);
+    measurement.joints = joints_from_node(m.at("joints"));
+    if (const auto stationing = m.find("stationing")) {
+      if (!stationing->value().is_boolean()) stationing->fail("expected true or false");
+      measurement.stationing = stationing->value().get<bool>();
+    }
+    Eigen::VectorXd point;
+    if (const auto given = m.find("point")) {
+      point = given->finiteNumbers(d) * pointUnitToMm(m);
+    } else {
+      point = nominalTip(machine, measurement.joints);
+      measurement.point_given = false;
+    }
+    appendReading(std::move(measurement), point, instrument, placement);
+  }
+}
+
+void checkStation(const Node& placement_node, const Machine& machine, const Placement& placement,
+                  const std::string& label) {
+  const auto n = static_cast<int>(placement.measurements.size());
+  if (n < 3) {
+    placement_node.fail("station \"" + label + "\" has " + std::to_string(n) +
+                        " reading(s): a station needs at least 3 readings whose tip points are "
+                        "not collinear");
+  }
+  // The rank test about the station's centroid, scaled by its spread (instruments.md): far from
+  // its points, plain [I, -[x]x] columns would look collinear to rounding.
+  Eigen::MatrixXd tips(machine.dimension(), n);
+  for (int i = 0; i < n; ++i)
+    tips.col(i) = nominalTip(machine, placement.measurements[static_cast<std::size_t>(i)].joints);
+  const Eigen::MatrixXd centred = tips.colwise() - tips.rowwise().mean();
+  const Eigen::VectorXd sv = singularValues(centred);
+  const bool collinear =
+      sv.size() < 2 || !(sv[0] > 0.0) || (machine.dimension() == 3 && sv[1] <= 1e-6 * sv[0]);
+  if (collinear) {
+    placement_node.fail("station \"" + label +
+                        "\": the tip points of its readings are collinear, so the station's "
+                        "rotation about their line is free: add readings off that line");
+  }
+}
+
+}  // namespace artcal

@@ -1,0 +1,61 @@
+#include "artcal/report/station_report.hpp"
+
+#include <cstdio>
+
+#include "artcal/report/report.hpp"
+
+namespace artcal {
+
+namespace {
+
+nlohmann::json summaryToJson(const DeviationSummary& s) {
+  return {{"readings", s.count},
+          {"mean", finiteOrNull(s.mean)},
+          {"rms", finiteOrNull(s.rms)},
+          {"max", finiteOrNull(s.max)},
+          {"predicted_rms", finiteOrNull(s.predicted_rms)},
+          {"predicted_rms_posterior", finiteOrNull(s.predicted_rms_posterior)}};
+}
+
+std::string summaryRow(const std::string& label, int stationing, const DeviationSummary& s) {
+  char line[200];
+  std::snprintf(line, sizeof line, "%-16s %10d %9d %10.4f %10.4f %10.4f %14.4f %12.4f\n",
+                label.c_str(), stationing, s.count, s.mean, s.rms, s.max, s.predicted_rms,
+                s.predicted_rms_posterior);
+  return line;
+}
+
+}  // namespace
+
+nlohmann::json stationsVerificationToJson(const Plan& plan, const StationsVerification& v) {
+  nlohmann::json stations = nlohmann::json::array();
+  for (const StationVerification& s : v.stations) {
+    nlohmann::json entry = summaryToJson(s.summary);
+    entry["placement"] = placementLabel(plan.placements, static_cast<std::size_t>(s.placement));
+    entry["stationing"] = s.stationing;
+    nlohmann::json deviations = nlohmann::json::array();
+    for (int i = 0; i < s.deviations.size(); ++i)
+      deviations.push_back(finiteOrNull(s.deviations[i]));
+    entry["deviations"] = deviations;
+    entry["held_out"] = s.held_out;
+    stations.push_back(entry);
+  }
+  return {{"stations", stations}, {"all", summaryToJson(v.all)}};
+}
+
+std::string stationsVerificationTable(const Plan& plan, const StationsVerification& v) {
+  std::string out =
+      "\nheld-out readings of each station (station fitted on its stationing readings; mm)\n"
+      "station          stationing  held-out       mean        rms        max  predicted rms"
+      "    posterior\n";
+  for (const StationVerification& s : v.stations) {
+    out += summaryRow(placementLabel(plan.placements, static_cast<std::size_t>(s.placement)),
+                      s.stationing, s.summary);
+  }
+  int stationing = 0;
+  for (const StationVerification& s : v.stations) stationing += s.stationing;
+  out += summaryRow("all", stationing, v.all);
+  return out;
+}
+
+}  // namespace artcal
