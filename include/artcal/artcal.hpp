@@ -1,32 +1,44 @@
 #pragma once
-// Umbrella header: the whole public interface of the artcal library.
+// Umbrella header of the PUBLIC interface of the artcal library: what a program or a Python
+// module includes to build or read a plan, choose a model, evaluate, optimize, calibrate and
+// verify. `cmake --install` installs exactly these headers and the ones they include (the closure
+// is computed in cmake/artcal_install.cmake); `find_package(artcal)` then `artcal::artcal`.
+//
+// Public (stable; changes are noted in the changelog):
+//   plan in memory     artcal/plan/plan.hpp, artcal/artifact/artifact.hpp,
+//                      artcal/artifact/rigid_transform.hpp
+//   plan files         artcal/io/plan_io.hpp (loadPlan, parsePlan), artcal/core/error.hpp
+//   units              artcal/core/units.hpp (internal units mm and rad; file units mm and deg)
+//   models             artcal/model/machine.hpp, artcal/model/mechanism.hpp and one header per
+//                      family: planar2r, serial_dh, chain, hexapod, cartesian
+//   evaluate           artcal/estimation/evaluator.hpp (evaluatePlan, EvaluateOptions,
+//                      Evaluation, PlanEvaluator)
+//   optimize           artcal/planning/optimizer.hpp (optimizePlan, OptimizerOptions,
+//                      OptimizerSummary)
+//   calibrate          artcal/calibration/calibrate_readings.hpp (calibrateReadings,
+//                      CalibrationOptions, Calibration; artcal/calibration/calibrator.hpp)
+//   verify             artcal/calibration/verification.hpp (verifyMachine, Verification)
+//
+// Everything else under include/artcal (report/, the codecs and the model registry, the design
+// matrix and normal-matrix internals, acceptance, the command line's helpers) is INTERNAL: used by
+// the tools and the tests of this project, not installed, free to change. The project's own code
+// may include artcal/internal.hpp for all of it.
 
 #include "artcal/artifact/artifact.hpp"
 #include "artcal/artifact/rigid_transform.hpp"
+#include "artcal/calibration/calibrate_readings.hpp"
 #include "artcal/calibration/calibrator.hpp"
-#include "artcal/calibration/confirmation.hpp"
-#include "artcal/calibration/levenberg_marquardt.hpp"
-#include "artcal/calibration/simulation.hpp"
+#include "artcal/calibration/verification.hpp"
 #include "artcal/core/error.hpp"
-#include "artcal/core/linear_algebra.hpp"
-#include "artcal/core/parallel.hpp"
-#include "artcal/core/random.hpp"
 #include "artcal/core/units.hpp"
-#include "artcal/estimation/design_matrix.hpp"
 #include "artcal/estimation/evaluator.hpp"
-#include "artcal/estimation/identifiability.hpp"
-#include "artcal/estimation/normal_matrix.hpp"
-#include "artcal/estimation/tip.hpp"
 #include "artcal/io/plan_io.hpp"
-#include "artcal/io/truth_io.hpp"
-#include "artcal/model/inverse_kinematics.hpp"
+#include "artcal/model/cartesian.hpp"
+#include "artcal/model/chain.hpp"
+#include "artcal/model/hexapod.hpp"
+#include "artcal/model/machine.hpp"
 #include "artcal/model/mechanism.hpp"
 #include "artcal/model/planar2r.hpp"
 #include "artcal/model/serial_dh.hpp"
 #include "artcal/plan/plan.hpp"
-#include "artcal/planning/design_space.hpp"
 #include "artcal/planning/optimizer.hpp"
-#include "artcal/report/calibration_report.hpp"
-#include "artcal/report/html_report.hpp"
-#include "artcal/report/report.hpp"
-#include "artcal/report/svg.hpp"

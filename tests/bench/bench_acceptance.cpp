@@ -8,7 +8,7 @@
 #include <benchmark/benchmark.h>
 
 #include "artcal/acceptance/length_test.hpp"
-#include "artcal/artcal.hpp"
+#include "artcal/internal.hpp"
 #include "test_paths.hpp"
 
 namespace artcal {

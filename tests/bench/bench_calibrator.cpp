@@ -11,7 +11,7 @@
 #include <filesystem>
 #include <random>
 
-#include "artcal/artcal.hpp"
+#include "artcal/internal.hpp"
 #include "artcal/calibration/calibrator.hpp"
 #include "artcal/calibration/confirmation.hpp"
 #include "artcal/calibration/simulation.hpp"

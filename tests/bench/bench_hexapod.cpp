@@ -7,7 +7,7 @@
 
 #include <benchmark/benchmark.h>
 
-#include "artcal/artcal.hpp"
+#include "artcal/internal.hpp"
 #include "test_paths.hpp"
 
 namespace artcal {

@@ -4,7 +4,7 @@
 
 #include <benchmark/benchmark.h>
 
-#include "artcal/artcal.hpp"
+#include "artcal/internal.hpp"
 #include "artcal/planning/optimizer.hpp"
 
 #include <algorithm>

@@ -13,7 +13,7 @@
 #include <fstream>
 #include <string>
 
-#include "artcal/artcal.hpp"
+#include "artcal/internal.hpp"
 
 namespace artcal::fuzz {
 

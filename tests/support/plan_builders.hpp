@@ -8,7 +8,7 @@
 #include <random>
 #include <string>
 
-#include "artcal/artcal.hpp"
+#include "artcal/internal.hpp"
 #include "test_paths.hpp"
 
 namespace artcal::testing {

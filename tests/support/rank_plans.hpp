@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "artcal/artcal.hpp"
+#include "artcal/internal.hpp"
 #include "plan_builders.hpp"
 
 namespace artcal::testing {
