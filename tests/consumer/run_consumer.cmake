@@ -2,6 +2,7 @@
 # tests/consumer against the installed package with find_package(artcal) and checks that the
 # consumer's u of l1 for plans/paper-2r-5bars.json is the one `artcal evaluate --json` prints.
 # Variables: BUILD_DIR, WORK_DIR, CONSUMER_DIR, PLAN, CLI, CXX_COMPILER, BUILD_TYPE, GENERATOR.
+cmake_minimum_required(VERSION 3.20)
 set(prefix ${WORK_DIR}/prefix)
 set(consumer_build ${WORK_DIR}/build)
 file(REMOVE_RECURSE ${prefix})
