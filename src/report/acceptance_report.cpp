@@ -1,4 +1,5 @@
 #include "artcal/report/acceptance_report.hpp"
+#include "artcal/report/text_format.hpp"
 
 #include <cstdio>
 #include <sstream>
@@ -15,11 +16,7 @@ namespace {
 
 constexpr double kCoverage95 = 1.959963984540054;
 
-std::string fixed(double value, int decimals) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, "%.*f", decimals, value);
-  return buffer;
-}
+using report_text::fixed;
 
 json vectorJson(const Eigen::VectorXd& v) {
   json out = json::array();

@@ -1,4 +1,5 @@
 #include "artcal/report/calibration_report.hpp"
+#include "artcal/report/text_format.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -12,11 +13,9 @@ using nlohmann::json;
 
 namespace {
 
-std::string format(const char* pattern, double value) {
-  if (!std::isfinite(value)) return "-";
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, pattern, value);
-  return buffer;
+/// printf-style text of one number; "-" when it is not finite.
+std::string numberOrDash(const char* pattern, double value) {
+  return std::isfinite(value) ? report_text::format(pattern, value) : "-";
 }
 
 std::string padded(const std::string& text, int width) {
@@ -78,7 +77,7 @@ std::string grossErrorText(const std::vector<Placement>& placements,
     const Measurement& m = measurementOf(placements, e);
     out << "  placement " << placementLabel(placements, static_cast<std::size_t>(e.placement))
         << " reading " << e.measurement << " feature " << e.feature
-        << ": |z| = " << format("%.1f", e.score);
+        << ": |z| = " << numberOrDash("%.1f", e.score);
     if (m.csv_row > 0) out << ", " << m.csv << " row " << m.csv_row;
     out << "\n";
     ++count;
@@ -87,7 +86,7 @@ std::string grossErrorText(const std::vector<Placement>& placements,
   std::ostringstream text;
   text << "\n"
        << count << (count == 1 ? " gross error" : " gross errors") << " (|z| > "
-       << format("%.2f", calibration.gross_limit)
+       << numberOrDash("%.2f", calibration.gross_limit)
        << ", the gross threshold times max(1, Birge ratio)): check each (a ball not seated, a "
           "socket that moved); a reading from a CSV file is left out with \"exclude_rows\": "
           "[row, ...] in its measurement entry, and calibrate again\n"
@@ -125,9 +124,9 @@ std::string calibrationNotes(const Plan& plan, const Calibration& calibration) {
   std::ostringstream out;
   if (calibration.noise_estimate) {
     const NoiseEstimate& e = *calibration.noise_estimate;
-    out << "probe noise estimated from the fit: " << format("%.4g", e.probe) << " mm (u "
-        << format("%.2g", e.u) << " mm; started from " << format("%.4g", e.stated) << " mm, "
-        << e.fits << (e.fits == 1 ? " fit" : " fits") << ")\n";
+    out << "probe noise estimated from the fit: " << numberOrDash("%.4g", e.probe) << " mm (u "
+        << numberOrDash("%.2g", e.u) << " mm; started from " << numberOrDash("%.4g", e.stated)
+        << " mm, " << e.fits << (e.fits == 1 ? " fit" : " fits") << ")\n";
   }
   const json weak = weaklyDeterminedToJson(plan);
   if (!weak.empty()) {
@@ -256,11 +255,11 @@ std::string calibrationTable(const Plan& plan, const std::vector<Placement>& pla
   out << "calibration of " << (plan.name.empty() ? plan.source : plan.name) << ": "
       << (s.converged() ? "converged" : "NOT CONVERGED") << " (" << s.message << ") after "
       << s.iterations << " iterations\n";
-  out << "chi2 = " << format("%.4g", calibration.chi2) << " on " << calibration.dof
+  out << "chi2 = " << numberOrDash("%.4g", calibration.chi2) << " on " << calibration.dof
       << " degrees of freedom, chi2/dof = ";
   if (calibration.dof > 0) {
-    out << format("%.4f", calibration.chi2_per_dof) << " (Birge ratio "
-        << format("%.3f", calibration.birgeRatio()) << ")\n";
+    out << numberOrDash("%.4f", calibration.chi2_per_dof) << " (Birge ratio "
+        << numberOrDash("%.3f", calibration.birgeRatio()) << ")\n";
   } else {
     out << "- (no redundancy)\n";
   }
@@ -279,9 +278,11 @@ std::string calibrationTable(const Plan& plan, const std::vector<Placement>& pla
     const double up = posterior.size() > 0 ? toFileUnit(info.quantity, posterior[k]) : NAN;
     std::string name = info.name;
     name.resize(std::max<std::size_t>(name.size(), 10), ' ');
-    out << name << padded(format("%.6f", toFileUnit(info.quantity, machine.nominal[index])), 13)
-        << padded(format("%.6f", toFileUnit(info.quantity, calibration.parameters[index])), 16)
-        << padded(format("%.3g", u), 14) << padded(format("%.3g", up), 15) << "  "
+    out << name
+        << padded(numberOrDash("%.6f", toFileUnit(info.quantity, machine.nominal[index])), 13)
+        << padded(numberOrDash("%.6f", toFileUnit(info.quantity, calibration.parameters[index])),
+                  16)
+        << padded(numberOrDash("%.3g", u), 14) << padded(numberOrDash("%.3g", up), 15) << "  "
         << unitName(info.quantity) << "\n";
   }
   if (calibration.systematic.size() > 0) {
@@ -292,8 +293,8 @@ std::string calibrationTable(const Plan& plan, const std::vector<Placement>& pla
       for (int i = 0; i < artifact.systematicCount(); ++i) {
         const SystematicError& err = artifact.systematic[static_cast<std::size_t>(i)];
         out << "  " << artifact.id << " feature " << err.feature << " coordinate " << err.coordinate
-            << ": " << format("%.6f", calibration.systematic[offsets[a] + i]) << "  ("
-            << format("%.3g", err.sigma) << ")\n";
+            << ": " << numberOrDash("%.6f", calibration.systematic[offsets[a] + i]) << "  ("
+            << numberOrDash("%.3g", err.sigma) << ")\n";
       }
     }
   }
@@ -304,8 +305,10 @@ std::string calibrationTable(const Plan& plan, const std::vector<Placement>& pla
     for (std::size_t r = 0; r < calibration.residuals.size(); ++r) {
       const ResidualEntry& e = calibration.residuals[r];
       std::ostringstream residual, z;
-      for (int k = 0; k < e.residual.size(); ++k) residual << format("%+.5f", e.residual[k]) << " ";
-      for (int k = 0; k < e.normalized.size(); ++k) z << format("%+.2f", e.normalized[k]) << " ";
+      for (int k = 0; k < e.residual.size(); ++k)
+        residual << numberOrDash("%+.5f", e.residual[k]) << " ";
+      for (int k = 0; k < e.normalized.size(); ++k)
+        z << numberOrDash("%+.2f", e.normalized[k]) << " ";
       std::string residual_text = residual.str();
       residual_text.resize(std::max<std::size_t>(residual_text.size(), 30), ' ');
       out << padded(placementLabel(placements, static_cast<std::size_t>(e.placement)), 9)
@@ -364,21 +367,21 @@ std::string confirmationTable(const Plan& plan, const ConfirmationOptions& optio
       << options.noise_scale << ", true parameters nominal + " << options.perturbation
       << " u N(0,1)" << (plan.machine.prior_sigma.size() > 0 ? ", or from machine.prior" : "")
       << "), " << confirmation.converged_trials << " converged; mean chi2/dof "
-      << format("%.3f", confirmation.mean_chi2_per_dof) << "\n";
-  out << "band for empirical/predicted: [" << format("%.3f", band.low) << ", "
-      << format("%.3f", band.high) << "] = 1 +- (" << format("%.2f", band.coverage_factor) << " x "
-      << format("%.4f", band.sampling) << " sampling + " << format("%.3f", band.allowance)
-      << " non-linearity allowance)\n\n";
+      << numberOrDash("%.3f", confirmation.mean_chi2_per_dof) << "\n";
+  out << "band for empirical/predicted: [" << numberOrDash("%.3f", band.low) << ", "
+      << numberOrDash("%.3f", band.high) << "] = 1 +- ("
+      << numberOrDash("%.2f", band.coverage_factor) << " x " << numberOrDash("%.4f", band.sampling)
+      << " sampling + " << numberOrDash("%.3f", band.allowance) << " non-linearity allowance)\n\n";
   out << "parameter     predicted_u    empirical_u          bias   ratio  unit\n";
   for (int k = 0; k < plan.machine.calibratedCount(); ++k) {
     const ParameterInfo& info = plan.machine.calibratedInfo(k);
     const ConfirmedParameter& p = confirmation.parameters[static_cast<std::size_t>(k)];
     std::string name = p.name;
     name.resize(std::max<std::size_t>(name.size(), 10), ' ');
-    out << name << padded(format("%.4g", toFileUnit(info.quantity, p.predicted_u)), 14)
-        << padded(format("%.4g", toFileUnit(info.quantity, p.empirical_u)), 15)
-        << padded(format("%+.3g", toFileUnit(info.quantity, p.bias)), 14)
-        << padded(format("%.3f", p.ratio), 8) << "  " << unitName(info.quantity)
+    out << name << padded(numberOrDash("%.4g", toFileUnit(info.quantity, p.predicted_u)), 14)
+        << padded(numberOrDash("%.4g", toFileUnit(info.quantity, p.empirical_u)), 15)
+        << padded(numberOrDash("%+.3g", toFileUnit(info.quantity, p.bias)), 14)
+        << padded(numberOrDash("%.3f", p.ratio), 8) << "  " << unitName(info.quantity)
         << (p.inside ? "" : "  << outside the band") << "\n";
   }
   return out.str();

@@ -1,4 +1,5 @@
 #include "artcal/report/cartesian_report.hpp"
+#include "artcal/report/text_format.hpp"
 
 #include <algorithm>
 #include <cstdio>
@@ -23,11 +24,7 @@ double fileValue(bool rotation, double internal) {
   return rotation ? internal * kUmPerMPerRad : internal;
 }
 
-std::string format(const char* spec, double value) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, spec, value);
-  return buffer;
-}
+using report_text::format;
 
 std::string axisName(const Eigen::Vector3d& axis) {
   for (int a = 0; a < 3; ++a) {
@@ -59,8 +56,6 @@ std::vector<int> notCalibrated(const Plan& plan) {
   return out;
 }
 
-constexpr const char* kMicro = "\xC2\xB5";  // µ
-
 // The three functions of one plot differ by line style and marker shape (greyscale printing).
 constexpr svg::Dash kDashes[] = {svg::Dash::Solid, svg::Dash::Dashed, svg::Dash::Dotted};
 constexpr svg::Shape kShapes[] = {svg::Shape::Circle, svg::Shape::Square, svg::Shape::Triangle};
@@ -90,7 +85,7 @@ void drawCurve(svg::Plot& plot, const ErrorFunctionProfile& f, const std::vector
 // e(u) +- u_e(u) of the translations (rotations) of one axis, table units.
 svg::Plot bandPlot(const CartesianAxis& axis, const std::vector<ErrorFunctionProfile>& functions,
                    bool rotations, bool calibrated) {
-  const std::string unit = std::string(kMicro) + (rotations ? "m/m" : "m");
+  const std::string unit = std::string(report_text::kMicroSign) + (rotations ? "m/m" : "m");
   svg::Plot plot("error-functions-" + axis.name + (rotations ? "-rotations" : "-translations"),
                  std::string(calibrated ? "Calibrated " : "Predicted u of ") + "axis " + axis.name +
                      (rotations ? " rotations" : " translations"),

@@ -1,4 +1,5 @@
 #include "artcal/report/html_report.hpp"
+#include "artcal/report/text_format.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -19,19 +20,10 @@ using nlohmann::json;
 
 namespace {
 
-std::string format(const char* fmt, auto... args) {
-  char buffer[512];
-  std::snprintf(buffer, sizeof buffer, fmt, args...);
-  return buffer;
-}
+using report_text::format;
 
-/// A data-value: the number's shortest exact text; "null" (as the JSON holds it) when it is not
-/// finite, never "nan" or "inf".
-std::string exact(double value) {
-  return std::isfinite(value) ? format("%.17g", value) : "null";
-}
-
-constexpr const char* kMicro = "\xC2\xB5m";  // µm
+using report_text::exact;
+constexpr const char* kMicro = report_text::kMicrometre;
 
 // Line styles of the three tip-uncertainty curves, as in the seed's Fig. 6.
 svg::Style curveStyle(svg::Dash dash, const std::string& colour) {

@@ -1,4 +1,5 @@
 #include "artcal/report/procedure.hpp"
+#include "artcal/report/text_format.hpp"
 
 #include <Eigen/Geometry>
 #include <cmath>
@@ -72,11 +73,7 @@ ProcedureReading targetOf(const Plan& plan, const Measurement& m, const Eigen::V
   return reading;
 }
 
-std::string fixed(double value, int decimals) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, "%.*f", decimals, value);
-  return buffer;
-}
+using report_text::fixed;
 
 std::string vectorText(const Eigen::VectorXd& v, int decimals) {
   std::string out = "[";

@@ -1,4 +1,5 @@
 #include "artcal/report/report.hpp"
+#include "artcal/report/text_format.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -132,11 +133,7 @@ json evaluationToJson(const Plan& plan, const Evaluation& ev) {
 
 namespace {
 
-std::string format(const char* fmt, auto... args) {
-  char buffer[512];
-  std::snprintf(buffer, sizeof buffer, fmt, args...);
-  return buffer;
-}
+using report_text::format;
 
 // Standard uncertainties read best in um for lengths, mdeg-scale decimals for angles and four
 // significant digits in a coefficient's own unit (e.g. um/m).

@@ -1,4 +1,5 @@
 #include "artcal/report/svg.hpp"
+#include "artcal/report/text_format.hpp"
 
 #include <algorithm>
 #include <array>
@@ -9,11 +10,7 @@ namespace artcal::svg {
 
 namespace {
 
-std::string format(const char* fmt, auto... args) {
-  char buffer[256];
-  std::snprintf(buffer, sizeof buffer, fmt, args...);
-  return buffer;
-}
+using report_text::format;
 
 constexpr double kFontSize = 12.0;
 constexpr double kLegendRowHeight = 18.0;

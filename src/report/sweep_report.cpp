@@ -1,4 +1,5 @@
 #include "artcal/report/sweep_report.hpp"
+#include "artcal/report/text_format.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -13,11 +14,7 @@ using nlohmann::json;
 
 namespace {
 
-std::string fixed(double value, int decimals) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, "%.*f", decimals, value);
-  return buffer;
-}
+using report_text::fixed;
 
 /// A table cell: a number of the summary in display units, or "-" for null.
 std::string cell(const json& value, double scale, int decimals, int width) {

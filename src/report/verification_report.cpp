@@ -1,4 +1,5 @@
 #include "artcal/report/verification_report.hpp"
+#include "artcal/report/text_format.hpp"
 
 #include <algorithm>
 #include <cstdio>
@@ -13,11 +14,7 @@ using nlohmann::json;
 
 namespace {
 
-std::string fixed(double value, int decimals = 4) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, "%.*f", decimals, value);
-  return buffer;
-}
+using report_text::fixed;
 
 /// A posterior prediction exists only when the calibration's Birge ratio is known.
 json posteriorOrNull(double value) {
@@ -183,14 +180,15 @@ std::string verificationTable(const Plan& plan, const Verification& verification
     }
   }
   out << "\nall placements\n"
-      << "  spread mean " << fixed(verification.spread_mean) << "   spread rms "
-      << fixed(verification.spread_rms) << "   predicted rms "
-      << fixed(verification.predicted_spread_rms);
-  if (posterior) out << "   posterior rms " << fixed(verification.predicted_spread_rms_posterior);
+      << "  spread mean " << fixed(verification.spread_mean, 4) << "   spread rms "
+      << fixed(verification.spread_rms, 4) << "   predicted rms "
+      << fixed(verification.predicted_spread_rms, 4);
+  if (posterior)
+    out << "   posterior rms " << fixed(verification.predicted_spread_rms_posterior, 4);
   out << "\n"
-      << "  length error mean |e| " << fixed(verification.length_error_mean_abs) << "   rms "
-      << fixed(verification.length_error_rms) << "\n"
-      << "  residual rms " << fixed(verification.residual_rms) << "\n";
+      << "  length error mean |e| " << fixed(verification.length_error_mean_abs, 4) << "   rms "
+      << fixed(verification.length_error_rms, 4) << "\n"
+      << "  residual rms " << fixed(verification.residual_rms, 4) << "\n";
   const std::vector<ReadingPlace> largest = largestDeviations(plan, verification, outliers);
   if (!largest.empty()) {
     out << "\nlargest deviations from their feature's mean (posture k: the k-th reading of "
