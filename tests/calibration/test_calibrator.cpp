@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <fstream>
 #include <memory>
+#include <sstream>
 
 #include "artcal/artcal.hpp"
 #include "artcal/calibration/calibrator.hpp"
@@ -376,6 +377,87 @@ TEST(Calibrator, StandardisedResidualsHaveUnitVariance) {
   EXPECT_NEAR(sum / count, 1.0, 0.05);
 }
 
+// The gross-error limit is gross_threshold * max(1, Birge ratio): readings that scatter less than
+// the stated noise (Birge ratio < 1) must not lower the limit below gross_threshold. Readings
+// simulated with a third of the stated noise, one reading moved by 0.08 mm: its score (2.3) lies
+// between threshold * Birge ratio (2.5 * 0.75) and the threshold 2.5, so it is not gross.
+TEST(Calibrator, GrossLimitIsNeverBelowTheThresholdWhenTheScatterIsSmall) {
+  Plan plan = testPlan("ref-aacmm-3bars-3postures");
+  SimulationOptions quiet;
+  quiet.noise_scale = 1.0 / 3.0;
+  NormalSource normal(11);
+  plan.placements = Simulator(plan, quiet).simulate(plan.machine.nominal, normal).placements;
+  misprobe(plan, 0, 4, 0.08 * Eigen::Vector3d(1, -1, 1).normalized());
+  CalibrationOptions options;
+  options.gross_threshold = 2.5;
+  const Calibration c = Calibrator(plan, options).run(plan.placements);
+  ASSERT_TRUE(c.summary.converged());
+  const double birge = std::sqrt(c.chi2 / c.dof);  // from chi2 and dof, not birgeRatio()
+  ASSERT_LT(birge, 0.9);
+  EXPECT_DOUBLE_EQ(c.gross_limit, options.gross_threshold);
+  const ResidualEntry& largest = c.residuals[static_cast<std::size_t>(c.largest_residual)];
+  EXPECT_EQ(largest.placement, 0);
+  EXPECT_EQ(largest.measurement, 4);
+  // The moved reading stands between the two limits: a limit scaled down would call it gross.
+  EXPECT_GT(largest.score, options.gross_threshold * birge);
+  EXPECT_LT(largest.score, options.gross_threshold);
+  for (const ResidualEntry& entry : c.residuals) {
+    EXPECT_EQ(entry.gross, entry.score > options.gross_threshold);
+  }
+}
+
+// Above 1 the Birge ratio scales the limit: readings with twice the stated noise.
+TEST(Calibrator, GrossLimitScalesWithTheBirgeRatioAboveOne) {
+  Plan plan = testPlan("ref-aacmm-3bars-3postures");
+  SimulationOptions loud;
+  loud.noise_scale = 2.0;
+  NormalSource normal(12);
+  plan.placements = Simulator(plan, loud).simulate(plan.machine.nominal, normal).placements;
+  const Calibration c = calibratePlan(plan);
+  ASSERT_TRUE(c.summary.converged());
+  const double birge = std::sqrt(c.chi2 / c.dof);
+  ASSERT_GT(birge, 1.3);
+  EXPECT_NEAR(c.gross_limit, CalibrationOptions{}.gross_threshold * birge, 1e-9 * birge);
+}
+
+// The degrees of freedom calibrate prints, with parameter priors and with ball bars whose roll
+// the readings do not see (5 of the 6 rigid directions): counted here from the plan, and
+// checked against their meaning, the mean chi2 of calibrations of readings simulated from
+// machines drawn from the prior (300 runs, fixed seeds; the mean of chi2 has a standard
+// deviation of sqrt(2 dof / 300)).
+TEST(Calibrator, DegreesOfFreedomWithPriorsAndBarsAreTheMeanChi2) {
+  Plan plan = testPlan("ref-aacmm-3bars-3postures");
+  Machine& machine = plan.machine;
+  machine.prior_sigma = Eigen::VectorXd::Zero(machine.nominal.size());
+  constexpr int kPriors = 4;
+  for (int k = 0; k < kPriors; ++k) {
+    const int i = machine.calibrated[static_cast<std::size_t>(k)];
+    machine.prior_sigma[i] =
+        machine.calibratedInfo(k).quantity == Quantity::Angle ? degToRad(0.005) : 0.02;
+  }
+  int rows = 0;
+  for (const Placement& placement : plan.placements)
+    rows += 3 * static_cast<int>(placement.measurements.size());
+  constexpr int kRigidOfABar = 5;  // a bar's two balls do not show its roll
+  const int expected_dof = rows + kPriors - machine.calibratedCount() -
+                           kRigidOfABar * static_cast<int>(plan.placements.size());
+  ASSERT_EQ(expected_dof, 22);
+  Calibrator calibrator(plan);
+  const Simulator simulator(plan);
+  constexpr int kTrials = 300;
+  double chi2 = 0.0;
+  for (int t = 0; t < kTrials; ++t) {
+    NormalSource normal(trialSeed(31, static_cast<std::uint64_t>(t)));
+    Eigen::VectorXd truth = machine.nominal;
+    for (int i = 0; i < truth.size(); ++i) truth[i] += machine.prior_sigma[i] * normal();
+    const Calibration c = calibrator.run(simulator.simulate(truth, normal).placements);
+    ASSERT_TRUE(c.summary.converged());
+    ASSERT_EQ(c.dof, expected_dof);
+    chi2 += c.chi2 / kTrials;
+  }
+  EXPECT_NEAR(chi2, expected_dof, 4.0 * std::sqrt(2.0 * expected_dof / kTrials));
+}
+
 // -------------------------------------------------------------------------------------- CLI
 
 TEST(CalibrateCommand, JsonCarriesThePromisedFields) {
@@ -404,6 +486,61 @@ TEST(CalibrateCommand, JsonCarriesThePromisedFields) {
     const ParameterInfo& info = original.machine.calibratedInfo(k);
     EXPECT_NEAR(toFileUnit(info.quantity, reread[k]),
                 out["parameters"][static_cast<std::size_t>(k)]["estimate"].get<double>(), 1e-12);
+  }
+}
+
+// The table `calibrate` prints is its --json in the units the table names: the unit column is
+// deg for an angle and mm for a length, each number the JSON's to the digits printed, the
+// degrees of freedom the JSON's; and the JSON's u is the evaluator's (an independent code path)
+// for the same readings at the estimate, u_posterior that times sqrt(chi2 / dof).
+TEST(CalibrateCommand, PrintedTableIsTheJsonInItsUnits) {
+  const std::string plan_path = test_support::testDataFile("ref-2r-calibrate.json");
+  const CliRun table = runCli("calibrate " + plan_path);
+  const CliRun json_run = runCli("calibrate --json " + plan_path);
+  ASSERT_EQ(table.status, 0);
+  ASSERT_EQ(json_run.status, 0);
+  const nlohmann::json out = nlohmann::json::parse(json_run.out);
+  const int dof = out["dof"].get<int>();
+  EXPECT_NE(table.out.find(" on " + std::to_string(dof) + " degrees of freedom"),
+            std::string::npos);
+  Plan plan = loadPlan(plan_path);
+  const Machine& machine = plan.machine;
+  ASSERT_EQ(out["parameters"].size(), static_cast<std::size_t>(machine.calibratedCount()));
+  Eigen::VectorXd estimate = machine.nominal;
+  for (int k = 0; k < machine.calibratedCount(); ++k) {
+    const auto& parameter = out["parameters"][static_cast<std::size_t>(k)];
+    estimate[machine.calibrated[static_cast<std::size_t>(k)]] =
+        fromFileUnit(machine.calibratedInfo(k).quantity, parameter["estimate"].get<double>());
+  }
+  plan.machine.nominal = estimate;
+  const Evaluation at_estimate = evaluatePlan(plan);
+  ASSERT_TRUE(at_estimate.identifiable());
+  const double birge = std::sqrt(out["chi2"].get<double>() / dof);
+  std::istringstream lines(table.out);
+  std::string line;
+  while (std::getline(lines, line) && line.rfind("parameter ", 0) != 0) {
+  }
+  ASSERT_FALSE(lines.eof()) << "no parameter table";
+  for (int k = 0; k < machine.calibratedCount(); ++k) {
+    const ParameterInfo& info = machine.calibratedInfo(k);
+    const auto& parameter = out["parameters"][static_cast<std::size_t>(k)];
+    ASSERT_TRUE(std::getline(lines, line));
+    std::istringstream row(line);
+    std::string name, unit;
+    double nominal = 0.0, value = 0.0, u = 0.0, u_posterior = 0.0;
+    row >> name >> nominal >> value >> u >> u_posterior >> unit;
+    ASSERT_FALSE(row.fail()) << line;
+    SCOPED_TRACE(line);
+    EXPECT_EQ(name, info.name);
+    EXPECT_EQ(unit, info.quantity == Quantity::Angle ? "deg" : "mm");
+    EXPECT_EQ(parameter["unit"].get<std::string>(), unit);
+    EXPECT_NEAR(nominal, parameter["nominal"].get<double>(), 1e-6);
+    EXPECT_NEAR(value, parameter["estimate"].get<double>(), 1e-6);
+    const double json_u = parameter["u"].get<double>();
+    EXPECT_NEAR(u, json_u, 5e-3 * json_u);
+    EXPECT_NEAR(u_posterior, parameter["u_posterior"].get<double>(), 5e-3 * u_posterior);
+    EXPECT_NEAR(json_u, toFileUnit(info.quantity, at_estimate.covariance->u[k]), 1e-6 * json_u);
+    EXPECT_NEAR(parameter["u_posterior"].get<double>(), json_u * birge, 1e-9 * json_u);
   }
 }
 

@@ -9,7 +9,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <set>
+#include <sstream>
 #include <string>
 #include <tuple>
 
@@ -149,6 +151,44 @@ TEST(Verification, PosteriorSpreadMatchesMonteCarloWhenTheNoiseIsUnderstated) {
   EXPECT_NEAR(observed2 / predicted2, 4.0, 0.4);
 }
 
+// The predicted u of a length error (header: the calibration's V_p through the mean Jacobians,
+// the readings' own noise): over many calibrations on one simulated run and verifications on
+// another, the mean squared length error must match the mean predicted u^2 (600 pairs: the
+// mean of squares to about 6 %).
+TEST(Verification, PredictedLengthErrorUMatchesMonteCarlo) {
+  const Plan plan = serialPlan();
+  const Eigen::VectorXd truth = perturbedTruth(plan);
+  const Simulator simulator(plan);
+  Calibrator calibrator(plan);
+  Plan held_out = plan;
+  double observed2 = 0.0, predicted2 = 0.0, noise_only2 = 0.0;
+  int pairs = 0;
+  constexpr int kTrials = 200;
+  for (int t = 0; t < kTrials; ++t) {
+    NormalSource normal(trialSeed(17, static_cast<std::uint64_t>(t)));
+    const Calibration calibration = calibrator.run(simulator.simulate(truth, normal).placements);
+    ASSERT_TRUE(calibration.summary.converged());
+    const auto u = calibration.uncertainty(plan.machine);
+    ASSERT_TRUE(u);
+    held_out.placements = simulator.simulate(truth, normal).placements;
+    const Verification v = verifyMachine(held_out, calibration.parameters, u);
+    const Verification n = verifyMachine(held_out, calibration.parameters, std::nullopt);
+    for (std::size_t j = 0; j < v.placements.size(); ++j) {
+      for (std::size_t e = 0; e < v.placements[j].length_errors.size(); ++e) {
+        const LengthError& length = v.placements[j].length_errors[e];
+        observed2 += length.error * length.error;
+        predicted2 += length.predicted_u * length.predicted_u;
+        const double alone = n.placements[j].length_errors[e].predicted_u;
+        noise_only2 += alone * alone;
+        ++pairs;
+      }
+    }
+  }
+  ASSERT_EQ(pairs, 3 * kTrials);
+  EXPECT_NEAR(observed2 / predicted2, 1.0, 0.2);
+  EXPECT_GT(predicted2, noise_only2 * 1.05);  // the calibration's V_p is a visible part
+}
+
 TEST(Verification, CommandLineReadsTheCovarianceOfCalibrate) {
   const std::string plan = test_support::planFile("aacmm-6axis-3bars.json");
   const std::string machine = ::testing::TempDir() + "/verify-machine.json";
@@ -169,6 +209,66 @@ TEST(Verification, CommandLineReadsTheCovarianceOfCalibrate) {
   const auto bad =
       test_support::runCli("verify " + plan + " --machine " + plan, test_support::Stderr::Only);
   EXPECT_EQ(bad.status, 2);
+}
+
+// The tables `verify` prints are its --json in mm (the unit its first line names), to the 4
+// decimals printed: per feature the spreads and predictions, per pair the length error and its
+// predicted u, and the summary line.
+TEST(Verification, PrintedTablesAreTheJsonInMillimetres) {
+  const std::string plan = test_support::planFile("aacmm-6axis-3bars.json");
+  const std::string machine = ::testing::TempDir() + "/verify-table-machine.json";
+  ASSERT_EQ(test_support::runCli("calibrate " + plan + " --write-machine " + machine).status, 0);
+  const auto table = test_support::runCli("verify " + plan + " --machine " + machine);
+  const auto json_run = test_support::runCli("verify --json " + plan + " --machine " + machine);
+  ASSERT_EQ(table.status, 0);
+  ASSERT_EQ(json_run.status, 0);
+  const nlohmann::json v = nlohmann::json::parse(json_run.out)["verify"];
+  EXPECT_NE(table.out.find("parameters held fixed (mm)"), std::string::npos);
+  std::istringstream lines(table.out);
+  std::string line;
+  while (std::getline(lines, line) && line.rfind("placement feature", 0) != 0) {
+  }
+  int rows = 0;
+  while (std::getline(lines, line) && !line.empty()) {
+    std::istringstream row(line);
+    std::size_t j = 0, f = 0;
+    int postures = 0;
+    double mean = 0, rms = 0, predicted = 0, posterior = 0;
+    row >> j >> f >> postures >> mean >> rms >> predicted >> posterior;
+    ASSERT_FALSE(row.fail()) << line;
+    const nlohmann::json& feature = v["placements"][j]["features"][f];
+    EXPECT_EQ(postures, feature["postures"].get<int>());
+    EXPECT_NEAR(mean, feature["spread_mean"].get<double>(), 5.1e-5) << line;
+    EXPECT_NEAR(rms, feature["spread_rms"].get<double>(), 5.1e-5) << line;
+    EXPECT_NEAR(predicted, feature["predicted_spread_rms"].get<double>(), 5.1e-5) << line;
+    EXPECT_NEAR(posterior, feature["predicted_spread_rms_posterior"].get<double>(), 5.1e-5);
+    EXPECT_GT(feature["predicted_spread_rms"].get<double>(), 0.01);  // a figure to compare
+    ++rows;
+  }
+  EXPECT_EQ(rows, 6);
+  while (std::getline(lines, line) && line.rfind("placement  from", 0) != 0) {
+  }
+  rows = 0;
+  while (std::getline(lines, line) && !line.empty()) {
+    std::istringstream row(line);
+    std::size_t j = 0;
+    int from = 0, to = 0;
+    double error = 0, predicted_u = 0;
+    row >> j >> from >> to >> error >> predicted_u;
+    ASSERT_FALSE(row.fail()) << line;
+    const nlohmann::json& length = v["placements"][j]["length_errors"][0];
+    EXPECT_EQ(from, length["from"].get<int>());
+    EXPECT_EQ(to, length["to"].get<int>());
+    EXPECT_NEAR(error, length["error"].get<double>(), 5.1e-5) << line;
+    EXPECT_NEAR(predicted_u, length["predicted_u"].get<double>(), 5.1e-5) << line;
+    EXPECT_GT(length["predicted_u"].get<double>(), 0.005);
+    ++rows;
+  }
+  EXPECT_EQ(rows, 3);
+  char summary[160];
+  std::snprintf(summary, sizeof summary, "predicted rms %.4f",
+                v["predicted_spread_rms"].get<double>());
+  EXPECT_NE(table.out.find(summary), std::string::npos) << summary;
 }
 
 // ------------------------------------------------------------------ the MUKCa Panda readings

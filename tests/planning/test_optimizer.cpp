@@ -262,6 +262,37 @@ TEST(Optimizer, FixedPlacementsCountAndStay) {
   EXPECT_NEAR(summary.value, evaluation.tip->worst.total, 1e-12);
 }
 
+// The polish starts from the value of the whole plan, fixed placements included: the two
+// designed bars alone cannot identify p (a polish that started from them alone would start from
+// +infinity and accept whatever its first round finds). With polish and kicks the written plan's
+// G, evaluated independently, is the value reported, no start ends worse than without the polish,
+// and the result does not depend on the threads.
+TEST(Optimizer, PolishStartsFromTheFixedPlacements) {
+  const Plan bare = parsePlan(seedSpec(2, {{"reach", {55, 245}}}), "spec", false);
+  std::mt19937_64 rng(21);
+  Plan plan = bare;
+  plan.placements.push_back(DesignSpace(bare).randomPlacement(rng, 1000)->second);
+  const OptimizerSummary plain = optimizePlan(plan, smallEffort(plan, 2));
+  auto polished = [&](int threads) {
+    OptimizerOptions options = smallEffort(plan, threads);
+    options.polish = 4;
+    options.kicks = 6;
+    return optimizePlan(plan, options);
+  };
+  const OptimizerSummary one = polished(1);
+  const OptimizerSummary two = polished(2);
+  ASSERT_EQ(two.placements.size(), 2u);
+  EXPECT_EQ(one.value, two.value);
+  EXPECT_LE(two.value, plain.value);
+  for (std::size_t s = 0; s < two.starts.size(); ++s)
+    EXPECT_LE(two.starts[s].refined, plain.starts[s].refined) << s;
+  Plan result = plan;
+  for (const Placement& p : two.placements) result.placements.push_back(p);
+  const Evaluation evaluation = evaluatePlan(result);
+  ASSERT_TRUE(evaluation.identifiable());
+  EXPECT_NEAR(two.value, evaluation.tip->worst.total, 1e-12);
+}
+
 TEST(Optimizer, BoxRegionIsRespected) {
   const nlohmann::json region = {{"reach", {55, 245}}, {"box", {{0, 0}, {250, 250}}}};
   const Plan plan = parsePlan(seedSpec(5, region), "spec", false);

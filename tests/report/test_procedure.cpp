@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "artcal/io/plan_io.hpp"
+#include "artcal/report/procedure.hpp"
 #include "cli_runner.hpp"
 #include "test_paths.hpp"
 
@@ -125,6 +126,47 @@ TEST(Procedure, EveryReadingOfEveryPlanLandsOnItsPlacedFeature) {
   const std::vector<std::string> plans = plansWithReadings();
   ASSERT_GE(plans.size(), 20u);
   for (const std::string& path : plans) expectReadingsOnFeatures(path);
+}
+
+// A reading off its feature sends the procedure through the inverse kinematics, which must put
+// the reading's OWN stylus on the feature: the CMM plan with two styli, every reading moved by
+// 0.02 mm along each axis. The target and the planned offset are checked against the forward
+// kinematics of that stylus and the feature placed here by the plan file's pose.
+TEST(Procedure, TheInverseKinematicsPutsTheReadingsOwnStylusOnTheFeature) {
+  const std::string path = test_support::planFile("cmm-plate-2styli-optimized.json");
+  Plan plan = loadPlan(path);
+  const json document = readJsonFile(path);
+  const Machine& machine = plan.machine;
+  ASSERT_EQ(machine.mechanism->stylusCount(), 2);
+  for (Placement& placement : plan.placements) {
+    for (Measurement& m : placement.measurements) m.joints.array() += 0.02;
+  }
+  const Procedure procedure = operatorProcedure(plan);
+  ASSERT_EQ(procedure.placements.size(), plan.placements.size());
+  int second_stylus = 0;
+  for (std::size_t j = 0; j < plan.placements.size(); ++j) {
+    const Placement& placement = plan.placements[j];
+    const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
+    const json& pose = document["placements"][j]["pose"];
+    for (std::size_t k = 0; k < placement.measurements.size(); ++k) {
+      SCOPED_TRACE("placement " + std::to_string(j) + " reading " + std::to_string(k));
+      const Measurement& m = placement.measurements[k];
+      const ProcedureReading& r = procedure.placements[j].readings[k];
+      ASSERT_EQ(r.stylus, m.stylus);
+      second_stylus += m.stylus == 1;
+      const Eigen::VectorXd feature = placeByPose(pose, artifact.features.col(m.feature));
+      EXPECT_LT((r.position - feature).norm(), 1e-9);
+      Eigen::VectorXd x;
+      ASSERT_EQ(machine.mechanism->forwardStylus(m.stylus, machine.nominal, m.joints, x),
+                ForwardStatus::Ok);
+      EXPECT_NEAR(r.planned_offset, (x - feature).norm(), 1e-9);
+      EXPECT_GT(r.planned_offset, 1e-3);  // the inverse kinematics ran
+      ASSERT_EQ(machine.mechanism->forwardStylus(m.stylus, machine.nominal, r.target, x),
+                ForwardStatus::Ok);
+      EXPECT_LT((x - feature).norm(), 1e-8);
+    }
+  }
+  EXPECT_GE(second_stylus, 9);
 }
 
 TEST(Procedure, PosturesCountTheReadingsOfEachFeature) {

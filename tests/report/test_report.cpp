@@ -576,6 +576,117 @@ TEST_F(ReportCli, TheWorkspaceMapsWorstIsTheEvaluatorsWorst) {
   S.maxCoeff(&worst);
   EXPECT_EQ(worst, ev.tip->worst_index);
   EXPECT_NEAR(S[worst], ev.tip->worst.total, 1e-12 * ev.tip->worst.total);
+
+  // The report's own map (report code, drawn from its own S per configuration): the one cell in
+  // the top colour of the scale is where the diamond marks the evaluator's worst configuration,
+  // and the diamond carries S[worst] computed above.
+  const fs::path svg_dir = dir_ / "svg";
+  const CliRun r = run("report \"" + data("ref-aacmm-3bars-3postures.json") + "\" -o \"" +
+                       (dir_ / "r.html").string() + "\" --svg \"" + svg_dir.string() + "\"");
+  ASSERT_EQ(r.status, 0) << r.err;
+  for (const char* view : {"tip-map.svg", "tip-map-side.svg"}) {
+    SCOPED_TRACE(view);
+    const std::string map = slurp(svg_dir / view);
+    const std::regex top_cell(
+        "<rect x=\"([-0-9.]+)\" y=\"([-0-9.]+)\" width=\"([0-9.]+)\" "
+        "height=\"([0-9.]+)\" fill=\"" +
+        svg::viridis(1.0) + "\" class=\"map-cell\"/>");
+    std::vector<std::array<double, 4>> cells;
+    for (auto it = std::sregex_iterator(map.begin(), map.end(), top_cell);
+         it != std::sregex_iterator(); ++it) {
+      cells.push_back(
+          {std::stod((*it)[1]), std::stod((*it)[2]), std::stod((*it)[3]), std::stod((*it)[4])});
+    }
+    ASSERT_EQ(cells.size(), 1u);
+    const std::regex diamond(
+        "data-field=\"/tip/worst/total\" data-value=\"([^\"]+)\"><title>[^<]*</title>"
+        "<polygon points=\"([-0-9.]+),[-0-9.]+ [-0-9.]+,([-0-9.]+) ");
+    std::smatch m;
+    ASSERT_TRUE(std::regex_search(map, m, diamond));
+    EXPECT_NEAR(std::stod(m[1]), S[worst], 1e-12 * S[worst]);
+    const double centre_x = std::stod(m[2]), centre_y = std::stod(m[3]);
+    const auto& [x, y, w, h] = cells.front();
+    EXPECT_GE(centre_x, x - 0.1);
+    EXPECT_LE(centre_x, x + w + 0.1);
+    EXPECT_GE(centre_y, y - 0.1);
+    EXPECT_LE(centre_y, y + h + 0.1);
+  }
+}
+
+// S_m under the um header: the report's cells of S_m, S_q and S (the worst configuration and
+// the reach profile of a planar arm) read in um are 1000 times S_m, S_q and S in mm computed
+// here: S_m^2 = tr(J_p V_p J_p^T) with J_p by central differences of the forward kinematics at
+// the configuration's joints, S_q^2 = tr(J_q Sigma_q J_q^T) likewise (docs/method.md section 4).
+TEST_F(ReportCli, TipCellsAreMicrometresOfAnIndependentTipUncertainty) {
+  const std::string plan_path = data("ref-2r-5bars.json");
+  const fs::path html_path = dir_ / "r.html";
+  ASSERT_EQ(run("report \"" + plan_path + "\" -o \"" + html_path.string() + "\"").status, 0);
+  const std::string html = slurp(html_path);
+  const Plan plan = loadPlan(plan_path);
+  const Evaluation ev = evaluatePlan(plan);
+  ASSERT_TRUE(ev.identifiable());
+  const Machine& machine = plan.machine;
+  auto tipAt = [&](const Eigen::VectorXd& q) {
+    const int n = machine.calibratedCount();
+    Eigen::MatrixXd J_p(machine.dimension(), n), J_q(machine.dimension(), machine.jointCount());
+    Eigen::VectorXd plus, minus;
+    for (int k = 0; k < n; ++k) {
+      const double h = 1e-6;
+      Eigen::VectorXd p = machine.nominal;
+      p[machine.calibrated[static_cast<std::size_t>(k)]] += h;
+      forwardOrThrow(*machine.mechanism, p, q, plus);
+      p[machine.calibrated[static_cast<std::size_t>(k)]] -= 2 * h;
+      forwardOrThrow(*machine.mechanism, p, q, minus);
+      J_p.col(k) = (plus - minus) / (2 * h);
+    }
+    for (int i = 0; i < machine.jointCount(); ++i) {
+      const double h = 1e-7;
+      Eigen::VectorXd dq = q;
+      dq[i] += h;
+      forwardOrThrow(*machine.mechanism, machine.nominal, dq, plus);
+      dq[i] -= 2 * h;
+      forwardOrThrow(*machine.mechanism, machine.nominal, dq, minus);
+      J_q.col(i) = (plus - minus) / (2 * h);
+    }
+    const double S_m = std::sqrt((J_p * ev.covariance->V * J_p.transpose()).trace());
+    const double S_q = (J_q * plan.noise.encoder.asDiagonal()).norm();  // Sigma_q diagonal
+    return std::array<double, 3>{S_m, S_q, std::hypot(S_m, S_q)};
+  };
+  const std::array<const char*, 3> keys = {"kinematic", "encoder", "total"};
+  std::map<std::string, double> expected_mm;
+  const std::array<double, 3> worst =
+      tipAt(ev.workspace[static_cast<std::size_t>(ev.tip->worst_index)]);
+  for (std::size_t c = 0; c < 3; ++c) expected_mm[std::string("/tip/worst/") + keys[c]] = worst[c];
+  ASSERT_EQ(ev.profile.size(), 21u);
+  for (std::size_t k = 0; k < ev.profile.size(); ++k) {
+    // The profile's configurations at reach rho: t1 = 0, t2 = +-acos (law of cosines), both
+    // elbow branches; the larger S is kept (tip.hpp, reachProfile).
+    const double l1 = machine.nominal[0], l2 = machine.nominal[1], rho = ev.profile[k].reach;
+    const double cosine = (rho * rho - l1 * l1 - l2 * l2) / (2 * l1 * l2);
+    const double elbow = std::acos(std::clamp(cosine, -1.0, 1.0));
+    std::array<double, 3> tip = {0.0, 0.0, 0.0};
+    for (const double branch : {elbow, -elbow}) {
+      Eigen::VectorXd q(2);
+      q << 0.0, branch - machine.nominal[2];
+      const std::array<double, 3> here = tipAt(q);
+      if (here[2] > tip[2]) tip = here;
+    }
+    for (std::size_t c = 0; c < 3; ++c)
+      expected_mm["/profile/" + std::to_string(k) + "/" + keys[c]] = tip[c];
+  }
+  std::size_t checked = 0;
+  for (const Shown& s : shownNumbers(html)) {
+    const auto it = expected_mm.find(s.pointer);
+    if (it == expected_mm.end() || s.text.empty()) continue;
+    EXPECT_NEAR(std::stod(s.text), it->second * 1e3, 5e-4 + 1e-6 * it->second * 1e3) << s.pointer;
+    ++checked;
+  }
+  EXPECT_EQ(checked, expected_mm.size());
+  // The columns say so.
+  EXPECT_NE(html.find("<th>tip uncertainty (\xC2\xB5m)</th><th>S</th><th>S_m</th>"),
+            std::string::npos);
+  EXPECT_NE(html.find("<th>S_m (\xC2\xB5m)</th><th>S_q (\xC2\xB5m)</th><th>S (\xC2\xB5m)</th>"),
+            std::string::npos);
 }
 
 TEST_F(ReportCli, NotIdentifiablePlanStillGetsAReportSayingSo) {
