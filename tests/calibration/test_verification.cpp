@@ -214,6 +214,41 @@ TEST(Verification, CommandLineReadsTheCovarianceOfCalibrate) {
 // The tables `verify` prints are its --json in mm (the unit its first line names), to the 4
 // decimals printed: per feature the spreads and predictions, per pair the length error and its
 // predicted u, and the summary line.
+// The calibration's part of a length error's predicted u alone: held-out readings without noise
+// (and a plan stating almost none), so that the length errors come from the calibration's
+// parameter error only and the prediction is sqrt(dJ V_p dJ^T) along the length.
+TEST(Verification, PredictedLengthErrorUOfTheCalibrationAloneMatchesMonteCarlo) {
+  const Plan plan = serialPlan();
+  const Eigen::VectorXd truth = perturbedTruth(plan);
+  const Simulator simulator(plan);
+  Calibrator calibrator(plan);
+  Plan held_out = plan;
+  held_out.noise.probe = 1e-9;
+  held_out.noise.encoder.setZero();
+  SimulationOptions exact;
+  exact.noise_scale = 0.0;
+  exact.artifact_errors = false;
+  const Simulator exact_simulator(held_out, exact);
+  double observed2 = 0.0, predicted2 = 0.0;
+  constexpr int kTrials = 200;
+  for (int t = 0; t < kTrials; ++t) {
+    NormalSource normal(trialSeed(19, static_cast<std::uint64_t>(t)));
+    const Calibration calibration = calibrator.run(simulator.simulate(truth, normal).placements);
+    ASSERT_TRUE(calibration.summary.converged());
+    const auto u = calibration.uncertainty(plan.machine);
+    ASSERT_TRUE(u);
+    held_out.placements = exact_simulator.simulate(truth, normal).placements;
+    const Verification v = verifyMachine(held_out, calibration.parameters, u);
+    for (const PlacementVerification& placement : v.placements) {
+      for (const LengthError& length : placement.length_errors) {
+        observed2 += length.error * length.error;
+        predicted2 += length.predicted_u * length.predicted_u;
+      }
+    }
+  }
+  EXPECT_NEAR(observed2 / predicted2, 1.0, 0.2);
+}
+
 TEST(Verification, PrintedTablesAreTheJsonInMillimetres) {
   const std::string plan = test_support::planFile("aacmm-6axis-3bars.json");
   const std::string machine = ::testing::TempDir() + "/verify-table-machine.json";
