@@ -151,104 +151,83 @@ TEST(Verification, PosteriorSpreadMatchesMonteCarloWhenTheNoiseIsUnderstated) {
   EXPECT_NEAR(observed2 / predicted2, 4.0, 0.4);
 }
 
+/// 200 trials (seeds trialSeed(seed, t)): calibrate on readings simulated from the perturbed
+/// truth, simulate held-out readings with `held_out_simulator` and hand each held-out plan and
+/// the calibration (with its uncertainty) to `verify`.
+template <class Verify>
+void calibrateThenVerify(const Plan& plan, Plan held_out, const Simulator& held_out_simulator,
+                         std::uint64_t seed, Verify verify) {
+  const Eigen::VectorXd truth = perturbedTruth(plan);
+  const Simulator simulator(plan);
+  Calibrator calibrator(plan);
+  for (int t = 0; t < 200; ++t) {
+    NormalSource normal(trialSeed(seed, static_cast<std::uint64_t>(t)));
+    const Calibration calibration = calibrator.run(simulator.simulate(truth, normal).placements);
+    ASSERT_TRUE(calibration.summary.converged());
+    const auto u = calibration.uncertainty(plan.machine);
+    ASSERT_TRUE(u);
+    held_out.placements = held_out_simulator.simulate(truth, normal).placements;
+    verify(held_out, calibration.parameters, *u);
+  }
+}
+
 // The predicted u of a length error (header: the calibration's V_p through the mean Jacobians,
 // the readings' own noise): over many calibrations on one simulated run and verifications on
 // another, the mean squared length error must match the mean predicted u^2 (600 pairs: the
 // mean of squares to about 6 %).
 TEST(Verification, PredictedLengthErrorUMatchesMonteCarlo) {
   const Plan plan = serialPlan();
-  const Eigen::VectorXd truth = perturbedTruth(plan);
-  const Simulator simulator(plan);
-  Calibrator calibrator(plan);
-  Plan held_out = plan;
   double observed2 = 0.0, predicted2 = 0.0, noise_only2 = 0.0;
   int pairs = 0;
-  constexpr int kTrials = 200;
-  for (int t = 0; t < kTrials; ++t) {
-    NormalSource normal(trialSeed(17, static_cast<std::uint64_t>(t)));
-    const Calibration calibration = calibrator.run(simulator.simulate(truth, normal).placements);
-    ASSERT_TRUE(calibration.summary.converged());
-    const auto u = calibration.uncertainty(plan.machine);
-    ASSERT_TRUE(u);
-    held_out.placements = simulator.simulate(truth, normal).placements;
-    const Verification v = verifyMachine(held_out, calibration.parameters, u);
-    const Verification n = verifyMachine(held_out, calibration.parameters, std::nullopt);
-    for (std::size_t j = 0; j < v.placements.size(); ++j) {
-      for (std::size_t e = 0; e < v.placements[j].length_errors.size(); ++e) {
-        const LengthError& length = v.placements[j].length_errors[e];
-        observed2 += length.error * length.error;
-        predicted2 += length.predicted_u * length.predicted_u;
-        const double alone = n.placements[j].length_errors[e].predicted_u;
-        noise_only2 += alone * alone;
-        ++pairs;
-      }
-    }
-  }
-  ASSERT_EQ(pairs, 3 * kTrials);
+  calibrateThenVerify(
+      plan, plan, Simulator(plan), 17,
+      [&](const Plan& held_out, const Eigen::VectorXd& p, const ParameterUncertainty& u) {
+        const Verification v = verifyMachine(held_out, p, u);
+        const Verification n = verifyMachine(held_out, p, std::nullopt);
+        for (std::size_t j = 0; j < v.placements.size(); ++j) {
+          for (std::size_t e = 0; e < v.placements[j].length_errors.size(); ++e) {
+            const LengthError& length = v.placements[j].length_errors[e];
+            observed2 += length.error * length.error;
+            predicted2 += length.predicted_u * length.predicted_u;
+            const double alone = n.placements[j].length_errors[e].predicted_u;
+            noise_only2 += alone * alone;
+            ++pairs;
+          }
+        }
+      });
+  ASSERT_EQ(pairs, 600);
   EXPECT_NEAR(observed2 / predicted2, 1.0, 0.2);
   EXPECT_GT(predicted2, noise_only2 * 1.05);  // the calibration's V_p is a visible part
 }
 
-TEST(Verification, CommandLineReadsTheCovarianceOfCalibrate) {
-  const std::string plan = test_support::planFile("aacmm-6axis-3bars.json");
-  const std::string machine = ::testing::TempDir() + "/verify-machine.json";
-  ASSERT_EQ(test_support::runCli("calibrate " + plan + " --write-machine " + machine).status, 0);
-  const auto run = test_support::runCli("verify --json " + plan + " --machine " + machine);
-  ASSERT_EQ(run.status, 0);
-  const auto json = nlohmann::json::parse(run.out);
-  EXPECT_TRUE(json["verify"]["predicted_from_calibration"].get<bool>());
-  EXPECT_EQ(json["verify"]["placements"].size(), 3u);
-  EXPECT_EQ(json["verify"]["placements"][0]["features"][0]["postures"].get<int>(), 3);
-  // The machine file carries the calibration's Birge ratio; verify scales by it.
-  const auto calibrated = test_support::runCli("calibrate --json " + plan);
-  ASSERT_EQ(calibrated.status, 0);
-  const double birge = nlohmann::json::parse(calibrated.out)["birge_ratio"].get<double>();
-  EXPECT_NEAR(json["verify"]["birge_ratio"].get<double>(), birge, 1e-12 * birge);
-  EXPECT_NEAR(json["verify"]["predicted_spread_rms_posterior"].get<double>(),
-              json["verify"]["predicted_spread_rms"].get<double>() * birge, 1e-12);
-  const auto bad =
-      test_support::runCli("verify " + plan + " --machine " + plan, test_support::Stderr::Only);
-  EXPECT_EQ(bad.status, 2);
-}
-
-// The tables `verify` prints are its --json in mm (the unit its first line names), to the 4
-// decimals printed: per feature the spreads and predictions, per pair the length error and its
-// predicted u, and the summary line.
 // The calibration's part of a length error's predicted u alone: held-out readings without noise
 // (and a plan stating almost none), so that the length errors come from the calibration's
 // parameter error only and the prediction is sqrt(dJ V_p dJ^T) along the length.
 TEST(Verification, PredictedLengthErrorUOfTheCalibrationAloneMatchesMonteCarlo) {
   const Plan plan = serialPlan();
-  const Eigen::VectorXd truth = perturbedTruth(plan);
-  const Simulator simulator(plan);
-  Calibrator calibrator(plan);
   Plan held_out = plan;
   held_out.noise.probe = 1e-9;
   held_out.noise.encoder.setZero();
   SimulationOptions exact;
   exact.noise_scale = 0.0;
   exact.artifact_errors = false;
-  const Simulator exact_simulator(held_out, exact);
   double observed2 = 0.0, predicted2 = 0.0;
-  constexpr int kTrials = 200;
-  for (int t = 0; t < kTrials; ++t) {
-    NormalSource normal(trialSeed(19, static_cast<std::uint64_t>(t)));
-    const Calibration calibration = calibrator.run(simulator.simulate(truth, normal).placements);
-    ASSERT_TRUE(calibration.summary.converged());
-    const auto u = calibration.uncertainty(plan.machine);
-    ASSERT_TRUE(u);
-    held_out.placements = exact_simulator.simulate(truth, normal).placements;
-    const Verification v = verifyMachine(held_out, calibration.parameters, u);
-    for (const PlacementVerification& placement : v.placements) {
-      for (const LengthError& length : placement.length_errors) {
-        observed2 += length.error * length.error;
-        predicted2 += length.predicted_u * length.predicted_u;
-      }
-    }
-  }
+  calibrateThenVerify(
+      plan, held_out, Simulator(held_out, exact), 19,
+      [&](const Plan& readings, const Eigen::VectorXd& p, const ParameterUncertainty& u) {
+        for (const PlacementVerification& placement : verifyMachine(readings, p, u).placements) {
+          for (const LengthError& length : placement.length_errors) {
+            observed2 += length.error * length.error;
+            predicted2 += length.predicted_u * length.predicted_u;
+          }
+        }
+      });
   EXPECT_NEAR(observed2 / predicted2, 1.0, 0.2);
 }
 
+// The tables `verify` prints are its --json in mm (the unit its first line names), to the 4
+// decimals printed: per feature the spreads and predictions, per pair the length error and its
+// predicted u, and the summary line.
 TEST(Verification, PrintedTablesAreTheJsonInMillimetres) {
   const std::string plan = test_support::planFile("aacmm-6axis-3bars.json");
   const std::string machine = ::testing::TempDir() + "/verify-table-machine.json";

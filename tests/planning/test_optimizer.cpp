@@ -273,14 +273,12 @@ TEST(Optimizer, PolishStartsFromTheFixedPlacements) {
   Plan plan = bare;
   plan.placements.push_back(DesignSpace(bare).randomPlacement(rng, 1000)->second);
   const OptimizerSummary plain = optimizePlan(plan, smallEffort(plan, 2));
-  auto polished = [&](int threads) {
-    OptimizerOptions options = smallEffort(plan, threads);
-    options.polish = 4;
-    options.kicks = 6;
-    return optimizePlan(plan, options);
-  };
-  const OptimizerSummary one = polished(1);
-  const OptimizerSummary two = polished(2);
+  OptimizerOptions options = smallEffort(plan, 1);
+  options.polish = 4;
+  options.kicks = 6;
+  const OptimizerSummary one = optimizePlan(plan, options);
+  options.threads = 2;
+  const OptimizerSummary two = optimizePlan(plan, options);
   ASSERT_EQ(two.placements.size(), 2u);
   EXPECT_EQ(one.value, two.value);
   EXPECT_LE(two.value, plain.value);
