@@ -10,8 +10,8 @@
 #include <benchmark/benchmark.h>
 
 #include "artcal/calibration/calibrate_readings.hpp"
-#include "artcal/internal.hpp"
 #include "artcal/calibration/calibrator.hpp"
+#include "artcal/internal.hpp"
 #include "artcal/io/plan_io.hpp"
 #include "test_paths.hpp"
 
