@@ -126,7 +126,9 @@ class RigidBlockRoot {
   /// X <- S X.
   template <typename Matrix>
   void apply(Matrix& X) const {
-    X = (root_ * X).eval();
+    // At most 6 x 6 times 6 x (parameters): coefficient-wise, not through a general GEMM whose
+    // set-up costs more than the product.
+    X = root_.lazyProduct(X).eval();
   }
   /// S^T S.
   Eigen::MatrixXd pseudoInverse() const { return root_.transpose() * root_; }
@@ -188,6 +190,9 @@ class RigidBlockRoot {
   RigidMatrix root_;
 };
 
+// Parameters up to which the normal matrix is updated by coefficient-wise products.
+constexpr int kSmallProblem = 8;
+
 // The lower triangle of a symmetric block copied into its upper triangle.
 template <typename Block>
 void mirrorLower(Block&& N) {
@@ -229,7 +234,8 @@ void NormalMatrixReducer::add(const ObservationBlock& block, int artifact_index,
   unreduced_diagonal_ += A_p.colwise().squaredNorm().transpose();
   // A_c has a few non-zeros per column (the readings of one feature, whitened within each
   // reading: 6 of 150 rows for a plate read with two styli): its products as a sparse matrix.
-  const Eigen::SparseMatrix<double> A_c_sparse = A_c.sparseView();
+  Eigen::SparseMatrix<double> A_c_sparse;  // no allocation without systematic errors
+  if (n_c > 0) A_c_sparse = A_c.sparseView();
   M_rg_.resize(A_r.cols(), n_g);
   M_rg_.leftCols(n_p).noalias() = A_r.transpose().lazyProduct(A_p);
   if (n_c > 0) M_rg_.rightCols(n_c) = (A_c_sparse.transpose() * A_r).transpose();
@@ -237,9 +243,16 @@ void NormalMatrixReducer::add(const ObservationBlock& block, int artifact_index,
   S.apply(X_);  // Y
   const auto Y_p = X_.leftCols(n_p);
   auto N_pp = N_.topLeftCorner(n_p, n_p);
-  N_pp.selfadjointView<Eigen::Lower>().rankUpdate(A_p.transpose());
-  N_pp.selfadjointView<Eigen::Lower>().rankUpdate(Y_p.transpose(), -1.0);
-  mirrorLower(N_pp);
+  if (n_p <= kSmallProblem) {
+    // A few parameters (the seed's arm: 3): coefficient-wise products; the blocked symmetric
+    // rank update's set-up costs more than the arithmetic there.
+    N_pp.noalias() += A_p.transpose().lazyProduct(A_p);
+    N_pp.noalias() -= Y_p.transpose().lazyProduct(Y_p);
+  } else {
+    N_pp.selfadjointView<Eigen::Lower>().rankUpdate(A_p.transpose());
+    N_pp.selfadjointView<Eigen::Lower>().rankUpdate(Y_p.transpose(), -1.0);
+    mirrorLower(N_pp);
+  }
   if (n_c > 0) {
     const auto Y_c = X_.rightCols(n_c);
     auto N_cc = N_.block(c_offset, c_offset, n_c, n_c);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <set>
 #include <string>
 
@@ -57,6 +58,21 @@ bool probedPoints(const Plan& plan, const Eigen::VectorXd& p, const Placement& p
   return true;
 }
 
+/// The mean probed position of each measured feature (by feature index).
+std::map<int, Eigen::VectorXd> featureMeans(const Placement& placement,
+                                            const Eigen::MatrixXd& points) {
+  std::map<int, Eigen::VectorXd> sums;
+  std::map<int, int> counts;
+  for (std::size_t i = 0; i < placement.measurements.size(); ++i) {
+    const int feature = placement.measurements[i].feature;
+    auto [it, fresh] = sums.try_emplace(feature, Eigen::VectorXd::Zero(points.rows()));
+    it->second += points.col(static_cast<int>(i));
+    ++counts[feature];
+  }
+  for (auto& [feature, sum] : sums) sum /= counts[feature];
+  return sums;
+}
+
 /// RMS residual length of the rigid fit of `points` onto the measured features.
 double fitResidual(const Artifact& artifact, const Placement& placement,
                    const Eigen::MatrixXd& points) {
@@ -89,18 +105,9 @@ double poseDisagreement(const Plan& plan, const Artifact& artifact, const Placem
       plan.machine.dimension() == 2
           ? placePlanar(pose.center.head<2>(), pose.angle)
           : placeSpatial(pose.center.head<3>(), pose.direction, pose.roll);
-  std::set<int> features;
-  for (const Measurement& m : placement.measurements) features.insert(m.feature);
   double worst = 0.0;
-  for (const int feature : features) {
-    Eigen::VectorXd sum = Eigen::VectorXd::Zero(points.rows());
-    int count = 0;
-    for (std::size_t i = 0; i < placement.measurements.size(); ++i) {
-      if (placement.measurements[i].feature != feature) continue;
-      sum += points.col(static_cast<int>(i));
-      ++count;
-    }
-    worst = std::max(worst, valuedDistance(artifact, placed.apply(sum / count), feature));
+  for (const auto& [feature, mean] : featureMeans(placement, points)) {
+    worst = std::max(worst, valuedDistance(artifact, placed.apply(mean), feature));
   }
   return worst;
 }
@@ -160,21 +167,13 @@ void checkFeaturesNotCollapsed(const Plan& plan, const Placement& placement,
   // A step gauge values one coordinate: where on a face it is probed is free, so only the
   // features whose every coordinate is valued (balls) are compared.
   const int k = artifact.valuedPerFeature();
-  std::set<int> features;
-  for (const Measurement& m : placement.measurements) features.insert(m.feature);
-  if (features.size() < 2 || k != artifact.dimension) return;
-  Eigen::MatrixXd probed(k, static_cast<int>(features.size()));
+  const std::map<int, Eigen::VectorXd> means = featureMeans(placement, points);
+  if (means.size() < 2 || k != artifact.dimension) return;
+  Eigen::MatrixXd probed(k, static_cast<int>(means.size()));
   Eigen::MatrixXd true_features(k, probed.cols());
   int column = 0;
-  for (const int feature : features) {
-    Eigen::VectorXd sum = Eigen::VectorXd::Zero(points.rows());
-    int count = 0;
-    for (std::size_t i = 0; i < placement.measurements.size(); ++i) {
-      if (placement.measurements[i].feature != feature) continue;
-      sum += points.col(static_cast<int>(i));
-      ++count;
-    }
-    probed.col(column) = (sum / count).head(k);
+  for (const auto& [feature, mean] : means) {
+    probed.col(column) = mean.head(k);
     true_features.col(column++) = artifact.features.col(feature).head(k);
   }
   auto spread = [](const Eigen::MatrixXd& x) {
