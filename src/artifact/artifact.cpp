@@ -78,9 +78,19 @@ int Artifact::appendFeature(const Eigen::VectorXd& point) {
 
 // Full rigid motion = (translation, rotation): 2-D (tx, ty, rz), 3-D (tx, ty, tz, wx, wy, wz).
 // A ball bar in 3-D does not see its roll about X; a step gauge sees only motions that change X.
-const std::vector<int>& Artifact::rigidDirections() const {
-  static const std::vector<int> all2{0, 1, 2}, gauge2{0, 2};
-  static const std::vector<int> all3{0, 1, 2, 3, 4, 5}, bar3{0, 1, 2, 4, 5}, gauge3{0, 4, 5};
+namespace {
+
+// The full rigid motion's directions (translation, rotation) in the order the observation blocks
+// use, and the leading ones the artifact's table counts (N(r_j), docs/method.md section 1).
+struct RigidOrders {
+  std::vector<int> full;
+  std::vector<int> table;
+};
+
+const RigidOrders& rigidOrders(int dimension, ArtifactKind kind) {
+  static const RigidOrders all2{{0, 1, 2}, {0, 1, 2}}, gauge2{{0, 2, 1}, {0, 2}};
+  static const RigidOrders all3{{0, 1, 2, 3, 4, 5}, {0, 1, 2, 3, 4, 5}},
+      bar3{{0, 1, 2, 4, 5, 3}, {0, 1, 2, 4, 5}}, gauge3{{0, 4, 5, 1, 2, 3}, {0, 4, 5}};
   if (dimension == 2) return kind == ArtifactKind::StepGauge ? gauge2 : all2;
   switch (kind) {
     case ArtifactKind::BallBar:
@@ -92,6 +102,12 @@ const std::vector<int>& Artifact::rigidDirections() const {
       break;
   }
   return all3;
+}
+
+}  // namespace
+
+const std::vector<int>& Artifact::rigidDirections() const {
+  return rigidOrders(dimension, kind).table;
 }
 
 namespace {
@@ -125,20 +141,7 @@ void Artifact::rigidJacobian(const Eigen::VectorXd& W, Eigen::Ref<Eigen::MatrixX
 }
 
 const std::vector<int>& Artifact::fullRigidOrder() const {
-  static const std::vector<int> all2{0, 1, 2}, gauge2{0, 2, 1};
-  static const std::vector<int> all3{0, 1, 2, 3, 4, 5}, bar3{0, 1, 2, 4, 5, 3},
-      gauge3{0, 4, 5, 1, 2, 3};
-  if (dimension == 2) return kind == ArtifactKind::StepGauge ? gauge2 : all2;
-  switch (kind) {
-    case ArtifactKind::BallBar:
-      return bar3;
-    case ArtifactKind::StepGauge:
-      return gauge3;
-    case ArtifactKind::BallPlate:
-    case ArtifactKind::Instrument:
-      break;
-  }
-  return all3;
+  return rigidOrders(dimension, kind).full;
 }
 
 void Artifact::fullRigidJacobian(const Eigen::VectorXd& W, Eigen::Ref<Eigen::MatrixXd> J) const {
