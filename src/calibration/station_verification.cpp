@@ -61,7 +61,8 @@ double expectedSquares(const std::vector<ReadingLinearization>& fit,
   Eigen::MatrixXd Sigma_s = Eigen::MatrixXd::Zero(d * n_s, d * n_s);
   for (int i = 0; i < n_s; ++i) {
     A_s.middleRows(d * i, d) = fit[static_cast<std::size_t>(i)].A;
-    J_s.middleRows(d * i, d) = fit[static_cast<std::size_t>(i)].J;
+    // No calibrated parameter (the nominal machine): J_s has no columns and no data to offset.
+    if (J_s.cols() > 0) J_s.middleRows(d * i, d) = fit[static_cast<std::size_t>(i)].J;
     Sigma_s.block(d * i, d * i, d, d) = fit[static_cast<std::size_t>(i)].Sigma;
   }
   const Eigen::MatrixXd K = (A_s.transpose() * A_s).ldlt().solve(A_s.transpose());
