@@ -351,23 +351,31 @@ struct CsvFiles {
     std::vector<long> lines;  ///< each row's line in the file
   };
   std::map<std::pair<std::string, std::pair<double, double>>, Parsed> files;
-  std::size_t readings = 0;  ///< taken from them so far
+  std::size_t readings = 0;  ///< taken from them by the plan's placements
 };
 
-/// A measurement entry {"feature", "csv", "unit", "exclude_rows"}: one measurement per row of
-/// the CSV file, which is relative to the plan file (docs/models.md section 7), but the rows
-/// excluded.
-void appendCsvMeasurements(const Node& entry, const Plan& plan, const Artifact& artifact,
-                           CsvFiles& files, bool explicit_limits, int entry_index,
-                           std::vector<Measurement>& out, std::vector<std::string>& warnings) {
-  entry.warnUnknown({"feature", "csv", "unit", "exclude_rows"}, warnings);
-  const int feature = static_cast<int>(entry.at("feature").integer(0, artifact.featureCount() - 1));
+/// The file a {"csv": ...} entry names, as written (relative to the plan file, docs/models.md
+/// section 7).
+std::filesystem::path csvRelativePath(const Node& entry) {
   const Node csv = entry.at("csv");
   const std::filesystem::path relative(csv.string());
   if (relative.empty()) csv.fail("expected a file name");
+  return relative;
+}
+
+/// The path of the file a {"csv": ...} entry names.
+std::string csvFileOf(const Node& entry, const Plan& plan) {
+  const std::filesystem::path relative = csvRelativePath(entry);
   const std::filesystem::path path =
       relative.is_absolute() ? relative
                              : std::filesystem::path(plan.source).parent_path() / relative;
+  return path.lexically_normal().string();
+}
+
+/// The rows of the CSV file a {"feature", "csv", "unit"} entry names, each file read once per
+/// unit whatever the number of entries naming it.
+const CsvFiles::Parsed& csvRowsOf(const Node& entry, const Plan& plan, CsvFiles& files) {
+  const std::string file = csvFileOf(entry, plan);
   ReadingUnits units;
   if (const auto unit = entry.find("unit")) {
     const auto named = readingUnitsFromName(unit->string());
@@ -377,7 +385,6 @@ void appendCsvMeasurements(const Node& entry, const Plan& plan, const Artifact& 
   const Mechanism& mech = *plan.machine.mechanism;
   std::vector<JointKind> kinds;
   for (int i = 0; i < mech.jointCount(); ++i) kinds.push_back(mech.jointKind(i));
-  const std::string file = path.lexically_normal().string();
   const auto key = std::make_pair(file, std::make_pair(units.angle_to_rad, units.length_to_mm));
   auto cached = files.files.find(key);
   try {
@@ -389,14 +396,55 @@ void appendCsvMeasurements(const Node& entry, const Plan& plan, const Artifact& 
   } catch (const std::bad_alloc&) {
     throw InputError(file, "", "not enough memory for its readings");
   }
-  const std::vector<Eigen::VectorXd>& rows = cached->second.rows;
-  const std::vector<long>& lines = cached->second.lines;
-  files.readings += rows.size();
-  if (files.readings > kMaxPlanCsvReadings) {
-    csv.fail("the plan takes more than " + std::to_string(kMaxPlanCsvReadings) +
-             " readings from CSV files in all (a file named by several placements counts each "
-             "time)");
+  return cached->second;
+}
+
+/// The bound on the CSV readings of the whole plan, checked before any reading is taken: every
+/// {"csv"} entry of an artifact placement counts its file's rows (the file is read once). Entries
+/// that are not well formed are left to the placement's own parsing, which names them.
+void checkCsvReadingsInAll(const Node& placements, const Plan& plan, CsvFiles& files) {
+  const nlohmann::json& all = placements.value();
+  if (!all.is_array()) return;
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    const nlohmann::json& placement = all[i];
+    if (!placement.is_object() || !placement.contains("measurements") ||
+        !placement["measurements"].is_array() || !placement.contains("artifact") ||
+        !placement["artifact"].is_string())
+      continue;
+    const int artifact = plan.artifactIndex(placement["artifact"].get<std::string>());
+    if (artifact < 0 ||
+        plan.artifacts[static_cast<std::size_t>(artifact)].kind == ArtifactKind::Instrument)
+      continue;
+    const Node measurements = placements[i].at("measurements");
+    for (std::size_t j = 0; j < placement["measurements"].size(); ++j) {
+      const nlohmann::json& entry = placement["measurements"][j];
+      if (!entry.is_object() || !entry.contains("csv")) continue;
+      const Node node = measurements[j];
+      files.readings += csvRowsOf(node, plan, files).rows.size();
+      if (files.readings > kMaxPlanCsvReadings) {
+        node.at("csv").fail("the plan takes more than " + std::to_string(kMaxPlanCsvReadings) +
+                            " readings from CSV files in all (a file named by several placements "
+                            "counts each time)");
+      }
+    }
   }
+}
+
+/// A measurement entry {"feature", "csv", "unit", "exclude_rows"}: one measurement per row of
+/// the CSV file, which is relative to the plan file (docs/models.md section 7), but the rows
+/// excluded.
+void appendCsvMeasurements(const Node& entry, const Plan& plan, const Artifact& artifact,
+                           CsvFiles& files, bool explicit_limits, int entry_index,
+                           std::vector<Measurement>& out, std::vector<std::string>& warnings) {
+  entry.warnUnknown({"feature", "csv", "unit", "exclude_rows"}, warnings);
+  const int feature = static_cast<int>(entry.at("feature").integer(0, artifact.featureCount() - 1));
+  const Node csv = entry.at("csv");
+  const std::filesystem::path relative = csvRelativePath(entry);
+  const CsvFiles::Parsed& parsed = csvRowsOf(entry, plan, files);
+  const std::vector<Eigen::VectorXd>& rows = parsed.rows;
+  const std::vector<long>& lines = parsed.lines;
+  const std::string file = csvFileOf(entry, plan);
+  const Mechanism& mech = *plan.machine.mechanism;
   const std::set<long> excluded = excludedRows(entry, rows.size());
   for (std::size_t r = 0; r < rows.size(); ++r) {
     const long row = static_cast<long>(r) + 1;
@@ -810,6 +858,7 @@ Plan parsePlan(const nlohmann::json& document, const std::string& source, bool r
     const std::size_t n = placements->arraySize(require_placements ? 1 : 0, kMaxPlacements);
     plan.placements.reserve(n);
     CsvFiles csv_files;
+    checkCsvReadingsInAll(*placements, plan, csv_files);
     std::map<std::string, std::size_t> named;  // placement names are unique
     for (std::size_t i = 0; i < n; ++i) {
       plan.placements.push_back(parsePlacement((*placements)[i], plan, csv_files,
