@@ -653,6 +653,7 @@ void Search::polish(int start, DesignCriterion& criterion) {
   for (const Placement& p : placements) total += criterion.contribution(p);
   criterion.resetActive();
   double value = criterion.activate(total);
+  result.polished_from = value;
   for (int round = 0; round < kPolishRounds && remaining() > 0.0; ++round) {
     const double polished = refine(placements, poses, value, criterion);
     const bool gained = polished < value * (1.0 - kPolishGain);

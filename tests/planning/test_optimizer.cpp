@@ -282,8 +282,18 @@ TEST(Optimizer, PolishStartsFromTheFixedPlacements) {
   ASSERT_EQ(two.placements.size(), 2u);
   EXPECT_EQ(one.value, two.value);
   EXPECT_LE(two.value, plain.value);
-  for (std::size_t s = 0; s < two.starts.size(); ++s)
+  int polished = 0;
+  for (std::size_t s = 0; s < two.starts.size(); ++s) {
     EXPECT_LE(two.starts[s].refined, plain.starts[s].refined) << s;
+    // The polish starts from the refined design with the fixed placement's information: the
+    // same value the unpolished run ended that start with (same seed, same designs).
+    if (two.starts[s].polished_from == 0.0) continue;
+    ++polished;
+    EXPECT_NEAR(two.starts[s].polished_from, plain.starts[s].refined,
+                1e-9 * plain.starts[s].refined)
+        << s;
+  }
+  EXPECT_GT(polished, 0);
   Plan result = plan;
   for (const Placement& p : two.placements) result.placements.push_back(p);
   const Evaluation evaluation = evaluatePlan(result);

@@ -71,6 +71,9 @@ struct StartResult {
   double initial = 0.0;    ///< the random initial design
   double exchanged = 0.0;  ///< after the exchange
   double refined = 0.0;    ///< after the continuous refinement (the start's result)
+  /// The criterion of the refined design (the fixed placements' information included) where the
+  /// polish started from it; 0 when the start was not polished.
+  double polished_from = 0.0;
   bool done = false;
 };
 
