@@ -2,6 +2,7 @@
 
 #include "artcal/io/model_registry.hpp"
 
+#include <map>
 #include <memory>
 #include <set>
 
@@ -47,6 +48,52 @@ void readOriginAndOffset(const Node& joint, ChainJointType type, std::vector<dou
   values.push_back(type == ChainJointType::Revolute ? degToRad(offset) : offset);
 }
 
+// A joint's "mimic": {"joint": NAME, "multiplier": m, "offset": c} (c in mm or deg; defaults as
+// URDF's: m = 1, c = 0).
+ChainMimic readMimic(const Node& joint, ChainJointType type, std::vector<std::string>& warnings) {
+  const Node mimic = joint.at("mimic");
+  mimic.object();
+  mimic.warnUnknown({"joint", "multiplier", "offset"}, warnings);
+  if (!Chain::isMovable(type)) mimic.fail("a fixed joint cannot mimic another joint");
+  ChainMimic out;
+  const Node master = mimic.at("joint");
+  out.joint = master.string();
+  if (out.joint.empty()) master.fail("name the joint this one mimics");
+  if (mimic.has("multiplier")) out.multiplier = mimic.at("multiplier").number();
+  const double offset = mimic.has("offset") ? mimic.at("offset").number() : 0.0;
+  out.offset = type == ChainJointType::Revolute ? degToRad(offset) : offset;
+  return out;
+}
+
+// What the model would refuse about the mimics, as an InputError with the mimic's pointer.
+void checkMimics(const Node& joints, const std::vector<ChainJoint>& chain) {
+  std::map<std::string, std::size_t> index, off_chain_type;
+  for (std::size_t i = 0; i < chain.size(); ++i) index[chain[i].name] = i;
+  for (std::size_t i = 0; i < chain.size(); ++i) {
+    if (!chain[i].mimic) continue;
+    const Node master = joints[i].at("mimic").at("joint");
+    const std::string& name = chain[i].mimic->joint;
+    if (name == chain[i].name) master.fail("a joint cannot mimic itself");
+    const auto on_chain = index.find(name);
+    if (on_chain == index.end()) {
+      const auto [it, first] = off_chain_type.emplace(name, i);
+      if (!first && chain[it->second].type != chain[i].type) {
+        master.fail("the joints that mimic \"" + name + "\" must be of one type");
+      }
+      continue;
+    }
+    const ChainJoint& driver = chain[on_chain->second];
+    if (!Chain::isMovable(driver.type) || driver.mimic) {
+      master.fail("joint \"" + name +
+                  "\" is fixed or a mimic itself (a cycle or a chain of mimics): name the "
+                  "driving joint");
+    }
+    if (driver.type != chain[i].type) {
+      master.fail("joint \"" + name + "\" is of another type than this one");
+    }
+  }
+}
+
 MachineBlock readChain(const Node& machine, std::vector<std::string>& warnings) {
   machine.warnUnknown({"joints"}, warnings);
   const Node joints = machine.at("joints");
@@ -57,15 +104,17 @@ MachineBlock readChain(const Node& machine, std::vector<std::string>& warnings) 
   for (std::size_t i = 0; i < n; ++i) {
     const Node joint = joints[i];
     joint.object();
-    joint.warnUnknown({"name", "type", "origin", "axis", "offset"}, warnings);
+    joint.warnUnknown({"name", "type", "origin", "axis", "offset", "mimic"}, warnings);
     const Node name = joint.at("name");
     ChainJoint entry{name.string(), readJointType(joint), Eigen::Vector3d::UnitZ()};
     if (entry.name.empty()) name.fail("a joint name must not be empty");
     if (!names.insert(entry.name).second) name.fail("joint name \"" + entry.name + "\" used twice");
     if (Chain::isMovable(entry.type)) entry.axis = readAxis(joint);
     readOriginAndOffset(joint, entry.type, values, warnings);
+    if (joint.has("mimic")) entry.mimic = readMimic(joint, entry.type, warnings);
     chain.push_back(std::move(entry));
   }
+  checkMimics(joints, chain);
   MachineBlock block;
   block.nominal = Eigen::Map<Eigen::VectorXd>(values.data(), static_cast<int>(values.size()));
   block.mechanism = std::make_shared<Chain>(std::move(chain));
@@ -102,6 +151,13 @@ void writeChain(const Mechanism& mechanism, const Eigen::VectorXd& parameters,
     if (Chain::isMovable(joint.type)) {
       entry["axis"] = {joint.axis[0], joint.axis[1], joint.axis[2]};
       entry["offset"] = fileValue(k + 6);
+    }
+    if (joint.mimic) {
+      const double offset = joint.type == ChainJointType::Revolute ? radToDeg(joint.mimic->offset)
+                                                                   : joint.mimic->offset;
+      entry["mimic"] = {{"joint", joint.mimic->joint},
+                        {"multiplier", joint.mimic->multiplier},
+                        {"offset", offset}};
     }
     joints.push_back(entry);
   }
