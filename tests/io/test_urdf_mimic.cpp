@@ -219,6 +219,27 @@ TEST(UrdfMimic, TrackerReadingsCalibrateWithin3uAndTheExportedUrdfKeepsTheKinema
   }
 }
 
+// Every parameter moved, the mimic joints' offsets and origins included (an offset of a mimic
+// joint folds into the next origin as any other): the exported URDF has the same tips.
+TEST(UrdfMimic, ExportFoldsTheMimicJointsOffsetsAndOrigins) {
+  const MachineBlock block = importColumn();
+  std::mt19937_64 rng(33);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  Eigen::VectorXd p = block.nominal;
+  for (int k = 0; k < p.size(); ++k) p[k] += 0.2 * uniform(rng);
+  const std::string out = temporaryUrdf("column-all");
+  std::ofstream(out, std::ios::binary) << exportUrdf(chainOf(block), p, kColumnUrdf, "machine");
+  const MachineBlock again = importColumn(out);
+  std::filesystem::remove(out);
+  Machine machine;
+  machine.mechanism = block.mechanism;
+  machine.joint_limits = {{0.0, 1412.0}};
+  for (int i = 1; i < 7; ++i) machine.joint_limits.push_back({-3.0, 3.0});
+  for (const Eigen::VectorXd& q : readingsWithinLimits(machine, 20, 34)) {
+    EXPECT_LT((tip(chainOf(block), p, q) - tip(chainOf(again), again.nominal, q)).norm(), 1e-9);
+  }
+}
+
 // A machine whose coupling is not the URDF's is refused on export, naming the joint's mimic.
 TEST(UrdfMimic, ExportRefusesACouplingOtherThanTheUrdfs) {
   json machine = importUrdf(kColumnUrdf, "base_link", "prism_link");
