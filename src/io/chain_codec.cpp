@@ -2,7 +2,6 @@
 
 #include "artcal/io/model_registry.hpp"
 
-#include <map>
 #include <memory>
 #include <set>
 
@@ -54,44 +53,12 @@ ChainMimic readMimic(const Node& joint, ChainJointType type, std::vector<std::st
   const Node mimic = joint.at("mimic");
   mimic.object();
   mimic.warnUnknown({"joint", "multiplier", "offset"}, warnings);
-  if (!Chain::isMovable(type)) mimic.fail("a fixed joint cannot mimic another joint");
   ChainMimic out;
-  const Node master = mimic.at("joint");
-  out.joint = master.string();
-  if (out.joint.empty()) master.fail("name the joint this one mimics");
+  out.joint = mimic.at("joint").string();
   if (mimic.has("multiplier")) out.multiplier = mimic.at("multiplier").number();
   const double offset = mimic.has("offset") ? mimic.at("offset").number() : 0.0;
   out.offset = type == ChainJointType::Revolute ? degToRad(offset) : offset;
   return out;
-}
-
-// What the model would refuse about the mimics, as an InputError with the mimic's pointer.
-void checkMimics(const Node& joints, const std::vector<ChainJoint>& chain) {
-  std::map<std::string, std::size_t> index, off_chain_type;
-  for (std::size_t i = 0; i < chain.size(); ++i) index[chain[i].name] = i;
-  for (std::size_t i = 0; i < chain.size(); ++i) {
-    if (!chain[i].mimic) continue;
-    const Node master = joints[i].at("mimic").at("joint");
-    const std::string& name = chain[i].mimic->joint;
-    if (name == chain[i].name) master.fail("a joint cannot mimic itself");
-    const auto on_chain = index.find(name);
-    if (on_chain == index.end()) {
-      const auto [it, first] = off_chain_type.emplace(name, i);
-      if (!first && chain[it->second].type != chain[i].type) {
-        master.fail("the joints that mimic \"" + name + "\" must be of one type");
-      }
-      continue;
-    }
-    const ChainJoint& driver = chain[on_chain->second];
-    if (!Chain::isMovable(driver.type) || driver.mimic) {
-      master.fail("joint \"" + name +
-                  "\" is fixed or a mimic itself (a cycle or a chain of mimics): name the "
-                  "driving joint");
-    }
-    if (driver.type != chain[i].type) {
-      master.fail("joint \"" + name + "\" is of another type than this one");
-    }
-  }
 }
 
 MachineBlock readChain(const Node& machine, std::vector<std::string>& warnings) {
@@ -114,7 +81,13 @@ MachineBlock readChain(const Node& machine, std::vector<std::string>& warnings) 
     if (joint.has("mimic")) entry.mimic = readMimic(joint, entry.type, warnings);
     chain.push_back(std::move(entry));
   }
-  checkMimics(joints, chain);
+  if (const auto problem = Chain::mimicProblem(chain)) {
+    const Node mimic = joints[static_cast<std::size_t>(problem->joint)].at("mimic");
+    (chain[static_cast<std::size_t>(problem->joint)].type == ChainJointType::Fixed
+         ? mimic
+         : mimic.at("joint"))
+        .fail(problem->message);
+  }
   MachineBlock block;
   block.nominal = Eigen::Map<Eigen::VectorXd>(values.data(), static_cast<int>(values.size()));
   block.mechanism = std::make_shared<Chain>(std::move(chain));

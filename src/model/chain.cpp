@@ -96,31 +96,44 @@ Chain::Chain(std::vector<ChainJoint> joints) : joints_(std::move(joints)) {
   parameters_ = chainParameters(joints_);
 }
 
-namespace {
-
-// A mimic's coupling, checked against the joint it names on the chain (nullptr: off the chain).
-void checkMimic(const ChainJoint& joint, const ChainJoint* master) {
-  const ChainMimic& mimic = *joint.mimic;
-  const std::string name = "chain: joint \"" + joint.name + "\"";
-  if (!Chain::isMovable(joint.type)) throw std::invalid_argument(name + ": a fixed joint mimics");
-  if (!std::isfinite(mimic.multiplier) || !std::isfinite(mimic.offset)) {
-    throw std::invalid_argument(name + ": mimic multiplier and offset must be finite");
+std::optional<ChainMimicProblem> Chain::mimicProblem(const std::vector<ChainJoint>& joints) {
+  std::map<std::string, std::size_t> index, first_off_chain_mimic;
+  for (std::size_t i = 0; i < joints.size(); ++i) index[joints[i].name] = i;
+  for (std::size_t i = 0; i < joints.size(); ++i) {
+    const ChainJoint& joint = joints[i];
+    if (!joint.mimic) continue;
+    const auto problem = [&](std::string message) {
+      return ChainMimicProblem{static_cast<int>(i), std::move(message)};
+    };
+    const ChainMimic& mimic = *joint.mimic;
+    if (!isMovable(joint.type)) return problem("a fixed joint cannot mimic another joint");
+    if (mimic.joint.empty()) return problem("name the joint this one mimics");
+    if (!std::isfinite(mimic.multiplier) || !std::isfinite(mimic.offset)) {
+      return problem("the multiplier and the offset must be finite");
+    }
+    if (mimic.joint == joint.name) return problem("a joint cannot mimic itself");
+    const auto on_chain = index.find(mimic.joint);
+    if (on_chain == index.end()) {  // a master off the chain: one type for all its mimics
+      const auto [first, inserted] = first_off_chain_mimic.emplace(mimic.joint, i);
+      if (!inserted && joints[first->second].type != joint.type) {
+        return problem("the joints that mimic \"" + mimic.joint + "\" must be of one type");
+      }
+      continue;
+    }
+    const ChainJoint& master = joints[on_chain->second];
+    if (!isMovable(master.type) || master.mimic) {
+      return problem("joint \"" + mimic.joint +
+                     "\" is fixed or a mimic itself (a cycle or a chain of mimics): name the "
+                     "driving joint");
+    }
+    if (master.type != joint.type) {
+      return problem("joint \"" + mimic.joint +
+                     "\" is of another type than this one (a mimic and its master are both "
+                     "revolute or both prismatic)");
+    }
   }
-  if (mimic.joint.empty()) throw std::invalid_argument(name + ": mimic of no joint");
-  if (mimic.joint == joint.name) throw std::invalid_argument(name + " mimics itself");
-  if (!master) return;
-  if (!Chain::isMovable(master->type) || master->mimic) {
-    throw std::invalid_argument(name + " mimics joint \"" + master->name +
-                                "\", which is fixed or a mimic itself (a cycle or a chain of "
-                                "mimics): the master must be a driving joint");
-  }
-  if (master->type != joint.type) {
-    throw std::invalid_argument(name + " and its master \"" + master->name +
-                                "\" are of different types");
-  }
+  return std::nullopt;
 }
-
-}  // namespace
 
 // The readings in order (driving joints on the chain; a master off it where its first mimic
 // stands), then each movable joint's coupling to them.
@@ -129,18 +142,17 @@ void Chain::resolveReadings() {
   for (std::size_t i = 0; i < joints_.size(); ++i) {
     chain_index[joints_[i].name] = static_cast<int>(i);
   }
+  if (const auto problem = mimicProblem(joints_)) {
+    throw std::invalid_argument("chain: joint \"" +
+                                joints_[static_cast<std::size_t>(problem->joint)].name +
+                                "\": " + problem->message);
+  }
   for (std::size_t i = 0; i < joints_.size(); ++i) {
     const ChainJoint& joint = joints_[i];
     if (joint.mimic) {
-      const auto on_chain = chain_index.find(joint.mimic->joint);
-      const bool off_chain = on_chain == chain_index.end();
-      checkMimic(joint, off_chain ? nullptr : &joints_[static_cast<std::size_t>(on_chain->second)]);
-      if (!off_chain) continue;  // the master's own reading
-      const auto [it, first] = reading_of.emplace(joint.mimic->joint, jointCount());
-      if (first) readings_.push_back({joint.mimic->joint, joint.type, -1});
-      if (readings_[static_cast<std::size_t>(it->second)].type != joint.type) {
-        throw std::invalid_argument("chain: the mimics of joint \"" + joint.mimic->joint +
-                                    "\" are of different types");
+      if (chain_index.count(joint.mimic->joint)) continue;  // the master's own reading
+      if (reading_of.emplace(joint.mimic->joint, jointCount()).second) {
+        readings_.push_back({joint.mimic->joint, joint.type, -1});
       }
     } else if (isMovable(joint.type)) {
       reading_of[joint.name] = jointCount();

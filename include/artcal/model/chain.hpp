@@ -39,6 +39,12 @@ struct ChainJoint {
   std::optional<ChainMimic> mimic = std::nullopt;   ///< movable joints only
 };
 
+/// Why a chain's mimics do not resolve: the chain index of the mimic joint and what to check.
+struct ChainMimicProblem {
+  int joint = 0;
+  std::string message;
+};
+
 /// One reading of the chain: a driving joint (on the chain, or a master off it).
 struct ChainReading {
   std::string name;
@@ -73,6 +79,10 @@ class Chain final : public Mechanism {
   /// Index in p of chain joint i's x; y z roll pitch yaw follow, then offset if it is movable.
   int parameterOffset(int chain_joint) const { return offsets_[chain_joint]; }
   static bool isMovable(ChainJointType type) { return type != ChainJointType::Fixed; }
+  /// The first mimic of `joints` that is not a coupling of two movable joints of one type (on a
+  /// fixed joint, of itself, of a fixed joint or of a mimic, of another type; the mimics of a
+  /// master off the chain of different types); std::nullopt when every mimic resolves.
+  static std::optional<ChainMimicProblem> mimicProblem(const std::vector<ChainJoint>& joints);
   /// The readings (driving joints), in order.
   const std::vector<ChainReading>& readings() const { return readings_; }
 
