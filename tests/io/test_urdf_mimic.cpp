@@ -17,6 +17,7 @@
 #include "artcal/io/chain_codec.hpp"
 #include "artcal/io/urdf.hpp"
 #include "cli_runner.hpp"
+#include "plan_builders.hpp"
 
 namespace artcal {
 namespace {
@@ -167,13 +168,7 @@ TEST(UrdfMimic, ColumnReadingsInMetresBecomeMillimetres) {
   EXPECT_NEAR(reading.joints[1], degToRad(joint1_deg), 1e-12);
 }
 
-// p_true = nominal + 3 u (alternating signs) of the plan's predicted u: well outside the noise.
-Eigen::VectorXd shiftedTruth(const Plan& plan, const Eigen::VectorXd& u) {
-  Eigen::VectorXd shift(u.size());
-  for (int k = 0; k < u.size(); ++k) shift[k] = (k % 2 == 0 ? 3.0 : -3.0) * u[k];
-  const Machine& machine = plan.machine;
-  return machine.withCalibrated(machine.nominal, machine.calibratedValues(machine.nominal) + shift);
-}
+using testing::shiftedTruth;
 
 TEST(UrdfMimic, TrackerReadingsCalibrateWithin3uAndTheExportedUrdfKeepsTheKinematics) {
   Plan plan = columnPlan();
