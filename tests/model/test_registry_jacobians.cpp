@@ -127,7 +127,7 @@ TEST(RegisteredModels, EveryFamilyHasAPlanAndExactJacobians) {
 // A chain with mimic joints (a lifting column off the chain driving two coupled segments,
 // instruments.md): J_x_q of the column's reading sums both segments' columns times 0.5.
 TEST(RegisteredModels, AMimicChainHasExactJacobians) {
-  const Plan plan = loadPlan(std::string(ARTCAL_TEST_DATA) + "/lifting-column-tracker.json");
+  const Plan plan = loadPlan(test_support::testDataFile("lifting-column-tracker.json"));
   ASSERT_EQ(plan.machine.mechanism->modelName(), "chain");
   ASSERT_EQ(plan.machine.jointCount(), 7);
   std::mt19937_64 rng(21);
