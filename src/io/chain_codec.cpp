@@ -47,6 +47,20 @@ void readOriginAndOffset(const Node& joint, ChainJointType type, std::vector<dou
   values.push_back(type == ChainJointType::Revolute ? degToRad(offset) : offset);
 }
 
+// A joint's "mimic": {"joint": NAME, "multiplier": m, "offset": c} (c in mm or deg; defaults as
+// URDF's: m = 1, c = 0).
+ChainMimic readMimic(const Node& joint, ChainJointType type, std::vector<std::string>& warnings) {
+  const Node mimic = joint.at("mimic");
+  mimic.object();
+  mimic.warnUnknown({"joint", "multiplier", "offset"}, warnings);
+  ChainMimic out;
+  out.joint = mimic.at("joint").string();
+  if (mimic.has("multiplier")) out.multiplier = mimic.at("multiplier").number();
+  const double offset = mimic.has("offset") ? mimic.at("offset").number() : 0.0;
+  out.offset = type == ChainJointType::Revolute ? degToRad(offset) : offset;
+  return out;
+}
+
 MachineBlock readChain(const Node& machine, std::vector<std::string>& warnings) {
   machine.warnUnknown({"joints"}, warnings);
   const Node joints = machine.at("joints");
@@ -57,14 +71,22 @@ MachineBlock readChain(const Node& machine, std::vector<std::string>& warnings) 
   for (std::size_t i = 0; i < n; ++i) {
     const Node joint = joints[i];
     joint.object();
-    joint.warnUnknown({"name", "type", "origin", "axis", "offset"}, warnings);
+    joint.warnUnknown({"name", "type", "origin", "axis", "offset", "mimic"}, warnings);
     const Node name = joint.at("name");
     ChainJoint entry{name.string(), readJointType(joint), Eigen::Vector3d::UnitZ()};
     if (entry.name.empty()) name.fail("a joint name must not be empty");
     if (!names.insert(entry.name).second) name.fail("joint name \"" + entry.name + "\" used twice");
     if (Chain::isMovable(entry.type)) entry.axis = readAxis(joint);
     readOriginAndOffset(joint, entry.type, values, warnings);
+    if (joint.has("mimic")) entry.mimic = readMimic(joint, entry.type, warnings);
     chain.push_back(std::move(entry));
+  }
+  if (const auto problem = Chain::mimicProblem(chain)) {
+    const Node mimic = joints[static_cast<std::size_t>(problem->joint)].at("mimic");
+    (chain[static_cast<std::size_t>(problem->joint)].type == ChainJointType::Fixed
+         ? mimic
+         : mimic.at("joint"))
+        .fail(problem->message);
   }
   MachineBlock block;
   block.nominal = Eigen::Map<Eigen::VectorXd>(values.data(), static_cast<int>(values.size()));
@@ -102,6 +124,13 @@ void writeChain(const Mechanism& mechanism, const Eigen::VectorXd& parameters,
     if (Chain::isMovable(joint.type)) {
       entry["axis"] = {joint.axis[0], joint.axis[1], joint.axis[2]};
       entry["offset"] = fileValue(k + 6);
+    }
+    if (joint.mimic) {
+      const double offset = joint.type == ChainJointType::Revolute ? radToDeg(joint.mimic->offset)
+                                                                   : joint.mimic->offset;
+      entry["mimic"] = {{"joint", joint.mimic->joint},
+                        {"multiplier", joint.mimic->multiplier},
+                        {"offset", offset}};
     }
     joints.push_back(entry);
   }

@@ -244,12 +244,6 @@ std::vector<urdf::JointConstSharedPtr> chainJoints(const UrdfDocument& doc, cons
       doc.fail(nullptr,
                "link \"" + base + "\" is not above link \"" + tip + "\" (check --base and --tip)");
     }
-    if (link->parent_joint->mimic) {
-      doc.fail(jointElement(doc, link->parent_joint->name),
-               "joint \"" + link->parent_joint->name + "\" mimics joint \"" +
-                   link->parent_joint->mimic->joint_name +
-                   "\": mimic joints are not supported in a chain (one reading per joint)");
-    }
     joints.push_back(link->parent_joint);
     link = doc.model->getLink(link->parent_joint->parent_link_name);
   }
@@ -342,13 +336,83 @@ bool typesAgree(ChainJointType type, const urdf::Joint& joint) {
   return false;
 }
 
+bool isRevolute(const urdf::Joint& joint) {
+  return joint.type == urdf::Joint::REVOLUTE || joint.type == urdf::Joint::CONTINUOUS;
+}
+
+// The joint a <mimic> joint follows: it exists, is revolute, continuous or prismatic like the
+// mimic (one unit for the multiplier), and is no mimic itself (which also rules out a cycle).
+const urdf::Joint& mimicMaster(const UrdfDocument& doc, const urdf::Joint& joint) {
+  const tinyxml2::XMLElement* element = jointElement(doc, joint.name);
+  const tinyxml2::XMLElement* at = element ? element->FirstChildElement("mimic") : nullptr;
+  const std::string& name = joint.mimic->joint_name;
+  const std::string what = "joint \"" + joint.name + "\" mimics joint \"" + name + "\"";
+  if (joint.type == urdf::Joint::FIXED) doc.fail(at, what + ", but a fixed joint does not move");
+  const urdf::JointConstSharedPtr master = doc.model->getJoint(name);
+  if (!master) doc.fail(at, what + ", which does not exist: check <mimic joint>");
+  if (master->mimic) {
+    doc.fail(at, what + ", which mimics joint \"" + master->mimic->joint_name + "\" in turn" +
+                     (master->mimic->joint_name == joint.name ? " (a cycle)" : "") +
+                     ": a mimic must name its driving joint");
+  }
+  const bool same_type =
+      (isRevolute(*master) && isRevolute(joint)) ||
+      (master->type == urdf::Joint::PRISMATIC && joint.type == urdf::Joint::PRISMATIC);
+  if (!same_type) {
+    doc.fail(at, what +
+                     " of another type: a mimic and its master must both be revolute "
+                     "(or continuous) or both prismatic");
+  }
+  return *master;
+}
+
+// "mimic": {"joint", "multiplier", "offset" (mm or deg)} from the <mimic> element's own text
+// (absent attributes: multiplier 1, offset 0, as URDF says).
+json mimicJson(const UrdfDocument& doc, const urdf::Joint& joint) {
+  const tinyxml2::XMLElement* mimic = jointElement(doc, joint.name)->FirstChildElement("mimic");
+  const auto attribute = [&](const char* name, double absent, bool metres) {
+    const char* text = mimic ? mimic->Attribute(name) : nullptr;
+    if (!text) return absent;
+    const std::vector<std::string> t = tokens(text);
+    double value = 0.0;
+    const bool ok = t.size() == 1 &&
+                    (metres ? metresTextToMillimetres(t[0], value) : boundedNumber(t[0], value));
+    if (!ok) {
+      doc.fail(mimic, "joint \"" + joint.name + "\": <mimic " + name +
+                          "> is not a number (or beyond 1e9 mm or deg)");
+    }
+    return value;
+  };
+  const bool prismatic = joint.type == urdf::Joint::PRISMATIC;
+  const double offset = attribute("offset", 0.0, prismatic);
+  return {{"joint", joint.mimic->joint_name},
+          {"multiplier", attribute("multiplier", 1.0, false)},
+          {"offset", prismatic ? offset : radToDeg(offset)}};
+}
+
+// Whether the machine's joint and the URDF's follow the same master alike (or neither mimics):
+// export writes the URDF's <mimic> back as it is. Compared in the URDF's units, to rounding.
+bool sameCoupling(const ChainJoint& joint, const urdf::Joint& urdf_joint) {
+  if (!joint.mimic || !urdf_joint.mimic) return !joint.mimic && !urdf_joint.mimic;
+  const double scale = joint.type == ChainJointType::Prismatic ? 1e-3 : 1.0;
+  const auto close = [](double a, double b) {
+    return std::abs(a - b) <= 1e-12 * std::max(1.0, std::abs(b));
+  };
+  return joint.mimic->joint == urdf_joint.mimic->joint_name &&
+         close(joint.mimic->multiplier, urdf_joint.mimic->multiplier) &&
+         close(joint.mimic->offset * scale, urdf_joint.mimic->offset);
+}
+
 }  // namespace
 
 json importUrdf(const std::string& urdf_path, const std::string& base, const std::string& tip) {
   UrdfDocument doc;
   loadUrdf(urdf_path, doc);
   json joints = json::array(), limits = json::array();
-  for (const urdf::JointConstSharedPtr& joint : chainJoints(doc, base, tip)) {
+  const std::vector<urdf::JointConstSharedPtr> chain = chainJoints(doc, base, tip);
+  std::set<std::string> on_chain, masters_read;
+  for (const urdf::JointConstSharedPtr& joint : chain) on_chain.insert(joint->name);
+  for (const urdf::JointConstSharedPtr& joint : chain) {
     const tinyxml2::XMLElement* element = jointElement(doc, joint->name);
     if (!element) doc.fail(nullptr, "joint \"" + joint->name + "\" not found in the XML");
     const OriginValues origin = readOrigin(doc, element);
@@ -361,6 +425,15 @@ json importUrdf(const std::string& urdf_path, const std::string& base, const std
     if (joint->type != urdf::Joint::FIXED) {
       const Eigen::Vector3d axis = readAxis(doc, element, joint->name);
       entry["axis"] = vectorJson(axis);
+    }
+    if (joint->mimic) {
+      // One reading per driving joint: an off-chain master's where its first mimic stands.
+      const urdf::Joint& master = mimicMaster(doc, *joint);
+      entry["mimic"] = mimicJson(doc, *joint);
+      if (!on_chain.count(master.name) && masters_read.insert(master.name).second) {
+        limits.push_back(jointLimits(doc, master));
+      }
+    } else if (joint->type != urdf::Joint::FIXED) {
       limits.push_back(jointLimits(doc, *joint));
     }
     joints.push_back(entry);
@@ -409,10 +482,10 @@ std::string exportUrdf(const Chain& chain, const Eigen::VectorXd& p, const std::
                        "joint \"" + joint.name + "\" is not in " + urdf_path +
                            " (export to the URDF the machine was imported from)");
     }
-    if (urdf_joint->mimic) {
-      throw InputError(machine_source, where,
-                       "joint \"" + joint.name + "\" mimics another joint in " + urdf_path +
-                           ": mimic joints are not supported");
+    if (!sameCoupling(joint, *urdf_joint)) {
+      throw InputError(machine_source, where + "/mimic",
+                       "joint \"" + joint.name + "\" is coupled otherwise in " + urdf_path +
+                           " (its <mimic>): export to the URDF the machine was imported from");
     }
     if (!typesAgree(joint.type, *urdf_joint)) {
       throw InputError(machine_source, where,

@@ -2,6 +2,7 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <map>
 #include <optional>
 #include <set>
 #include <stdexcept>
@@ -88,16 +89,98 @@ Chain::Chain(std::vector<ChainJoint> joints) : joints_(std::move(joints)) {
         throw std::invalid_argument("chain: joint \"" + joint.name + "\" has a zero axis");
       }
       joint.axis /= norm;
-      movable_.push_back(static_cast<int>(i));
       offset += 1;
     }
   }
+  resolveReadings();
   parameters_ = chainParameters(joints_);
 }
 
+std::optional<ChainMimicProblem> Chain::mimicProblem(const std::vector<ChainJoint>& joints) {
+  std::map<std::string, std::size_t> index, first_off_chain_mimic;
+  for (std::size_t i = 0; i < joints.size(); ++i) index[joints[i].name] = i;
+  for (std::size_t i = 0; i < joints.size(); ++i) {
+    const ChainJoint& joint = joints[i];
+    if (!joint.mimic) continue;
+    const auto problem = [&](std::string message) {
+      return ChainMimicProblem{static_cast<int>(i), std::move(message)};
+    };
+    const ChainMimic& mimic = *joint.mimic;
+    if (!isMovable(joint.type)) return problem("a fixed joint cannot mimic another joint");
+    if (mimic.joint.empty()) return problem("name the joint this one mimics");
+    if (!std::isfinite(mimic.multiplier) || !std::isfinite(mimic.offset)) {
+      return problem("the multiplier and the offset must be finite");
+    }
+    if (mimic.joint == joint.name) return problem("a joint cannot mimic itself");
+    const auto on_chain = index.find(mimic.joint);
+    if (on_chain == index.end()) {  // a master off the chain: one type for all its mimics
+      const auto [first, inserted] = first_off_chain_mimic.emplace(mimic.joint, i);
+      if (!inserted && joints[first->second].type != joint.type) {
+        return problem("the joints that mimic \"" + mimic.joint + "\" must be of one type");
+      }
+      continue;
+    }
+    const ChainJoint& master = joints[on_chain->second];
+    if (!isMovable(master.type) || master.mimic) {
+      return problem("joint \"" + mimic.joint +
+                     "\" is fixed or a mimic itself (a cycle or a chain of mimics): name the "
+                     "driving joint");
+    }
+    if (master.type != joint.type) {
+      return problem("joint \"" + mimic.joint +
+                     "\" is of another type than this one (a mimic and its master are both "
+                     "revolute or both prismatic)");
+    }
+  }
+  return std::nullopt;
+}
+
+// The readings in order (driving joints on the chain; a master off it where its first mimic
+// stands), then each movable joint's coupling to them.
+void Chain::resolveReadings() {
+  std::map<std::string, int> chain_index, reading_of;
+  for (std::size_t i = 0; i < joints_.size(); ++i) {
+    chain_index[joints_[i].name] = static_cast<int>(i);
+  }
+  if (const auto problem = mimicProblem(joints_)) {
+    throw std::invalid_argument("chain: joint \"" +
+                                joints_[static_cast<std::size_t>(problem->joint)].name +
+                                "\": " + problem->message);
+  }
+  for (std::size_t i = 0; i < joints_.size(); ++i) {
+    const ChainJoint& joint = joints_[i];
+    if (joint.mimic) {
+      if (chain_index.count(joint.mimic->joint)) continue;  // the master's own reading
+      if (reading_of.emplace(joint.mimic->joint, jointCount()).second) {
+        readings_.push_back({joint.mimic->joint, joint.type, -1});
+      }
+    } else if (isMovable(joint.type)) {
+      reading_of[joint.name] = jointCount();
+      readings_.push_back({joint.name, joint.type, static_cast<int>(i)});
+    }
+  }
+  couplings_.assign(joints_.size(), Coupling{});
+  for (std::size_t i = 0; i < joints_.size(); ++i) {
+    const ChainJoint& joint = joints_[i];
+    if (joint.mimic) {
+      couplings_[i] = {reading_of.at(joint.mimic->joint), joint.mimic->multiplier,
+                       joint.mimic->offset};
+    } else if (isMovable(joint.type)) {
+      couplings_[i].reading = reading_of.at(joint.name);
+    }
+  }
+}
+
+double Chain::jointValue(int chain_joint, const Eigen::VectorXd& p,
+                         const Eigen::VectorXd& q) const {
+  const Coupling& c = couplings_[static_cast<std::size_t>(chain_joint)];
+  return c.scale * q[c.reading] + c.bias + p[offsets_[static_cast<std::size_t>(chain_joint)] + 6];
+}
+
 JointKind Chain::jointKind(int joint) const {
-  return joints_[movable_[joint]].type == ChainJointType::Prismatic ? JointKind::Prismatic
-                                                                    : JointKind::Revolute;
+  return readings_[static_cast<std::size_t>(joint)].type == ChainJointType::Prismatic
+             ? JointKind::Prismatic
+             : JointKind::Revolute;
 }
 
 // Geometric Jacobian. With R the orientation before joint i and o_i = o + R xyz_i the pivot of
@@ -107,7 +190,9 @@ JointKind Chain::jointKind(int joint) const {
 //   dx/dyaw_i   = a_yaw x (x - o_i),   a_yaw   = R e_z,
 //   dx/dpitch_i = a_pitch x (x - o_i), a_pitch = R Rz(yaw) e_y,
 //   dx/droll_i  = a_roll x (x - o_i),  a_roll  = R Rz(yaw) Ry(pitch) e_x,
-//   dx/doffset_i = dx/dq_i = a_i x (x - o_i) (revolute) or a_i (prismatic), a_i the world axis.
+//   dx/doffset_i = a_i x (x - o_i) (revolute) or a_i (prismatic), a_i the world axis;
+//   dx/dq_r = sum over the joints i driven by reading r of scale_i dx/doffset_i (a mimic's
+//   multiplier; 1 for the driving joint itself).
 // Rotation columns hold their world axis until the tip is known, then the cross product.
 ForwardStatus Chain::forward(const Eigen::VectorXd& p, const Eigen::VectorXd& q, Eigen::VectorXd& x,
                              Eigen::MatrixXd* J_x_p, Eigen::MatrixXd* J_x_q) const {
@@ -120,7 +205,6 @@ ForwardStatus Chain::forward(const Eigen::VectorXd& p, const Eigen::VectorXd& q,
     J_x_p->resize(3, parameterCount());
     Jp.emplace(J_x_p->data(), 3, parameterCount());
   }
-  int reading = 0;
   for (int i = 0; i < n; ++i) {
     const ChainJoint& joint = joints_[i];
     const int k = offsets_[i];
@@ -134,7 +218,7 @@ ForwardStatus Chain::forward(const Eigen::VectorXd& p, const Eigen::VectorXd& q,
     if (Jp) Jp->col(k + 3) = R.col(0);
     turnAboutX(R, p[k + 3]);
     if (!isMovable(joint.type)) continue;
-    const double value = q[reading++] + p[k + 6];
+    const double value = jointValue(i, p, q);
     const Eigen::Vector3d axis = R * joint.axis;
     joint_axes.col(i) = axis;
     if (Jp) Jp->col(k + 6) = axis;
@@ -157,14 +241,16 @@ ForwardStatus Chain::forward(const Eigen::VectorXd& p, const Eigen::VectorXd& q,
     }
   }
   if (J_x_q) {
-    J_x_q->resize(3, jointCount());
+    J_x_q->setZero(3, jointCount());
     Jacobian Jq(J_x_q->data(), 3, jointCount());
-    for (int m = 0; m < jointCount(); ++m) {
-      const int i = movable_[m];
-      if (joints_[i].type == ChainJointType::Revolute) {
-        Jq.col(m) = joint_axes.col(i).cross(o - pivots.col(i));
+    for (int i = 0; i < n; ++i) {
+      const ChainJointType type = joints_[i].type;
+      if (!isMovable(type)) continue;
+      const Coupling& c = couplings_[static_cast<std::size_t>(i)];
+      if (type == ChainJointType::Revolute) {
+        Jq.col(c.reading) += c.scale * joint_axes.col(i).cross(o - pivots.col(i));
       } else {
-        Jq.col(m) = joint_axes.col(i);
+        Jq.col(c.reading) += c.scale * joint_axes.col(i);
       }
     }
   }
@@ -177,7 +263,6 @@ std::vector<Eigen::VectorXd> Chain::skeleton(const Eigen::VectorXd& p,
   Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
   Eigen::Vector3d o = Eigen::Vector3d::Zero();
   std::vector<Eigen::VectorXd> points{o};
-  int reading = 0;
   for (std::size_t i = 0; i < joints_.size(); ++i) {
     const ChainJoint& joint = joints_[i];
     const int k = offsets_[i];
@@ -187,7 +272,7 @@ std::vector<Eigen::VectorXd> Chain::skeleton(const Eigen::VectorXd& p,
     turnAboutY(R, p[k + 4]);
     turnAboutX(R, p[k + 3]);
     if (!isMovable(joint.type)) continue;
-    const double value = q[reading++] + p[k + 6];
+    const double value = jointValue(static_cast<int>(i), p, q);
     if (joint.type == ChainJointType::Revolute) {
       R = R * axisAngleMatrix(joint.axis, value);
     } else {

@@ -9,6 +9,7 @@
 #include "artcal/calibration/calibrate_readings.hpp"
 #include "artcal/calibration/station_verification.hpp"
 #include "cli_runner.hpp"
+#include "plan_builders.hpp"
 #include "test_paths.hpp"
 
 namespace artcal {
@@ -28,13 +29,7 @@ std::string refusal(const nlohmann::json& document) {
   return "";
 }
 
-// p_true = nominal + 3 u (alternating signs) of the plan's predicted u: well outside the noise.
-Eigen::VectorXd shiftedTruth(const Plan& plan, const Eigen::VectorXd& u) {
-  Eigen::VectorXd shift(u.size());
-  for (int k = 0; k < u.size(); ++k) shift[k] = (k % 2 == 0 ? 3.0 : -3.0) * u[k];
-  const Machine& machine = plan.machine;
-  return machine.withCalibrated(machine.nominal, machine.calibratedValues(machine.nominal) + shift);
-}
+using testing::shiftedTruth;
 
 TEST(Instrument, SimulatedTrackerReadingsCalibrateToTheTruthWithin3u) {
   Plan plan = parsePlan(trackerDocument(), "tracker.json");

@@ -319,10 +319,21 @@ TEST(HostileOutputs, AMachineOfAnotherRobotIsRefusedNamingTheFirstDifference) {
                 file, "/joints/3/axis");
 }
 
-TEST(HostileOutputs, MimicJointsAreRefusedNotDropped) {
+// A mimic joint is kept, never dropped (instruments.md: its master's one reading drives it); a
+// mimic that cannot be resolved is refused naming the <mimic>'s line.
+TEST(HostileOutputs, MimicJointsAreKeptNotDroppedAndBadMimicsRefused) {
   const std::string file = testDataFile("hostile/mimic-in-chain.urdf");
-  expectRefused("import-urdf " + shellQuoted(file) + " --base base --tip tip", file,
-                "joint \"j2\" mimics joint \"j1\"");
+  const CliRun run = runCli("import-urdf " + shellQuoted(file) + " --base base --tip tip");
+  ASSERT_EQ(run.status, 0) << run.out;
+  const json machine = json::parse(run.out);
+  EXPECT_EQ(machine["joints"][1]["mimic"],
+            json({{"joint", "j1"}, {"multiplier", 2.0}, {"offset", 0.0}}));
+  EXPECT_EQ(machine["joint_limits"], json({{-180.0, 180.0}}));  // j1's reading only
+  const std::string missing = testDataFile("hostile/mimic-of-missing-joint.urdf");
+  expectRefused("import-urdf " + shellQuoted(missing) + " --base base --tip tip", missing,
+                "line 6: joint \"j2\" mimics joint \"no_such_joint\", which does not exist");
+  const std::string cycle = testDataFile("hostile/mimic-cycle.urdf");
+  expectRefused("import-urdf " + shellQuoted(cycle) + " --base base --tip tip", cycle, "(a cycle)");
 }
 
 TEST(HostileOutputs, CoincidentBallPlateCentresAreRefused) {

@@ -3,7 +3,8 @@
 // plans/ and tests/data, and checks J_x_p and J_x_q of the forward kinematics, through every
 // stylus, against central differences at random configurations (seeded): uniform within the
 // joint limits where the forward kinematics succeeds there, and the plan's readings moved by a
-// random step. A new family that ships no plan, or whose Jacobians are wrong, fails here.
+// random step. A new family that ships no plan, or whose Jacobians are wrong, fails here. A
+// chain with mimic joints is checked besides (its plan is not the first chain plan).
 
 #include <gtest/gtest.h>
 
@@ -121,6 +122,16 @@ TEST(RegisteredModels, EveryFamilyHasAPlanAndExactJacobians) {
                                << " in plans/ or tests/data: add one";
     expectJacobiansMatchDifferences(it->second, rng);
   }
+}
+
+// A chain with mimic joints (a lifting column off the chain driving two coupled segments,
+// instruments.md): J_x_q of the column's reading sums both segments' columns times 0.5.
+TEST(RegisteredModels, AMimicChainHasExactJacobians) {
+  const Plan plan = loadPlan(test_support::testDataFile("lifting-column-tracker.json"));
+  ASSERT_EQ(plan.machine.mechanism->modelName(), "chain");
+  ASSERT_EQ(plan.machine.jointCount(), 7);
+  std::mt19937_64 rng(21);
+  expectJacobiansMatchDifferences(plan, rng);
 }
 
 }  // namespace

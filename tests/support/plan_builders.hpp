@@ -116,4 +116,13 @@ inline std::vector<Placement> randomSpatialBars(const Plan& plan, int count, int
   return placements;
 }
 
+/// A simulated truth: p_true = nominal + 3 u (alternating signs) of the calibrated parameters,
+/// u the plan's predicted uncertainty: well outside the noise.
+inline Eigen::VectorXd shiftedTruth(const Plan& plan, const Eigen::VectorXd& u) {
+  Eigen::VectorXd shift(u.size());
+  for (int k = 0; k < u.size(); ++k) shift[k] = (k % 2 == 0 ? 3.0 : -3.0) * u[k];
+  const Machine& machine = plan.machine;
+  return machine.withCalibrated(machine.nominal, machine.calibratedValues(machine.nominal) + shift);
+}
+
 }  // namespace artcal::testing

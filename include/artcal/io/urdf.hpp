@@ -5,14 +5,19 @@
 // links, joints, types, axes, limits); the <origin> values are read from the file's own text with
 // tinyxml2 (urdfdom keeps origins as quaternions, and back to roll-pitch-yaw loses digits near
 // pitch = +-90 deg). Metres and radians become mm and degrees; joint_limits come from <limit>
-// (continuous joints: -180..180 deg).
+// (continuous joints: -180..180 deg). A <mimic> becomes the joint's "mimic" (offset in mm or
+// deg); the readings and joint_limits are the driving joints' (a master off the chain, with its
+// <limit>, where its first mimic stands); a mimic of a missing joint, of a mimic (a cycle) or of
+// another type is refused naming the <mimic>'s line.
 //
 // Export: the input URDF with the chain's <origin> xyz and rpy attributes replaced by the
 // machine's, and nothing else changed (meshes, limits, gazebo and transmission tags, comments
 // stay). A movable joint's offset d is folded exactly into the origins of the joints that hang
 // from its child link (the chain's next joint among them): M(q + d) = M(q) M(d), and M(d)
 // premultiplies each such origin (Rot(axis, d) for a revolute joint, Trans(d axis) for a
-// prismatic one). The exported file's forward kinematics equals the machine's.
+// prismatic one; a mimic joint's alike). Every <mimic> is written back unchanged; a machine
+// coupled otherwise than the URDF is refused. The exported file's forward kinematics equals the
+// machine's.
 //
 // Errors are InputError naming the URDF file (or the machine file), "line N" where the XML
 // gives one, and what to check.

@@ -7,8 +7,15 @@
 // (mm), NAME.roll NAME.pitch NAME.yaw (rad inside) and, for a movable joint, NAME.offset. The axis
 // is a unit vector and not a parameter (its tilt is the next frame's rpy). The chain is heavily
 // over-parameterised on purpose; "calibrate": "identifiable" chooses what the data separates.
+//
+// Mimic joints (URDF <mimic>, instruments.md): a movable joint with a mimic has the value
+// m q_J + c + offset_i, J its master; it is no reading of its own. The readings are one per
+// driving joint: the movable joints that are not mimics, in chain order, with each master that
+// is not on the chain (a virtual lifting column on a branch of its own) inserted where its first
+// mimic joint stands. A mimic and its master are of one type (both revolute or both prismatic).
 
 #include <Eigen/Core>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -18,10 +25,31 @@ namespace artcal {
 
 enum class ChainJointType { Revolute, Prismatic, Fixed };
 
+/// A joint's coupling to its master: value = multiplier * q_master + offset.
+struct ChainMimic {
+  std::string joint;        ///< the master: a movable joint of the chain, or one off it
+  double multiplier = 1.0;  ///< dimensionless (a mimic and its master are of one type)
+  double offset = 0.0;      ///< rad (revolute) or mm (prismatic)
+};
+
 struct ChainJoint {
   std::string name;
   ChainJointType type = ChainJointType::Fixed;
   Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();  ///< normalised by the model; unused if fixed
+  std::optional<ChainMimic> mimic = std::nullopt;   ///< movable joints only
+};
+
+/// Why a chain's mimics do not resolve: the chain index of the mimic joint and what to check.
+struct ChainMimicProblem {
+  int joint = 0;
+  std::string message;
+};
+
+/// One reading of the chain: a driving joint (on the chain, or a master off it).
+struct ChainReading {
+  std::string name;
+  ChainJointType type = ChainJointType::Revolute;
+  int chain_joint = -1;  ///< its index among joints(); -1 for a master off the chain
 };
 
 class Chain final : public Mechanism {
@@ -30,12 +58,13 @@ class Chain final : public Mechanism {
   static constexpr int kOriginParameters = 6;  ///< x y z roll pitch yaw
 
   /// Throws std::invalid_argument on an empty chain, more than kMaxJoints joints, an empty or
-  /// repeated name, or a zero axis of a movable joint.
+  /// repeated name, a zero axis of a movable joint, or a mimic that is not a coupling of two
+  /// movable joints of one type (on a fixed joint, of itself, of a fixed joint or of a mimic).
   explicit Chain(std::vector<ChainJoint> joints);
 
   std::string modelName() const override { return "chain"; }
   int dimension() const override { return 3; }
-  int jointCount() const override { return static_cast<int>(movable_.size()); }
+  int jointCount() const override { return static_cast<int>(readings_.size()); }
   JointKind jointKind(int joint) const override;
   const std::vector<ParameterInfo>& parameters() const override { return parameters_; }
   ForwardStatus forward(const Eigen::VectorXd& p, const Eigen::VectorXd& q, Eigen::VectorXd& x,
@@ -50,10 +79,26 @@ class Chain final : public Mechanism {
   /// Index in p of chain joint i's x; y z roll pitch yaw follow, then offset if it is movable.
   int parameterOffset(int chain_joint) const { return offsets_[chain_joint]; }
   static bool isMovable(ChainJointType type) { return type != ChainJointType::Fixed; }
+  /// The first mimic of `joints` that is not a coupling of two movable joints of one type (on a
+  /// fixed joint, of itself, of a fixed joint or of a mimic, of another type; the mimics of a
+  /// master off the chain of different types); std::nullopt when every mimic resolves.
+  static std::optional<ChainMimicProblem> mimicProblem(const std::vector<ChainJoint>& joints);
+  /// The readings (driving joints), in order.
+  const std::vector<ChainReading>& readings() const { return readings_; }
 
  private:
+  /// How a movable joint's value follows the readings: scale * q[reading] + bias + its offset.
+  struct Coupling {
+    int reading = 0;
+    double scale = 1.0;
+    double bias = 0.0;
+  };
+  void resolveReadings();
+  double jointValue(int chain_joint, const Eigen::VectorXd& p, const Eigen::VectorXd& q) const;
+
   std::vector<ChainJoint> joints_;
-  std::vector<int> movable_;  ///< chain index of each movable joint, in reading order
+  std::vector<ChainReading> readings_;
+  std::vector<Coupling> couplings_;  ///< per chain joint (unused for fixed ones)
   std::vector<int> offsets_;
   std::vector<ParameterInfo> parameters_;
 };
