@@ -23,7 +23,7 @@
 #include "test_paths.hpp"
 
 namespace artcal {
-namespace {
+namespace acceptance_test {
 
 const char* kReferencePlan = "ref-acceptance-cmm-3planes.json";
 

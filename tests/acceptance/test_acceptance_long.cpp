@@ -14,7 +14,7 @@
 #include "test_paths.hpp"
 
 namespace artcal {
-namespace {
+namespace acceptance_long_test {
 
 TEST(LengthTestLongRun, MillionTrialsAgreeWithTheAdaptiveRunAndTheReference) {
   const Plan plan = loadPlan(test_support::testDataFile("ref-acceptance-cmm-3planes.json"));

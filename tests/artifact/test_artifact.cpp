@@ -10,7 +10,7 @@
 #include "finite_difference.hpp"
 
 namespace artcal {
-namespace {
+namespace artifact_test {
 
 using testing::centralDifferenceJacobian;
 using testing::expectJacobianNear;

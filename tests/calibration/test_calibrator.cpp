@@ -23,7 +23,7 @@
 #include "test_paths.hpp"
 
 namespace artcal {
-namespace {
+namespace calibrator_test {
 
 Plan testPlan(const std::string& name) {
   return loadPlan(test_support::testDataFile(name + ".json"));

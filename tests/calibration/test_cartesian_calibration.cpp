@@ -11,7 +11,7 @@
 #include "test_paths.hpp"
 
 namespace artcal {
-namespace {
+namespace cartesian_calibration_test {
 
 Plan cmmPlan() {
   return loadPlan(test_support::planFile("cmm-plate-3planes-2styli-diagonals.json"));

@@ -15,7 +15,7 @@
 #include "test_paths.hpp"
 
 namespace artcal {
-namespace {
+namespace confirmation_test {
 
 /// The plan in plans/ when present, otherwise its copy in tests/data.
 Plan planOrReference(const std::string& plan_name, const std::string& reference) {

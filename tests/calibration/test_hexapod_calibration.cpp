@@ -10,7 +10,7 @@
 #include "test_paths.hpp"
 
 namespace artcal {
-namespace {
+namespace hexapod_calibration_test {
 
 Plan handMadePlan() {
   return loadPlan(test_support::planFile("hexapod-10bars.json"));

@@ -13,7 +13,7 @@
 #include "test_paths.hpp"
 
 namespace artcal {
-namespace {
+namespace instrument_test {
 
 nlohmann::json trackerDocument() {
   std::ifstream in(test_support::testDataFile("ref-instrument-arm6-2stations.json"));

@@ -13,7 +13,7 @@
 #include "rank_plans.hpp"
 
 namespace artcal {
-namespace {
+namespace rank_calibration_test {
 
 using namespace testing;
 

@@ -22,7 +22,7 @@
 #include "test_paths.hpp"
 
 namespace artcal {
-namespace {
+namespace real_readings_test {
 
 using nlohmann::json;
 

@@ -15,7 +15,7 @@
 #include "test_paths.hpp"
 
 namespace artcal {
-namespace {
+namespace simulation_test {
 
 Plan testPlan(const std::string& name) {
   return loadPlan(test_support::testDataFile(name + ".json"));

@@ -21,7 +21,7 @@
 #include "test_paths.hpp"
 
 namespace artcal {
-namespace {
+namespace verification_test {
 
 Plan serialPlan() {
   return loadPlan(test_support::planFile("aacmm-6axis-3bars.json"));

@@ -16,7 +16,7 @@
 
 #include "test_paths.hpp"
 
-namespace {
+namespace cli_test {
 
 namespace fs = std::filesystem;
 using nlohmann::json;

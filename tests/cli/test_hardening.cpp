@@ -25,7 +25,7 @@
 #include "test_paths.hpp"
 
 namespace artcal {
-namespace {
+namespace hardening_test {
 
 namespace fs = std::filesystem;
 using nlohmann::json;

@@ -20,7 +20,7 @@
 #include "cli_runner.hpp"
 #include "test_paths.hpp"
 
-namespace {
+namespace hostile_inputs_test {
 
 using namespace artcal;
 using namespace artcal::test_support;

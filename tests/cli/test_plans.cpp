@@ -16,7 +16,7 @@
 #include "cli_runner.hpp"
 
 namespace artcal {
-namespace {
+namespace plans_test {
 
 namespace fs = std::filesystem;
 

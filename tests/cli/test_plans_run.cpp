@@ -19,7 +19,7 @@
 #include "sanitizers.hpp"
 
 namespace artcal {
-namespace {
+namespace plans_run_test {
 
 namespace fs = std::filesystem;
 using test_support::CliRun;

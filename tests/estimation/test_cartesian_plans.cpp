@@ -12,7 +12,7 @@
 #include "test_paths.hpp"
 
 namespace artcal {
-namespace {
+namespace cartesian_plans_test {
 
 nlohmann::json readJson(const std::string& path) {
   std::ifstream in(path);

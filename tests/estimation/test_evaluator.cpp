@@ -14,7 +14,7 @@
 #include "test_paths.hpp"
 
 namespace artcal {
-namespace {
+namespace evaluator_test {
 
 using testing::aacmmPlan;
 using testing::loadTestPlan;

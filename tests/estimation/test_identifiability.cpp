@@ -10,7 +10,7 @@
 #include "plan_builders.hpp"
 
 namespace artcal {
-namespace {
+namespace identifiability_test {
 
 using testing::aacmmPlan;
 using testing::loadTestPlan;

@@ -13,7 +13,7 @@
 #include "test_paths.hpp"
 
 namespace artcal {
-namespace {
+namespace rank_policy_test {
 
 using namespace testing;
 

@@ -8,7 +8,7 @@
 #include "test_paths.hpp"
 
 namespace artcal {
-namespace {
+namespace reference_test {
 
 nlohmann::json readExpected(const std::string& name) {
   std::ifstream in(test_support::testDataFile(name + ".expected.json"));

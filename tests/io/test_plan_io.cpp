@@ -16,7 +16,7 @@
 #include "artcal/artcal.hpp"
 
 namespace artcal {
-namespace {
+namespace plan_io_test {
 
 using nlohmann::json;
 
@@ -577,7 +577,7 @@ TEST(PlanIo, PlacementsWrittenBackReadTheSame) {
 }  // namespace artcal
 
 namespace artcal {
-namespace {
+namespace plan_io_test {
 
 /// The seed's 2R plan of the reference case (5 bars), identifiable with all of l1, l2, dt2.
 json referenceTwoArm() {

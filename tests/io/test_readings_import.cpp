@@ -17,7 +17,7 @@
 #include "test_paths.hpp"
 
 namespace artcal {
-namespace {
+namespace readings_import_test {
 
 namespace fs = std::filesystem;
 using nlohmann::json;

@@ -15,7 +15,7 @@
 #include "cli_runner.hpp"
 
 namespace artcal {
-namespace {
+namespace urdf_test {
 
 using test_support::runCli;
 using test_support::Stderr;

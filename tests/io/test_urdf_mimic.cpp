@@ -20,7 +20,7 @@
 #include "plan_builders.hpp"
 
 namespace artcal {
-namespace {
+namespace urdf_mimic_test {
 
 using nlohmann::json;
 

@@ -15,7 +15,7 @@
 #include "finite_difference.hpp"
 
 namespace artcal {
-namespace {
+namespace chain_test {
 
 using testing::centralDifferenceJacobian;
 using testing::expectJacobianNear;

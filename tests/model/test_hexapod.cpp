@@ -22,7 +22,7 @@
 #include "test_paths.hpp"
 
 namespace artcal {
-namespace {
+namespace hexapod_test {
 
 using testing::centralDifferenceJacobian;
 using testing::expectJacobianNear;

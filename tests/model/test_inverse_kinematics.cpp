@@ -12,7 +12,7 @@
 #include "test_paths.hpp"
 
 namespace artcal {
-namespace {
+namespace inverse_kinematics_test {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
 

@@ -11,7 +11,7 @@
 #include "test_paths.hpp"
 
 namespace artcal {
-namespace {
+namespace mechanism_test {
 
 using testing::centralDifferenceJacobian;
 using testing::expectJacobianNear;

@@ -21,7 +21,7 @@
 #include "test_paths.hpp"
 
 namespace artcal {
-namespace {
+namespace registry_jacobians_test {
 
 namespace fs = std::filesystem;
 using testing::centralDifferenceJacobian;

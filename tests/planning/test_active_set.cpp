@@ -16,7 +16,7 @@
 #include "test_paths.hpp"
 
 namespace artcal {
-namespace {
+namespace active_set_test {
 
 /// G of `plan` with `placements`, by evaluatePlan (no optimizer code).
 double worstTipOf(Plan plan, const std::vector<Placement>& placements) {

@@ -23,7 +23,7 @@
 #include "test_paths.hpp"
 
 namespace artcal {
-namespace {
+namespace optimizer_test {
 
 // The seed's arm and bar (method.md section 8) with a design block; the workspace sweeps the
 // reach profile at t1 = 0.

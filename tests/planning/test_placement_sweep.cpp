@@ -13,7 +13,7 @@
 #include "artcal/planning/placement_sweep.hpp"
 
 namespace artcal {
-namespace {
+namespace placement_sweep_test {
 
 // The seed's arm and bar (docs/method.md section 8), the reach profile at t1 = 0 as workspace.
 Plan seedSpec() {

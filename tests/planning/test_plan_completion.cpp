@@ -18,7 +18,7 @@
 #include "test_paths.hpp"
 
 namespace artcal {
-namespace {
+namespace plan_completion_test {
 
 namespace fs = std::filesystem;
 using nlohmann::json;

@@ -16,7 +16,7 @@
 #include "test_paths.hpp"
 
 namespace artcal {
-namespace {
+namespace procedure_test {
 
 namespace fs = std::filesystem;
 using nlohmann::json;

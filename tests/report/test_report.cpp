@@ -24,7 +24,7 @@
 #include "test_paths.hpp"
 
 namespace artcal {
-namespace {
+namespace report_test {
 
 namespace fs = std::filesystem;
 using nlohmann::json;

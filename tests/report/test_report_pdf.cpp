@@ -18,7 +18,7 @@
 #include "test_paths.hpp"
 
 namespace artcal {
-namespace {
+namespace report_pdf_test {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
