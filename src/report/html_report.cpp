@@ -658,7 +658,8 @@ void writeOptimization(std::ostream& out, const json& optimization) {
       << svg::escape(jsonText(optimization.value("termination", json("?")))) << "): the criterion "
       << svg::escape(jsonText(optimization.value("criterion", json("?"))))
       << " from the starting designs to the optimum.</p>\n<table>\n<tr><th>design</th><th>"
-      << (mm ? std::string("criterion (") + kMicro + ")" : std::string("criterion"))
+      << (mm ? std::string("criterion (") + kMicro + ")"
+             : "criterion (" + svg::escape(optimization.value("unit", "")) + ")")
       << "</th></tr>\n";
   row("random starting designs, median", "/random_initial/median"_json_pointer);
   row("random starting designs, best", "/random_initial/best"_json_pointer);
