@@ -180,7 +180,8 @@ std::string summaryTable(const Plan& plan, const OptimizerSummary& summary,
                                              (pass.p_pass > 0.5 ? "1" : "0")
                                        : "not saturated";
     out << "  optimised " << passObjectiveOf(summary.value).name() << " (P(pass) " << saturation
-        << "); P(pass) " << std::setprecision(4) << pass.p_pass << " +- " << pass.standard_error
+        << "); P(pass) " << std::setprecision(4) << pass.p_pass
+        << " (standard error <= " << pass.standard_error << ")"
         << ", q95 of max |E|/MPE " << pass.q95 << " (" << kPassDraws << " fixed draws)\n"
         << std::setprecision(3);
   }

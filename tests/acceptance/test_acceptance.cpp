@@ -525,6 +525,101 @@ TEST(AcceptanceCli, TheReportShowsThePlansAcceptanceTest) {
   EXPECT_NE(page.find(expected), std::string::npos) << expected;
 }
 
+/// The data-value of `page`'s cell whose data-field is `field`; empty when absent.
+std::string dataValue(const std::string& page, const std::string& field) {
+  const std::string key = "data-field=\"" + field + "\" data-value=\"";
+  const std::size_t at = page.find(key);
+  if (at == std::string::npos) return {};
+  const std::size_t begin = at + key.size();
+  return page.substr(begin, page.find('"', begin) - begin);
+}
+
+/// `report --json` and `report` (HTML, text) of `plan`, and `acceptance --json` of the same plan.
+struct ReportRun {
+  nlohmann::json summary, acceptance;
+  std::string page, text;
+};
+
+ReportRun reportAndAcceptance(const std::string& plan) {
+  const std::string html = plan + ".html";
+  const test_support::CliRun json =
+      test_support::runCli("report " + plan + " -o " + html + " --json");
+  const test_support::CliRun text = test_support::runCli("report " + plan + " -o " + html);
+  const test_support::CliRun acceptance = test_support::runCli("acceptance " + plan + " --json");
+  std::ifstream in(html);
+  ReportRun run;
+  run.page.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  std::filesystem::remove(html);
+  EXPECT_EQ(json.status, 0) << json.out;
+  EXPECT_EQ(text.status, 0) << text.out;
+  EXPECT_EQ(acceptance.status, 0) << acceptance.out;
+  if (json.status != 0 || acceptance.status != 0) return run;
+  run.summary = nlohmann::json::parse(json.out);
+  run.acceptance = nlohmann::json::parse(acceptance.out);
+  run.text = text.out;
+  return run;
+}
+
+TEST(AcceptanceCli, TheReportShowsThePlansIso9283Test) {
+  // A serial arm (serial-dh) whose plan names an ISO 9283 test.
+  nlohmann::json document = readJson(test_support::planFile("aacmm-6axis-3bars.json"));
+  document["acceptance"] = {
+      {"test", "iso9283"}, {"cube", 300}, {"center", {0, 300, 200}}, {"mpe", 0.05}};
+  const std::string plan = (std::filesystem::temp_directory_path() /
+                            ("artcal-report-iso9283-" + std::to_string(::getpid()) + ".json"))
+                               .string();
+  std::ofstream(plan) << document.dump();
+  const ReportRun run = reportAndAcceptance(plan);
+  std::filesystem::remove(plan);
+  ASSERT_TRUE(run.acceptance.is_object());
+  // The JSON twin carries exactly what `artcal acceptance --json` prints for the same plan.
+  EXPECT_EQ(run.summary["acceptance"], run.acceptance);
+  // The HTML shows the 5 points, their joints, AP_P (mean, 50 %, 95 %) and P(pass), with the
+  // exact values of `acceptance --json` in data-value.
+  EXPECT_NE(run.page.find("<h2>Acceptance test predicted</h2>"), std::string::npos);
+  const nlohmann::json& items = run.acceptance["items"];
+  ASSERT_EQ(items.size(), 5u);
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    const std::string at = "/acceptance/items/" + std::to_string(i);
+    for (const char* field : {"/ap/mean", "/ap/50", "/ap/95", "/sigma_sys", "/commanded/1"}) {
+      const std::string shown = dataValue(run.page, at + field);
+      ASSERT_FALSE(shown.empty()) << at + field;
+      EXPECT_EQ(std::stod(shown),
+                items[i].at(nlohmann::json::json_pointer(std::string(field))).get<double>())
+          << at + field;
+    }
+    const std::string joints = dataValue(run.page, at + "/joints");
+    ASSERT_FALSE(joints.empty());
+    EXPECT_EQ(nlohmann::json::parse(joints), items[i]["joints"]);
+  }
+  for (const char* field : {"/p_pass", "/p_pass_standard_error", "/max_ap/95"}) {
+    const std::string shown = dataValue(run.page, std::string("/acceptance") + field);
+    ASSERT_FALSE(shown.empty()) << field;
+    EXPECT_EQ(std::stod(shown),
+              run.acceptance.at(nlohmann::json::json_pointer(field)).get<double>());
+  }
+  // The text twin prints the `acceptance` table's P(pass) line.
+  char line[80];
+  std::snprintf(line, sizeof line, "P(every AP_P <= 0.05 mm) = %.4f",
+                run.acceptance["p_pass"].get<double>());
+  EXPECT_NE(run.text.find(line), std::string::npos) << run.text;
+}
+
+TEST(AcceptanceCli, TheReportsJsonTwinCarriesTheIso10360Prediction) {
+  const std::string plan =
+      planWithAcceptance({{"test", "iso10360-2"}, {"mpe", "2.3 + L/2600"}}, "report-json");
+  const ReportRun run = reportAndAcceptance(plan);
+  std::filesystem::remove(plan);
+  ASSERT_TRUE(run.acceptance.is_object());
+  EXPECT_EQ(run.summary["acceptance"], run.acceptance);
+  for (const char* field : {"/p_pass", "/quantiles/95"}) {
+    const std::string shown = dataValue(run.page, std::string("/acceptance") + field);
+    ASSERT_FALSE(shown.empty()) << field;
+    EXPECT_EQ(std::stod(shown),
+              run.acceptance.at(nlohmann::json::json_pointer(field)).get<double>());
+  }
+}
+
 TEST(AcceptanceCli, AMalformedAcceptanceBlockIsRefusedAtLoad) {
   for (const auto& [block, pointer] : std::vector<std::pair<nlohmann::json, std::string>>{
            {{{"test", "iso10360"}, {"mpe", "1 + L/3"}}, "/acceptance/test"},
