@@ -111,9 +111,9 @@ nlohmann::json passJson(const OptimizerSummary& summary, double best_initial,
           {"stage_objectives",
            {{"random_initial_best", passQuantity(best_initial)},
             {"random_initial_median", passQuantity(median_initial)},
-            {"initial", passQuantity(best.initial)},
-            {"exchanged", passQuantity(best.exchanged)},
-            {"refined", passQuantity(best.refined)}}}};
+            {"best_start_initial", passQuantity(best.initial)},
+            {"best_start_exchanged", passQuantity(best.exchanged)},
+            {"best_start_refined", passQuantity(best.refined)}}}};
 }
 
 // How the optimum compares with its starting designs (criterion values, mm).

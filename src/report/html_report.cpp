@@ -650,7 +650,15 @@ void writeOptimization(std::ostream& out, const json& optimization) {
   const auto row = [&](const char* what, const json::json_pointer& at) {
     if (!optimization.contains(at) || !optimization.at(at).is_number()) return;
     const double v = optimization.at(at).get<double>();
-    out << "<tr><td>" << what << "</td><td class=\"num\">"
+    // Criterion "pass": the quantity of each stage (1 - P(pass), or the 95 % quantile where
+    // P(pass) saturated), as `optimize --json` names it.
+    std::string stage = at.to_string().substr(1);
+    std::replace(stage.begin(), stage.end(), '/', '_');
+    const json::json_pointer quantity("/pass/stage_objectives/" + stage);
+    const bool named = optimization.contains(quantity) && optimization.at(quantity).is_string();
+    out << "<tr><td>" << what
+        << (named ? " (" + svg::escape(optimization.at(quantity).get<std::string>()) + ")" : "")
+        << "</td><td class=\"num\">"
         << svg::escape(mm ? format("%.3f", v * 1e3) : format("%.6g", v)) << "</td></tr>\n";
   };
   out << "<p>The search (" << svg::escape(jsonText(optimization.value("algorithm", json("?"))))

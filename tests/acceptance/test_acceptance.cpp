@@ -218,6 +218,24 @@ TEST(LengthTest, WithoutSystematicErrorMatchesTheClosedForm) {
   EXPECT_NEAR(mc.p_pass, closed_form, 3.0 * mc.p_pass_standard_error);
 }
 
+TEST(LengthTest, PassProbabilityLiesBetweenItsBounds) {
+  // docs/method.md section 9: Anderson's theorem bounds P(pass) above by the closed form without
+  // systematic error, the Gaussian correlation inequality below by the product of the results'
+  // own pass probabilities (each with its total standard deviation).
+  const Prepared prepared = prepare(test_support::testDataFile(kReferencePlan));
+  const LengthTestPrediction prediction = predictLengthTest(prepared.input, referenceOptions());
+  double upper = 1.0, lower = 1.0;
+  for (const Gauge& gauge : prediction.gauges) {
+    upper *= std::pow(std::erf(gauge.mpe / (gauge.sigma_noise * std::sqrt(2.0))), 3);
+    const double total = std::hypot(gauge.sigma_sys, gauge.sigma_noise);
+    lower *= std::pow(std::erf(gauge.mpe / (total * std::sqrt(2.0))), 3);
+  }
+  const MonteCarloSummary& mc = prediction.monte_carlo;
+  EXPECT_LT(lower, upper);
+  EXPECT_GE(mc.p_pass, lower - 3.0 * mc.p_pass_standard_error);
+  EXPECT_LE(mc.p_pass, upper + 3.0 * mc.p_pass_standard_error);
+}
+
 /// E[P(pass | dp)] by plain averaging over draws of dp: an estimator of P(pass) whose own
 /// standard error is known, independent of the Monte-Carlo's noise draws.
 struct ConditionalEstimate {
@@ -852,7 +870,7 @@ TEST(AcceptanceCli, OptimizeForPassWithALooseMpeMinimisesTheQuantile) {
   EXPECT_EQ(run.optimized["pass"]["objective"], "q95 of max |E|/MPE");
   EXPECT_EQ(run.optimized["pass"]["saturated"], true);
   EXPECT_EQ(run.optimized["pass"]["p_pass"], 1.0);
-  EXPECT_EQ(run.optimized["pass"]["stage_objectives"]["initial"], "q95 of max |E|/MPE");
+  EXPECT_EQ(run.optimized["pass"]["stage_objectives"]["best_start_initial"], "q95 of max |E|/MPE");
   const double q95 = run.optimized["value"].get<double>();
   EXPECT_EQ(run.optimized["pass"]["q95"].get<double>(), q95);
   // Improved from the start's random design (1 - P(pass) = 0 for both would give nothing).
