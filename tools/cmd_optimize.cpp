@@ -42,15 +42,23 @@ double toMicrometres(double mm) {
   return mm * 1000.0;
 }
 
-/// How a criterion value is shown: um for the lengths, as is for "pass" (1 - P(pass)).
+/// How a criterion value is shown: um for the lengths; for "pass" the quantity it stands for
+/// (1 - P(pass), or the 95 % quantile of max |E|/MPE where P(pass) saturates: PassObjective).
 struct CriterionDisplay {
-  double factor;
-  const char* unit;
+  double value;
+  std::string unit;
 };
 
-CriterionDisplay displayOf(Criterion criterion) {
-  if (criterion == Criterion::Pass) return {1.0, "1 - P(pass)"};
-  return {1000.0, "um"};
+CriterionDisplay displayOf(Criterion criterion, double value) {
+  if (criterion != Criterion::Pass) return {value * 1000.0, "um"};
+  const PassObjective objective = passObjectiveOf(value);
+  return {objective.value, objective.name()};
+}
+
+/// A criterion value in its display unit (the pass quantities as they are, lengths in mm).
+nlohmann::json criterionJson(Criterion criterion, double value) {
+  if (criterion != Criterion::Pass || !std::isfinite(value)) return finiteOrNull(value);
+  return passObjectiveOf(value).value;
 }
 
 OptimizerOptions optionsFrom(const Plan& plan, const OptimizeArguments& args) {
@@ -65,10 +73,11 @@ OptimizerOptions optionsFrom(const Plan& plan, const OptimizeArguments& args) {
   if (args.kicks) options.kicks = *args.kicks;
   options.algorithm = *refineAlgorithmFromName(args.algorithm);
   if (!args.quiet && isatty(STDERR_FILENO)) {
-    const CriterionDisplay display = displayOf(plan.design->criterion);
-    options.progress = [display](const OptimizerProgress& p) {
+    const Criterion criterion = plan.design->criterion;
+    options.progress = [criterion](const OptimizerProgress& p) {
+      const CriterionDisplay display = displayOf(criterion, p.best);
       std::fprintf(stderr, "\roptimize: %d/%d starts, best %.3f %s, %.1f s   ", p.starts_done,
-                   p.starts, p.best * display.factor, display.unit, p.elapsed);
+                   p.starts, display.value, display.unit.c_str(), p.elapsed);
       std::fflush(stderr);
     };
   }
@@ -82,6 +91,31 @@ double median(std::vector<double> values) {
   return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
 }
 
+/// The quantity a pass criterion value stands for ("1 - P(pass)" or "q95 of max |E|/MPE").
+nlohmann::json passQuantity(double value) {
+  return std::isfinite(value) ? nlohmann::json(passObjectiveOf(value).name()) : nullptr;
+}
+
+/// Criterion "pass": the optimum's P(pass), its standard error, q95 and whether P(pass)
+/// saturated (optimizer.hpp, PassObjective), and which quantity each stage's value is.
+nlohmann::json passJson(const OptimizerSummary& summary, double best_initial,
+                        double median_initial) {
+  const PassEstimate& pass = *summary.pass;
+  const StartResult& best = summary.starts[static_cast<std::size_t>(summary.best_start)];
+  return {{"draws", kPassDraws},
+          {"p_pass", finiteOrNull(pass.p_pass)},
+          {"p_pass_standard_error", finiteOrNull(pass.standard_error)},
+          {"q95", finiteOrNull(pass.q95)},
+          {"saturated", pass.saturated},
+          {"objective", passObjectiveOf(summary.value).name()},
+          {"stage_objectives",
+           {{"random_initial_best", passQuantity(best_initial)},
+            {"random_initial_median", passQuantity(median_initial)},
+            {"best_start_initial", passQuantity(best.initial)},
+            {"best_start_exchanged", passQuantity(best.exchanged)},
+            {"best_start_refined", passQuantity(best.refined)}}}};
+}
+
 // How the optimum compares with its starting designs (criterion values, mm).
 nlohmann::json optimizationToJson(const Plan& plan, const OptimizerOptions& options,
                                   const OptimizerSummary& summary) {
@@ -90,23 +124,25 @@ nlohmann::json optimizationToJson(const Plan& plan, const OptimizerOptions& opti
     if (s.done) initial.push_back(s.initial);
   }
   const StartResult& best = summary.starts[static_cast<std::size_t>(summary.best_start)];
+  const Criterion criterion = plan.design->criterion;
+  auto value = [criterion](double v) { return criterionJson(criterion, v); };
   nlohmann::json out;
-  out["criterion"] = criterionName(plan.design->criterion);
-  out["value"] = finiteOrNull(summary.value);
-  out["unit"] = plan.design->criterion == Criterion::Pass ? "1 - P(pass)" : "mm";
+  out["criterion"] = criterionName(criterion);
+  out["value"] = value(summary.value);
+  out["unit"] = criterion == Criterion::Pass ? passObjectiveOf(summary.value).name() : "mm";
   out["seed"] = options.seed;
   out["starts"] = options.starts;
   out["starts_done"] = summary.startsDone();
   out["pool"] = summary.pool_size;
   out["algorithm"] = refineAlgorithmName(options.algorithm);
   out["best_start"] = {{"index", summary.best_start},
-                       {"initial", finiteOrNull(best.initial)},
-                       {"exchanged", finiteOrNull(best.exchanged)},
-                       {"refined", finiteOrNull(best.refined)}};
-  out["random_initial"] = {
-      {"best",
-       finiteOrNull(initial.empty() ? NAN : *std::min_element(initial.begin(), initial.end()))},
-      {"median", finiteOrNull(median(initial))}};
+                       {"initial", value(best.initial)},
+                       {"exchanged", value(best.exchanged)},
+                       {"refined", value(best.refined)}};
+  const double best_initial =
+      initial.empty() ? NAN : *std::min_element(initial.begin(), initial.end());
+  out["random_initial"] = {{"best", value(best_initial)}, {"median", value(median(initial))}};
+  if (summary.pass) out["pass"] = passJson(summary, best_initial, median(initial));
   out["termination"] =
       summary.termination == OptimizerSummary::Termination::Completed ? "completed" : "time_limit";
   return out;
@@ -120,11 +156,35 @@ std::string summaryTable(const Plan& plan, const OptimizerSummary& summary,
   out << "artcal optimize: " << plan.name << " -> " << output << "\n";
   out << "criterion " << criterionName(plan.design->criterion) << ", " << plan.design->placements
       << " placements x " << plan.design->postures << " posture(s)\n\n";
-  const CriterionDisplay display = displayOf(plan.design->criterion);
-  out << "  stage                    criterion (" << display.unit << ")\n";
-  out << "  random initial design    " << std::setw(12) << best.initial * display.factor << "\n";
-  out << "  after exchange           " << std::setw(12) << best.exchanged * display.factor << "\n";
-  out << "  after refinement         " << std::setw(12) << best.refined * display.factor << "\n\n";
+  const Criterion criterion = plan.design->criterion;
+  if (criterion == Criterion::Pass) {
+    out << "  stage                    criterion\n";
+  } else {
+    out << "  stage                    criterion (um)\n";
+  }
+  for (const auto& [stage, value] :
+       {std::pair<const char*, double>{"random initial design", best.initial},
+        {"after exchange", best.exchanged},
+        {"after refinement", best.refined}}) {
+    const CriterionDisplay display = displayOf(criterion, value);
+    out << "  " << std::left << std::setw(25) << stage << std::right << std::setw(12)
+        << display.value;
+    if (criterion == Criterion::Pass) out << "  " << display.unit;
+    out << "\n";
+  }
+  out << "\n";
+  if (summary.pass) {
+    const PassEstimate& pass = *summary.pass;
+    const std::string saturation = pass.saturated
+                                       ? std::string("saturated: within its standard error of ") +
+                                             (pass.p_pass > 0.5 ? "1" : "0")
+                                       : "not saturated";
+    out << "  optimised " << passObjectiveOf(summary.value).name() << " (P(pass) " << saturation
+        << "); P(pass) " << std::setprecision(4) << pass.p_pass
+        << " (standard error <= " << pass.standard_error << ")"
+        << ", q95 of max |E|/MPE " << pass.q95 << " (" << kPassDraws << " fixed draws)\n"
+        << std::setprecision(3);
+  }
   if (evaluation.tip) {
     out << "  tip worst " << toMicrometres(evaluation.tip->worst.total) << " um, mean "
         << toMicrometres(evaluation.tip->mean) << " um\n";

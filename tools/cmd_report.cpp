@@ -161,25 +161,34 @@ void addReportCommand(CLI::App& app, Action& action) {
         calibration_json = calibrationToJson(calibrated, calibrated.placements, *calibration);
         converged = calibration->summary.converged();
       }
+      // The plan's acceptance test, predicted by src/acceptance; the report reads it.
+      const std::optional<PlanAcceptance> acceptance = predictPlanAcceptance(plan, evaluation);
+      std::optional<nlohmann::json> acceptance_json;
+      if (acceptance) acceptance_json = planAcceptanceToJson(*acceptance);
       const ReportInput input{plan,
                               document,
                               evaluation,
                               evaluation_json,
                               calibration_json ? &*calibration_json : nullptr,
-                              args->flag_threshold};
+                              args->flag_threshold,
+                              acceptance_json ? &*acceptance_json : nullptr};
       std::vector<ReportFigure> figures = reportFigures(input);
       addErrorFunctionFigures(calibration ? calibrated : plan, document, args->plan, evaluation,
                               calibration, figures);
-      if (auto acceptance = acceptanceReportFigure(plan, document, evaluation))
-        figures.push_back(std::move(*acceptance));
+      if (acceptance) {
+        if (auto figure = acceptanceReportFigure(*acceptance))
+          figures.push_back(std::move(*figure));
+      }
       const std::string html = htmlReport(input, figures);
       writeReportFiles(*args, html, figures);
-      const nlohmann::json summary =
+      nlohmann::json summary =
           summaryJson(*args, html, figures, evaluation.identifiable(), converged);
+      if (acceptance_json) summary["acceptance"] = *acceptance_json;
       if (args->json) {
         summaryStream(args->output) << summary.dump(2) << std::endl;
       } else {
         printSummary(summary, summaryStream(args->output));
+        if (acceptance) summaryStream(args->output) << "\n" << planAcceptanceTable(*acceptance);
       }
       return evaluation.identifiable() && converged.value_or(true) ? 0 : 1;
     };

@@ -169,24 +169,96 @@ Eigen::MatrixXd gaugeDerivatives(const std::vector<Gauge>& gauges) {
   return G;
 }
 
+Eigen::VectorXd conditionalPassProbabilities(const LengthTestPrediction& prediction,
+                                             const Eigen::MatrixXd& S, double threshold) {
+  Eigen::VectorXd probabilities = Eigen::VectorXd::Ones(S.cols());
+  for (std::size_t k = 0; k < prediction.gauges.size(); ++k) {
+    const Gauge& gauge = prediction.gauges[k];
+    const double limit = threshold * gauge.mpe;
+    const double scale = gauge.sigma_noise > 0.0 ? 1.0 / (gauge.sigma_noise * std::sqrt(2.0)) : 0.0;
+    for (Eigen::Index m = 0; m < S.cols(); ++m) {
+      const double s = S(static_cast<Eigen::Index>(k), m);
+      const double p = gauge.sigma_noise > 0.0
+                           ? 0.5 * (std::erf((limit - s) * scale) + std::erf((limit + s) * scale))
+                           : (std::abs(s) <= limit ? 1.0 : 0.0);
+      for (int r = 0; r < prediction.repetitions; ++r) probabilities[m] *= p;
+    }
+  }
+  return probabilities;
+}
+
 double meanConditionalPassProbability(const LengthTestPrediction& prediction,
                                       const Eigen::MatrixXd& S) {
-  double sum = 0.0;
-  for (Eigen::Index m = 0; m < S.cols(); ++m) {
-    double probability = 1.0;
-    for (std::size_t k = 0; k < prediction.gauges.size(); ++k) {
-      const Gauge& gauge = prediction.gauges[k];
-      const double s = S(static_cast<Eigen::Index>(k), m);
-      const double scale = 1.0 / (gauge.sigma_noise * std::sqrt(2.0));
-      const double p =
-          gauge.sigma_noise > 0.0
-              ? 0.5 * (std::erf((gauge.mpe - s) * scale) + std::erf((gauge.mpe + s) * scale))
-              : (std::abs(s) <= gauge.mpe ? 1.0 : 0.0);
-      probability *= std::pow(p, prediction.repetitions);
-    }
-    sum += probability;
+  return S.cols() > 0 ? conditionalPassProbabilities(prediction, S).mean() : 0.0;
+}
+
+namespace {
+
+/// A first guess of the quantile of max |E|/MPE: the largest z sigma_k / MPE_k over the gauges,
+/// sigma_k from the draws' root mean square and the noise, z the normal quantile at 95 %.
+double quantileGuess(const LengthTestPrediction& prediction, const Eigen::MatrixXd& S) {
+  constexpr double kZ95 = 1.959963984540054;
+  double guess = 0.0;
+  for (std::size_t k = 0; k < prediction.gauges.size(); ++k) {
+    const Gauge& gauge = prediction.gauges[k];
+    const double mean_square = S.row(static_cast<Eigen::Index>(k)).squaredNorm() /
+                               static_cast<double>(std::max<Eigen::Index>(S.cols(), 1));
+    const double sigma = std::sqrt(mean_square + gauge.sigma_noise * gauge.sigma_noise);
+    if (gauge.mpe > 0.0) guess = std::max(guess, kZ95 * sigma / gauge.mpe);
   }
-  return S.cols() > 0 ? sum / static_cast<double>(S.cols()) : 0.0;
+  return guess > 0.0 && std::isfinite(guess) ? guess : 1.0;
+}
+
+}  // namespace
+
+double conditionalStatisticQuantile(const LengthTestPrediction& prediction,
+                                    const Eigen::MatrixXd& S, double probability) {
+  if (S.cols() == 0 || prediction.gauges.empty()) return 0.0;
+  auto excess = [&](double t) {
+    return conditionalPassProbabilities(prediction, S, t).mean() - probability;
+  };
+  // A bracket [lo, hi], excess(lo) < 0 <= excess(hi), by steps of kStep from the guess.
+  constexpr double kStep = 1.5;
+  constexpr int kBracketSteps = 2000;
+  double hi = quantileGuess(prediction, S), f_hi = excess(hi);
+  double lo = hi, f_lo = f_hi;
+  if (f_hi < 0.0) {
+    for (int step = 0; step < kBracketSteps && f_hi < 0.0; ++step) {
+      lo = hi;
+      f_lo = f_hi;
+      hi *= kStep;
+      f_hi = excess(hi);
+    }
+  } else {
+    for (int step = 0; step < kBracketSteps && f_lo >= 0.0 && lo > 0.0; ++step) {
+      hi = lo;
+      f_hi = f_lo;
+      lo /= kStep;
+      f_lo = excess(lo);
+    }
+  }
+  if (!(f_lo < 0.0)) return 0.0;  // every result exact and zero: the quantile is 0
+  if (!(f_hi >= 0.0)) return std::numeric_limits<double>::infinity();
+  // Illinois: regula falsi, halving the value kept at an end that stays twice in a row.
+  int kept = 0;
+  constexpr int kIterations = 200;
+  for (int iteration = 0; iteration < kIterations && hi - lo > 1e-10 * hi; ++iteration) {
+    const double t = std::clamp(hi - f_hi * (hi - lo) / (f_hi - f_lo), lo, hi);
+    const double f = excess(t);
+    if (f == 0.0) return t;
+    if (f < 0.0) {
+      lo = t;
+      f_lo = f;
+      if (kept == -1) f_hi *= 0.5;
+      kept = -1;
+    } else {
+      hi = t;
+      f_hi = f;
+      if (kept == 1) f_lo *= 0.5;
+      kept = 1;
+    }
+  }
+  return hi;
 }
 
 LengthTestPrediction predictLengthTestLinear(const AcceptanceInput& input,

@@ -129,7 +129,8 @@ std::string OptimizerSummary::briefReport() const {
   out << (termination == Termination::Completed ? "completed" : "time limit reached") << ": "
       << startsDone() << "/" << starts.size() << " starts, best ";
   if (criterion == Criterion::Pass) {
-    out << value << " (1 - P(pass))";
+    const PassObjective objective = passObjectiveOf(value);
+    out << objective.value << " (" << objective.name() << ")";
   } else {
     out << value * 1000.0 << " um";
   }
@@ -150,8 +151,9 @@ struct PassCriterionData {
 
 namespace {
 
-constexpr int kPassDraws = 256;
 constexpr std::uint64_t kPassDrawSeed = 20261201;
+constexpr double kPassSaturation = 1.0 / (kPassDraws + 1.0);
+constexpr double kPassQuantile = 0.95;
 
 std::shared_ptr<const PassCriterionData> makePassCriterion(const Plan& plan) {
   if (!plan.acceptance) throw std::logic_error("criterion pass without an acceptance block");
@@ -169,16 +171,51 @@ std::shared_ptr<const PassCriterionData> makePassCriterion(const Plan& plan) {
   return data;
 }
 
-/// 1 - P(pass) for V_p (PassCriterionData).
-double failProbability(const PassCriterionData& pass, const Eigen::MatrixXd& V) {
+bool passSaturated(double p_pass) {
+  return std::min(p_pass, 1.0 - p_pass) <= kPassSaturation;
+}
+
+/// The pass criterion's figures for V_p (PassCriterionData); q95 only when P(pass) saturates
+/// unless `with_quantile`.
+PassEstimate estimatePass(const PassCriterionData& pass, const Eigen::MatrixXd& V,
+                          bool with_quantile) {
   const Eigen::LLT<Eigen::MatrixXd> llt(V);
   const Eigen::MatrixXd F =
       llt.info() == Eigen::Success ? Eigen::MatrixXd(llt.matrixL()) : covarianceFactor(V);
   const Eigen::MatrixXd S = pass.G * (F * pass.Z);
-  return 1.0 - meanConditionalPassProbability(pass.gauges, S);
+  PassEstimate estimate;
+  estimate.p_pass = meanConditionalPassProbability(pass.gauges, S);
+  estimate.standard_error = std::sqrt(std::max(estimate.p_pass * (1.0 - estimate.p_pass), 0.0) /
+                                      static_cast<double>(S.cols()));
+  estimate.saturated = passSaturated(estimate.p_pass);
+  if (estimate.saturated || with_quantile)
+    estimate.q95 = conditionalStatisticQuantile(pass.gauges, S, kPassQuantile);
+  estimate.value = passCriterionValue(estimate.p_pass, estimate.q95);
+  return estimate;
 }
 
 }  // namespace
+
+std::string PassObjective::name() const {
+  return quantity == Quantity::FailProbability ? "1 - P(pass)" : "q95 of max |E|/MPE";
+}
+
+double passCriterionValue(double p_pass, double q95) {
+  if (!passSaturated(p_pass)) return 1.0 - p_pass;
+  // q95 <= 1 when P >= 1 - eps > 0.95 and q95 >= 1 when P <= eps: the clamps only guard the
+  // ranges against the quantile's round-off.
+  if (p_pass > 0.5) return kPassSaturation * std::min(q95, 1.0);
+  return (1.0 - kPassSaturation) * std::max(q95, 1.0);
+}
+
+PassObjective passObjectiveOf(double criterion_value) {
+  using Quantity = PassObjective::Quantity;
+  if (criterion_value <= kPassSaturation)
+    return {Quantity::Quantile95, criterion_value / kPassSaturation};
+  if (criterion_value >= 1.0 - kPassSaturation)
+    return {Quantity::Quantile95, criterion_value / (1.0 - kPassSaturation)};
+  return {Quantity::FailProbability, criterion_value};
+}
 
 DesignCriterion::DesignCriterion(const Plan& plan, Criterion criterion, double smooth_power)
     : plan_(&plan),
@@ -214,6 +251,13 @@ double DesignCriterion::value(const Eigen::MatrixXd& information_g) {
 
 double DesignCriterion::smoothValue(const Eigen::MatrixXd& information_g) {
   return evaluate(information_g, smooth_power_);
+}
+
+std::optional<PassEstimate> DesignCriterion::passEstimate(const Eigen::MatrixXd& information_g) {
+  if (criterion_ != Criterion::Pass) throw std::logic_error("passEstimate: criterion is not pass");
+  const auto covariance = covarianceFromInformation(parameterInformation(information_g, layout_));
+  if (!covariance) return std::nullopt;
+  return estimatePass(*pass_, covariance->V, true);
 }
 
 double DesignCriterion::worstOver(const Eigen::MatrixXd& V, const TipEvaluator& tip) {
@@ -290,7 +334,7 @@ double DesignCriterion::evaluate(const Eigen::MatrixXd& information_g, double po
       return std::exp(lambda.array().log().sum() / (2.0 * n));
     }
     case Criterion::Pass:
-      return failProbability(*pass_, V);
+      return estimatePass(*pass_, V, false).value;
   }
   return kInfinity;
 }
@@ -736,6 +780,12 @@ OptimizerSummary Search::run() {
     return summary;
   }
   summary.placements = designs_[static_cast<std::size_t>(summary.best_start)];
+  if (options_.criterion == Criterion::Pass) {
+    DesignCriterion& criterion = criteria_.front();
+    Eigen::MatrixXd total = fixed_;
+    for (const Placement& p : summary.placements) total += criterion.contribution(p);
+    summary.pass = criterion.passEstimate(total);
+  }
   summary.message = summary.briefReport();
   return summary;
 }

@@ -4,7 +4,6 @@
 #include <cstdio>
 #include <sstream>
 
-#include "artcal/io/acceptance_spec.hpp"
 #include "artcal/report/report.hpp"
 #include "artcal/report/svg.hpp"
 
@@ -189,15 +188,9 @@ std::string lengthTestSvg(const LengthTestPrediction& prediction) {
   return plot.render();
 }
 
-std::optional<ReportFigure> acceptanceReportFigure(const Plan& plan, const json& document,
-                                                   const Evaluation& evaluation) {
-  const auto spec = parseAcceptanceSpec(document, plan.source);
-  if (!spec || spec->test != "iso10360-2") return std::nullopt;
-  const auto input = acceptanceInputFromPlan(plan, evaluation);
-  if (!input) return std::nullopt;
-  LengthTestOptions options;
-  options.mpe = *parseMpe(spec->mpe);
-  const LengthTestPrediction prediction = predictLengthTest(*input, options);
+std::optional<ReportFigure> acceptanceReportFigure(const PlanAcceptance& acceptance) {
+  if (!acceptance.length) return std::nullopt;
+  const LengthTestPrediction& prediction = *acceptance.length;
   const MonteCarloSummary& mc = prediction.monte_carlo;
   char caption[400];
   std::snprintf(caption, sizeof caption,
@@ -207,6 +200,20 @@ std::optional<ReportFigure> acceptanceReportFigure(const Plan& plan, const json&
                 prediction.mpe.text().c_str(), mc.p_pass, mc.p_pass_standard_error, mc.trials,
                 mc.statistic.median, mc.statistic.q95);
   return ReportFigure{"acceptance-e-vs-l", caption, lengthTestSvg(prediction)};
+}
+
+json planAcceptanceToJson(const PlanAcceptance& acceptance) {
+  if (acceptance.length)
+    return lengthTestToJson(acceptance.input, *acceptance.length,
+                            acceptance.length_options.monte_carlo);
+  return poseTestToJson(acceptance.input, *acceptance.pose, acceptance.pose_options);
+}
+
+std::string planAcceptanceTable(const PlanAcceptance& acceptance) {
+  if (acceptance.length)
+    return lengthTestTable(acceptance.input, *acceptance.length,
+                           acceptance.length_options.monte_carlo);
+  return poseTestTable(acceptance.input, *acceptance.pose, acceptance.pose_options);
 }
 
 json poseTestToJson(const AcceptanceInput& input, const PoseTestPrediction& prediction,

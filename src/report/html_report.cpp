@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <initializer_list>
 #include <map>
 #include <sstream>
 
@@ -649,7 +650,15 @@ void writeOptimization(std::ostream& out, const json& optimization) {
   const auto row = [&](const char* what, const json::json_pointer& at) {
     if (!optimization.contains(at) || !optimization.at(at).is_number()) return;
     const double v = optimization.at(at).get<double>();
-    out << "<tr><td>" << what << "</td><td class=\"num\">"
+    // Criterion "pass": the quantity of each stage (1 - P(pass), or the 95 % quantile where
+    // P(pass) saturated), as `optimize --json` names it.
+    std::string stage = at.to_string().substr(1);
+    std::replace(stage.begin(), stage.end(), '/', '_');
+    const json::json_pointer quantity("/pass/stage_objectives/" + stage);
+    const bool named = optimization.contains(quantity) && optimization.at(quantity).is_string();
+    out << "<tr><td>" << what
+        << (named ? " (" + svg::escape(optimization.at(quantity).get<std::string>()) + ")" : "")
+        << "</td><td class=\"num\">"
         << svg::escape(mm ? format("%.3f", v * 1e3) : format("%.6g", v)) << "</td></tr>\n";
   };
   out << "<p>The search (" << svg::escape(jsonText(optimization.value("algorithm", json("?"))))
@@ -658,7 +667,8 @@ void writeOptimization(std::ostream& out, const json& optimization) {
       << svg::escape(jsonText(optimization.value("termination", json("?")))) << "): the criterion "
       << svg::escape(jsonText(optimization.value("criterion", json("?"))))
       << " from the starting designs to the optimum.</p>\n<table>\n<tr><th>design</th><th>"
-      << (mm ? std::string("criterion (") + kMicro + ")" : std::string("criterion"))
+      << (mm ? std::string("criterion (") + kMicro + ")"
+             : "criterion (" + svg::escape(optimization.value("unit", "")) + ")")
       << "</th></tr>\n";
   row("random starting designs, median", "/random_initial/median"_json_pointer);
   row("random starting designs, best", "/random_initial/best"_json_pointer);
@@ -860,6 +870,92 @@ void writeProcedure(std::ostream& out, const Plan& plan) {
 
 }  // namespace
 
+/// One cell per value of `source` at `pointers` (numberCell, pointers prefixed "/acceptance").
+void acceptanceCells(std::ostream& out, const json& source, const std::string& at,
+                     std::initializer_list<const char*> pointers, const char* fmt) {
+  for (const char* pointer : pointers) {
+    const std::string full = at + pointer;
+    if (source.contains(json::json_pointer(full)))
+      out << numberCell(source, full, 1, fmt, "/acceptance");
+    else
+      out << "<td></td>";
+  }
+}
+
+/// A point's joints (file units) in one cell, the exact list in data-value.
+std::string jointsCell(const json& joints, const std::string& pointer) {
+  std::string text;
+  for (const json& q : joints)
+    text += (text.empty() ? "" : ", ") + (q.is_number() ? format("%.3f", q.get<double>()) : "?");
+  return "<td class=\"num\" data-field=\"/acceptance" + svg::escape(pointer) + "\" data-value=\"" +
+         svg::escape(joints.dump()) + "\">" + svg::escape(text) + "</td>";
+}
+
+/// ISO 9283 (poseTestToJson): the five points, their joints and AP_P, then max AP_P and P(pass).
+void writePoseTest(std::ostream& out, const json& test) {
+  const json& center = test.at("center");
+  out << "<p>ISO 9283 pose accuracy predicted from this plan's V_p (artcal acceptance): cube "
+      << svg::escape(jsonText(test.at("cube"))) << " mm centred at ("
+      << svg::escape(jsonText(center.at(0))) << ", " << svg::escape(jsonText(center.at(1))) << ", "
+      << svg::escape(jsonText(center.at(2))) << ") mm, " << svg::escape(jsonText(test.at("cycles")))
+      << " cycles; AP_P = |mean attained - commanded position| in mm, its mean, 50 % and 95 % "
+         "quantiles over the calibration's residual error and the encoder noise.</p>\n<table>\n"
+         "<tr><th>point</th><th>commanded x</th><th>y</th><th>z (mm)</th><th>joints (deg or "
+         "mm)</th><th>sigma_sys</th><th>sigma_noise</th><th>AP mean</th><th>AP 50 %</th><th>AP "
+         "95 %</th></tr>\n";
+  const json& items = test.at("items");
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    const std::string at = "/items/" + std::to_string(i);
+    out << "<tr><td>" << svg::escape(jsonText(items[i].value("point", json("?")))) << "</td>";
+    acceptanceCells(out, test, at, {"/commanded/0", "/commanded/1", "/commanded/2"}, "%.2f");
+    out << jointsCell(items[i].at("joints"), at + "/joints");
+    acceptanceCells(out, test, at, {"/sigma_sys", "/sigma_noise", "/ap/mean", "/ap/50", "/ap/95"},
+                    "%.5f");
+    out << "</tr>\n";
+  }
+  out << "<tr><td>max over the points</td><td></td><td></td><td></td><td></td><td></td><td></td>";
+  acceptanceCells(out, test, "/max_ap", {"/mean", "/50", "/95"}, "%.5f");
+  out << "</tr>\n</table>\n";
+  if (!test.contains("p_pass")) return;
+  out << "<table>\n<tr><th>MPE (mm)</th><th>P(every AP_P &lt;= MPE)</th><th>standard error</th>"
+         "<th>Monte-Carlo trials</th></tr>\n<tr>";
+  acceptanceCells(out, test, "", {"/mpe"}, "%.4g");
+  acceptanceCells(out, test, "", {"/p_pass", "/p_pass_standard_error"}, "%.4f");
+  acceptanceCells(out, test, "", {"/monte_carlo/trials"}, "%.0f");
+  out << "</tr>\n</table>\n";
+}
+
+/// ISO 10360-2 (lengthTestToJson): P(pass) and the quantiles of max |E|/MPE (the gauges are in
+/// the figure).
+void writeLengthTestSummary(std::ostream& out, const json& test) {
+  out << "<table>\n<tr><th>E0,MPE (" << kMicro << ", L in mm)</th><th>P(pass)</th>"
+      << "<th>standard error</th><th>max |E|/MPE, 50 %</th><th>95 %</th>"
+      << "<th>Monte-Carlo trials</th></tr>\n<tr><td>"
+      << svg::escape(jsonText(test.value("mpe", json("?")))) << "</td>";
+  acceptanceCells(out, test, "", {"/p_pass", "/p_pass_standard_error"}, "%.4f");
+  acceptanceCells(out, test, "/quantiles", {"/50", "/95"}, "%.3f");
+  acceptanceCells(out, test, "", {"/monte_carlo/trials"}, "%.0f");
+  out << "</tr>\n</table>\n";
+}
+
+/// The plan's acceptance test predicted: its figure (acceptance_report.hpp, added by the
+/// caller) and its figures from `acceptance_json`.
+void writeAcceptance(std::ostream& out, const ReportInput& in,
+                     const std::vector<ReportFigure>& figures) {
+  const bool drawn = std::any_of(figures.begin(), figures.end(), [](const ReportFigure& f) {
+    return f.name.starts_with("acceptance");
+  });
+  if (!drawn && !in.acceptance_json) return;
+  out << "<h2>Acceptance test predicted</h2>\n";
+  writeFigures(out, figures, "acceptance");
+  if (!in.acceptance_json) return;
+  if (in.acceptance_json->value("test", "") == "iso9283") {
+    writePoseTest(out, *in.acceptance_json);
+  } else {
+    writeLengthTestSummary(out, *in.acceptance_json);
+  }
+}
+
 std::vector<ReportFigure> reportFigures(const ReportInput& in) {
   const Plan& plan = in.plan;
   const std::vector<Eigen::MatrixXd> features = placedFeatures(plan);
@@ -915,12 +1011,7 @@ std::string htmlReport(const ReportInput& in, const std::vector<ReportFigure>& f
     out << "<h2>Error functions</h2>\n";
     writeFigures(out, figures, "error-functions");
   }
-  // The plan's acceptance test predicted (acceptance_report.hpp, added by the caller).
-  if (std::any_of(figures.begin(), figures.end(),
-                  [](const ReportFigure& f) { return f.name.starts_with("acceptance"); })) {
-    out << "<h2>Acceptance test predicted</h2>\n";
-    writeFigures(out, figures, "acceptance");
-  }
+  writeAcceptance(out, in, figures);
   writeProcedure(out, in.plan);
   out << "</body>\n</html>\n";
   return out.str();

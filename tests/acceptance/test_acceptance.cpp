@@ -218,6 +218,24 @@ TEST(LengthTest, WithoutSystematicErrorMatchesTheClosedForm) {
   EXPECT_NEAR(mc.p_pass, closed_form, 3.0 * mc.p_pass_standard_error);
 }
 
+TEST(LengthTest, PassProbabilityLiesBetweenItsBounds) {
+  // docs/method.md section 9: Anderson's theorem bounds P(pass) above by the closed form without
+  // systematic error, the Gaussian correlation inequality below by the product of the results'
+  // own pass probabilities (each with its total standard deviation).
+  const Prepared prepared = prepare(test_support::testDataFile(kReferencePlan));
+  const LengthTestPrediction prediction = predictLengthTest(prepared.input, referenceOptions());
+  double upper = 1.0, lower = 1.0;
+  for (const Gauge& gauge : prediction.gauges) {
+    upper *= std::pow(std::erf(gauge.mpe / (gauge.sigma_noise * std::sqrt(2.0))), 3);
+    const double total = std::hypot(gauge.sigma_sys, gauge.sigma_noise);
+    lower *= std::pow(std::erf(gauge.mpe / (total * std::sqrt(2.0))), 3);
+  }
+  const MonteCarloSummary& mc = prediction.monte_carlo;
+  EXPECT_LT(lower, upper);
+  EXPECT_GE(mc.p_pass, lower - 3.0 * mc.p_pass_standard_error);
+  EXPECT_LE(mc.p_pass, upper + 3.0 * mc.p_pass_standard_error);
+}
+
 /// E[P(pass | dp)] by plain averaging over draws of dp: an estimator of P(pass) whose own
 /// standard error is known, independent of the Monte-Carlo's noise draws.
 struct ConditionalEstimate {
@@ -525,6 +543,101 @@ TEST(AcceptanceCli, TheReportShowsThePlansAcceptanceTest) {
   EXPECT_NE(page.find(expected), std::string::npos) << expected;
 }
 
+/// The data-value of `page`'s cell whose data-field is `field`; empty when absent.
+std::string dataValue(const std::string& page, const std::string& field) {
+  const std::string key = "data-field=\"" + field + "\" data-value=\"";
+  const std::size_t at = page.find(key);
+  if (at == std::string::npos) return {};
+  const std::size_t begin = at + key.size();
+  return page.substr(begin, page.find('"', begin) - begin);
+}
+
+/// `report --json` and `report` (HTML, text) of `plan`, and `acceptance --json` of the same plan.
+struct ReportRun {
+  nlohmann::json summary, acceptance;
+  std::string page, text;
+};
+
+ReportRun reportAndAcceptance(const std::string& plan) {
+  const std::string html = plan + ".html";
+  const test_support::CliRun json =
+      test_support::runCli("report " + plan + " -o " + html + " --json");
+  const test_support::CliRun text = test_support::runCli("report " + plan + " -o " + html);
+  const test_support::CliRun acceptance = test_support::runCli("acceptance " + plan + " --json");
+  std::ifstream in(html);
+  ReportRun run;
+  run.page.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  std::filesystem::remove(html);
+  EXPECT_EQ(json.status, 0) << json.out;
+  EXPECT_EQ(text.status, 0) << text.out;
+  EXPECT_EQ(acceptance.status, 0) << acceptance.out;
+  if (json.status != 0 || acceptance.status != 0) return run;
+  run.summary = nlohmann::json::parse(json.out);
+  run.acceptance = nlohmann::json::parse(acceptance.out);
+  run.text = text.out;
+  return run;
+}
+
+TEST(AcceptanceCli, TheReportShowsThePlansIso9283Test) {
+  // A serial arm (serial-dh) whose plan names an ISO 9283 test.
+  nlohmann::json document = readJson(test_support::planFile("aacmm-6axis-3bars.json"));
+  document["acceptance"] = {
+      {"test", "iso9283"}, {"cube", 300}, {"center", {0, 300, 200}}, {"mpe", 0.05}};
+  const std::string plan = (std::filesystem::temp_directory_path() /
+                            ("artcal-report-iso9283-" + std::to_string(::getpid()) + ".json"))
+                               .string();
+  std::ofstream(plan) << document.dump();
+  const ReportRun run = reportAndAcceptance(plan);
+  std::filesystem::remove(plan);
+  ASSERT_TRUE(run.acceptance.is_object());
+  // The JSON twin carries exactly what `artcal acceptance --json` prints for the same plan.
+  EXPECT_EQ(run.summary["acceptance"], run.acceptance);
+  // The HTML shows the 5 points, their joints, AP_P (mean, 50 %, 95 %) and P(pass), with the
+  // exact values of `acceptance --json` in data-value.
+  EXPECT_NE(run.page.find("<h2>Acceptance test predicted</h2>"), std::string::npos);
+  const nlohmann::json& items = run.acceptance["items"];
+  ASSERT_EQ(items.size(), 5u);
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    const std::string at = "/acceptance/items/" + std::to_string(i);
+    for (const char* field : {"/ap/mean", "/ap/50", "/ap/95", "/sigma_sys", "/commanded/1"}) {
+      const std::string shown = dataValue(run.page, at + field);
+      ASSERT_FALSE(shown.empty()) << at + field;
+      EXPECT_EQ(std::stod(shown),
+                items[i].at(nlohmann::json::json_pointer(std::string(field))).get<double>())
+          << at + field;
+    }
+    const std::string joints = dataValue(run.page, at + "/joints");
+    ASSERT_FALSE(joints.empty());
+    EXPECT_EQ(nlohmann::json::parse(joints), items[i]["joints"]);
+  }
+  for (const char* field : {"/p_pass", "/p_pass_standard_error", "/max_ap/95"}) {
+    const std::string shown = dataValue(run.page, std::string("/acceptance") + field);
+    ASSERT_FALSE(shown.empty()) << field;
+    EXPECT_EQ(std::stod(shown),
+              run.acceptance.at(nlohmann::json::json_pointer(field)).get<double>());
+  }
+  // The text twin prints the `acceptance` table's P(pass) line.
+  char line[80];
+  std::snprintf(line, sizeof line, "P(every AP_P <= 0.05 mm) = %.4f",
+                run.acceptance["p_pass"].get<double>());
+  EXPECT_NE(run.text.find(line), std::string::npos) << run.text;
+}
+
+TEST(AcceptanceCli, TheReportsJsonTwinCarriesTheIso10360Prediction) {
+  const std::string plan =
+      planWithAcceptance({{"test", "iso10360-2"}, {"mpe", "2.3 + L/2600"}}, "report-json");
+  const ReportRun run = reportAndAcceptance(plan);
+  std::filesystem::remove(plan);
+  ASSERT_TRUE(run.acceptance.is_object());
+  EXPECT_EQ(run.summary["acceptance"], run.acceptance);
+  for (const char* field : {"/p_pass", "/quantiles/95"}) {
+    const std::string shown = dataValue(run.page, std::string("/acceptance") + field);
+    ASSERT_FALSE(shown.empty()) << field;
+    EXPECT_EQ(std::stod(shown),
+              run.acceptance.at(nlohmann::json::json_pointer(field)).get<double>());
+  }
+}
+
 TEST(AcceptanceCli, AMalformedAcceptanceBlockIsRefusedAtLoad) {
   for (const auto& [block, pointer] : std::vector<std::pair<nlohmann::json, std::string>>{
            {{{"test", "iso10360"}, {"mpe", "1 + L/3"}}, "/acceptance/test"},
@@ -630,6 +743,158 @@ TEST(AcceptanceCli, OptimizeForThePassProbability) {
   EXPECT_GT(fail, 0.0);
   EXPECT_LT(fail, 1.0);
   EXPECT_NEAR(1.0 - fail, predicted["p_pass"].get<double>(), 0.05);
+}
+
+// ------------------------------------------------------------------------------ pass criterion
+
+/// The test's own P(max |E|/MPE <= t | s) averaged over S's columns (erf of each result, the
+/// three repetitions independent).
+double mixtureDistribution(const LengthTestPrediction& prediction, const Eigen::MatrixXd& S,
+                           double t) {
+  double sum = 0.0;
+  for (Eigen::Index m = 0; m < S.cols(); ++m) {
+    double product = 1.0;
+    for (std::size_t k = 0; k < prediction.gauges.size(); ++k) {
+      const Gauge& gauge = prediction.gauges[k];
+      const double s = S(static_cast<Eigen::Index>(k), m), w = gauge.sigma_noise * std::sqrt(2.0);
+      const double p =
+          0.5 * (std::erf((t * gauge.mpe - s) / w) + std::erf((t * gauge.mpe + s) / w));
+      product *= p * p * p;
+    }
+    sum += product;
+  }
+  return sum / static_cast<double>(S.cols());
+}
+
+/// t with mixtureDistribution(t) = probability, by plain bisection.
+double bisectedQuantile(const LengthTestPrediction& prediction, const Eigen::MatrixXd& S,
+                        double probability) {
+  double lo = 0.0, hi = 100.0;
+  for (int i = 0; i < 200; ++i) {
+    const double t = 0.5 * (lo + hi);
+    (mixtureDistribution(prediction, S, t) < probability ? lo : hi) = t;
+  }
+  return 0.5 * (lo + hi);
+}
+
+TEST(PassCriterion, QuantileOfMaxEOverMpeAgainstBisection) {
+  const Prepared prepared = prepare(test_support::testDataFile(kReferencePlan));
+  const LengthTestPrediction prediction =
+      predictLengthTestLinear(prepared.input, referenceOptions());
+  ASSERT_EQ(prediction.gauges.size(), 35u);
+  // No systematic part (V_p = 0): the closed form prod_i erf(t MPE_i / (sigma_i sqrt 2)).
+  const Eigen::MatrixXd zero = Eigen::MatrixXd::Zero(35, 3);
+  const double q0 = conditionalStatisticQuantile(prediction, zero, 0.95);
+  EXPECT_NEAR(q0, bisectedQuantile(prediction, zero, 0.95), 1e-9 * q0);
+  // Draws of the systematic part from the plan's V_p (the test's own generator and Cholesky).
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> normal;
+  const Eigen::MatrixXd L = prepared.input.uncertainty.V.llt().matrixL();
+  Eigen::MatrixXd Z(L.cols(), 64);
+  for (Eigen::Index i = 0; i < Z.size(); ++i) Z.data()[i] = normal(rng);
+  for (double inflate : {1.0, 30.0}) {  // the plan's V_p, and one that dominates the noise
+    const Eigen::MatrixXd S = inflate * gaugeDerivatives(prediction.gauges) * (L * Z);
+    for (double probability : {0.5, 0.95}) {
+      const double q = conditionalStatisticQuantile(prediction, S, probability);
+      EXPECT_NEAR(q, bisectedQuantile(prediction, S, probability), 1e-9 * q);
+      EXPECT_NEAR(mixtureDistribution(prediction, S, q), probability, 1e-9);
+    }
+  }
+}
+
+TEST(PassCriterion, SaturationWithinTheStandardErrorSwitchesToTheQuantile) {
+  // Saturated: P within its binomial standard error sqrt(P (1 - P) / M) of 1 or 0, M draws.
+  const double M = kPassDraws;
+  auto saturated = [M](double p) {
+    return std::min(p, 1.0 - p) <= std::sqrt(p * (1.0 - p) / M) * (1.0 + 1e-12);
+  };
+  using Quantity = PassObjective::Quantity;
+  for (double p : {0.0, 1e-3, 1.0 / (M + 1.0), 2.0 / (M + 1.0), 0.1, 0.5, 0.97,
+                   1.0 - 2.0 / (M + 1.0), 1.0 - 1.0 / (M + 1.0), 1.0 - 1e-6, 1.0}) {
+    const double q95 = p > 0.5 ? 0.4 : 1.7;  // the quantile is below 1 when P > 0.95
+    const PassObjective objective = passObjectiveOf(passCriterionValue(p, q95));
+    if (saturated(p)) {
+      EXPECT_EQ(objective.quantity, Quantity::Quantile95) << p;
+      EXPECT_NEAR(objective.value, q95, 1e-12) << p;
+      EXPECT_EQ(objective.name(), "q95 of max |E|/MPE");
+    } else {
+      EXPECT_EQ(objective.quantity, Quantity::FailProbability) << p;
+      EXPECT_NEAR(objective.value, 1.0 - p, 1e-12) << p;
+      EXPECT_EQ(objective.name(), "1 - P(pass)");
+    }
+  }
+  // One ranking: surely passing (smaller quantile first), may pass (larger P first), surely
+  // failing (smaller quantile first).
+  const std::vector<double> ranked = {
+      passCriterionValue(1.0, 0.2),         passCriterionValue(1.0, 0.9),
+      passCriterionValue(1.0 - 1e-3, 0.95), passCriterionValue(0.99, 0.0),
+      passCriterionValue(0.5, 0.0),         passCriterionValue(0.01, 0.0),
+      passCriterionValue(1e-3, 1.01),       passCriterionValue(0.0, 3.0)};
+  for (std::size_t i = 1; i < ranked.size(); ++i) EXPECT_LT(ranked[i - 1], ranked[i]) << i;
+}
+
+/// `optimize` on the shipped CMM spec (6 placements, criterion pass, MPE `mpe`) and
+/// `acceptance` on the plan it wrote.
+struct PassRun {
+  nlohmann::json optimized, predicted;
+};
+
+PassRun optimizeForPass(const std::string& mpe, const std::string& tag) {
+  nlohmann::json spec = readJson(test_support::planFile("cmm-plate-2styli.spec.json"));
+  spec["design"]["criterion"] = "pass";
+  spec["design"]["placements"] = 6;
+  spec["workspace"]["samples"] = 500;
+  spec["acceptance"] = {{"test", "iso10360-2"}, {"mpe", mpe}};
+  const auto temp = std::filesystem::temp_directory_path();
+  const std::string id = tag + "-" + std::to_string(::getpid());
+  const std::string path = (temp / ("artcal-pass-spec-" + id + ".json")).string();
+  const std::string output = (temp / ("artcal-pass-plan-" + id + ".json")).string();
+  std::ofstream(path) << spec.dump();
+  const test_support::CliRun run =
+      test_support::runCli("optimize " + path + " -o " + output +
+                           " --starts 1 --evaluations 20 --pool 30 --seed 3 --quiet --json");
+  const test_support::CliRun check =
+      test_support::runCli("acceptance " + output + " --trials 100000 --json");
+  for (const std::string& f : {path, output}) std::filesystem::remove(f);
+  EXPECT_EQ(run.status, 0) << run.out;
+  EXPECT_EQ(check.status, 0) << check.out;
+  if (run.status != 0 || check.status != 0) return {};
+  return {nlohmann::json::parse(run.out)["optimization"], nlohmann::json::parse(check.out)};
+}
+
+TEST(AcceptanceCli, OptimizeForPassWithALooseMpeMinimisesTheQuantile) {
+  // Every design passes surely (P(pass) = 1): the search minimises the 95 % quantile instead.
+  const PassRun run = optimizeForPass("20 + L/50", "loose");
+  ASSERT_TRUE(run.optimized.is_object());
+  EXPECT_EQ(run.optimized["unit"], "q95 of max |E|/MPE");
+  EXPECT_EQ(run.optimized["pass"]["objective"], "q95 of max |E|/MPE");
+  EXPECT_EQ(run.optimized["pass"]["saturated"], true);
+  EXPECT_EQ(run.optimized["pass"]["p_pass"], 1.0);
+  EXPECT_EQ(run.optimized["pass"]["stage_objectives"]["best_start_initial"], "q95 of max |E|/MPE");
+  const double q95 = run.optimized["value"].get<double>();
+  EXPECT_EQ(run.optimized["pass"]["q95"].get<double>(), q95);
+  // Improved from the start's random design (1 - P(pass) = 0 for both would give nothing).
+  EXPECT_LT(q95, run.optimized["best_start"]["initial"].get<double>() * (1.0 - 1e-3));
+  // The written plan, recomputed by `acceptance` (10^5 trials): its 95 % quantile is the one
+  // optimised (the 256 fixed draws against the Monte-Carlo), and it passes surely.
+  EXPECT_EQ(run.predicted["p_pass"], 1.0);
+  EXPECT_NEAR(run.predicted["quantiles"]["95"].get<double>(), q95, 0.02 * q95);
+}
+
+TEST(AcceptanceCli, OptimizeForPassNearOneHalfMaximisesThePassProbability) {
+  const PassRun run = optimizeForPass("1.4 + L/333", "half");
+  ASSERT_TRUE(run.optimized.is_object());
+  EXPECT_EQ(run.optimized["unit"], "1 - P(pass)");
+  EXPECT_EQ(run.optimized["pass"]["objective"], "1 - P(pass)");
+  EXPECT_EQ(run.optimized["pass"]["saturated"], false);
+  const double fail = run.optimized["value"].get<double>();
+  EXPECT_NEAR(1.0 - fail, run.optimized["pass"]["p_pass"].get<double>(), 1e-12);
+  EXPECT_LE(fail, run.optimized["best_start"]["initial"].get<double>());
+  // The written plan's P(pass) by `acceptance` (10^5 trials) within the 256 draws' scatter.
+  const double p_pass = run.predicted["p_pass"].get<double>();
+  EXPECT_GT(p_pass, 0.3);
+  EXPECT_LT(p_pass, 0.7);
+  EXPECT_NEAR(1.0 - fail, p_pass, 0.05);
 }
 
 TEST(AcceptanceCli, BadInputIsOneErrorLineWithStatus2) {

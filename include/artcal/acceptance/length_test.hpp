@@ -80,12 +80,25 @@ LinearGaussianTest lengthTestModel(const LengthTestPrediction& prediction,
 /// The gauges' g as rows (gauges x the covariance's parameters).
 Eigen::MatrixXd gaugeDerivatives(const std::vector<Gauge>& gauges);
 
-/// The mean over the columns s of S (one draw of the gauges' systematic parts each, mm) of the
-/// exact P(pass | s) = prod_k P(|s_k + n| <= MPE_k)^repetitions, n ~ N(0, sigma_noise,k^2): with
+/// For each column s of S (one draw of the gauges' systematic parts, mm) the exact
+/// P(max |E|/MPE <= t | s) = prod_k P(|s_k + n| <= t MPE_k)^repetitions, n ~ N(0, sigma_noise,k^2)
+/// (t = `threshold`; t = 1: P(pass | s)).
+Eigen::VectorXd conditionalPassProbabilities(const LengthTestPrediction& prediction,
+                                             const Eigen::MatrixXd& S, double threshold = 1.0);
+
+/// The mean over the columns of conditionalPassProbabilities(prediction, S): with
 /// S = G chol(V_p) Z for fixed standard normal Z (common random numbers) an estimate of P(pass)
 /// that is smooth in V_p (the optimizer's "pass" criterion).
 double meanConditionalPassProbability(const LengthTestPrediction& prediction,
                                       const Eigen::MatrixXd& S);
+
+/// The `probability` quantile of max |E|/MPE under the same estimate: the t at which the mean
+/// over S's columns of P(max |E|/MPE <= t | s) reaches `probability` (in (0, 1)), to 1e-10
+/// relative: bracketed by steps of 1.5 from the largest 1.96 sigma_k / MPE_k, then the Illinois
+/// variant of regula falsi (the mean is continuous and non-decreasing in t). Smooth in V_p like
+/// the mean; 0 when every result is exact and zero.
+double conditionalStatisticQuantile(const LengthTestPrediction& prediction,
+                                    const Eigen::MatrixXd& S, double probability);
 
 /// predictLengthTestLinear, then the Monte-Carlo.
 LengthTestPrediction predictLengthTest(const AcceptanceInput& input,

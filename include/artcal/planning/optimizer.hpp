@@ -6,7 +6,8 @@
 //   mean-tip   sqrt(mean_q S(q)^2)  (the root of the I criterion)
 //   D          det(V_s)^(1/(2 N_p)),  A  sqrt(tr V_s / N_p),  E  sqrt(lambda_max(V_s))
 //   pass       1 - P(pass) of the plan's ISO 10360-2 acceptance test (dimensionless; the mean of
-//              the exact P(pass | dp) over 256 fixed draws of dp, acceptance/length_test.hpp)
+//              the exact P(pass | dp) over 256 fixed draws of dp, acceptance/length_test.hpp), or,
+//              where P(pass) saturates, the 95 % quantile of max |E|/MPE (PassObjective below)
 // where V_s is V_p with every angle parameter scaled by the machine's reach (mm per rad), so
 // that all parameters share a unit.
 //
@@ -67,6 +68,43 @@ struct OptimizerOptions {
   bool isValid(std::string* why) const;
 };
 
+/// The "pass" criterion (docs/method.md section 9, "Planning for the test"). P = P(pass) is the
+/// mean of M = kPassDraws exact conditional probabilities p_m = P(pass | dp_m), each in [0, 1],
+/// so its Monte-Carlo standard error is at most the binomial sqrt(P (1 - P) / M). P saturates
+/// when it lies within that standard error of 1 or of 0, i.e. min(P, 1 - P) <= 1 / (M + 1): the
+/// draws cannot tell it from certain success (or failure), and the search would have nothing to
+/// improve. There the objective is q95, the 95 % quantile of max |E|/MPE under the same draws
+/// (q95 <= 1 when P saturates at 1: the margin to the MPE; q95 >= 1 at 0: how far from passing).
+/// One scalar ranks every design, smaller better, the regimes in disjoint ranges (eps = 1/(M+1)):
+///   saturated at 1   eps q95          in [0, eps]
+///   not saturated    1 - P            in (eps, 1 - eps)
+///   saturated at 0   (1 - eps) q95    in [1 - eps, inf)
+/// so a design that passes surely beats one that may fail, and one that may pass beats one that
+/// surely fails.
+inline constexpr int kPassDraws = 256;
+
+struct PassObjective {
+  enum class Quantity { FailProbability, Quantile95 };
+  Quantity quantity = Quantity::FailProbability;
+  double value = 0.0;  ///< 1 - P(pass), or q95 of max |E|/MPE
+  /// "1 - P(pass)" or "q95 of max |E|/MPE".
+  std::string name() const;
+};
+
+/// The criterion's scalar from P(pass) and q95 (q95 is only read when P saturates).
+double passCriterionValue(double p_pass, double q95);
+/// The quantity a criterion value stands for (the inverse of passCriterionValue's ranges).
+PassObjective passObjectiveOf(double criterion_value);
+
+/// The pass criterion's figures for one design.
+struct PassEstimate {
+  double p_pass = 0.0;
+  double standard_error = 0.0;  ///< sqrt(P (1 - P) / M), the bound above
+  double q95 = 0.0;             ///< of max |E|/MPE
+  bool saturated = false;
+  double value = 0.0;  ///< passCriterionValue(p_pass, q95)
+};
+
 struct StartResult {
   double initial = 0.0;    ///< the random initial design
   double exchanged = 0.0;  ///< after the exchange
@@ -81,8 +119,9 @@ struct OptimizerSummary {
   enum class Termination { Completed, TimeLimit };
   Termination termination = Termination::Completed;
   std::vector<Placement> placements;  ///< the designed placements (the spec's fixed ones apart)
-  double value = 0.0;                 ///< criterion of the best plan, mm (pass: 1 - P(pass))
+  double value = 0.0;  ///< criterion of the best plan, mm (pass: passCriterionValue, ranking)
   Criterion criterion = Criterion::WorstTip;
+  std::optional<PassEstimate> pass;  ///< Criterion::Pass: the best plan's figures
   int best_start = -1;
   std::vector<StartResult> starts;
   int pool_size = 0;
@@ -108,6 +147,9 @@ class DesignCriterion {
   /// The same with the worst-tip max replaced by the smooth p-norm when smooth_power > 0.
   double smoothValue(const Eigen::MatrixXd& information_g);
   int globalSize() const { return layout_.size(); }
+  /// Criterion::Pass: P(pass), its standard error and q95 (always computed) of the design;
+  /// std::nullopt when V_p does not exist. std::logic_error for another criterion.
+  std::optional<PassEstimate> passEstimate(const Eigen::MatrixXd& information_g);
 
   // Active set (worst-tip; docs/optimize.md, "How it searches"): the max of S over a few
   // configurations where designs were found worst is a lower bound of G that costs a fraction

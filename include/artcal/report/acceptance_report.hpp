@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "artcal/acceptance/length_test.hpp"
+#include "artcal/acceptance/plan_acceptance.hpp"
 #include "artcal/acceptance/pose_test.hpp"
 #include "artcal/report/html_report.hpp"
 
@@ -28,12 +29,15 @@ std::string lengthTestTable(const AcceptanceInput& input, const LengthTestPredic
 /// um), the +-MPE lines.
 std::string lengthTestSvg(const LengthTestPrediction& prediction);
 
-/// The report's "acceptance" figure (`artcal report`) when the plan document names an ISO
-/// 10360-2 test (its "acceptance" block) and the plan is identifiable: the E-against-L figure,
-/// P(pass) in its caption (default Monte-Carlo options). std::nullopt otherwise (an ISO 9283
-/// block is not drawn). InputError when the plan's machine is not a Cartesian CMM.
-std::optional<ReportFigure> acceptanceReportFigure(const Plan& plan, const nlohmann::json& document,
-                                                   const Evaluation& evaluation);
+/// The report's "acceptance" figure (`artcal report`) of the plan's ISO 10360-2 test (its
+/// "acceptance" block, predicted by predictPlanAcceptance): the E-against-L figure, P(pass) in
+/// its caption. std::nullopt for an ISO 9283 test (the report shows its points as a table).
+std::optional<ReportFigure> acceptanceReportFigure(const PlanAcceptance& acceptance);
+
+/// The plan's test as `artcal acceptance PLAN --json` prints it (lengthTestToJson or
+/// poseTestToJson), and its table.
+nlohmann::json planAcceptanceToJson(const PlanAcceptance& acceptance);
+std::string planAcceptanceTable(const PlanAcceptance& acceptance);
 
 nlohmann::json poseTestToJson(const AcceptanceInput& input, const PoseTestPrediction& prediction,
                               const PoseTestOptions& options);

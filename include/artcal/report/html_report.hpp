@@ -41,6 +41,10 @@ struct ReportInput {
   /// shown; its numbers carry data-field pointers prefixed "/calibration".
   const nlohmann::json* calibration_json = nullptr;
   double flag_threshold = 3.0;  ///< the calibrator's, drawn on the residual plot
+  /// planAcceptanceToJson (acceptance_report.hpp) of the plan's acceptance test, when it names
+  /// one: its P(pass), quantiles and (ISO 9283) points are tabled, with data-field pointers
+  /// prefixed "/acceptance".
+  const nlohmann::json* acceptance_json = nullptr;
 };
 
 /// The report's figures, in the order the report shows them.
