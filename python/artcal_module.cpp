@@ -42,9 +42,9 @@
 #include "artcal/report/acceptance_report.hpp"
 #include "artcal/report/calibration_report.hpp"
 #include "artcal/report/cartesian_report.hpp"
-#include "artcal/report/optimize_output.hpp"
 #include "artcal/report/report.hpp"
 #include "artcal/report/verification_report.hpp"
+#include "optimize_output.hpp"
 
 namespace py = pybind11;
 using nlohmann::json;
@@ -417,7 +417,7 @@ OptimizerOptions optimizerOptions(const PyPlan& p, const OptimizeKnobs& knobs) {
 }
 
 /// `artcal optimize SPEC -o PLAN`: the plan written (tools/cmd_optimize.cpp, the same library
-/// functions: report/optimize_output.hpp).
+/// functions: tools/optimize_output.hpp).
 json optimize(const PyPlan& p, const OptimizeKnobs& knobs, const py::object& progress) {
   noteInput(p.source);
   OptimizerOptions options = optimizerOptions(p, knobs);

@@ -14,7 +14,7 @@
 #include "artcal/io/output_file.hpp"
 #include "artcal/io/plan_io.hpp"
 #include "artcal/planning/optimizer.hpp"
-#include "artcal/report/optimize_output.hpp"
+#include "optimize_output.hpp"
 #include "artcal/report/report.hpp"
 #include "commands.hpp"
 

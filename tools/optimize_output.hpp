@@ -2,8 +2,10 @@
 // What `artcal optimize SPEC -o PLAN` and `artcal optimize SPEC --placements A..B -o DIR/` write
 // (docs/plan-format.md, optimization spec; docs/optimize.md): the optimized plan with its
 // `predicted` block (the `optimization` record of the search included), and the sweep's plans and
-// summary. The command line and the Python module (python/artcal_module.cpp) both build their
-// outputs here, so that their documents are the same.
+// summary. The command line and the Python module (python/artcal_module.cpp) both compile this
+// file and build their outputs here, so that their documents are the same. It lives beside the
+// commands, not in report/: it runs the planning layer's searches and evaluations (report/ is a
+// view over typed results, tests/report/report_includes.cmake).
 
 #include <cstdint>
 #include <functional>

@@ -1,7 +1,7 @@
-// The outputs of `artcal optimize` (report/optimize_output.hpp), moved here from the command line
-// so that the Python module builds the same documents.
+// The outputs of `artcal optimize` (optimize_output.hpp), shared by the command line and the
+// Python module so that both build the same documents.
 
-#include "artcal/report/optimize_output.hpp"
+#include "optimize_output.hpp"
 
 #include <algorithm>
 #include <cmath>
