@@ -29,17 +29,22 @@
 #include "artcal/core/random.hpp"
 #include "artcal/estimation/evaluator.hpp"
 #include "artcal/io/acceptance_spec.hpp"
+#include "artcal/io/calibrated_urdf.hpp"
 #include "artcal/io/machine_covariance.hpp"
+#include "artcal/io/output_file.hpp"
 #include "artcal/io/plan_io.hpp"
 #include "artcal/io/plausibility.hpp"
+#include "artcal/io/readings_import.hpp"
 #include "artcal/io/truth_io.hpp"
 #include "artcal/io/urdf.hpp"
 #include "artcal/planning/optimizer.hpp"
+#include "artcal/report/acceptance_input.hpp"
 #include "artcal/report/acceptance_report.hpp"
 #include "artcal/report/calibration_report.hpp"
 #include "artcal/report/cartesian_report.hpp"
 #include "artcal/report/report.hpp"
 #include "artcal/report/verification_report.hpp"
+#include "optimize_output.hpp"
 
 namespace py = pybind11;
 using nlohmann::json;
@@ -308,6 +313,18 @@ py::tuple calibrate(const PyPlan& p, int max_iterations, double step_tolerance,
   return py::make_tuple(toPython(document), toPython(machine));
 }
 
+/// A machine given as a file's path (str or os.PathLike) or as its dict (`calibrate().machine`):
+/// its document and the name errors give it.
+std::pair<json, std::string> machineDocument(const py::object& machine,
+                                             const std::string& dict_source) {
+  if (py::isinstance<py::str>(machine) ||
+      py::isinstance(machine, py::module_::import("os").attr("PathLike"))) {
+    const std::string path = py::cast<std::string>(py::str(machine));
+    return {readJsonFile(path), path};
+  }
+  return {fromPython(machine, dict_source), dict_source};
+}
+
 json verify(const PyPlan& p, const py::object& machine, const std::string& machine_source) {
   noteInput(p.source);
   // As `artcal verify` (tools/cmd_verify.cpp): the readings checked against the machine verified.
@@ -316,15 +333,7 @@ json verify(const PyPlan& p, const py::object& machine, const std::string& machi
   Eigen::VectorXd parameters = plan.machine.nominal;
   std::optional<ParameterUncertainty> uncertainty;
   if (calibrated) {
-    std::string source = machine_source;
-    json document;
-    if (py::isinstance<py::str>(machine) ||
-        py::isinstance(machine, py::module_::import("os").attr("PathLike"))) {
-      source = py::cast<std::string>(py::str(machine));
-      document = readJsonFile(source);
-    } else {
-      document = fromPython(machine, source);
-    }
+    const auto [document, source] = machineDocument(machine, machine_source);
     parameters = parseTruth(document, source, plan);
     uncertainty = parseMachineCovariance(document, source, plan);
     checkPlausibility(plan, parameters, "the machine of " + source);
@@ -377,19 +386,41 @@ json confirm(const PyPlan& p, ConfirmationOptions options, const py::object& pro
   return out;
 }
 
-// `"calibrate": "identifiable"` in a spec, resolved on random placements of the design space as
-// `artcal optimize` does (tools/cmd_optimize.cpp).
-json optimize(const PyPlan& p, std::optional<int> starts, std::optional<std::uint64_t> seed,
-              std::optional<double> time_limit, int threads, const py::object& progress) {
-  noteInput(p.source);
-  Plan spec = p.plan;
-  if (!spec.design)
+/// The command line's optimize options (`--starts`, `--seed`, ...): unset ones keep the spec's
+/// design block.
+struct OptimizeKnobs {
+  std::optional<int> starts, pool, evaluations, polish, kicks;
+  std::optional<std::uint64_t> seed;
+  std::optional<double> time_limit;
+  std::string algorithm = "sbplx";
+  int threads = 0;
+};
+
+OptimizerOptions optimizerOptions(const PyPlan& p, const OptimizeKnobs& knobs) {
+  if (!p.plan.design)
     throw InputError(p.source, "/design", "missing: an optimization spec needs a design block");
-  OptimizerOptions options = OptimizerOptions::fromDesign(*spec.design);
-  if (starts) options.starts = *starts;
-  if (seed) options.seed = *seed;
-  if (time_limit) options.time_limit = *time_limit;
-  options.threads = threads;
+  OptimizerOptions options = OptimizerOptions::fromDesign(*p.plan.design);
+  if (knobs.starts) options.starts = *knobs.starts;
+  if (knobs.seed) options.seed = *knobs.seed;
+  if (knobs.time_limit) options.time_limit = *knobs.time_limit;
+  if (knobs.pool && *knobs.pool > 0) options.pool_size = *knobs.pool;
+  if (knobs.evaluations && *knobs.evaluations > 0) options.refine_evaluations = *knobs.evaluations;
+  if (knobs.polish) options.polish = *knobs.polish;
+  if (knobs.kicks) options.kicks = *knobs.kicks;
+  const auto algorithm = refineAlgorithmFromName(knobs.algorithm);
+  if (!algorithm)
+    throw std::invalid_argument("--algorithm: " + knobs.algorithm +
+                                " not in {sbplx, bobyqa, neldermead, cobyla, none}");
+  options.algorithm = *algorithm;
+  options.threads = knobs.threads;
+  return options;
+}
+
+/// `artcal optimize SPEC -o PLAN`: the plan written (tools/cmd_optimize.cpp, the same library
+/// functions: tools/optimize_output.hpp).
+json optimize(const PyPlan& p, const OptimizeKnobs& knobs, const py::object& progress) {
+  noteInput(p.source);
+  OptimizerOptions options = optimizerOptions(p, knobs);
   auto relay = std::make_shared<ProgressRelay>(progress);
   if (relay->active()) {
     options.progress = [relay](const OptimizerProgress& s) {
@@ -397,35 +428,54 @@ json optimize(const PyPlan& p, std::optional<int> starts, std::optional<std::uin
     };
   }
   json document = withoutGil([&]() -> json {
+    Plan spec = p.plan;
+    const int resolved_on = resolveOnDesigns(spec, options.seed);
     const OptimizerSummary summary = optimizePlan(spec, options);
-    if (summary.best_start < 0) throw RunError(p.source, "/design/placements", summary.message);
-    Plan plan = spec;
-    for (const Placement& placement : summary.placements) plan.placements.push_back(placement);
-    const Evaluation evaluation = evaluatePlan(plan);
-    if (!evaluation.identifiability.identifiable())
-      throw RunError(p.source, "/design/placements", "the optimized design is not identifiable");
-    json out = p.document;
-    out["placements"] = placementsToJson(plan);
-    json predicted = evaluationToJson(plan, evaluation);
-    predicted.erase("plan");
-    out["predicted"] = predicted;
-    return out;
+    return optimizedPlan(p.document, spec, p.source, options, summary, resolved_on).document;
   });
   relay->raiseIfFailed();
   return document;
 }
 
-AcceptanceInput acceptanceInput(const PyPlan& p) {
-  const Evaluation evaluation = evaluatePlan(p.plan);
-  auto input = acceptanceInputFromPlan(p.plan, evaluation);
-  if (!input)
-    throw InputError(p.source, "/placements",
-                     "the plan does not identify its calibrated parameters (no V_p): run "
-                     "`artcal evaluate` and follow its advice");
-  return std::move(*input);
+/// `artcal optimize SPEC --placements A..B -o DIR`: the plans and the summary written into
+/// `directory`; returns the summary document (what --json prints) and the plans' files.
+py::tuple optimizeSweep(const PyPlan& p, const OptimizeKnobs& knobs, const std::string& range,
+                        std::optional<double> target, const std::string& directory,
+                        const py::object& progress) {
+  noteInput(p.source);
+  const OptimizerOptions options = optimizerOptions(p, knobs);
+  if (target && !(*target > 0.0 && std::isfinite(*target)))
+    throw std::invalid_argument("--target-tip: expected a positive number (mm)");
+  auto relay = std::make_shared<ProgressRelay>(progress);
+  std::function<void(int, double)> on_count;
+  if (relay->active()) on_count = [relay](int m, double value) { (*relay)(m, value); };
+  const PlacementSweepOutput out = withoutGil([&] {
+    Plan spec = p.plan;
+    resolveOnDesigns(spec, options.seed);
+    return placementSweepOutput(p.document, spec, options, range, target, directory, on_count);
+  });
+  relay->raiseIfFailed();
+  createOutputDirectory(directory);
+  writeOutputFiles(out.files);
+  py::list plans;
+  for (std::size_t i = 0; i + 3 < out.files.size(); ++i) plans.append(out.files[i].first);
+  return py::make_tuple(toPython(out.summary), plans);
 }
 
-json acceptanceLength(const PyPlan& p, const std::string& mpe, const MonteCarloOptions& mc) {
+/// The prediction's input: the plan's own V_p, or the calibrated `machine` (a file's path or its
+/// dict) on this plan (`artcal acceptance MACHINE --plan PLAN [--posterior]`).
+AcceptanceInput acceptanceInput(const PyPlan& p, const py::object& machine, bool posterior) {
+  if (machine.is_none()) {
+    if (posterior)
+      throw InputError(p.source, "", "--posterior goes with a calibrated machine file");
+    return acceptanceInputOfPlan(p.plan, p.source);
+  }
+  const auto [document, source] = machineDocument(machine, "machine");
+  return acceptanceInputOfMachine(document, source, p.plan, posterior);
+}
+
+json acceptanceLength(const PyPlan& p, const std::string& mpe, const MonteCarloOptions& mc,
+                      const py::object& machine, bool posterior) {
   noteInput(p.source);
   LengthTestOptions options;
   std::string error;
@@ -433,14 +483,17 @@ json acceptanceLength(const PyPlan& p, const std::string& mpe, const MonteCarloO
   if (!parsed) throw InputError("--mpe", "", error);
   options.mpe = *parsed;
   options.monte_carlo = mc;
+  std::optional<AcceptanceInput> input;  // a machine's: read with the GIL (Python objects)
+  if (!machine.is_none() || posterior) input = acceptanceInput(p, machine, posterior);
   return withoutGil([&] {
-    const AcceptanceInput input = acceptanceInput(p);
-    return lengthTestToJson(input, predictLengthTest(input, options), mc);
+    if (!input) input = acceptanceInputOfPlan(p.plan, p.source);
+    return lengthTestToJson(*input, predictLengthTest(*input, options), mc);
   });
 }
 
 json acceptancePose(const PyPlan& p, double cube, const std::array<double, 3>& center,
-                    std::optional<double> mpe, const MonteCarloOptions& mc) {
+                    std::optional<double> mpe, const MonteCarloOptions& mc,
+                    const py::object& machine, bool posterior) {
   noteInput(p.source);
   if (!(cube > 0.0)) throw InputError("--cube", "", "the pose test needs --cube E (mm, > 0)");
   PoseTestOptions options;
@@ -452,9 +505,11 @@ json acceptancePose(const PyPlan& p, double cube, const std::array<double, 3>& c
     throw InputError("--mpe", "", "the pose test's MPE is one number in mm (> 0)");
   options.mpe = mpe;
   options.monte_carlo = mc;
+  std::optional<AcceptanceInput> input;  // a machine's: read with the GIL (Python objects)
+  if (!machine.is_none() || posterior) input = acceptanceInput(p, machine, posterior);
   return withoutGil([&] {
-    const AcceptanceInput input = acceptanceInput(p);
-    return poseTestToJson(input, predictPoseTest(input, options), options);
+    if (!input) input = acceptanceInputOfPlan(p.plan, p.source);
+    return poseTestToJson(*input, predictPoseTest(*input, options), options);
   });
 }
 
@@ -465,6 +520,48 @@ MonteCarloOptions monteCarlo(long trials, std::uint64_t seed, int threads) {
   mc.seed = seed;
   mc.threads = threads;
   return mc;
+}
+
+/// `artcal import-readings DIR ...`: the plan document and its source name, with the warnings
+/// of the import and of reading the plan (the command's checks, tools/cmd_import_readings.cpp).
+std::shared_ptr<PyPlan> importReadingsPlan(ReadingsImport import, const py::object& probe) {
+  noteInput(import.folder);
+  if (import.machine_file.empty() && import.urdf.empty())
+    throw std::invalid_argument("import-readings: needs --machine or --urdf");
+  if (!import.machine_file.empty() && !import.urdf.empty())
+    throw std::invalid_argument("import-readings: --machine excludes --urdf");
+  if (!import.urdf.empty() && (import.base.empty() || import.tip.empty()))
+    throw std::invalid_argument("import-readings: --urdf needs --base and --tip");
+  if (!import.ball_bar && import.artifact_file.empty())
+    throw std::invalid_argument("import-readings: needs --ball-bar or --artifact");
+  if (import.ball_bar && !import.artifact_file.empty())
+    throw std::invalid_argument("import-readings: --ball-bar excludes --artifact");
+  if (import.ball_bar && !(*import.ball_bar > 0.0 && std::isfinite(*import.ball_bar)))
+    throw std::invalid_argument("import-readings: --ball-bar: expected a length > 0 (mm)");
+  if (!(import.u_length >= 0.0) || !(import.encoder >= 0.0))
+    throw std::invalid_argument("import-readings: --u-length and --encoder: expected >= 0");
+  if (!import.output.empty()) checkOutputPath(import.output);
+  import.probe = fromPython(probe, "--probe");
+  const ImportedPlan imported = withoutGil([&] { return importReadings(import); });
+  auto out = std::make_shared<PyPlan>();
+  out->plan = parsePlan(imported.plan, imported.source, true, /*check_plausibility=*/false);
+  out->plan.warnings.insert(out->plan.warnings.begin(), imported.warnings.begin(),
+                            imported.warnings.end());
+  out->document = imported.plan;
+  out->source = imported.source;
+  if (!import.output.empty()) writeOutputFile(import.output, out->document.dump(1) + "\n");
+  return out;
+}
+
+/// `artcal export-urdf --machine M --urdf U [-o OUT]`: the URDF text and the warnings.
+py::tuple exportCalibratedUrdf(const py::object& machine, const std::string& urdf,
+                               const std::string& output) {
+  noteInput(urdf);
+  if (!output.empty()) checkOutputPath(output);
+  const auto [document, source] = machineDocument(machine, "machine");
+  const CalibratedUrdf exported = calibratedUrdf(document, source, urdf);
+  if (!output.empty()) writeOutputFile(output, exported.text);
+  return py::make_tuple(exported.text, exported.warnings);
 }
 
 // ------------------------------------------------------------------------------ the module
@@ -556,28 +653,38 @@ void definePlan(py::module_& m) {
           py::arg("progress") = py::none())
       .def(
           "optimize",
-          [](const PyPlan& p, std::optional<int> starts, std::optional<std::uint64_t> seed,
-             std::optional<double> time_limit, int threads, const py::object& progress) {
-            return toPython(optimize(p, starts, seed, time_limit, threads, progress));
+          [](const PyPlan& p, const OptimizeKnobs& knobs, const py::object& progress) {
+            return toPython(optimize(p, knobs, progress));
           },
-          py::arg("starts"), py::arg("seed"), py::arg("time_limit"), py::arg("threads"),
+          py::arg("knobs"), py::arg("progress") = py::none())
+      .def(
+          "optimize_sweep",
+          [](const PyPlan& p, const OptimizeKnobs& knobs, const std::string& range,
+             std::optional<double> target, const std::string& directory,
+             const py::object& progress) {
+            return optimizeSweep(p, knobs, range, target, directory, progress);
+          },
+          py::arg("knobs"), py::arg("range"), py::arg("target"), py::arg("directory"),
           py::arg("progress") = py::none())
       .def(
           "acceptance_length",
-          [](const PyPlan& p, const std::string& mpe, long trials, std::uint64_t seed,
-             int threads) {
-            return toPython(acceptanceLength(p, mpe, monteCarlo(trials, seed, threads)));
+          [](const PyPlan& p, const std::string& mpe, long trials, std::uint64_t seed, int threads,
+             const py::object& machine, bool posterior) {
+            return toPython(
+                acceptanceLength(p, mpe, monteCarlo(trials, seed, threads), machine, posterior));
           },
-          py::arg("mpe"), py::arg("trials"), py::arg("seed"), py::arg("threads"))
+          py::arg("mpe"), py::arg("trials"), py::arg("seed"), py::arg("threads"),
+          py::arg("machine"), py::arg("posterior"))
       .def(
           "acceptance_pose",
           [](const PyPlan& p, double cube, const std::array<double, 3>& center,
-             std::optional<double> mpe, long trials, std::uint64_t seed, int threads) {
-            return toPython(
-                acceptancePose(p, cube, center, mpe, monteCarlo(trials, seed, threads)));
+             std::optional<double> mpe, long trials, std::uint64_t seed, int threads,
+             const py::object& machine, bool posterior) {
+            return toPython(acceptancePose(p, cube, center, mpe, monteCarlo(trials, seed, threads),
+                                           machine, posterior));
           },
           py::arg("cube"), py::arg("center"), py::arg("mpe"), py::arg("trials"), py::arg("seed"),
-          py::arg("threads"));
+          py::arg("threads"), py::arg("machine"), py::arg("posterior"));
 }
 
 }  // namespace
@@ -599,6 +706,46 @@ PYBIND11_MODULE(_native, m) {
         return toPython(artcal::importUrdf(path, base, tip));
       },
       py::arg("path"), py::arg("base"), py::arg("tip"));
+  py::class_<OptimizeKnobs>(m, "_OptimizeKnobs")
+      .def(py::init<>())
+      .def_readwrite("starts", &OptimizeKnobs::starts)
+      .def_readwrite("seed", &OptimizeKnobs::seed)
+      .def_readwrite("time_limit", &OptimizeKnobs::time_limit)
+      .def_readwrite("threads", &OptimizeKnobs::threads)
+      .def_readwrite("pool", &OptimizeKnobs::pool)
+      .def_readwrite("evaluations", &OptimizeKnobs::evaluations)
+      .def_readwrite("polish", &OptimizeKnobs::polish)
+      .def_readwrite("kicks", &OptimizeKnobs::kicks)
+      .def_readwrite("algorithm", &OptimizeKnobs::algorithm);
+  m.def(
+      "import_readings",
+      [](const std::string& folder, const std::string& machine, const std::string& urdf,
+         const std::string& base, const std::string& tip, std::optional<double> ball_bar,
+         double u_length, const std::string& artifact, const py::object& probe, double encoder,
+         const std::string& unit, bool keep_calibrate, bool keep_limits,
+         const std::string& output) {
+        artcal::ReadingsImport import;
+        import.folder = folder;
+        import.machine_file = machine;
+        import.urdf = urdf;
+        import.base = base;
+        import.tip = tip;
+        import.ball_bar = ball_bar;
+        import.u_length = u_length;
+        import.artifact_file = artifact;
+        import.encoder = encoder;
+        import.unit = unit;
+        import.keep_calibrate = keep_calibrate;
+        import.keep_limits = keep_limits;
+        import.output = output;
+        return importReadingsPlan(std::move(import), probe);
+      },
+      py::arg("folder"), py::arg("machine"), py::arg("urdf"), py::arg("base"), py::arg("tip"),
+      py::arg("ball_bar"), py::arg("u_length"), py::arg("artifact"), py::arg("probe"),
+      py::arg("encoder"), py::arg("unit"), py::arg("keep_calibrate"), py::arg("keep_limits"),
+      py::arg("output"));
+  m.def("export_urdf", &exportCalibratedUrdf, py::arg("machine"), py::arg("urdf"),
+        py::arg("output"));
   py::class_<PyEvaluator>(m, "_Evaluator")
       .def(py::init<std::shared_ptr<PyPlan>>(), py::keep_alive<1, 2>())
       .def("tip", &PyEvaluator::tip);

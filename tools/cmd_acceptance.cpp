@@ -9,10 +9,9 @@
 #include "artcal/acceptance/length_test.hpp"
 #include "artcal/acceptance/pose_test.hpp"
 #include "artcal/io/acceptance_spec.hpp"
-#include "artcal/io/machine_covariance.hpp"
 #include "artcal/io/output_file.hpp"
 #include "artcal/io/plan_io.hpp"
-#include "artcal/io/truth_io.hpp"
+#include "artcal/report/acceptance_input.hpp"
 #include "artcal/report/acceptance_report.hpp"
 #include "commands.hpp"
 
@@ -41,13 +40,7 @@ bool isPlanDocument(const nlohmann::json& document) {
 
 LoadedInput loadFromPlan(const std::string& path, const nlohmann::json& document) {
   LoadedInput loaded{loadPlanReporting(path), {}, parseAcceptanceSpec(document, path)};
-  const Evaluation evaluation = evaluatePlan(loaded.plan);
-  auto input = acceptanceInputFromPlan(loaded.plan, evaluation);
-  if (!input)
-    throw InputError(path, "/placements",
-                     "the plan does not identify its calibrated parameters (no V_p): run "
-                     "`artcal evaluate` and follow its advice");
-  loaded.input = std::move(*input);
+  loaded.input = acceptanceInputOfPlan(loaded.plan, path);
   return loaded;
 }
 
@@ -58,16 +51,7 @@ LoadedInput loadFromMachine(const AcceptanceArguments& args, const nlohmann::jso
                      "noise and workspace)");
   LoadedInput loaded{
       loadPlanReporting(args.plan), {}, parseAcceptanceSpec(readJsonFile(args.plan), args.plan)};
-  const Eigen::VectorXd parameters = parseTruth(document, args.file, loaded.plan);
-  auto uncertainty = parseMachineCovariance(document, args.file, loaded.plan);
-  if (!uncertainty)
-    throw InputError(args.file, "/covariance",
-                     "no covariance: write the machine with `artcal calibrate --write-machine`");
-  if (args.posterior && !(uncertainty->birge_ratio > 0.0))
-    throw InputError(args.file, "/covariance/birge_ratio",
-                     "--posterior needs the calibration's Birge ratio in the machine file");
-  loaded.input =
-      acceptanceInputFromMachine(loaded.plan, parameters, std::move(*uncertainty), args.posterior);
+  loaded.input = acceptanceInputOfMachine(document, args.file, loaded.plan, args.posterior);
   return loaded;
 }
 

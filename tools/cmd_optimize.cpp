@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <iomanip>
 #include <iostream>
 #include <sstream>
@@ -12,11 +13,10 @@
 #include "artcal/core/parallel.hpp"
 #include "artcal/io/output_file.hpp"
 #include "artcal/io/plan_io.hpp"
-#include "artcal/planning/design_identifiability.hpp"
 #include "artcal/planning/optimizer.hpp"
 #include "artcal/report/report.hpp"
 #include "commands.hpp"
-#include "optimize_sweep.hpp"
+#include "optimize_output.hpp"
 
 namespace artcal::cli {
 
@@ -35,7 +35,8 @@ struct OptimizeArguments {
   std::optional<double> time_limit;
   std::optional<long> seed;
   std::optional<int> polish, kicks;
-  SweepArguments sweep;  ///< --placements A..B: every count, -o is a directory
+  std::string sweep_range;           ///< --placements A..B: every count, -o is a directory
+  std::optional<double> target_tip;  ///< with --placements: overrides design.target_tip
 };
 
 double toMicrometres(double mm) {
@@ -53,12 +54,6 @@ CriterionDisplay displayOf(Criterion criterion, double value) {
   if (criterion != Criterion::Pass) return {value * 1000.0, "um"};
   const PassObjective objective = passObjectiveOf(value);
   return {objective.value, objective.name()};
-}
-
-/// A criterion value in its display unit (the pass quantities as they are, lengths in mm).
-nlohmann::json criterionJson(Criterion criterion, double value) {
-  if (criterion != Criterion::Pass || !std::isfinite(value)) return finiteOrNull(value);
-  return passObjectiveOf(value).value;
 }
 
 OptimizerOptions optionsFrom(const Plan& plan, const OptimizeArguments& args) {
@@ -82,70 +77,6 @@ OptimizerOptions optionsFrom(const Plan& plan, const OptimizeArguments& args) {
     };
   }
   return options;
-}
-
-double median(std::vector<double> values) {
-  if (values.empty()) return NAN;
-  std::sort(values.begin(), values.end());
-  const std::size_t n = values.size();
-  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
-}
-
-/// The quantity a pass criterion value stands for ("1 - P(pass)" or "q95 of max |E|/MPE").
-nlohmann::json passQuantity(double value) {
-  return std::isfinite(value) ? nlohmann::json(passObjectiveOf(value).name()) : nullptr;
-}
-
-/// Criterion "pass": the optimum's P(pass), its standard error, q95 and whether P(pass)
-/// saturated (optimizer.hpp, PassObjective), and which quantity each stage's value is.
-nlohmann::json passJson(const OptimizerSummary& summary, double best_initial,
-                        double median_initial) {
-  const PassEstimate& pass = *summary.pass;
-  const StartResult& best = summary.starts[static_cast<std::size_t>(summary.best_start)];
-  return {{"draws", kPassDraws},
-          {"p_pass", finiteOrNull(pass.p_pass)},
-          {"p_pass_standard_error", finiteOrNull(pass.standard_error)},
-          {"q95", finiteOrNull(pass.q95)},
-          {"saturated", pass.saturated},
-          {"objective", passObjectiveOf(summary.value).name()},
-          {"stage_objectives",
-           {{"random_initial_best", passQuantity(best_initial)},
-            {"random_initial_median", passQuantity(median_initial)},
-            {"best_start_initial", passQuantity(best.initial)},
-            {"best_start_exchanged", passQuantity(best.exchanged)},
-            {"best_start_refined", passQuantity(best.refined)}}}};
-}
-
-// How the optimum compares with its starting designs (criterion values, mm).
-nlohmann::json optimizationToJson(const Plan& plan, const OptimizerOptions& options,
-                                  const OptimizerSummary& summary) {
-  std::vector<double> initial;
-  for (const StartResult& s : summary.starts) {
-    if (s.done) initial.push_back(s.initial);
-  }
-  const StartResult& best = summary.starts[static_cast<std::size_t>(summary.best_start)];
-  const Criterion criterion = plan.design->criterion;
-  auto value = [criterion](double v) { return criterionJson(criterion, v); };
-  nlohmann::json out;
-  out["criterion"] = criterionName(criterion);
-  out["value"] = value(summary.value);
-  out["unit"] = criterion == Criterion::Pass ? passObjectiveOf(summary.value).name() : "mm";
-  out["seed"] = options.seed;
-  out["starts"] = options.starts;
-  out["starts_done"] = summary.startsDone();
-  out["pool"] = summary.pool_size;
-  out["algorithm"] = refineAlgorithmName(options.algorithm);
-  out["best_start"] = {{"index", summary.best_start},
-                       {"initial", value(best.initial)},
-                       {"exchanged", value(best.exchanged)},
-                       {"refined", value(best.refined)}};
-  const double best_initial =
-      initial.empty() ? NAN : *std::min_element(initial.begin(), initial.end());
-  out["random_initial"] = {{"best", value(best_initial)}, {"median", value(median(initial))}};
-  if (summary.pass) out["pass"] = passJson(summary, best_initial, median(initial));
-  out["termination"] =
-      summary.termination == OptimizerSummary::Termination::Completed ? "completed" : "time_limit";
-  return out;
 }
 
 std::string summaryTable(const Plan& plan, const OptimizerSummary& summary,
@@ -193,46 +124,6 @@ std::string summaryTable(const Plan& plan, const OptimizerSummary& summary,
   return out.str();
 }
 
-// `"calibrate": "identifiable"` in a spec: resolved on random placements of the design space
-// (planning/design_identifiability.hpp), from the listed candidates, not from the spec's fixed
-// placements alone (which parsePlan resolved on). Returns how many placements decided.
-int resolveOnDesigns(Plan& spec, std::uint64_t seed) {
-  if (!spec.machine.calibrate_identifiable) return 0;
-  if (spec.calibrate_resolution) spec.machine.calibrated = spec.calibrate_resolution->listed;
-  spec.calibrate_resolution.reset();
-  const std::optional<DesignIdentifiability> by_designs = identifiableByDesigns(spec, seed);
-  if (!by_designs) return 0;  // no feasible placement: the search says why
-  spec.machine.calibrated = by_designs->resolution.kept;
-  spec.calibrate_resolution = by_designs->resolution;
-  return by_designs->candidates;
-}
-
-// No design identifies the calibrated set (docs/plan-format.md: exit 1, one line). The advice
-// comes from the union of random placements of the design space: the parameters to fix when
-// even the union cannot separate them, otherwise more placements or postures.
-int refuseUnidentifiable(const Plan& spec, std::uint64_t seed, const std::string& source,
-                         const std::string& why) {
-  const std::optional<DesignIdentifiability> by_designs = identifiableByDesigns(spec, seed);
-  std::cerr << "error: " << source;
-  if (by_designs && !by_designs->resolution.dropped.empty()) {
-    std::cerr << ": /machine/calibrate: " << why << "; no design of this space can identify "
-              << by_designs->resolution.dropped.size() << " of the "
-              << spec.machine.calibratedCount() << " calibrated parameters ("
-              << by_designs->candidates
-              << " random placements together cannot, docs/method.md section 5): "
-              << calibrateFixText(spec, by_designs->resolution) << std::endl;
-  } else {
-    std::cerr << ": /design/placements: " << why;
-    if (by_designs) {
-      std::cerr << "; " << by_designs->candidates
-                << " random placements together identify every calibrated parameter: more "
-                   "placements or postures may";
-    }
-    std::cerr << std::endl;
-  }
-  return 1;
-}
-
 std::string resolutionLine(const Plan& plan, int candidates) {
   if (!plan.calibrate_resolution) return {};
   const auto& params = plan.machine.mechanism->parameters();
@@ -248,8 +139,29 @@ std::string resolutionLine(const Plan& plan, int candidates) {
   return out.str();
 }
 
+/// `--placements A..B`: every count optimized, the plans and the summary written into -o DIR/.
+int runPlacementSweep(const nlohmann::json& spec_document, const Plan& spec,
+                      const OptimizerOptions& options, const OptimizeArguments& args) {
+  std::function<void(int, double)> progress;
+  if (options.progress) {
+    progress = [](int m, double value) {
+      std::cerr << "optimize --placements: m = " << m << ", G " << value * 1e3 << " um\n";
+    };
+  }
+  const PlacementSweepOutput out = placementSweepOutput(
+      spec_document, spec, options, args.sweep_range, args.target_tip, args.output, progress);
+  createOutputDirectory(args.output);
+  writeOutputFiles(out.files);
+  if (args.json) {
+    printJson(out.summary);
+  } else {
+    std::cout << out.table;
+  }
+  return 0;
+}
+
 int runOptimize(const OptimizeArguments& args) {
-  const bool sweep = !args.sweep.range.empty();
+  const bool sweep = !args.sweep_range.empty();
   if (!sweep) checkOutputPath(args.output);  // refused before the search, not after it
   const nlohmann::json spec_document = readJsonFile(args.spec);
   Plan spec = parsePlan(spec_document, args.spec, /*require_placements=*/false);
@@ -259,36 +171,14 @@ int runOptimize(const OptimizeArguments& args) {
   }
   const OptimizerOptions options = optionsFrom(spec, args);
   const int resolved_on = resolveOnDesigns(spec, options.seed);
-  if (sweep) {
-    SweepArguments sweep_args = args.sweep;
-    sweep_args.directory = args.output;
-    sweep_args.json = args.json;
-    return runPlacementSweep(spec_document, spec, options, sweep_args);
-  }
+  if (sweep) return runPlacementSweep(spec_document, spec, options, args);
   const OptimizerSummary summary = optimizePlan(spec, options);
   if (options.progress) std::fprintf(stderr, "\n");
-  if (summary.best_start < 0) {
-    return refuseUnidentifiable(spec, options.seed, args.spec, summary.message);
-  }
-  Plan plan = spec;
-  for (const Placement& p : summary.placements) plan.placements.push_back(p);
-  const Evaluation evaluation = evaluatePlan(plan);
-  // The rank policy re-checks the optimizer's pick (a finite criterion is not a full rank).
-  if (!evaluation.identifiability.identifiable()) {
-    return refuseUnidentifiable(spec, options.seed, args.spec,
-                                "the optimized design is not identifiable");
-  }
-  nlohmann::json document = spec_document;
-  document["placements"] = placementsToJson(plan);
-  nlohmann::json predicted = evaluationToJson(plan, evaluation);
-  predicted.erase("plan");
-  predicted["optimization"] = optimizationToJson(spec, options, summary);
-  if (plan.calibrate_resolution) {
-    predicted["calibrate_resolved_on"] = {{"random_placements", resolved_on},
-                                          {"seed", options.seed}};
-  }
-  document["predicted"] = predicted;
-  writeJsonOutput(args.output, document);
+  const OptimizedPlan optimized =
+      optimizedPlan(spec_document, spec, args.spec, options, summary, resolved_on);
+  const Plan& plan = optimized.plan;
+  const nlohmann::json& predicted = optimized.document["predicted"];
+  writeJsonOutput(args.output, optimized.document);
   std::ostream& summary_out = summaryStream(args.output);
   if (args.json) {
     nlohmann::json out = predicted;
@@ -296,7 +186,7 @@ int runOptimize(const OptimizeArguments& args) {
     out["seconds"] = summary.seconds;
     summary_out << out.dump(2) << std::endl;
   } else {
-    summary_out << summaryTable(spec, summary, evaluation, args.output)
+    summary_out << summaryTable(spec, summary, optimized.evaluation, args.output)
                 << resolutionLine(plan, resolved_on);
   }
   return 0;
@@ -338,11 +228,11 @@ void addOptimizeCommand(CLI::App& app, Action& action) {
   cmd->add_option("--kicks", args->kicks,
                   "iterated-local-search kicks per polished design (overrides design.kicks)")
       ->check(CLI::Range(0, 10000));
-  cmd->add_option("--placements", args->sweep.range,
+  cmd->add_option("--placements", args->sweep_range,
                   "A..B: optimize every count from A to B placements (seeding each count with "
                   "the design for the one before); -o is then a directory for the plans and "
                   "the summary");
-  cmd->add_option("--target-tip", args->sweep.target,
+  cmd->add_option("--target-tip", args->target_tip,
                   "with --placements: the criterion to reach, mm (overrides design.target_tip)")
       ->check(CLI::PositiveNumber);
   cmd->add_option("--algorithm", args->algorithm, "continuous refinement (NLopt)")

@@ -3,8 +3,7 @@
 
 #include <iostream>
 
-#include "artcal/calibration/corrections.hpp"
-#include "artcal/io/chain_codec.hpp"
+#include "artcal/io/calibrated_urdf.hpp"
 #include "artcal/io/plan_io.hpp"
 #include "artcal/io/urdf.hpp"
 #include "commands.hpp"
@@ -36,17 +35,6 @@ void addImportCommand(CLI::App& app, Action& action) {
   });
 }
 
-// Corrections a metrologist would not believe (calibration/corrections.hpp), against the URDF's
-// own origins: a warning each on stderr, the URDF written all the same.
-void warnImplausibleCorrections(const MachineBlock& block, const Eigen::VectorXd& nominal) {
-  Machine machine;
-  machine.mechanism = block.mechanism;
-  machine.nominal = nominal;
-  for (int i = 0; i < block.mechanism->parameterCount(); ++i) machine.calibrated.push_back(i);
-  for (const ImplausibleCorrection& c : implausibleCorrections(machine, nominal, block.nominal))
-    std::cerr << "warning: " << describeCorrection(machine, c) << "\n";
-}
-
 struct ExportArguments {
   std::string machine, urdf, output;
 };
@@ -63,10 +51,10 @@ void addExportCommand(CLI::App& app, Action& action) {
   cmd->callback([&action, args] {
     action = [args] {
       checkOutputPath(args->output);
-      const MachineBlock block = readChainMachine(readJsonFile(args->machine), args->machine);
-      const auto& chain = static_cast<const Chain&>(*block.mechanism);
-      writeOutputFile(args->output, exportUrdf(chain, block.nominal, args->urdf, args->machine));
-      warnImplausibleCorrections(block, urdfNominal(chain, block.nominal, args->urdf));
+      const CalibratedUrdf urdf =
+          calibratedUrdf(readJsonFile(args->machine), args->machine, args->urdf);
+      writeOutputFile(args->output, urdf.text);
+      for (const std::string& warning : urdf.warnings) std::cerr << "warning: " << warning << "\n";
       return 0;
     };
   });

@@ -9,7 +9,9 @@ See docs/python.md.
 
 from __future__ import annotations
 
+import copy
 import os
+import warnings
 from typing import Any, Callable, Mapping, Optional, Union
 
 import numpy as np
@@ -18,9 +20,11 @@ from . import _native
 from ._native import Error, InputError, RunError
 
 __all__ = [
-    "Error", "InputError", "RunError", "Plan", "Result", "Evaluator", "import_urdf",
-    "load_plan", "optimize",
+    "Error", "InputError", "RunError", "Plan", "Result", "Evaluator", "export_urdf",
+    "import_readings", "import_urdf", "load_plan", "optimize", "optimize_sweep", "placement",
 ]
+
+PLAN_FORMAT = "artcal-plan/1"
 
 PathLike = Union[str, "os.PathLike[str]"]
 
@@ -44,20 +48,144 @@ def _labelled_matrix(block: Optional[Mapping[str, Any]]):
     return list(block["parameters"]), np.asarray(block["matrix"], dtype=float)
 
 
-class Plan:
-    """An artcal plan (artcal-plan/1), read from a file or from a dict of the same form."""
+def _plain(value: Any) -> Any:
+    """``value`` with numpy arrays and scalars as lists and numbers (the JSON form)."""
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    if isinstance(value, np.generic):
+        return value.item()
+    if isinstance(value, Mapping):
+        return {key: _plain(item) for key, item in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_plain(item) for item in value]
+    return value
 
-    def __init__(self, path: PathLike, *, require_placements: bool = True) -> None:
-        """Reads the plan file ``path`` (as ``artcal check PLAN`` does)."""
-        self._plan = _native.load_plan(os.fspath(path), require_placements)
+
+def _feature_blocks(joints: Any, features: Any) -> list[tuple[int, np.ndarray]]:
+    """(feature, (n, k) readings) blocks from the forms add_placement takes."""
+    if features is not None:
+        q = np.asarray(joints, dtype=float)
+        f = np.asarray(features).reshape(-1)
+        if q.ndim != 2 or q.shape[0] != f.shape[0]:
+            raise ValueError("joints: expected an (n, joints) array with one feature per row, "
+                             f"got {q.shape} readings and {f.shape[0]} features")
+        return [(int(fi), q[i:i + 1]) for i, fi in enumerate(f)]
+    items = joints.items() if isinstance(joints, Mapping) else enumerate(joints)
+    blocks = []
+    for feature, readings in items:
+        q = np.asarray(readings, dtype=float)
+        if q.ndim == 1:
+            q = q.reshape(1, -1)
+        if q.ndim != 2:
+            raise ValueError(f"joints of feature {feature}: expected an (n, joints) array, "
+                             f"got shape {q.shape}")
+        blocks.append((int(feature), q))
+    return blocks
+
+
+def placement(artifact: str, joints: Any, features: Any = None, *,
+              pose: Optional[Mapping[str, Any]] = None,
+              name: Optional[str] = None) -> dict[str, Any]:
+    """One placement in the plan's JSON form (docs/plan-format.md, ``placements``).
+
+    ``joints``: the readings in file units (mm, deg), either per feature -- a list whose k-th
+    item is feature k's (n, joints) array, or a dict {feature: (n, joints) array} -- or one
+    (n, joints) array with ``features`` (n,) naming each row's feature (what
+    :meth:`Plan.readings` returns). Each row is one measurement, in the order given.
+    """
+    entry: dict[str, Any] = {"artifact": artifact}
+    if name is not None:
+        entry["name"] = name
+    if pose is not None:
+        entry["pose"] = _plain(pose)
+    entry["measurements"] = [{"feature": feature, "joints": row.tolist()}
+                             for feature, rows in _feature_blocks(joints, features)
+                             for row in rows]
+    return entry
+
+
+class Plan:
+    """An artcal plan (artcal-plan/1): read from a file, from a dict of the same form, or built
+    in code from its parts (the same JSON form, parsed by the library's plan reader)."""
+
+    def __init__(self, path: Optional[PathLike] = None, *, machine: Optional[Mapping] = None,
+                 noise: Optional[Mapping] = None, artifacts: Optional[Mapping] = None,
+                 placements: Optional[list] = None, workspace: Optional[Mapping] = None,
+                 name: Optional[str] = None, source: str = "<plan>",
+                 require_placements: bool = True, **other: Any) -> None:
+        """``Plan(path)`` reads the plan file (as ``artcal check PLAN`` does).
+
+        ``Plan(machine=..., noise=..., artifacts=..., placements=..., workspace=..., name=...)``
+        builds one in code: each part is the plan file's block (dicts, numpy arrays accepted),
+        ``placements`` a list of :func:`placement` entries; further top-level blocks
+        (``description``, ``acceptance``, ``design``) as keywords. :meth:`add_artifact` and
+        :meth:`add_placement` add to it. The plan is read (and checked) when first used; errors
+        name ``source`` as the file.
+        """
+        self._require_placements = require_placements
+        if path is not None:
+            if any(v is not None for v in (machine, noise, artifacts, placements, workspace,
+                                           name)) or other:
+                raise TypeError("Plan(path) reads a file: give either a path or the parts")
+            self._set_native(_native.load_plan(os.fspath(path), require_placements))
+            return
+        document: dict[str, Any] = {"format": PLAN_FORMAT}
+        if name is not None:
+            document["name"] = name
+        parts = {"machine": machine, "noise": noise, "artifacts": artifacts,
+                 "placements": placements, "workspace": workspace, **other}
+        document.update({key: _plain(value) for key, value in parts.items()
+                         if value is not None})
+        document.setdefault("artifacts", {})
+        document.setdefault("placements", [])
+        self._document = document
+        self._source = source
+        self._native_plan = None
+
+    def _set_native(self, native: Any) -> None:
+        self._native_plan = native
+        self._document = None
+        self._source = native.source
+
+    @property
+    def _plan(self) -> Any:
+        """The library's plan, read from the document when first needed."""
+        if self._native_plan is None:
+            self._native_plan = _native.plan_from_dict(self._document, self._source,
+                                                       self._require_placements)
+        return self._native_plan
 
     @classmethod
     def from_dict(cls, document: Mapping[str, Any], *, source: str = "<dict>",
                   require_placements: bool = True) -> "Plan":
         """A plan from its JSON form as a dict; errors name ``source`` as the file."""
         plan = cls.__new__(cls)
-        plan._plan = _native.plan_from_dict(document, source, require_placements)
+        plan._require_placements = require_placements
+        plan._set_native(_native.plan_from_dict(_plain(document), source, require_placements))
         return plan
+
+    def _editable(self) -> dict[str, Any]:
+        if self._document is None:
+            self._document = self._native_plan.document()
+        self._native_plan = None  # read again, with the addition, when next used
+        return self._document
+
+    def add_artifact(self, artifact_id: str, type: str, **fields: Any) -> "Plan":
+        """Adds an artifact (the ``artifacts`` block's entry, e.g. ``add_artifact("bar80",
+        "ball_bar", length=80.0, u_length=0.0)``); returns the plan."""
+        self._editable().setdefault("artifacts", {})[artifact_id] = {"type": type,
+                                                                   **_plain(fields)}
+        return self
+
+    def add_placement(self, artifact: str, joints: Any, features: Any = None, *,
+                      pose: Optional[Mapping[str, Any]] = None,
+                      name: Optional[str] = None) -> "Plan":
+        """Adds a placement of ``artifact`` with its readings (see :func:`placement`: per
+        feature (n, joints) arrays, or one (n, joints) array and ``features``; mm, deg);
+        returns the plan."""
+        entry = placement(artifact, joints, features, pose=pose, name=name)
+        self._editable().setdefault("placements", []).append(entry)
+        return self
 
     @property
     def name(self) -> str:
@@ -67,7 +195,7 @@ class Plan:
     @property
     def source(self) -> str:
         """The file (or the source name) the plan was read from."""
-        return self._plan.source
+        return self._source
 
     @property
     def warnings(self) -> list[str]:
@@ -75,7 +203,9 @@ class Plan:
         return list(self._plan.warnings)
 
     def to_dict(self) -> dict[str, Any]:
-        """The plan document as read."""
+        """The plan document as read (or as built)."""
+        if self._document is not None:
+            return copy.deepcopy(self._document)
         return self._plan.document()
 
     @property
@@ -147,9 +277,7 @@ class Plan:
     def verify(self, machine: Union[PathLike, Mapping[str, Any], None] = None) -> Result:
         """``artcal verify --json [--machine FILE]``: a (calibrated) machine on these readings;
         ``machine`` is a machine file's path or the dict ``calibrate().machine``."""
-        if isinstance(machine, os.PathLike):
-            machine = os.fspath(machine)
-        return Result(self._plan.verify(machine))
+        return Result(self._plan.verify(_machine_arg(machine)))
 
     def simulate(self, truth: Union[PathLike, Mapping[str, Any]], *, seed: int = 1,
                  noise_scale: float = 1.0, artifact_errors: bool = True) -> "Plan":
@@ -168,17 +296,26 @@ class Plan:
         return Result(self._plan.confirm(trials, seed, threads, noise_scale, perturbation, level,
                                          allowance, progress))
 
-    def acceptance_length(self, mpe: str, *, trials: int = 0, seed: int = 20261201,
+    def acceptance_length(self, mpe: str, *, machine: Union[PathLike, Mapping[str, Any],
+                                                           None] = None,
+                          posterior: bool = False, trials: int = 0, seed: int = 20261201,
                           threads: int = 0) -> Result:
-        """``artcal acceptance PLAN --test length --mpe MPE --json`` (ISO 10360-2)."""
-        return Result(self._plan.acceptance_length(mpe, trials, seed, threads))
+        """``artcal acceptance PLAN --test iso10360-2 --mpe MPE --json`` (ISO 10360-2) from the
+        plan's predicted V_p; with ``machine`` (a machine file's path or the dict
+        ``calibrate().machine``) ``artcal acceptance MACHINE --plan PLAN [--posterior]``: the
+        calibrated machine's covariance on this plan's noise and workspace."""
+        return Result(self._plan.acceptance_length(mpe, trials, seed, threads,
+                                                   _machine_arg(machine), posterior))
 
     def acceptance_pose(self, cube: float, center: tuple[float, float, float], *,
-                        mpe: Optional[float] = None, trials: int = 0, seed: int = 20261201,
+                        mpe: Optional[float] = None,
+                        machine: Union[PathLike, Mapping[str, Any], None] = None,
+                        posterior: bool = False, trials: int = 0, seed: int = 20261201,
                         threads: int = 0) -> Result:
-        """``artcal acceptance PLAN --test pose --cube E --center X,Y,Z --json`` (ISO 9283)."""
+        """``artcal acceptance PLAN --test iso9283 --cube E --center X,Y,Z --json`` (ISO 9283);
+        ``machine`` and ``posterior`` as in :meth:`acceptance_length`."""
         return Result(self._plan.acceptance_pose(cube, tuple(center), mpe, trials, seed,
-                                                 threads))
+                                                 threads, _machine_arg(machine), posterior))
 
     def __repr__(self) -> str:
         return f"artcal.Plan({self.source!r})"
@@ -208,16 +345,108 @@ def import_urdf(path: PathLike, base: str, tip: str) -> dict[str, Any]:
     return _native.import_urdf(os.fspath(path), base, tip)
 
 
+def _machine_arg(machine: Any) -> Any:
+    """A machine file's path as str, a dict in its JSON form, None as None."""
+    if isinstance(machine, os.PathLike):
+        return os.fspath(machine)
+    if isinstance(machine, Mapping):
+        return _plain(machine)
+    return machine
+
+
+def _spec_plan(spec: Union[PathLike, Mapping[str, Any], Plan]) -> Any:
+    if isinstance(spec, Plan):
+        return spec._plan
+    if isinstance(spec, Mapping):
+        return _native.plan_from_dict(_plain(spec), "<dict>", False)
+    return _native.load_plan(os.fspath(spec), False)
+
+
+def _optimize_knobs(starts, seed, time_limit, threads, pool, evaluations, polish, kicks,
+                    algorithm) -> Any:
+    knobs = _native._OptimizeKnobs()
+    knobs.starts, knobs.seed, knobs.time_limit, knobs.threads = starts, seed, time_limit, threads
+    knobs.pool, knobs.evaluations, knobs.polish, knobs.kicks = pool, evaluations, polish, kicks
+    knobs.algorithm = algorithm
+    return knobs
+
+
 def optimize(spec: Union[PathLike, Mapping[str, Any], Plan], *, starts: Optional[int] = None,
              seed: Optional[int] = None, time_limit: Optional[float] = None, threads: int = 0,
+             pool: Optional[int] = None, evaluations: Optional[int] = None,
+             polish: Optional[int] = None, kicks: Optional[int] = None,
+             algorithm: str = "sbplx",
              progress: Optional[Callable[[int, int, float, float], None]] = None) -> Plan:
-    """``artcal optimize SPEC -o PLAN``: the optimized plan, its ``predicted`` block included
-    (GIL released); ``progress(starts_done, starts, best_mm, seconds)`` after each start."""
-    if isinstance(spec, Plan):
-        native = spec._plan
-    elif isinstance(spec, Mapping):
-        native = _native.plan_from_dict(spec, "<dict>", False)
-    else:
-        native = _native.load_plan(os.fspath(spec), False)
-    document = native.optimize(starts, seed, time_limit, threads, progress)
+    """``artcal optimize SPEC -o PLAN``: the optimized plan, equal to the file the command
+    writes (its ``predicted`` block with the search's ``optimization`` record; GIL released).
+    The keywords are the command's options (None: the spec's design block);
+    ``progress(starts_done, starts, best, seconds)`` after each start."""
+    native = _spec_plan(spec)
+    knobs = _optimize_knobs(starts, seed, time_limit, threads, pool, evaluations, polish, kicks,
+                            algorithm)
+    document = native.optimize(knobs, progress)
     return Plan.from_dict(document, source=native.source)
+
+
+def optimize_sweep(spec: Union[PathLike, Mapping[str, Any], Plan], placements: str,
+                   directory: PathLike, *, target_tip: Optional[float] = None,
+                   starts: Optional[int] = None, seed: Optional[int] = None,
+                   time_limit: Optional[float] = None, threads: int = 0,
+                   pool: Optional[int] = None, evaluations: Optional[int] = None,
+                   polish: Optional[int] = None, kicks: Optional[int] = None,
+                   algorithm: str = "sbplx",
+                   progress: Optional[Callable[[int, float], None]] = None) -> Result:
+    """``artcal optimize SPEC --placements A..B -o DIR --json``: every count from A to B
+    optimized, the plans and summary.json/.txt/.svg written into ``directory`` (GIL released).
+    Returns the summary document (what ``--json`` prints) with ``plans``: {count: Plan} of the
+    plans written. ``progress(count, criterion_mm)`` after each count."""
+    native = _spec_plan(spec)
+    knobs = _optimize_knobs(starts, seed, time_limit, threads, pool, evaluations, polish, kicks,
+                            algorithm)
+    summary, files = native.optimize_sweep(knobs, placements, target_tip, os.fspath(directory),
+                                           progress)
+    plans = {}
+    for path in files:
+        plan = Plan(path)
+        plans[plan.to_dict()["design"]["placements"]] = plan
+    return Result(summary, plans=plans)
+
+
+def import_readings(folder: PathLike, *, urdf: Optional[PathLike] = None,
+                    base: Optional[str] = None, tip: Optional[str] = None,
+                    machine: Optional[PathLike] = None, ball_bar: Optional[float] = None,
+                    u_length: float = 0.0, artifact: Optional[PathLike] = None,
+                    probe: Union[float, str] = 0.1, encoder: float = 0.0,
+                    unit: Optional[str] = None, keep_calibrate: bool = False,
+                    keep_limits: bool = False, output: Optional[PathLike] = None) -> Plan:
+    """``artcal import-readings FOLDER (--urdf U --base B --tip T | --machine M) (--ball-bar L |
+    --artifact A) [-o OUTPUT]``: the plan of a folder of CSV readings (one sub-folder per
+    placement, one file per feature; docs/plan-format.md). ``probe`` in mm (or "estimate"),
+    ``encoder`` in deg. With ``output`` the plan is also written there (CSV paths relative to
+    its folder; without it, to the current folder). The import's warnings (joint limits widened
+    to the readings) are in ``plan.warnings``."""
+    def text(value: Any) -> str:
+        return "" if value is None else os.fspath(value)
+
+    native = _native.import_readings(text(folder), text(machine), text(urdf), base or "",
+                                     tip or "", ball_bar, u_length, text(artifact), probe,
+                                     encoder, unit or "", keep_calibrate, keep_limits,
+                                     text(output))
+    plan = Plan.__new__(Plan)
+    plan._require_placements = True
+    plan._set_native(native)
+    return plan
+
+
+def export_urdf(machine: Union[PathLike, Mapping[str, Any]], urdf: PathLike,
+                output: Optional[PathLike] = None) -> str:
+    """``artcal export-urdf --machine MACHINE --urdf URDF -o OUTPUT``: the URDF with the chain's
+    origins set to the (calibrated) machine's -- a machine file's path or the dict
+    ``calibrate().machine`` -- everything else kept. Returns the text, and writes it to
+    ``output`` when given (atomically, never over an input). Corrections a metrologist would
+    not believe are reported as :class:`UserWarning` (the command's ``warning:`` lines)."""
+    text, warnings_ = _native.export_urdf(_machine_arg(machine), os.fspath(urdf),
+                                          "" if output is None else os.fspath(output))
+    for line in warnings_:
+        warnings.warn(line, UserWarning, stacklevel=2)
+    return text

@@ -30,12 +30,50 @@ class Result(dict[str, Any]):
     residuals: list[dict[str, Any]]
     converged: bool
     machine: Optional[dict[str, Any]]
+    plans: dict[int, Plan]
     def __init__(self, document: Mapping[str, Any], **arrays: Any) -> None: ...
 
-class Plan:
-    """An artcal plan (artcal-plan/1)."""
+def placement(
+    artifact: str,
+    joints: Any,
+    features: Any = None,
+    *,
+    pose: Optional[Mapping[str, Any]] = None,
+    name: Optional[str] = None,
+) -> dict[str, Any]:
+    """One placement in the plan's JSON form; joints per feature ((n, joints) arrays, mm/deg) or
+    one (n, joints) array with features (n,)."""
 
-    def __init__(self, path: PathLike, *, require_placements: bool = True) -> None: ...
+class Plan:
+    """An artcal plan (artcal-plan/1): from a file, a dict, or built in code."""
+
+    def __init__(
+        self,
+        path: Optional[PathLike] = None,
+        *,
+        machine: Optional[Mapping[str, Any]] = None,
+        noise: Optional[Mapping[str, Any]] = None,
+        artifacts: Optional[Mapping[str, Any]] = None,
+        placements: Optional[list[dict[str, Any]]] = None,
+        workspace: Optional[Mapping[str, Any]] = None,
+        name: Optional[str] = None,
+        source: str = "<plan>",
+        require_placements: bool = True,
+        **other: Any,
+    ) -> None:
+        """Plan(path) reads a file; Plan(machine=..., noise=..., ...) builds one in code."""
+    def add_artifact(self, artifact_id: str, type: str, **fields: Any) -> Plan:
+        """Adds an entry of the artifacts block; returns the plan."""
+    def add_placement(
+        self,
+        artifact: str,
+        joints: Any,
+        features: Any = None,
+        *,
+        pose: Optional[Mapping[str, Any]] = None,
+        name: Optional[str] = None,
+    ) -> Plan:
+        """Adds a placement with its readings (see placement()); returns the plan."""
     @classmethod
     def from_dict(
         cls, document: Mapping[str, Any], *, source: str = "<dict>", require_placements: bool = True
@@ -91,20 +129,31 @@ class Plan:
     ) -> Result:
         """artcal confirm --json; progress(done, total)."""
     def acceptance_length(
-        self, mpe: str, *, trials: int = 0, seed: int = 20261201, threads: int = 0
+        self,
+        mpe: str,
+        *,
+        machine: Union[PathLike, Mapping[str, Any], None] = None,
+        posterior: bool = False,
+        trials: int = 0,
+        seed: int = 20261201,
+        threads: int = 0,
     ) -> Result:
-        """artcal acceptance PLAN --test length --mpe MPE --json."""
+        """artcal acceptance PLAN --test iso10360-2 --mpe MPE --json; with machine:
+        artcal acceptance MACHINE --plan PLAN [--posterior]."""
     def acceptance_pose(
         self,
         cube: float,
         center: tuple[float, float, float],
         *,
         mpe: Optional[float] = None,
+        machine: Union[PathLike, Mapping[str, Any], None] = None,
+        posterior: bool = False,
         trials: int = 0,
         seed: int = 20261201,
         threads: int = 0,
     ) -> Result:
-        """artcal acceptance PLAN --test pose --cube E --center X,Y,Z --json."""
+        """artcal acceptance PLAN --test iso9283 --cube E --center X,Y,Z --json; with machine:
+        artcal acceptance MACHINE --plan PLAN [--posterior]."""
 
 class Evaluator:
     """Prepared evaluation of a plan's placements."""
@@ -116,6 +165,29 @@ class Evaluator:
 def load_plan(path: PathLike, *, require_placements: bool = True) -> Plan: ...
 def import_urdf(path: PathLike, base: str, tip: str) -> dict[str, Any]:
     """artcal import-urdf URDF --base BASE --tip TIP."""
+def import_readings(
+    folder: PathLike,
+    *,
+    urdf: Optional[PathLike] = None,
+    base: Optional[str] = None,
+    tip: Optional[str] = None,
+    machine: Optional[PathLike] = None,
+    ball_bar: Optional[float] = None,
+    u_length: float = 0.0,
+    artifact: Optional[PathLike] = None,
+    probe: Union[float, str] = 0.1,
+    encoder: float = 0.0,
+    unit: Optional[str] = None,
+    keep_calibrate: bool = False,
+    keep_limits: bool = False,
+    output: Optional[PathLike] = None,
+) -> Plan:
+    """artcal import-readings FOLDER (--urdf U --base B --tip T | --machine M) (--ball-bar L |
+    --artifact A) [-o OUTPUT]."""
+def export_urdf(
+    machine: Union[PathLike, Mapping[str, Any]], urdf: PathLike, output: Optional[PathLike] = None
+) -> str:
+    """artcal export-urdf --machine M --urdf U -o OUTPUT: the URDF text (warnings: UserWarning)."""
 def optimize(
     spec: Union[PathLike, Mapping[str, Any], Plan],
     *,
@@ -123,6 +195,30 @@ def optimize(
     seed: Optional[int] = None,
     time_limit: Optional[float] = None,
     threads: int = 0,
+    pool: Optional[int] = None,
+    evaluations: Optional[int] = None,
+    polish: Optional[int] = None,
+    kicks: Optional[int] = None,
+    algorithm: str = "sbplx",
     progress: Optional[Callable[[int, int, float, float], None]] = None,
 ) -> Plan:
-    """artcal optimize SPEC -o PLAN; progress(starts_done, starts, best_mm, seconds)."""
+    """artcal optimize SPEC -o PLAN (predicted.optimization included);
+    progress(starts_done, starts, best_mm, seconds)."""
+def optimize_sweep(
+    spec: Union[PathLike, Mapping[str, Any], Plan],
+    placements: str,
+    directory: PathLike,
+    *,
+    target_tip: Optional[float] = None,
+    starts: Optional[int] = None,
+    seed: Optional[int] = None,
+    time_limit: Optional[float] = None,
+    threads: int = 0,
+    pool: Optional[int] = None,
+    evaluations: Optional[int] = None,
+    polish: Optional[int] = None,
+    kicks: Optional[int] = None,
+    algorithm: str = "sbplx",
+    progress: Optional[Callable[[int, float], None]] = None,
+) -> Result:
+    """artcal optimize SPEC --placements A..B -o DIR --json: the summary; .plans {count: Plan}."""

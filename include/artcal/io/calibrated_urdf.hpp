@@ -1,0 +1,23 @@
+#pragma once
+// `artcal export-urdf --machine M --urdf U`: the URDF with the chain's origins set to a
+// (calibrated) machine's (io/urdf.hpp, exportUrdf), and the corrections a metrologist would not
+// believe against the URDF's own origins (calibration/corrections.hpp) as warnings. The command
+// line and the Python module export here.
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+namespace artcal {
+
+struct CalibratedUrdf {
+  std::string text;                   ///< the URDF file's text
+  std::vector<std::string> warnings;  ///< one per implausible correction (the file is written)
+};
+
+/// The URDF at `urdf_path` with the origins of the chain machine `machine` (a machine block or a
+/// plan, read from `machine_source`). InputError naming the machine or the URDF file.
+CalibratedUrdf calibratedUrdf(const nlohmann::json& machine, const std::string& machine_source,
+                              const std::string& urdf_path);
+
+}  // namespace artcal

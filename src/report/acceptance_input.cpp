@@ -1,0 +1,34 @@
+// The input of an acceptance prediction (report/acceptance_input.hpp).
+
+#include "artcal/report/acceptance_input.hpp"
+
+#include "artcal/core/error.hpp"
+#include "artcal/io/machine_covariance.hpp"
+#include "artcal/io/truth_io.hpp"
+
+namespace artcal {
+
+AcceptanceInput acceptanceInputOfPlan(const Plan& plan, const std::string& source) {
+  auto input = acceptanceInputFromPlan(plan, evaluatePlan(plan));
+  if (!input)
+    throw InputError(source, "/placements",
+                     "the plan does not identify its calibrated parameters (no V_p): run "
+                     "`artcal evaluate` and follow its advice");
+  return std::move(*input);
+}
+
+AcceptanceInput acceptanceInputOfMachine(const nlohmann::json& machine,
+                                         const std::string& machine_source, const Plan& plan,
+                                         bool posterior) {
+  const Eigen::VectorXd parameters = parseTruth(machine, machine_source, plan);
+  auto uncertainty = parseMachineCovariance(machine, machine_source, plan);
+  if (!uncertainty)
+    throw InputError(machine_source, "/covariance",
+                     "no covariance: write the machine with `artcal calibrate --write-machine`");
+  if (posterior && !(uncertainty->birge_ratio > 0.0))
+    throw InputError(machine_source, "/covariance/birge_ratio",
+                     "--posterior needs the calibration's Birge ratio in the machine file");
+  return acceptanceInputFromMachine(plan, parameters, std::move(*uncertainty), posterior);
+}
+
+}  // namespace artcal

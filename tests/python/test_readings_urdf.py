@@ -1,0 +1,118 @@
+"""import_readings and export_urdf equal `artcal import-readings` and `artcal export-urdf`; a bad
+input raises the command line's message."""
+
+import json
+import warnings
+
+import pytest
+
+import artcal
+from conftest import cli_error, cli_json, run_cli
+
+MUKCA = "tests/data/mukca/mukca"
+URDF = f"{MUKCA}/urdf/panda.urdf"
+CHAIN = ["--urdf", URDF, "--base", "panda_link0", "--tip", "ball_link"]
+MACHINE = "plans/panda-8positions.machine.json"
+
+
+def test_import_readings_equals_cli():
+    expected = cli_json("import-readings", f"{MUKCA}/panda_2", *CHAIN, "--ball-bar", "50",
+                        "-o", "-")
+    plan = artcal.import_readings(f"{MUKCA}/panda_2", urdf=URDF, base="panda_link0",
+                                  tip="ball_link", ball_bar=50)
+    assert plan.to_dict() == expected
+    assert plan.placement_count == len(expected["placements"])
+    joints, _ = plan.readings(0)
+    assert joints.shape[1] == 7
+
+
+def test_import_readings_written_equals_cli_file(tmp_path):
+    cli_out, py_out = tmp_path / "cli.json", tmp_path / "py.json"
+    args = ["--probe", "0.12", "--encoder", "0.005", "--u-length", "0.001"]
+    run_cli("import-readings", f"{MUKCA}/panda_2/back_left", "--machine", MACHINE,
+            "--ball-bar", "50", *args, "-o", str(cli_out))
+    plan = artcal.import_readings(f"{MUKCA}/panda_2/back_left", machine=MACHINE, ball_bar=50,
+                                  probe=0.12, encoder=0.005, u_length=0.001, output=py_out)
+    assert py_out.read_bytes() == cli_out.read_bytes()
+    assert plan.evaluate() == cli_json("evaluate", str(cli_out), "--json")
+
+
+@pytest.mark.parametrize("folder, options, kwargs", [
+    ("tests/data/no-such-folder", [*CHAIN, "--ball-bar", "50"],
+     dict(urdf=URDF, base="panda_link0", tip="ball_link", ball_bar=50)),
+    (f"{MUKCA}/panda_2", ["--urdf", URDF, "--base", "panda_link0", "--tip", "no_link",
+                          "--ball-bar", "50"],
+     dict(urdf=URDF, base="panda_link0", tip="no_link", ball_bar=50)),
+    (f"{MUKCA}/panda_2", [*CHAIN, "--ball-bar", "50", "--unit", "deg", "--keep-limits"],
+     dict(urdf=URDF, base="panda_link0", tip="ball_link", ball_bar=50, unit="deg",
+          keep_limits=True)),
+])
+def test_import_readings_bad_input_raises_the_cli_message(folder, options, kwargs):
+    expected = cli_error("import-readings", folder, *options, "-o", "-")
+    with pytest.raises(artcal.InputError) as raised:
+        artcal.import_readings(folder, **kwargs)
+    assert str(raised.value) == expected
+
+
+def test_import_readings_warnings_are_the_cli_warnings():
+    done = run_cli("import-readings", f"{MUKCA}/panda_2", *CHAIN, "--ball-bar", "50", "--unit",
+                   "deg", "-o", "-")
+    expected = [line[len("warning: "):] for line in done.stderr.splitlines()
+                if line.startswith("warning: ")]
+    plan = artcal.import_readings(f"{MUKCA}/panda_2", urdf=URDF, base="panda_link0",
+                                  tip="ball_link", ball_bar=50, unit="deg")
+    assert expected and plan.warnings == expected
+    assert plan.to_dict() == json.loads(done.stdout)
+
+
+@pytest.mark.parametrize("options, kwargs", [
+    (["--ball-bar", "50"], dict(ball_bar=50)),
+    (CHAIN, dict(urdf=URDF, base="panda_link0", tip="ball_link")),
+    (["--urdf", URDF, "--ball-bar", "50"], dict(urdf=URDF, ball_bar=50)),
+])
+def test_import_readings_missing_options_raise_the_cli_line(options, kwargs):
+    done = run_cli("import-readings", f"{MUKCA}/panda_2", *options, expect=(2,))
+    with pytest.raises(artcal.InputError) as raised:
+        artcal.import_readings(f"{MUKCA}/panda_2", **kwargs)
+    assert str(raised.value) == done.stderr.splitlines()[0]
+
+
+def test_export_urdf_equals_cli_bytes(tmp_path):
+    cli_out, py_out = tmp_path / "cli.urdf", tmp_path / "py.urdf"
+    cli_warnings = run_cli("export-urdf", "--machine", MACHINE, "--urdf", URDF, "-o",
+                           str(cli_out)).stderr
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        text = artcal.export_urdf(MACHINE, URDF, output=py_out)
+    assert py_out.read_bytes() == cli_out.read_bytes()
+    assert text == cli_out.read_text()
+    assert ["warning: " + str(w.message) for w in caught] == cli_warnings.splitlines()
+    # The machine as a dict (calibrate().machine's form) gives the same file; and the exported
+    # chain's forward kinematics is the machine's: imported back, it is the same chain.
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        assert artcal.export_urdf(json.loads(open(MACHINE).read()), URDF) == text
+    assert (artcal.import_urdf(py_out, "panda_link0", "ball_link")
+            == cli_json("import-urdf", str(cli_out), "--base", "panda_link0", "--tip",
+                        "ball_link"))
+
+
+def test_export_urdf_bad_machine_raises_the_cli_message(tmp_path):
+    machine = tmp_path / "machine.json"
+    machine.write_text(json.dumps({"model": "planar2r", "parameters": {"l1": 1}}))
+    expected = cli_error("export-urdf", "--machine", str(machine), "--urdf", URDF, "-o",
+                         str(tmp_path / "out.urdf"))
+    with pytest.raises(artcal.InputError) as raised:
+        artcal.export_urdf(machine, URDF, output=tmp_path / "py.urdf")
+    assert str(raised.value) == expected
+    assert not (tmp_path / "py.urdf").exists()
+
+
+def test_export_urdf_never_replaces_its_input(tmp_path):
+    urdf = tmp_path / "panda.urdf"
+    urdf.write_text(open(URDF).read())
+    expected = cli_error("export-urdf", "--machine", MACHINE, "--urdf", str(urdf), "-o",
+                         str(urdf))
+    with pytest.raises(artcal.InputError) as raised:
+        artcal.export_urdf(MACHINE, urdf, output=urdf)
+    assert str(raised.value) == expected
