@@ -13,6 +13,7 @@
 #include "artcal/io/output_file.hpp"
 #include "artcal/io/plan_io.hpp"
 #include "artcal/planning/design_identifiability.hpp"
+#include "artcal/planning/instrument_design.hpp"
 #include "artcal/planning/optimizer.hpp"
 #include "artcal/report/report.hpp"
 #include "commands.hpp"
@@ -118,8 +119,13 @@ std::string summaryTable(const Plan& plan, const OptimizerSummary& summary,
   out << std::fixed << std::setprecision(3);
   const StartResult& best = summary.starts[static_cast<std::size_t>(summary.best_start)];
   out << "artcal optimize: " << plan.name << " -> " << output << "\n";
-  out << "criterion " << criterionName(plan.design->criterion) << ", " << plan.design->placements
-      << " placements x " << plan.design->postures << " posture(s)\n\n";
+  out << "criterion " << criterionName(plan.design->criterion) << ", " << plan.design->placements;
+  if (plan.design->instrument) {
+    out << " station(s) x " << plan.design->instrument->readings << " readings from "
+        << summary.pool_size << " candidate configurations\n\n";
+  } else {
+    out << " placements x " << plan.design->postures << " posture(s)\n\n";
+  }
   const CriterionDisplay display = displayOf(plan.design->criterion);
   out << "  stage                    criterion (" << display.unit << ")\n";
   out << "  random initial design    " << std::setw(12) << best.initial * display.factor << "\n";
@@ -211,7 +217,7 @@ int runOptimize(const OptimizeArguments& args) {
     return refuseUnidentifiable(spec, options.seed, args.spec, summary.message);
   }
   Plan plan = spec;
-  for (const Placement& p : summary.placements) plan.placements.push_back(p);
+  appendDesignedPlacements(plan, summary.placements);
   const Evaluation evaluation = evaluatePlan(plan);
   // The rank policy re-checks the optimizer's pick (a finite criterion is not a full rank).
   if (!evaluation.identifiability.identifiable()) {

@@ -7,6 +7,7 @@
 #include "artcal/estimation/evaluator.hpp"
 #include "artcal/io/output_file.hpp"
 #include "artcal/io/plan_io.hpp"
+#include "artcal/planning/instrument_design.hpp"
 #include "artcal/planning/placement_sweep.hpp"
 #include "artcal/report/report.hpp"
 #include "artcal/report/sweep_report.hpp"
@@ -30,7 +31,7 @@ std::string planFile(const std::string& directory, const Plan& spec, int placeme
 nlohmann::json planDocument(const nlohmann::json& spec_document, const Plan& plan,
                             const nlohmann::json& evaluation, const SweepPoint& point) {
   nlohmann::json document = spec_document;
-  document["design"]["placements"] = point.placements;
+  document["design"][plan.design->instrument ? "readings" : "placements"] = point.placements;
   document["placements"] = placementsToJson(plan);
   nlohmann::json predicted = evaluation;
   predicted.erase("plan");
@@ -76,8 +77,12 @@ int runPlacementSweep(const nlohmann::json& document, const Plan& spec,
     SweepLine line{&point, {}, nullptr};
     if (!point.designed.empty()) {
       Plan plan = spec;
-      plan.design->placements = point.placements;
-      plan.placements.insert(plan.placements.end(), point.designed.begin(), point.designed.end());
+      if (plan.design->instrument) {
+        plan.design->instrument->readings = point.placements;
+      } else {
+        plan.design->placements = point.placements;
+      }
+      appendDesignedPlacements(plan, point.designed);
       line.evaluation = evaluationToJson(plan, evaluatePlan(plan));
       line.file = planFile(directory, spec, point.placements);
       files.emplace_back(line.file,
