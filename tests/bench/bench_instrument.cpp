@@ -7,17 +7,28 @@
 //   BM_EvaluateTracker300Readings10000TaskSpace: V_p of a 6-station x 50-reading plan -> tip
 //     uncertainty over 10 000 task-space samples (the box of bench_panda), the workspace's
 //     Jacobians prepared once (PlanEvaluator). Target: <= 5 ms.
+//   InstrumentDesign/<arm>: the worst-case tip uncertainty G (evaluatePlan of the plan with the
+//     chosen readings) of artcal's choice of 30 configurations (criterion G), of the D-optimal
+//     choice from the same pool (5000 candidates within the limits, seed 1), and of 30 random
+//     configurations of that pool (median and best of 100 draws), G over 4096 workspace samples
+//     within the limits, on the 6-axis arm of
+//     plans/tracker-arm6-2stations.json and on the 7-axis Panda; one station.
 // Run: build/tests/bench/bench_instrument
 
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
+#include <numeric>
 #include <random>
 
 #include "artcal/calibration/calibrator.hpp"
 #include "artcal/calibration/simulation.hpp"
 #include "artcal/internal.hpp"
 #include "artcal/io/plan_io.hpp"
+#include "artcal/planning/instrument_design.hpp"
+#include "artcal/planning/optimizer.hpp"
 #include "test_paths.hpp"
 
 namespace artcal {
@@ -110,6 +121,78 @@ void BM_EvaluateTracker300Readings10000TaskSpace(benchmark::State& state) {
   state.counters["readings"] = 300;
 }
 BENCHMARK(BM_EvaluateTracker300Readings10000TaskSpace)->Unit(benchmark::kMillisecond);
+
+/// A one-station design spec of `readings` configurations for `plan_file`'s machine and noise.
+nlohmann::json designSpec(const std::string& plan_file, int readings) {
+  nlohmann::json document = readJsonFile(test_support::planFile(plan_file));
+  document["artifacts"] = {
+      {"tracker", {{"type", "instrument"}, {"measures", "point"}, {"noise", 0.02}}}};
+  document["noise"]["probe"] = 0.01;
+  document["placements"] = nlohmann::json::array();
+  document.erase("predicted");
+  document["workspace"] = {{"samples", 4096}, {"seed", 1}};
+  document["design"] = {{"artifact", "tracker"}, {"stations", 1},
+                        {"readings", readings},  {"candidates", {{"samples", 5000}, {"seed", 1}}},
+                        {"starts", 4},           {"seed", 1},
+                        {"time_limit", 600}};
+  return document;
+}
+
+double worstTip(const Plan& spec, const std::vector<Placement>& designed) {
+  Plan plan = spec;
+  appendDesignedPlacements(plan, designed);
+  const Evaluation evaluation = evaluatePlan(plan);
+  return evaluation.tip ? evaluation.tip->worst.total : std::numeric_limits<double>::infinity();
+}
+
+void instrumentDesign(benchmark::State& state, const std::string& plan_file) {
+  const nlohmann::json document = designSpec(plan_file, 30);
+  const Plan spec = parsePlan(document, test_support::planFile(plan_file), false);
+  double g_choice = 0.0, d_choice = 0.0, g_seconds = 0.0;
+  std::vector<double> random;
+  for (auto _ : state) {
+    OptimizerOptions options = OptimizerOptions::fromDesign(*spec.design);
+    const OptimizerSummary g = optimizePlan(spec, options);
+    g_seconds = g.seconds;
+    g_choice = worstTip(spec, g.placements);
+    options.criterion = Criterion::D;
+    d_choice = worstTip(spec, optimizePlan(spec, options).placements);
+    const std::vector<Eigen::VectorXd> pool = instrumentCandidates(spec);
+    std::mt19937_64 rng(7);
+    random.clear();
+    for (int draw = 0; draw < 100; ++draw) {
+      std::vector<std::size_t> order(pool.size());
+      std::iota(order.begin(), order.end(), 0);
+      Placement station;
+      station.artifact = spec.design->artifact;
+      for (std::size_t i = 0; i < 30; ++i) {
+        std::swap(order[i], order[i + rng() % (order.size() - i)]);
+        Measurement m;
+        m.joints = pool[order[i]];
+        station.measurements.push_back(m);
+      }
+      random.push_back(worstTip(spec, {station}));
+    }
+  }
+  std::sort(random.begin(), random.end());
+  state.counters["G_artcal_um"] = 1000.0 * g_choice;
+  state.counters["G_Dopt_um"] = 1000.0 * d_choice;
+  state.counters["G_random_median_um"] = 1000.0 * 0.5 * (random[49] + random[50]);
+  state.counters["G_random_best_um"] = 1000.0 * random.front();
+  state.counters["search_s"] = g_seconds;
+}
+
+void registerDesigns() {
+  for (const char* arm : {"tracker-arm6-2stations.json", "panda-8positions.json"}) {
+    benchmark::RegisterBenchmark((std::string("InstrumentDesign/") + arm).c_str(),
+                                 [arm](benchmark::State& state) { instrumentDesign(state, arm); })
+        ->Iterations(1)
+        ->Unit(benchmark::kSecond)
+        ->UseRealTime();
+  }
+}
+
+const int registered = (registerDesigns(), 0);
 
 }  // namespace
 }  // namespace artcal
