@@ -85,8 +85,13 @@ std::string summaryTable(const Plan& plan, const OptimizerSummary& summary,
   out << std::fixed << std::setprecision(3);
   const StartResult& best = summary.starts[static_cast<std::size_t>(summary.best_start)];
   out << "artcal optimize: " << plan.name << " -> " << output << "\n";
-  out << "criterion " << criterionName(plan.design->criterion) << ", " << plan.design->placements
-      << " placements x " << plan.design->postures << " posture(s)\n\n";
+  out << "criterion " << criterionName(plan.design->criterion) << ", " << plan.design->placements;
+  if (plan.design->instrument) {
+    out << " station(s) x " << plan.design->instrument->readings << " readings from "
+        << summary.pool_size << " candidate configurations\n\n";
+  } else {
+    out << " placements x " << plan.design->postures << " posture(s)\n\n";
+  }
   const Criterion criterion = plan.design->criterion;
   if (criterion == Criterion::Pass) {
     out << "  stage                    criterion\n";

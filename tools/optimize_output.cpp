@@ -11,6 +11,7 @@
 #include "artcal/io/output_file.hpp"
 #include "artcal/io/plan_io.hpp"
 #include "artcal/planning/design_identifiability.hpp"
+#include "artcal/planning/instrument_design.hpp"
 #include "artcal/planning/placement_sweep.hpp"
 #include "artcal/report/report.hpp"
 #include "artcal/report/sweep_report.hpp"
@@ -64,7 +65,7 @@ std::string sweepPlanFile(const std::string& directory, const Plan& spec, int pl
 nlohmann::json sweepPlanDocument(const nlohmann::json& spec_document, const Plan& plan,
                                  const nlohmann::json& evaluation, const SweepPoint& point) {
   nlohmann::json document = spec_document;
-  document["design"]["placements"] = point.placements;
+  document["design"][plan.design->instrument ? "readings" : "placements"] = point.placements;
   document["placements"] = placementsToJson(plan);
   nlohmann::json predicted = evaluation;
   predicted.erase("plan");
@@ -153,7 +154,7 @@ OptimizedPlan optimizedPlan(const nlohmann::json& spec_document, const Plan& spe
   if (summary.best_start < 0)
     throw unidentifiableDesignError(spec, options.seed, source, summary.message);
   OptimizedPlan out{spec, {}, {}};
-  for (const Placement& p : summary.placements) out.plan.placements.push_back(p);
+  appendDesignedPlacements(out.plan, summary.placements);
   out.evaluation = evaluatePlan(out.plan);
   // The rank policy re-checks the optimizer's pick (a finite criterion is not a full rank).
   if (!out.evaluation.identifiability.identifiable())
@@ -199,8 +200,12 @@ PlacementSweepOutput placementSweepOutput(const nlohmann::json& spec_document, c
     SweepLine line{&point, {}, nullptr};
     if (!point.designed.empty()) {
       Plan plan = spec;
-      plan.design->placements = point.placements;
-      plan.placements.insert(plan.placements.end(), point.designed.begin(), point.designed.end());
+      if (plan.design->instrument) {
+        plan.design->instrument->readings = point.placements;
+      } else {
+        plan.design->placements = point.placements;
+      }
+      appendDesignedPlacements(plan, point.designed);
       line.evaluation = evaluationToJson(plan, evaluatePlan(plan));
       line.file = sweepPlanFile(directory, spec, point.placements);
       out.files.emplace_back(

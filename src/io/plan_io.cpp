@@ -706,19 +706,57 @@ Eigen::VectorXd parseJointMargin(const std::optional<Node>& node, const Machine&
   return margin;
 }
 
+// An instrument design (instruments.md, "Planning an instrument calibration"): `stations`
+// (default 1), `readings` per station (at least 3), `candidates`: {"samples", "seed"}, and an
+// optional task-space `region` the candidates are drawn in.
+constexpr int kMaxDesignReadings = 10'000;
+constexpr int kMaxDesignCandidates = 1'000'000;
+
+void parseInstrumentDesign(const Node& node, const Plan& plan, DesignSpec& design,
+                           std::vector<std::string>& warnings) {
+  if (node.has("placements"))
+    node.at("placements").fail("an instrument design counts \"stations\" and \"readings\"");
+  if (node.has("postures"))
+    node.at("postures").fail("an instrument design counts \"stations\" and \"readings\"");
+  if (const auto v = node.find("stations"))
+    design.placements = static_cast<int>(v->integer(1, 1000));
+  InstrumentDesignSpec instrument;
+  instrument.readings = static_cast<int>(node.at("readings").integer(3, kMaxDesignReadings));
+  if (const auto candidates = node.find("candidates")) {
+    candidates->object();
+    candidates->warnUnknown({"samples", "seed"}, warnings);
+    if (const auto v = candidates->find("samples"))
+      instrument.candidates = static_cast<int>(v->integer(3, kMaxDesignCandidates));
+    if (const auto v = candidates->find("seed")) instrument.candidate_seed = parseSeed(*v);
+  }
+  if (const auto region = node.find("region")) {
+    design.region = parseRegion(*region, plan.machine.dimension(), warnings);
+    instrument.task_space = true;
+  }
+  design.instrument = instrument;
+}
+
 DesignSpec parseDesign(const Node& node, const Plan& plan, std::vector<std::string>& warnings) {
   node.object();
-  node.warnUnknown(
-      {"artifact", "placements", "postures", "region", "criterion", "seed", "starts", "time_limit",
-       "joint_margin", "pool", "evaluations", "polish", "kicks", "target_tip"},
-      warnings);
+  node.warnUnknown({"artifact", "placements", "postures", "region", "criterion", "seed", "starts",
+                    "time_limit", "joint_margin", "pool", "evaluations", "polish", "kicks",
+                    "target_tip", "stations", "readings", "candidates"},
+                   warnings);
   DesignSpec design;
   const Node artifact = node.at("artifact");
   design.artifact = plan.artifactIndex(artifact.string());
   if (design.artifact < 0) artifact.fail("unknown artifact \"" + artifact.string() + "\"");
-  design.placements = static_cast<int>(node.at("placements").integer(1, 100'000));
-  if (const auto v = node.find("postures")) design.postures = static_cast<int>(v->integer(1, 100));
-  design.region = parseRegion(node.at("region"), plan.machine.dimension(), warnings);
+  if (plan.artifacts[static_cast<std::size_t>(design.artifact)].kind == ArtifactKind::Instrument) {
+    parseInstrumentDesign(node, plan, design, warnings);
+  } else {
+    for (const char* key : {"stations", "readings", "candidates"})
+      if (node.has(key))
+        node.at(key).fail("only an instrument design has \"" + std::string(key) + "\"");
+    design.placements = static_cast<int>(node.at("placements").integer(1, 100'000));
+    if (const auto v = node.find("postures"))
+      design.postures = static_cast<int>(v->integer(1, 100));
+    design.region = parseRegion(node.at("region"), plan.machine.dimension(), warnings);
+  }
   if (const auto v = node.find("criterion")) {
     design.criterion = parseCriterion(*v);
     if (design.criterion == Criterion::Pass &&

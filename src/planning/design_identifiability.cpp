@@ -5,6 +5,7 @@
 
 #include "artcal/estimation/identifiability.hpp"
 #include "artcal/planning/design_space.hpp"
+#include "artcal/planning/instrument_design.hpp"
 
 namespace artcal {
 
@@ -22,9 +23,33 @@ int candidateCount(const Plan& spec) {
   return std::clamp(needed, 40, 400);
 }
 
+// An instrument design: one station of up to 400 candidate configurations (every station sees
+// the same parameters: its rigid motion absorbs the same base frame, wherever it stands).
+std::optional<DesignIdentifiability> identifiableByInstrumentCandidates(const Plan& spec) {
+  const std::vector<Eigen::VectorXd> candidates = instrumentCandidates(spec);
+  std::vector<Placement> designed(1);
+  designed[0].artifact = spec.design->artifact;
+  for (std::size_t c = 0; c < std::min<std::size_t>(candidates.size(), 400); ++c) {
+    Measurement m;
+    m.joints = candidates[c];
+    designed[0].measurements.push_back(std::move(m));
+  }
+  Plan plan = spec;
+  plan.placements.clear();
+  appendDesignedPlacements(plan, designed);
+  DesignIdentifiability result;
+  result.candidates = static_cast<int>(designed[0].measurements.size());
+  std::vector<Placement> placements = spec.placements;
+  placements.push_back(plan.placements.back());
+  plan.placements = spec.placements;
+  result.resolution = resolveListedSet(plan, placements);
+  return result;
+}
+
 }  // namespace
 
 std::optional<DesignIdentifiability> identifiableByDesigns(const Plan& spec, std::uint64_t seed) {
+  if (spec.design->instrument) return identifiableByInstrumentCandidates(spec);
   const DesignSpace space(spec);
   // A stream of its own (not the optimizer's pool): the same spec and seed, the same answer.
   std::seed_seq sequence{static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32),

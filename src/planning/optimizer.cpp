@@ -19,7 +19,9 @@
 #include "artcal/core/error.hpp"
 #include "artcal/core/linear_algebra.hpp"
 #include "artcal/core/parallel.hpp"
+#include "artcal/core/random.hpp"
 #include "artcal/estimation/identifiability.hpp"
+#include "artcal/planning/instrument_design.hpp"
 
 namespace artcal {
 
@@ -40,14 +42,6 @@ using Clock = std::chrono::steady_clock;
 
 double secondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
-}
-
-// A generator for stream `stream`, item `index`: independent of which thread draws it.
-std::mt19937_64 seededGenerator(std::uint64_t seed, std::uint64_t stream, std::uint64_t index) {
-  std::seed_seq sequence{static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32),
-                         static_cast<std::uint32_t>(stream), static_cast<std::uint32_t>(index),
-                         static_cast<std::uint32_t>(index >> 32)};
-  return std::mt19937_64(sequence);
 }
 
 // The machine's reach (largest probe distance over the workspace): mm per rad for D, A, E.
@@ -342,10 +336,35 @@ double DesignCriterion::evaluate(const Eigen::MatrixXd& information_g, double po
 // ---------------------------------------------------------------------------------------------
 // Counting condition
 
+namespace {
+
+// An instrument design: stations x (readings x coordinates - rigid unknowns) equations.
+void checkInstrumentDesignCount(const Plan& plan, const CountingCondition& fixed) {
+  const DesignSpec& design = *plan.design;
+  const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(design.artifact)];
+  const int readings = design.instrument->readings;
+  const int per_station = readings * artifact.valuedPerFeature() - artifact.fullRigidDof();
+  const int equations = fixed.N_b - fixed.N_r + design.placements * per_station;
+  const int N_p = plan.machine.calibratedCount();
+  if (equations >= N_p) return;
+  std::ostringstream message;
+  message << "cannot be identifiable: " << design.placements << " station(s) of \"" << artifact.id
+          << "\" with " << readings << " readings give " << design.placements << " x (" << readings
+          << " readings x " << artifact.valuedPerFeature() << " coordinates - "
+          << artifact.fullRigidDof() << " rigid unknowns)";
+  if (!plan.placements.empty()) message << " + " << fixed.N_b - fixed.N_r << " (fixed placements)";
+  message << " = " << equations << " equations for " << N_p
+          << " parameters (counting condition, docs/method.md section 5)";
+  throw InputError(plan.source, "/design/readings", message.str());
+}
+
+}  // namespace
+
 void checkDesignCount(const Plan& plan) {
   const DesignSpec& design = *plan.design;
   const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(design.artifact)];
   const CountingCondition fixed = countingCondition(plan, plan.placements);
+  if (design.instrument) return checkInstrumentDesignCount(plan, fixed);
   const int per_placement =
       artifact.featureCount() * design.postures * artifact.valuedPerFeature() - artifact.rigidDof();
   const int equations = fixed.N_b - fixed.N_r + design.placements * per_placement;
@@ -796,6 +815,7 @@ OptimizerSummary optimizePlan(const Plan& plan, const OptimizerOptions& options)
   std::string why;
   if (!options.isValid(&why)) throw std::invalid_argument("optimizer options: " + why);
   if (!plan.design) throw InputError(plan.source, "/design", "the spec has no design block");
+  if (plan.design->instrument) return optimizeInstrumentDesign(plan, options);
   Search search(plan, options);
   return search.run();
 }

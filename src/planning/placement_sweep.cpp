@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "artcal/core/error.hpp"
+#include "artcal/planning/instrument_design.hpp"
 
 namespace artcal {
 
@@ -12,10 +13,15 @@ namespace {
 
 constexpr double kNone = std::numeric_limits<double>::infinity();
 
-/// The spec asking for `count` placements of the design's artifact besides `fixed` ones.
+/// The spec asking for `count` placements of the design's artifact besides `fixed` ones (an
+/// instrument design: `count` readings per station).
 Plan specFor(const Plan& spec, int count, const std::vector<Placement>& fixed) {
   Plan out = spec;
-  out.design->placements = count;
+  if (out.design->instrument) {
+    out.design->instrument->readings = count;
+  } else {
+    out.design->placements = count;
+  }
   out.placements.insert(out.placements.end(), fixed.begin(), fixed.end());
   return out;
 }
@@ -25,9 +31,11 @@ struct Found {
   std::vector<Placement> designed;
   double value = kNone;
   std::string message;
+  bool from_start_design = false;  ///< an instrument design's start 0 (the m - 1 design) won
 };
 
-Found search(const Plan& spec, const OptimizerOptions& options) {
+Found search(const Plan& spec, const OptimizerOptions& options,
+             const std::vector<Placement>* instrument_start = nullptr) {
   Found found;
   try {
     checkDesignCount(spec);
@@ -35,7 +43,10 @@ Found search(const Plan& spec, const OptimizerOptions& options) {
     found.message = e.what();
     return found;
   }
-  const OptimizerSummary summary = optimizePlan(spec, options);
+  const OptimizerSummary summary = spec.design->instrument
+                                       ? optimizeInstrumentDesign(spec, options, instrument_start)
+                                       : optimizePlan(spec, options);
+  found.from_start_design = instrument_start && summary.best_start == 0;
   if (summary.best_start < 0 || !std::isfinite(summary.value)) {
     found.message = summary.message;
     return found;
@@ -74,12 +85,17 @@ PlacementSweep sweepPlacements(const Plan& spec, const SweepOptions& options) {
     const auto start = std::chrono::steady_clock::now();
     SweepPoint point;
     point.placements = m;
-    const Found fresh = search(specFor(spec, m, {}), options.optimizer);
+    // An instrument design: one search whose start 0 is the design for m - 1 completed by one
+    // reading per station (never worse), the other starts fresh.
+    const bool seeded = spec.design->instrument && previous && !previous->designed.empty();
+    const Found fresh =
+        search(specFor(spec, m, {}), options.optimizer, seeded ? &previous->designed : nullptr);
     point.fresh = fresh.value;
     point.designed = fresh.designed;
     point.value = fresh.value;
     point.message = fresh.message;
-    if (previous && !previous->designed.empty()) {
+    point.extended = fresh.from_start_design;
+    if (!spec.design->instrument && previous && !previous->designed.empty()) {
       // The design for m - 1 kept, one placement added (docs/method.md section 3: never worse).
       const Found extension = search(specFor(spec, 1, previous->designed), options.optimizer);
       if (extension.value < point.value) {

@@ -18,4 +18,14 @@ inline double unitUniformNonZero(std::mt19937_64& rng) {
   return (static_cast<double>(rng() >> 11) + 1.0) * 0x1.0p-53;
 }
 
+/// A generator for stream `stream`, item `index` of `seed`: the same draws whichever thread
+/// makes them (the planner's starts and candidates).
+inline std::mt19937_64 seededGenerator(std::uint64_t seed, std::uint64_t stream,
+                                       std::uint64_t index) {
+  std::seed_seq sequence{static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32),
+                         static_cast<std::uint32_t>(stream), static_cast<std::uint32_t>(index),
+                         static_cast<std::uint32_t>(index >> 32)};
+  return std::mt19937_64(sequence);
+}
+
 }  // namespace artcal

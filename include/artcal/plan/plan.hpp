@@ -126,6 +126,18 @@ struct WorkspaceSpec {
 /// Pass: 1 - P(pass) of the plan's ISO 10360-2 acceptance test (its "acceptance" block).
 enum class Criterion { WorstTip, MeanTip, D, A, E, Pass };
 
+/// An instrument design (instruments.md, "Planning an instrument calibration"): the design's
+/// artifact is an instrument; `DesignSpec::placements` holds its `stations`, each of `readings`
+/// configurations chosen from `candidates` ones (uniform within the limits narrowed by the joint
+/// margin, or task-space samples of the design's `region` when it has one), drawn with
+/// `candidate_seed`.
+struct InstrumentDesignSpec {
+  int readings = 0;  ///< per station
+  int candidates = 5000;
+  std::uint64_t candidate_seed = 1;
+  bool task_space = false;  ///< candidates from DesignSpec::region
+};
+
 /// The `design` block of an optimization spec.
 struct DesignSpec {
   int artifact = 0;
@@ -152,6 +164,8 @@ struct DesignSpec {
   /// `design.joint_margin` (deg for revolute, mm for prismatic joints), default 2 deg / 1 mm, so
   /// that a machine a little off nominal still reaches every planned point (docs/plan-format.md).
   Eigen::VectorXd joint_margin;
+  /// Set when the design's artifact is an instrument.
+  std::optional<InstrumentDesignSpec> instrument;
 };
 
 /// The default of `design.joint_margin`, file units: 2 deg for a revolute joint, 1 mm for a
