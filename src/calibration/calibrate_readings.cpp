@@ -1,5 +1,6 @@
 #include "artcal/calibration/calibrate_readings.hpp"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -7,7 +8,6 @@
 
 #include "artcal/calibration/corrections.hpp"
 #include "artcal/core/error.hpp"
-#include "artcal/core/linear_algebra.hpp"
 #include "artcal/estimation/evaluator.hpp"
 #include "artcal/estimation/identifiability.hpp"
 
@@ -57,8 +57,17 @@ struct SpectralMisfit {
 std::vector<SpectralMisfit> spectralMisfits(const std::vector<ReadingMisfit>& misfits) {
   std::vector<SpectralMisfit> out;
   out.reserve(misfits.size());
+  // At most 3 x 3: on the stack. Not finite (Eigen's iteration leaves its results unspecified
+  // there): NaN, which no bisection step accepts.
+  using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, 3, 3>;
   for (const ReadingMisfit& m : misfits) {
-    const SymmetricEigenSolver eig(m.encoder_covariance);
+    const auto k = m.residual.size();
+    if (!m.encoder_covariance.allFinite() || !m.residual.allFinite()) {
+      const Eigen::VectorXd nan = Eigen::VectorXd::Constant(k, std::nan(""));
+      out.push_back({nan, nan});
+      continue;
+    }
+    const Eigen::SelfAdjointEigenSolver<Small> eig{Small(m.encoder_covariance)};
     out.push_back({eig.eigenvalues().cwiseMax(0.0),
                    (eig.eigenvectors().transpose() * m.residual).array().square().matrix()});
   }
