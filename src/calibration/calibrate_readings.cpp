@@ -1,6 +1,6 @@
 #include "artcal/calibration/calibrate_readings.hpp"
 
-#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -46,13 +46,39 @@ bool holdWeaklyDetermined(Plan& plan, const Eigen::VectorXd& p) {
   return true;
 }
 
-// Whitened chi2 of the readings' misfits at probe noise s (encoders as stated).
-double readingsChi2(const std::vector<ReadingMisfit>& misfits, double s) {
-  double chi2 = 0.0;
+// A reading's misfit in the eigenbasis of its encoder covariance Q diag(lambda) Q^T: with the
+// probe noise s added, Sigma = Q diag(lambda + s^2) Q^T and the whitened chi2 is
+// sum_i (Q^T e)_i^2 / (lambda_i + s^2), so that the bisection on s solves nothing per step.
+struct SpectralMisfit {
+  Eigen::VectorXd lambda;     // eigenvalues of the encoder covariance (clamped at 0)
+  Eigen::VectorXd projected;  // (Q^T e)_i^2
+};
+
+std::vector<SpectralMisfit> spectralMisfits(const std::vector<ReadingMisfit>& misfits) {
+  std::vector<SpectralMisfit> out;
+  out.reserve(misfits.size());
+  // At most 3 x 3: on the stack. Not finite (Eigen's iteration leaves its results unspecified
+  // there): NaN, which no bisection step accepts.
+  using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, 3, 3>;
   for (const ReadingMisfit& m : misfits) {
-    Eigen::MatrixXd sigma = m.encoder_covariance;
-    sigma.diagonal().array() += s * s;
-    chi2 += m.residual.dot(sigma.ldlt().solve(m.residual));
+    const auto k = m.residual.size();
+    if (!m.encoder_covariance.allFinite() || !m.residual.allFinite()) {
+      const Eigen::VectorXd nan = Eigen::VectorXd::Constant(k, std::nan(""));
+      out.push_back({nan, nan});
+      continue;
+    }
+    const Eigen::SelfAdjointEigenSolver<Small> eig{Small(m.encoder_covariance)};
+    out.push_back({eig.eigenvalues().cwiseMax(0.0),
+                   (eig.eigenvectors().transpose() * m.residual).array().square().matrix()});
+  }
+  return out;
+}
+
+// Whitened chi2 of the readings' misfits at probe noise s (encoders as stated).
+double readingsChi2(const std::vector<SpectralMisfit>& misfits, double s) {
+  double chi2 = 0.0;
+  for (const SpectralMisfit& m : misfits) {
+    chi2 += (m.projected.array() / (m.lambda.array() + s * s)).sum();
   }
   return chi2;
 }
@@ -122,15 +148,16 @@ double probeNoiseForUnitBirgeRatio(const Plan& plan, const std::vector<Placement
                                    const Calibration& calibration) {
   const GlobalLayout layout = GlobalLayout::of(plan);
   const DesignMatrixBuilder builder(plan.machine, plan.noise);
-  std::vector<ReadingMisfit> misfits;
+  std::vector<ReadingMisfit> readings;
   for (std::size_t j = 0; j < placements.size(); ++j) {
     const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placements[j].artifact)];
     const int offset = layout.artifact_offset[static_cast<std::size_t>(placements[j].artifact)] -
                        layout.parameters;
     const Eigen::VectorXd c = calibration.systematic.segment(offset, artifact.systematicCount());
     builder.misfits(artifact, placements[j].measurements, calibration.parameters,
-                    calibration.poses[j], c, misfits);
+                    calibration.poses[j], c, readings);
   }
+  const std::vector<SpectralMisfit> misfits = spectralMisfits(readings);
   // The priors' part of the cost does not depend on s_p: chi2(s) = readings(s) + priors = dof.
   const double priors = std::max(0.0, calibration.chi2 - readingsChi2(misfits, plan.noise.probe));
   const double target = calibration.dof - priors;

@@ -165,19 +165,31 @@ CalibratedSetChoice chooseIdentifiableSet(const PlanInformation& information, do
   // Absolute cutoff on the surviving fraction (docs/method.md section 5): a lone absorbed
   // parameter (j1.theta alone) is dropped too.
   const double cutoff = tolerance;
+  // The smallest eigenvalue of S over kept + {i} exceeds the cutoff exactly when S - cutoff I over
+  // kept + {i} is positive definite: its Cholesky factor L grows by one row per kept parameter, a
+  // trial costs one forward substitution. Only a dropped parameter needs its eigenvalue (the
+  // fraction it keeps) and its tie.
+  Eigen::MatrixXd L(n, n);
   for (int i = 0; i < n; ++i) {
-    std::vector<int> trial = choice.kept;
-    trial.push_back(i);
+    const int k = static_cast<int>(choice.kept.size());
+    Eigen::VectorXd column(k);
+    for (int a = 0; a < k; ++a) column[a] = S(choice.kept[static_cast<std::size_t>(a)], i);
+    const Eigen::VectorXd row = L.topLeftCorner(k, k).triangularView<Eigen::Lower>().solve(column);
+    const double pivot = S(i, i) - cutoff - row.squaredNorm();
     // An unobserved parameter has a zero row and column in S (scaledInformation).
     const bool observed = S(i, i) > 0.0;
-    const double surviving = observed ? smallestEigenvalue(principal(S, trial)) : 0.0;
-    if (surviving > cutoff) {
-      choice.kept = std::move(trial);
-    } else {
-      choice.dropped.push_back(i);
-      choice.dropped_fraction.push_back(std::max(surviving, 0.0));
-      choice.ties.push_back(tieOf(S, trial));
+    if (observed && pivot > 0.0) {
+      L.row(k).head(k) = row.transpose();
+      L(k, k) = std::sqrt(pivot);
+      choice.kept.push_back(i);
+      continue;
     }
+    std::vector<int> trial = choice.kept;
+    trial.push_back(i);
+    const double surviving = observed ? smallestEigenvalue(principal(S, trial)) : 0.0;
+    choice.dropped.push_back(i);
+    choice.dropped_fraction.push_back(std::max(surviving, 0.0));
+    choice.ties.push_back(tieOf(S, trial));
   }
   return choice;
 }

@@ -4,6 +4,7 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/SparseCore>
 #include <cmath>
+#include <optional>
 
 #include "artcal/core/linear_algebra.hpp"
 
@@ -97,6 +98,38 @@ namespace {
 
 // At most 6 rigid-motion unknowns per placement: the small matrices live on the stack.
 using RigidMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, 6, 6>;
+using RigidVector = Eigen::Matrix<double, Eigen::Dynamic, 1, Eigen::ColMajor, 6, 1>;
+
+// L^-1 of the Cholesky factor L L^T = M of a small symmetric block (at most 6 x 6: by loops, not
+// through the blocked solvers whose set-up costs more than the arithmetic); false when M is not
+// positive definite (a pivot not above 0, or not finite).
+template <typename Block>
+bool inverseCholeskyFactor(const Block& M, RigidMatrix& L_inverse) {
+  const int n = static_cast<int>(M.rows());
+  RigidMatrix L = RigidMatrix::Zero(n, n);
+  for (int j = 0; j < n; ++j) {
+    double pivot = M(j, j);
+    for (int k = 0; k < j; ++k) pivot -= L(j, k) * L(j, k);
+    if (!(pivot > 0.0) || !std::isfinite(pivot)) return false;
+    L(j, j) = std::sqrt(pivot);
+    for (int i = j + 1; i < n; ++i) {
+      double sum = M(i, j);
+      for (int k = 0; k < j; ++k) sum -= L(i, k) * L(j, k);
+      L(i, j) = sum / L(j, j);
+    }
+  }
+  // Forward substitution, column by column: L L^-1 = I.
+  L_inverse.setZero(n, n);
+  for (int j = 0; j < n; ++j) {
+    L_inverse(j, j) = 1.0 / L(j, j);
+    for (int i = j + 1; i < n; ++i) {
+      double sum = 0.0;
+      for (int k = j; k < i; ++k) sum -= L(i, k) * L_inverse(k, j);
+      L_inverse(i, j) = sum / L(i, i);
+    }
+  }
+  return true;
+}
 
 // A factor S of (A_r^T A_r)^+ = S^T S over the observed rigid directions only (rank policy,
 // docs/method.md section 5): a direction is observed when its eigenvalue exceeds
@@ -123,15 +156,15 @@ class RigidBlockRoot {
     if (n1 > 0 && (max_rank < 0 || max_rank >= n1) && blockFactor(M, n1, max_rank)) return;
     eigenFactor(M, max_rank);
   }
-  /// X <- S X.
-  template <typename Matrix>
-  void apply(Matrix& X) const {
+  /// out = S X (out not X).
+  template <typename Matrix, typename Out>
+  void apply(const Matrix& X, Out& out) const {
     // At most 6 x 6 times 6 x (parameters): coefficient-wise, not through a general GEMM whose
-    // set-up costs more than the product.
-    X = root_.lazyProduct(X).eval();
+    // set-up costs more than the product; into `out`, which keeps its storage between calls.
+    out.noalias() = root_.lazyProduct(X);
   }
   /// S^T S.
-  Eigen::MatrixXd pseudoInverse() const { return root_.transpose() * root_; }
+  Eigen::MatrixXd pseudoInverse() const { return root_.transpose().lazyProduct(root_); }
   /// The observed rigid directions.
   int rank() const { return rank_; }
 
@@ -139,10 +172,8 @@ class RigidBlockRoot {
   // The block LDL^T path; false when M11 is not certainly well conditioned.
   bool blockFactor(const Eigen::MatrixXd& M, int n1, int max_rank) {
     const int n = static_cast<int>(M.rows());
-    const Eigen::LLT<RigidMatrix> llt{RigidMatrix(M.topLeftCorner(n1, n1))};
-    if (llt.info() != Eigen::Success) return false;
-    RigidMatrix L_inverse = RigidMatrix::Identity(n1, n1);
-    llt.matrixL().solveInPlace(L_inverse);
+    RigidMatrix L_inverse;
+    if (!inverseCholeskyFactor(M.topLeftCorner(n1, n1), L_inverse)) return false;
     const double trace = M.trace();
     if (!(1.0 / L_inverse.squaredNorm() >
           kRigidObservedTolerance * M.topLeftCorner(n1, n1).trace()))
@@ -234,13 +265,13 @@ void NormalMatrixReducer::add(const ObservationBlock& block, int artifact_index,
   unreduced_diagonal_ += A_p.colwise().squaredNorm().transpose();
   // A_c has a few non-zeros per column (the readings of one feature, whitened within each
   // reading: 6 of 150 rows for a plate read with two styli): its products as a sparse matrix.
-  Eigen::SparseMatrix<double> A_c_sparse;  // no allocation without systematic errors
-  if (n_c > 0) A_c_sparse = A_c.sparseView();
+  // Without systematic errors none is made (even an empty one allocates).
+  std::optional<Eigen::SparseMatrix<double>> sparse;
+  if (n_c > 0) sparse.emplace(A_c.sparseView());
   M_rg_.resize(A_r.cols(), n_g);
   M_rg_.leftCols(n_p).noalias() = A_r.transpose().lazyProduct(A_p);
-  if (n_c > 0) M_rg_.rightCols(n_c) = (A_c_sparse.transpose() * A_r).transpose();
-  X_ = M_rg_;
-  S.apply(X_);  // Y
+  if (n_c > 0) M_rg_.rightCols(n_c) = (sparse->transpose() * A_r).transpose();
+  S.apply(M_rg_, X_);  // Y
   const auto Y_p = X_.leftCols(n_p);
   auto N_pp = N_.topLeftCorner(n_p, n_p);
   if (n_p <= kSmallProblem) {
@@ -256,6 +287,7 @@ void NormalMatrixReducer::add(const ObservationBlock& block, int artifact_index,
   if (n_c > 0) {
     const auto Y_c = X_.rightCols(n_c);
     auto N_cc = N_.block(c_offset, c_offset, n_c, n_c);
+    const Eigen::SparseMatrix<double>& A_c_sparse = *sparse;
     N_cc += Eigen::MatrixXd(A_c_sparse.transpose() * A_c_sparse);
     N_cc.selfadjointView<Eigen::Lower>().rankUpdate(Y_c.transpose(), -1.0);
     mirrorLower(N_cc);
@@ -272,8 +304,8 @@ void NormalMatrixReducer::add(const ObservationBlock& block, int artifact_index,
   if (with_residuals) {
     // b -= A_g^T e - Y^T S A_r^T e
     g_r_.noalias() = A_r.transpose() * block.e;
-    Eigen::VectorXd s_g_r = g_r_;
-    S.apply(s_g_r);
+    RigidVector s_g_r;
+    S.apply(g_r_, s_g_r);
     Eigen::VectorXd reduced = X_.transpose() * s_g_r;
     reduced.head(n_p).noalias() -= A_p.transpose() * block.e;
     if (n_c > 0) reduced.tail(n_c).noalias() -= A_c.transpose() * block.e;
