@@ -7,9 +7,6 @@
 #include <map>
 #include <sstream>
 
-#include "artcal/artifact/rigid_transform.hpp"
-#include "artcal/estimation/design_matrix.hpp"
-#include "artcal/estimation/tip.hpp"
 #include "artcal/report/procedure.hpp"
 #include "artcal/report/report.hpp"
 #include "artcal/report/svg.hpp"
@@ -65,25 +62,6 @@ Eigen::VectorXd probePosition(const Machine& machine, const Eigen::VectorXd& q) 
   Eigen::VectorXd x;
   forwardOrThrow(*machine.mechanism, machine.nominal, q, x);
   return x;
-}
-
-/// Each feature of each placement in the machine frame: x = R^T (W - t), the placement's rigid
-/// transform fitted to its nominal readings (or its pose), as the evaluator does.
-std::vector<Eigen::MatrixXd> placedFeatures(const Plan& plan) {
-  const std::vector<RigidTransform> poses =
-      fitPlacements(plan, plan.placements, plan.machine.nominal);
-  std::vector<Eigen::MatrixXd> out;
-  for (std::size_t j = 0; j < plan.placements.size(); ++j) {
-    const Artifact& artifact =
-        plan.artifacts[static_cast<std::size_t>(plan.placements[j].artifact)];
-    const RigidTransform machine_from_artifact = poses[j].inverse();
-    Eigen::MatrixXd features(artifact.dimension, artifact.featureCount());
-    for (int i = 0; i < artifact.featureCount(); ++i) {
-      features.col(i) = machine_from_artifact.apply(artifact.features.col(i));
-    }
-    out.push_back(features);
-  }
-  return out;
 }
 
 /// Inner and outer reach when the model's workspace is an annulus about its base
@@ -286,17 +264,6 @@ ReportFigure profileFigure(const ReportInput& in) {
   return {"tip-profile",
           "S_m, S_q and S against the distance from the machine origin (seed Fig. 6).",
           plot.render()};
-}
-
-/// S per workspace configuration, from the evaluator's V_p through TipEvaluator.
-std::vector<double> workspaceTotals(const ReportInput& in, const TipEvaluator& tips) {
-  Eigen::VectorXd S_m2;
-  tips.kinematicVariance(in.evaluation.covariance->V, S_m2);
-  std::vector<double> totals(static_cast<std::size_t>(tips.size()));
-  for (int g = 0; g < tips.size(); ++g) {
-    totals[static_cast<std::size_t>(g)] = std::sqrt(S_m2[g] + tips.encoderVariance()[g]);
-  }
-  return totals;
 }
 
 /// Up to this many workspace configurations are drawn one by one; more are binned into cells.
@@ -850,11 +817,11 @@ void writeCalibration(std::ostream& out, const ReportInput& in,
 }
 
 /// The operator's procedure (procedure.hpp); a plan whose features cannot be reached gets a note.
-void writeProcedure(std::ostream& out, const Plan& plan) {
-  try {
-    out << procedureHtml(plan, operatorProcedure(plan));
-  } catch (const RunError& e) {
-    out << "<h2>Procedure</h2>\n<p>No procedure: " << svg::escape(e.describe()) << "</p>\n";
+void writeProcedure(std::ostream& out, const ReportInput& in) {
+  if (in.procedure) {
+    out << procedureHtml(in.plan, *in.procedure);
+  } else if (!in.no_procedure.empty()) {
+    out << "<h2>Procedure</h2>\n<p>No procedure: " << svg::escape(in.no_procedure) << "</p>\n";
   }
 }
 
@@ -862,7 +829,7 @@ void writeProcedure(std::ostream& out, const Plan& plan) {
 
 std::vector<ReportFigure> reportFigures(const ReportInput& in) {
   const Plan& plan = in.plan;
-  const std::vector<Eigen::MatrixXd> features = placedFeatures(plan);
+  const std::vector<Eigen::MatrixXd>& features = in.evaluation.placed_features;
   std::vector<ReportFigure> figures;
   const bool spatial = plan.machine.dimension() == 3;
   const std::string layout_caption =
@@ -882,8 +849,7 @@ std::vector<ReportFigure> reportFigures(const ReportInput& in) {
     figures.push_back(residualFigure(*in.calibration_json, in.flag_threshold));
   if (!in.evaluation.identifiable() || !in.evaluation.tip) return figures;
   if (in.evaluation_json.contains("profile")) figures.push_back(profileFigure(in));
-  const TipEvaluator tips(plan.machine, plan.noise, in.evaluation.workspace);
-  std::vector<double> totals_um = workspaceTotals(in, tips);
+  std::vector<double> totals_um = in.evaluation.workspace_total;
   for (double& s : totals_um) s *= 1e3;
   figures.push_back(tipMapFigure(in, totals_um, features, View::Plan));
   if (spatial) figures.push_back(tipMapFigure(in, totals_um, features, View::Side));
@@ -921,7 +887,7 @@ std::string htmlReport(const ReportInput& in, const std::vector<ReportFigure>& f
     out << "<h2>Acceptance test predicted</h2>\n";
     writeFigures(out, figures, "acceptance");
   }
-  writeProcedure(out, in.plan);
+  writeProcedure(out, in);
   out << "</body>\n</html>\n";
   return out.str();
 }

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "artcal/io/plan_io.hpp"
+#include "artcal/planning/procedure.hpp"
 #include "artcal/report/procedure.hpp"
 #include "cli_runner.hpp"
 #include "test_paths.hpp"
