@@ -355,11 +355,14 @@ constexpr int kLabelledOutliers = 8;
 constexpr std::size_t kTabledOutliers = 50;
 
 ReportFigure residualFigure(const json& calibration, double threshold) {
-  svg::Plot plot("residuals", "Normalized residuals of the calibration", "reading (in plan order)",
-                 "normalized residual (standard deviations)", 640.0, 400.0);
+  svg::Plot plot("residuals", "Normalized residuals of the calibration",
+                 "reading (in plan order, from 0)", "normalized residual (standard deviations)",
+                 640.0, 400.0);
   const svg::Shape shapes[] = {svg::Shape::Circle, svg::Shape::Square, svg::Shape::Triangle};
   const char* names[] = {"coordinate x", "coordinate y", "coordinate z"};
-  int reading = 0;
+  // Readings numbered from 0 in plan order, as placements, readings and postures are in the
+  // tables, the JSON and the procedure (docs/plan-format.md, Numbering).
+  int reading = -1;
   double largest = threshold;
   const json& placements = calibration.at("residuals");
   for (std::size_t j = 0; j < placements.size(); ++j) {
@@ -399,13 +402,13 @@ ReportFigure residualFigure(const json& calibration, double threshold) {
       }
     }
   }
-  const double x_hi = std::max(reading, 1) + 0.5;
+  const double x_hi = std::max(reading, 0) + 0.5;
   svg::Style limit = faint("#000000", 1.2, 1.0);
   limit.dash = svg::Dash::Dashed;
   const std::string legend = format("flag threshold +/-%.3g", threshold);
-  plot.polyline({{0.5, threshold}, {x_hi, threshold}}, limit, legend);
-  plot.polyline({{0.5, -threshold}, {x_hi, -threshold}}, limit, legend);
-  plot.setXRange(0.5, x_hi);
+  plot.polyline({{-0.5, threshold}, {x_hi, threshold}}, limit, legend);
+  plot.polyline({{-0.5, -threshold}, {x_hi, -threshold}}, limit, legend);
+  plot.setXRange(-0.5, x_hi);
   plot.setYRange(-1.15 * largest, 1.15 * largest);
   return {"residuals",
           "Each reading's residual in its valued artifact coordinates, divided by its standard "
