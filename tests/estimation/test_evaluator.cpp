@@ -254,10 +254,16 @@ TEST(Evaluator, RigidStepBackSubstitutionMatchesTheDenseSolve) {
   EXPECT_NEAR(reducer.chi2(), e.squaredNorm(), 1e-12 * e.squaredNorm());
 }
 
-TEST(Evaluator, PreparedEvaluationMatchesThePlainOne) {
+// The 6-axis arm with four random bars read in three postures, over `samples` configurations.
+Plan fourBarArmPlan(int samples) {
   Plan plan = aacmmPlan();
   plan.placements = randomSpatialBars(plan, 4, 3, 17);
-  makeWorkspaceExplicit(plan, 500);
+  makeWorkspaceExplicit(plan, samples);
+  return plan;
+}
+
+TEST(Evaluator, PreparedEvaluationMatchesThePlainOne) {
+  const Plan plan = fourBarArmPlan(500);
   const Evaluation plain = evaluatePlan(plan);
   ASSERT_TRUE(plain.identifiable());
   PlanEvaluator prepared(plan);
@@ -280,9 +286,7 @@ TEST(Evaluator, PreparedEvaluationMatchesThePlainOne) {
 // placeSpatial) and, without poses, where the fit to the nominal readings puts them (on the
 // probe positions of the readings, which the builder solved onto the features).
 TEST(Evaluator, CarriesSPerConfigurationAndThePlacedFeatures) {
-  Plan plan = aacmmPlan();
-  plan.placements = randomSpatialBars(plan, 4, 3, 17);
-  makeWorkspaceExplicit(plan, 200);
+  const Plan plan = fourBarArmPlan(200);
   const Evaluation evaluation = evaluatePlan(plan);
   ASSERT_TRUE(evaluation.identifiable());
   ASSERT_EQ(evaluation.workspace_total.size(), evaluation.workspace.size());
