@@ -12,7 +12,7 @@
 #include "artcal/planning/optimizer.hpp"
 
 namespace artcal {
-namespace {
+namespace enum_names_test {
 
 template <class Enum, std::size_t N>
 void expectRoundTrip(const EnumNames<Enum, N>& table) {
@@ -43,5 +43,5 @@ TEST(EnumNames, TheNamesFilesAndMessagesUse) {
   EXPECT_EQ(forwardStatusName(ForwardStatus::Singular), "singular configuration");
 }
 
-}  // namespace
+}  // namespace enum_names_test
 }  // namespace artcal
