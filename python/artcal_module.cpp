@@ -27,6 +27,7 @@
 #include "artcal/calibration/verification.hpp"
 #include "artcal/core/error.hpp"
 #include "artcal/core/random.hpp"
+#include "artcal/estimation/error_functions.hpp"
 #include "artcal/estimation/evaluator.hpp"
 #include "artcal/io/acceptance_spec.hpp"
 #include "artcal/io/calibrated_urdf.hpp"

@@ -2,6 +2,7 @@
 
 #include <iostream>
 
+#include "artcal/estimation/error_functions.hpp"
 #include "artcal/estimation/evaluator.hpp"
 #include "artcal/report/cartesian_report.hpp"
 #include "artcal/report/report.hpp"

@@ -2,6 +2,7 @@
 
 #include <iostream>
 
+#include "artcal/planning/procedure.hpp"
 #include "artcal/report/procedure.hpp"
 #include "commands.hpp"
 

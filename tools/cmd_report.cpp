@@ -7,10 +7,13 @@
 
 #include "artcal/calibration/calibrate_readings.hpp"
 #include "artcal/calibration/calibrator.hpp"
+#include "artcal/core/error.hpp"
+#include "artcal/estimation/error_functions.hpp"
 #include "artcal/estimation/evaluator.hpp"
 #include "artcal/io/output_file.hpp"
 #include "artcal/io/plan_io.hpp"
 #include "artcal/io/truth_io.hpp"
+#include "artcal/planning/procedure.hpp"
 #include "artcal/report/acceptance_report.hpp"
 #include "artcal/report/calibration_report.hpp"
 #include "artcal/report/cartesian_report.hpp"
@@ -71,12 +74,25 @@ void addErrorFunctionFigures(const Plan& plan, const nlohmann::json& document,
       const nlohmann::json record = {{"parameters", document["simulation"]["parameters"]}};
       truth = parseTruth(record, path, plan);
     }
-    more = errorFunctionFigures(plan, calibration->covariance->V, calibration->parameters, true,
-                                truth ? &*truth : nullptr);
+    more = errorFunctionFigures(
+        plan, errorFunctionBands(plan, calibration->covariance->V, calibration->parameters, true,
+                                 truth ? &*truth : nullptr));
   } else if (evaluation.covariance) {
-    more = errorFunctionFigures(plan, evaluation.covariance->V, plan.machine.nominal, false);
+    more = errorFunctionFigures(
+        plan, errorFunctionBands(plan, evaluation.covariance->V, plan.machine.nominal, false));
   }
   figures.insert(figures.end(), more.begin(), more.end());
+}
+
+/// The operator's procedure for the report, or why there is none (no joint values within the
+/// limits reach a placed feature: the report says so instead of failing).
+std::optional<Procedure> reportProcedure(const Plan& plan, std::string& no_procedure) {
+  try {
+    return operatorProcedure(plan);
+  } catch (const RunError& e) {
+    no_procedure = e.describe();
+    return std::nullopt;
+  }
 }
 
 /// What was written: the JSON twin of the table printed.
@@ -165,13 +181,17 @@ void addReportCommand(CLI::App& app, Action& action) {
       const std::optional<PlanAcceptance> acceptance = predictPlanAcceptance(plan, evaluation);
       std::optional<nlohmann::json> acceptance_json;
       if (acceptance) acceptance_json = planAcceptanceToJson(*acceptance);
+      std::string no_procedure;
+      const std::optional<Procedure> procedure = reportProcedure(plan, no_procedure);
       const ReportInput input{plan,
                               document,
                               evaluation,
                               evaluation_json,
                               calibration_json ? &*calibration_json : nullptr,
                               args->flag_threshold,
-                              acceptance_json ? &*acceptance_json : nullptr};
+                              acceptance_json ? &*acceptance_json : nullptr,
+                              procedure ? &*procedure : nullptr,
+                              no_procedure};
       std::vector<ReportFigure> figures = reportFigures(input);
       addErrorFunctionFigures(calibration ? calibrated : plan, document, args->plan, evaluation,
                               calibration, figures);

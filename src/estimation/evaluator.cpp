@@ -1,6 +1,7 @@
 #include "artcal/estimation/evaluator.hpp"
 
 #include <Eigen/Cholesky>
+#include <cmath>
 #include <string>
 
 #include "artcal/core/error.hpp"
@@ -54,7 +55,8 @@ PlanInformation planInformation(const Plan& plan, const std::vector<Placement>& 
   ObservationBlock block;
   PlanInformation out;
   // The readings' own information decides identifiability; the prior only narrows V_p.
-  const std::vector<RigidTransform> poses = fitPlacements(plan, placements, p);
+  out.poses = fitPlacements(plan, placements, p);
+  const std::vector<RigidTransform>& poses = out.poses;
   out.reduced = reduceInformation(plan, placements, p, poses, builder, reducer, block,
                                   ParameterPrior::Excluded);
   out.unreduced_diagonal = reducer.unreducedDiagonal();
@@ -101,6 +103,34 @@ std::vector<Eigen::VectorXd> usableWorkspace(const Plan& plan, WorkspaceDrops* d
   return workspace;
 }
 
+// Each placement's features in the machine frame, x = R^T (W - t), at its r_j.
+std::vector<Eigen::MatrixXd> featuresInMachineFrame(const Plan& plan,
+                                                    const std::vector<RigidTransform>& poses) {
+  std::vector<Eigen::MatrixXd> out;
+  for (std::size_t j = 0; j < plan.placements.size(); ++j) {
+    const Artifact& artifact =
+        plan.artifacts[static_cast<std::size_t>(plan.placements[j].artifact)];
+    const RigidTransform machine_from_artifact = poses[j].inverse();
+    Eigen::MatrixXd features(artifact.dimension, artifact.featureCount());
+    for (int i = 0; i < artifact.featureCount(); ++i) {
+      features.col(i) = machine_from_artifact.apply(artifact.features.col(i));
+    }
+    out.push_back(features);
+  }
+  return out;
+}
+
+// S per workspace configuration for V_p (mm): the values TipEvaluator::summarize summarizes.
+std::vector<double> totalPerConfiguration(const TipEvaluator& tips, const Eigen::MatrixXd& V_p) {
+  Eigen::VectorXd S_m2;
+  tips.kinematicVariance(V_p, S_m2);
+  std::vector<double> totals(static_cast<std::size_t>(tips.size()));
+  for (int g = 0; g < tips.size(); ++g) {
+    totals[static_cast<std::size_t>(g)] = std::sqrt(S_m2[g] + tips.encoderVariance()[g]);
+  }
+  return totals;
+}
+
 }  // namespace
 
 PlanEvaluator::PlanEvaluator(const Plan& plan)
@@ -139,12 +169,14 @@ Evaluation evaluatePlan(const Plan& plan, const EvaluateOptions& options) {
       analyseIdentifiability(plan, plan.placements, information, options.rank_tolerance);
   evaluation.information = addParameterPrior(information.estimable, GlobalLayout::of(plan));
   evaluation.unreduced_diagonal = std::move(information.unreduced_diagonal);
+  evaluation.placed_features = featuresInMachineFrame(plan, information.poses);
   if (evaluation.identifiability.deficiency > 0) return evaluation;
   evaluation.covariance = covarianceFromInformation(evaluation.information);
   if (!evaluation.covariance) return evaluation;
   evaluation.workspace = usableWorkspace(plan, &evaluation.workspace_drops);
   const TipEvaluator tip(plan.machine, plan.noise, evaluation.workspace);
   evaluation.tip = tip.summarize(evaluation.covariance->V);
+  evaluation.workspace_total = totalPerConfiguration(tip, evaluation.covariance->V);
   evaluation.profile =
       reachProfile(plan.machine, plan.noise, evaluation.covariance->V, options.profile_steps);
   return evaluation;

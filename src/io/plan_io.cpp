@@ -669,10 +669,7 @@ WorkspaceSpec parseWorkspace(const Node& node, const Machine& machine,
 
 Criterion parseCriterion(const Node& node) {
   const std::string name = node.string();
-  for (Criterion c : {Criterion::WorstTip, Criterion::MeanTip, Criterion::D, Criterion::A,
-                      Criterion::E, Criterion::Pass}) {
-    if (criterionName(c) == name) return c;
-  }
+  if (const auto criterion = criterionFromName(name)) return *criterion;
   node.fail("unknown criterion \"" + name + "\" (expected worst-tip, mean-tip, D, A, E or pass)");
 }
 

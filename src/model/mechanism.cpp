@@ -3,15 +3,7 @@
 namespace artcal {
 
 std::string forwardStatusName(ForwardStatus status) {
-  switch (status) {
-    case ForwardStatus::Ok:
-      return "ok";
-    case ForwardStatus::NotConverged:
-      return "forward kinematics did not converge";
-    case ForwardStatus::Singular:
-      return "singular configuration";
-  }
-  return "unknown status";
+  return nameOf(kForwardStatusNames, status);
 }
 
 void forwardOrThrow(const Mechanism& mechanism, const Eigen::VectorXd& p, const Eigen::VectorXd& q,

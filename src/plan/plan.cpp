@@ -66,21 +66,11 @@ int Plan::artifactIndex(const std::string& id) const {
 }
 
 std::string criterionName(Criterion criterion) {
-  switch (criterion) {
-    case Criterion::WorstTip:
-      return "worst-tip";
-    case Criterion::MeanTip:
-      return "mean-tip";
-    case Criterion::D:
-      return "D";
-    case Criterion::A:
-      return "A";
-    case Criterion::E:
-      return "E";
-    case Criterion::Pass:
-      return "pass";
-  }
-  throw std::logic_error("unknown criterion");
+  return nameOf(kCriterionNames, criterion);
+}
+
+std::optional<Criterion> criterionFromName(const std::string& name) {
+  return fromName(kCriterionNames, name);
 }
 
 }  // namespace artcal

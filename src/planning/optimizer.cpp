@@ -58,28 +58,11 @@ double machineReach(const Machine& machine, const std::vector<Eigen::VectorXd>& 
 }  // namespace
 
 std::string refineAlgorithmName(RefineAlgorithm algorithm) {
-  switch (algorithm) {
-    case RefineAlgorithm::None:
-      return "none";
-    case RefineAlgorithm::Subplex:
-      return "sbplx";
-    case RefineAlgorithm::Bobyqa:
-      return "bobyqa";
-    case RefineAlgorithm::NelderMead:
-      return "neldermead";
-    case RefineAlgorithm::Cobyla:
-      return "cobyla";
-  }
-  return "none";
+  return nameOf(kRefineAlgorithmNames, algorithm);
 }
 
 std::optional<RefineAlgorithm> refineAlgorithmFromName(const std::string& name) {
-  for (RefineAlgorithm a :
-       {RefineAlgorithm::None, RefineAlgorithm::Subplex, RefineAlgorithm::Bobyqa,
-        RefineAlgorithm::NelderMead, RefineAlgorithm::Cobyla}) {
-    if (refineAlgorithmName(a) == name) return a;
-  }
-  return std::nullopt;
+  return fromName(kRefineAlgorithmNames, name);
 }
 
 OptimizerOptions OptimizerOptions::fromDesign(const DesignSpec& design) {

@@ -35,27 +35,6 @@ std::string axisName(const Eigen::Vector3d& axis) {
          format("%.3f", axis[2]) + "]";
 }
 
-// The reduced information of every model parameter (the frame-rotation test needs them all).
-Eigen::MatrixXd fullInformation(const Plan& plan) {
-  Plan all = plan;
-  all.machine.calibrated.clear();
-  for (int i = 0; i < plan.machine.mechanism->parameterCount(); ++i) {
-    all.machine.calibrated.push_back(i);
-  }
-  return parameterInformation(all, all.placements, all.machine.nominal);
-}
-
-// Model parameters not calibrated: the dropped ones of "identifiable", or those the plan fixed.
-std::vector<int> notCalibrated(const Plan& plan) {
-  if (plan.calibrate_resolution) return plan.calibrate_resolution->dropped;
-  std::vector<int> out;
-  const auto& calibrated = plan.machine.calibrated;
-  for (int i = 0; i < plan.machine.mechanism->parameterCount(); ++i) {
-    if (std::find(calibrated.begin(), calibrated.end(), i) == calibrated.end()) out.push_back(i);
-  }
-  return out;
-}
-
 // The three functions of one plot differ by line style and marker shape (greyscale printing).
 constexpr svg::Dash kDashes[] = {svg::Dash::Solid, svg::Dash::Dashed, svg::Dash::Dotted};
 constexpr svg::Shape kShapes[] = {svg::Shape::Circle, svg::Shape::Square, svg::Shape::Triangle};
@@ -155,52 +134,6 @@ svg::Plot recoveryPlot(const CartesianAxis& axis, const std::vector<ErrorFunctio
 
 }  // namespace
 
-const Cartesian* cartesianOf(const Plan& plan) {
-  return dynamic_cast<const Cartesian*>(plan.machine.mechanism.get());
-}
-
-CartesianAnswers cartesianAnswers(const Plan& plan, const Evaluation* evaluation,
-                                  int profile_steps) {
-  CartesianAnswers answers;
-  const Cartesian* cmm = cartesianOf(plan);
-  if (!cmm) return answers;
-  answers.absorbed = frameRotationsAbsorbed(*cmm, fullInformation(plan));
-  std::vector<int> dropped = notCalibrated(plan);
-  // Each absorbed rotation holds one of the parameters it moves at its nominal value: the
-  // squareness the frame defines. The rest of the dropped ones the plan cannot separate.
-  for (const AbsorbedRotation& rotation : answers.absorbed) {
-    std::string held;
-    for (auto it = dropped.begin(); it != dropped.end(); ++it) {
-      const std::string& name = cmm->parameters()[static_cast<std::size_t>(*it)].name;
-      if (std::find(rotation.involves.begin(), rotation.involves.end(), name) !=
-          rotation.involves.end()) {
-        held = name;
-        dropped.erase(it);
-        break;
-      }
-    }
-    answers.held_by_frame.push_back(held);
-  }
-  std::map<std::pair<int, int>, std::vector<int>> functions;  // (axis, error) -> degrees
-  const int per_axis = cmm->degree() * kAxisErrorCount;
-  for (const int i : dropped) {
-    const int axis = i / per_axis;
-    const int degree = (i % per_axis) / kAxisErrorCount + 1;
-    functions[{axis, i % kAxisErrorCount}].push_back(degree);
-  }
-  for (const auto& [key, degrees] : functions) {
-    const CartesianAxis& axis = cmm->axes()[static_cast<std::size_t>(key.first)];
-    const auto error = static_cast<AxisError>(key.second);
-    answers.unseparated.push_back(
-        {axis.name + "." + axisErrorName(error), axisErrorMeaning(axis.direction, error), degrees});
-  }
-  if (evaluation && evaluation->covariance) {
-    answers.profiles = errorFunctionProfiles(*cmm, plan.machine, evaluation->covariance->V,
-                                             plan.machine.nominal, profile_steps);
-  }
-  return answers;
-}
-
 nlohmann::json cartesianAnswersToJson(const Plan& plan, const CartesianAnswers& answers) {
   nlohmann::json out = nlohmann::json::object();
   if (!cartesianOf(plan)) return out;
@@ -283,15 +216,14 @@ std::string cartesianAnswersTable(const Plan& plan, const CartesianAnswers& answ
   return out.str();
 }
 
-std::vector<ReportFigure> errorFunctionFigures(const Plan& plan, const Eigen::MatrixXd& V,
-                                               const Eigen::VectorXd& p, bool calibrated,
-                                               const Eigen::VectorXd* truth, int steps) {
+std::vector<ReportFigure> errorFunctionFigures(const Plan& plan, const ErrorFunctionBands& bands) {
   std::vector<ReportFigure> figures;
   const Cartesian* cmm = cartesianOf(plan);
-  if (!cmm) return figures;
-  const auto profiles = errorFunctionProfiles(*cmm, plan.machine, V, p, steps);
-  std::vector<ErrorFunctionProfile> truths;
-  if (truth) truths = errorFunctionProfiles(*cmm, plan.machine, V, *truth, steps);
+  if (!cmm || bands.profiles.empty()) return figures;
+  const bool calibrated = bands.calibrated;
+  const std::vector<ErrorFunctionProfile>& profiles = bands.profiles;
+  const std::vector<ErrorFunctionProfile>& truths = bands.truth;
+  const bool truth = !truths.empty();
   const std::string band = calibrated
                                ? "the calibrated estimate e(u) (markers) between e - u and e + u"
                                : "the band +- u of the predicted standard uncertainty";

@@ -8,9 +8,6 @@
 #include <map>
 #include <sstream>
 
-#include "artcal/artifact/rigid_transform.hpp"
-#include "artcal/estimation/design_matrix.hpp"
-#include "artcal/estimation/tip.hpp"
 #include "artcal/report/procedure.hpp"
 #include "artcal/report/report.hpp"
 #include "artcal/report/svg.hpp"
@@ -66,25 +63,6 @@ Eigen::VectorXd probePosition(const Machine& machine, const Eigen::VectorXd& q) 
   Eigen::VectorXd x;
   forwardOrThrow(*machine.mechanism, machine.nominal, q, x);
   return x;
-}
-
-/// Each feature of each placement in the machine frame: x = R^T (W - t), the placement's rigid
-/// transform fitted to its nominal readings (or its pose), as the evaluator does.
-std::vector<Eigen::MatrixXd> placedFeatures(const Plan& plan) {
-  const std::vector<RigidTransform> poses =
-      fitPlacements(plan, plan.placements, plan.machine.nominal);
-  std::vector<Eigen::MatrixXd> out;
-  for (std::size_t j = 0; j < plan.placements.size(); ++j) {
-    const Artifact& artifact =
-        plan.artifacts[static_cast<std::size_t>(plan.placements[j].artifact)];
-    const RigidTransform machine_from_artifact = poses[j].inverse();
-    Eigen::MatrixXd features(artifact.dimension, artifact.featureCount());
-    for (int i = 0; i < artifact.featureCount(); ++i) {
-      features.col(i) = machine_from_artifact.apply(artifact.features.col(i));
-    }
-    out.push_back(features);
-  }
-  return out;
 }
 
 /// Inner and outer reach when the model's workspace is an annulus about its base
@@ -289,17 +267,6 @@ ReportFigure profileFigure(const ReportInput& in) {
           plot.render()};
 }
 
-/// S per workspace configuration, from the evaluator's V_p through TipEvaluator.
-std::vector<double> workspaceTotals(const ReportInput& in, const TipEvaluator& tips) {
-  Eigen::VectorXd S_m2;
-  tips.kinematicVariance(in.evaluation.covariance->V, S_m2);
-  std::vector<double> totals(static_cast<std::size_t>(tips.size()));
-  for (int g = 0; g < tips.size(); ++g) {
-    totals[static_cast<std::size_t>(g)] = std::sqrt(S_m2[g] + tips.encoderVariance()[g]);
-  }
-  return totals;
-}
-
 /// Up to this many workspace configurations are drawn one by one; more are binned into cells.
 constexpr std::size_t kFewPoints = 400;
 
@@ -389,11 +356,14 @@ constexpr int kLabelledOutliers = 8;
 constexpr std::size_t kTabledOutliers = 50;
 
 ReportFigure residualFigure(const json& calibration, double threshold) {
-  svg::Plot plot("residuals", "Normalized residuals of the calibration", "reading (in plan order)",
-                 "normalized residual (standard deviations)", 640.0, 400.0);
+  svg::Plot plot("residuals", "Normalized residuals of the calibration",
+                 "reading (in plan order, from 0)", "normalized residual (standard deviations)",
+                 640.0, 400.0);
   const svg::Shape shapes[] = {svg::Shape::Circle, svg::Shape::Square, svg::Shape::Triangle};
   const char* names[] = {"coordinate x", "coordinate y", "coordinate z"};
-  int reading = 0;
+  // Readings numbered from 0 in plan order, as placements, readings and postures are in the
+  // tables, the JSON and the procedure (docs/plan-format.md, Numbering).
+  int reading = -1;
   double largest = threshold;
   const json& placements = calibration.at("residuals");
   for (std::size_t j = 0; j < placements.size(); ++j) {
@@ -433,13 +403,13 @@ ReportFigure residualFigure(const json& calibration, double threshold) {
       }
     }
   }
-  const double x_hi = std::max(reading, 1) + 0.5;
+  const double x_hi = std::max(reading, 0) + 0.5;
   svg::Style limit = faint("#000000", 1.2, 1.0);
   limit.dash = svg::Dash::Dashed;
   const std::string legend = format("flag threshold +/-%.3g", threshold);
-  plot.polyline({{0.5, threshold}, {x_hi, threshold}}, limit, legend);
-  plot.polyline({{0.5, -threshold}, {x_hi, -threshold}}, limit, legend);
-  plot.setXRange(0.5, x_hi);
+  plot.polyline({{-0.5, threshold}, {x_hi, threshold}}, limit, legend);
+  plot.polyline({{-0.5, -threshold}, {x_hi, -threshold}}, limit, legend);
+  plot.setXRange(-0.5, x_hi);
   plot.setYRange(-1.15 * largest, 1.15 * largest);
   return {"residuals",
           "Each reading's residual in its valued artifact coordinates, divided by its standard "
@@ -860,11 +830,11 @@ void writeCalibration(std::ostream& out, const ReportInput& in,
 }
 
 /// The operator's procedure (procedure.hpp); a plan whose features cannot be reached gets a note.
-void writeProcedure(std::ostream& out, const Plan& plan) {
-  try {
-    out << procedureHtml(plan, operatorProcedure(plan));
-  } catch (const RunError& e) {
-    out << "<h2>Procedure</h2>\n<p>No procedure: " << svg::escape(e.describe()) << "</p>\n";
+void writeProcedure(std::ostream& out, const ReportInput& in) {
+  if (in.procedure) {
+    out << procedureHtml(in.plan, *in.procedure);
+  } else if (!in.no_procedure.empty()) {
+    out << "<h2>Procedure</h2>\n<p>No procedure: " << svg::escape(in.no_procedure) << "</p>\n";
   }
 }
 
@@ -958,7 +928,7 @@ void writeAcceptance(std::ostream& out, const ReportInput& in,
 
 std::vector<ReportFigure> reportFigures(const ReportInput& in) {
   const Plan& plan = in.plan;
-  const std::vector<Eigen::MatrixXd> features = placedFeatures(plan);
+  const std::vector<Eigen::MatrixXd>& features = in.evaluation.placed_features;
   std::vector<ReportFigure> figures;
   const bool spatial = plan.machine.dimension() == 3;
   const std::string layout_caption =
@@ -978,8 +948,7 @@ std::vector<ReportFigure> reportFigures(const ReportInput& in) {
     figures.push_back(residualFigure(*in.calibration_json, in.flag_threshold));
   if (!in.evaluation.identifiable() || !in.evaluation.tip) return figures;
   if (in.evaluation_json.contains("profile")) figures.push_back(profileFigure(in));
-  const TipEvaluator tips(plan.machine, plan.noise, in.evaluation.workspace);
-  std::vector<double> totals_um = workspaceTotals(in, tips);
+  std::vector<double> totals_um = in.evaluation.workspace_total;
   for (double& s : totals_um) s *= 1e3;
   figures.push_back(tipMapFigure(in, totals_um, features, View::Plan));
   if (spatial) figures.push_back(tipMapFigure(in, totals_um, features, View::Side));
@@ -1012,7 +981,7 @@ std::string htmlReport(const ReportInput& in, const std::vector<ReportFigure>& f
     writeFigures(out, figures, "error-functions");
   }
   writeAcceptance(out, in, figures);
-  writeProcedure(out, in.plan);
+  writeProcedure(out, in);
   out << "</body>\n</html>\n";
   return out.str();
 }

@@ -93,7 +93,7 @@ std::string placementView(const Plan& plan, const ProcedurePlacement& placement,
     plot.marker(projectPoint(r.position, view), svg::Shape::Cross, 6.0, probe, named("probe"));
   }
   const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
-  const Eigen::MatrixXd features = placedFeatures(artifact, placement.pose);
+  const Eigen::MatrixXd& features = placement.features;
   std::vector<Eigen::Vector2d> outline;
   svg::Style ball;
   ball.stroke = "#21918c";

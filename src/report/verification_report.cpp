@@ -68,8 +68,9 @@ std::string label(const Plan& plan, int index, int width) {
 }
 
 /// A reading's place for a person: placement, feature, the how-many-th posture of that feature
-/// in the plan (from 1) and, for a reading from a CSV file, the file and its data row (which
-/// differs from the posture once rows are excluded).
+/// in the placement (from 0, as placements, readings and the procedure's postures are) and, for a
+/// reading from a CSV file, the file and its data row (which differs from the posture once rows are
+/// excluded).
 struct ReadingPlace {
   int placement, measurement, feature, posture;
   double deviation, residual;
@@ -87,7 +88,7 @@ std::vector<ReadingPlace> largestDeviations(const Plan& plan, const Verification
       const int feature = measurements[i].feature;
       if (feature >= static_cast<int>(posture_of_feature.size()))
         posture_of_feature.resize(static_cast<std::size_t>(feature) + 1, 0);
-      const int posture = ++posture_of_feature[static_cast<std::size_t>(feature)];
+      const int posture = posture_of_feature[static_cast<std::size_t>(feature)]++;
       all.push_back({v.index, static_cast<int>(i), feature, posture,
                      v.deviations[static_cast<int>(i)], v.residuals[static_cast<int>(i)],
                      measurements[i].csv, measurements[i].csv_row});
@@ -191,8 +192,9 @@ std::string verificationTable(const Plan& plan, const Verification& verification
       << "  residual rms " << fixed(verification.residual_rms, 4) << "\n";
   const std::vector<ReadingPlace> largest = largestDeviations(plan, verification, outliers);
   if (!largest.empty()) {
-    out << "\nlargest deviations from their feature's mean (posture k: the k-th reading of "
-           "the feature in the plan; a CSV reading's file and data row, as \"exclude_rows\" "
+    out << "\nlargest deviations from their feature's mean (posture k: reading k of the "
+           "feature in its placement, from 0; a CSV reading's file and data row, as "
+           "\"exclude_rows\" "
            "counts them)\n";
     for (const ReadingPlace& r : largest) {
       char line[200];

@@ -13,6 +13,7 @@
 #include <sys/resource.h>
 
 #include "../support/plan_builders.hpp"
+#include "artcal/estimation/error_functions.hpp"
 #include "artcal/io/plan_io.hpp"
 #include "artcal/report/cartesian_report.hpp"
 #include "artcal/report/report.hpp"

@@ -254,10 +254,16 @@ TEST(Evaluator, RigidStepBackSubstitutionMatchesTheDenseSolve) {
   EXPECT_NEAR(reducer.chi2(), e.squaredNorm(), 1e-12 * e.squaredNorm());
 }
 
-TEST(Evaluator, PreparedEvaluationMatchesThePlainOne) {
+// The 6-axis arm with four random bars read in three postures, over `samples` configurations.
+Plan fourBarArmPlan(int samples) {
   Plan plan = aacmmPlan();
   plan.placements = randomSpatialBars(plan, 4, 3, 17);
-  makeWorkspaceExplicit(plan, 500);
+  makeWorkspaceExplicit(plan, samples);
+  return plan;
+}
+
+TEST(Evaluator, PreparedEvaluationMatchesThePlainOne) {
+  const Plan plan = fourBarArmPlan(500);
   const Evaluation plain = evaluatePlan(plan);
   ASSERT_TRUE(plain.identifiable());
   PlanEvaluator prepared(plan);
@@ -272,6 +278,49 @@ TEST(Evaluator, PreparedEvaluationMatchesThePlainOne) {
   // A second call with the same evaluator (scratch reused) gives the same numbers.
   const auto again = prepared.tip(plan.placements);
   EXPECT_EQ(again->worst.total, tip->worst.total);
+}
+
+// What the report draws and does not compute (issue 20): S at every workspace configuration,
+// against the unprepared trace of each configuration, with the summary's worst and mean; each
+// placement's features where the plan placed them (its pose, built independently by
+// placeSpatial) and, without poses, where the fit to the nominal readings puts them (on the
+// probe positions of the readings, which the builder solved onto the features).
+TEST(Evaluator, CarriesSPerConfigurationAndThePlacedFeatures) {
+  const Plan plan = fourBarArmPlan(200);
+  const Evaluation evaluation = evaluatePlan(plan);
+  ASSERT_TRUE(evaluation.identifiable());
+  ASSERT_EQ(evaluation.workspace_total.size(), evaluation.workspace.size());
+  double sum = 0.0;
+  for (std::size_t g = 0; g < evaluation.workspace.size(); ++g) {
+    const TipPoint direct =
+        tipUncertainty(plan.machine, plan.noise, evaluation.workspace[g], evaluation.covariance->V);
+    EXPECT_NEAR(evaluation.workspace_total[g], direct.total, 1e-10 * direct.total) << g;
+    sum += evaluation.workspace_total[g];
+  }
+  const auto worst =
+      std::max_element(evaluation.workspace_total.begin(), evaluation.workspace_total.end());
+  EXPECT_EQ(worst - evaluation.workspace_total.begin(), evaluation.tip->worst_index);
+  EXPECT_NEAR(*worst, evaluation.tip->worst.total, 1e-12 * *worst);
+  EXPECT_NEAR(sum / static_cast<double>(evaluation.workspace.size()), evaluation.tip->mean,
+              1e-12 * evaluation.tip->mean);
+
+  const Artifact& bar = plan.artifacts[0];
+  ASSERT_EQ(evaluation.placed_features.size(), plan.placements.size());
+  Plan fitted = plan;
+  for (Placement& placement : fitted.placements) placement.pose.reset();
+  const Evaluation from_readings = evaluatePlan(fitted);
+  ASSERT_EQ(from_readings.placed_features.size(), plan.placements.size());
+  for (std::size_t j = 0; j < plan.placements.size(); ++j) {
+    const Pose& pose = *plan.placements[j].pose;
+    const RigidTransform machine_from_bar =
+        placeSpatial(pose.center, pose.direction, pose.roll).inverse();
+    ASSERT_EQ(evaluation.placed_features[j].cols(), bar.featureCount());
+    for (int i = 0; i < bar.featureCount(); ++i) {
+      const Eigen::Vector3d expected = machine_from_bar.apply(bar.features.col(i));
+      EXPECT_LT((evaluation.placed_features[j].col(i) - expected).norm(), 1e-9) << j << " " << i;
+      EXPECT_LT((from_readings.placed_features[j].col(i) - expected).norm(), 1e-6) << j << " " << i;
+    }
+  }
 }
 
 // S_m^2 over the workspace (Gram form up to 40 parameters, triangular product beyond, the

@@ -8,10 +8,14 @@
 #include <Eigen/Geometry>
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <sstream>
 
+#include "artcal/calibration/verification.hpp"
 #include "artcal/io/plan_io.hpp"
+#include "artcal/planning/procedure.hpp"
 #include "artcal/report/procedure.hpp"
+#include "artcal/report/verification_report.hpp"
 #include "cli_runner.hpp"
 #include "test_paths.hpp"
 
@@ -181,6 +185,28 @@ TEST(Procedure, PosturesCountTheReadingsOfEachFeature) {
     EXPECT_EQ(postures.size(), 2u);
     for (const auto& [feature, seen] : postures) EXPECT_EQ(seen, (std::vector<int>{0, 1, 2}));
   }
+}
+
+// One numbering (issue 20): verify's largest deviations name a reading's posture as the procedure
+// does (from 0, the k-th reading of the feature in its placement), for the same reading.
+TEST(Procedure, VerifyNamesThePostureTheProcedureGivesTheReading) {
+  const Plan plan = loadPlan(test_support::planFile("aacmm-6axis-3bars.json"));
+  const Procedure procedure = operatorProcedure(plan);
+  Eigen::VectorXd p = plan.machine.nominal;
+  for (int i = 0; i < p.size(); ++i) p[i] += 1e-3 * std::sin(1.0 + i);  // deviations differ
+  const json verify = verificationToJson(plan, verifyMachine(plan, p, std::nullopt));
+  const json& largest = verify.at("verify").at("largest_deviations");
+  ASSERT_FALSE(largest.empty());
+  std::set<int> postures;
+  for (const json& entry : largest) {
+    const auto j = entry.at("placement").get<std::size_t>();
+    const auto k = entry.at("measurement").get<std::size_t>();
+    const ProcedureReading& reading = procedure.placements.at(j).readings.at(k);
+    EXPECT_EQ(entry.at("posture").get<int>(), reading.posture) << j << " " << k;
+    EXPECT_EQ(entry.at("feature").get<int>(), reading.feature) << j << " " << k;
+    postures.insert(reading.posture);
+  }
+  EXPECT_EQ(*postures.begin(), 0);
 }
 
 TEST(Procedure, CsvHasOneRowPerReadingWithUnitsInTheHeader) {

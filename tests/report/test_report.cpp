@@ -19,6 +19,7 @@
 #include <sstream>
 
 #include "artcal/artcal.hpp"
+#include "artcal/estimation/error_functions.hpp"
 #include "artcal/model/cartesian.hpp"
 #include "artcal/report/cartesian_report.hpp"
 #include "test_paths.hpp"
@@ -992,7 +993,8 @@ struct CmmCurvesCase {
 TEST(ErrorFunctionFigures, CurvesAreTheLegendreSeriesAndTheirBands) {
   const CmmCurvesCase c;
   ASSERT_EQ(c.cmm.degree(), 3);
-  const auto figures = errorFunctionFigures(c.plan, c.V, c.estimate, true, &c.truth, 11);
+  const auto figures =
+      errorFunctionFigures(c.plan, errorFunctionBands(c.plan, c.V, c.estimate, true, &c.truth, 11));
   ASSERT_EQ(figures.size(), 9u);  // per axis: translations, rotations, recovery
   std::map<std::string, std::string> by_name;
   for (const ReportFigure& f : figures) {
@@ -1034,7 +1036,8 @@ TEST(ErrorFunctionFigures, CurvesAreTheLegendreSeriesAndTheirBands) {
   }
   EXPECT_GT(checked, 100);
   // At nominal (evaluate): the band alone, symmetric about 0, no estimate and no recovery.
-  const auto predicted = errorFunctionFigures(c.plan, c.V, c.plan.machine.nominal, false);
+  const auto predicted =
+      errorFunctionFigures(c.plan, errorFunctionBands(c.plan, c.V, c.plan.machine.nominal, false));
   ASSERT_EQ(predicted.size(), 6u);
   const auto [position, upper] = curveNumbers(predicted[0].svg, "y.tx", "upper");
   const auto [position_low, lower] = curveNumbers(predicted[0].svg, "y.tx", "lower");

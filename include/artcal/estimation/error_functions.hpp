@@ -16,24 +16,13 @@
 #include <string>
 #include <vector>
 
+#include "artcal/estimation/cartesian_answers.hpp"
+#include "artcal/estimation/evaluation_result.hpp"
 #include "artcal/model/cartesian.hpp"
 #include "artcal/model/machine.hpp"
+#include "artcal/plan/plan.hpp"
 
 namespace artcal {
-
-/// One error function of one axis along that axis.
-struct ErrorFunctionProfile {
-  int axis = 0;
-  AxisError error = AxisError::Tx;
-  std::string name;     ///< "x.ty"
-  std::string meaning;  ///< "straightness in y"
-  bool rotation = false;
-  std::vector<int> calibrated_degrees;
-  std::vector<int> fixed_degrees;  ///< not calibrated (kept at nominal)
-  std::vector<double> position;    ///< axis reading u, mm
-  std::vector<double> value;       ///< e(u) at the given parameters, internal units (mm, rad)
-  std::vector<double> u;           ///< predicted standard uncertainty of e(u), internal units
-};
 
 /// Every axis's six functions at `steps` positions along its range. `V` is V_p over the
 /// machine's calibrated parameters (internal units), `p` the full parameter vector the values are
@@ -46,17 +35,25 @@ std::vector<ErrorFunctionProfile> errorFunctionProfiles(const Cartesian& cmm,
 /// v_w for the frame rotation about `w` (a unit vector): a full parameter vector.
 Eigen::VectorXd frameRotationDirection(const Cartesian& cmm, const Eigen::Vector3d& w);
 
-/// A frame rotation the placements absorb.
-struct AbsorbedRotation {
-  Eigen::Vector3d axis;               ///< unit
-  std::vector<std::string> involves;  ///< the squareness coefficients it moves
-};
-
 /// The rotations (an orthonormal basis of them) whose v_w the information of *every* model
 /// parameter does not see: |N v_w| <= tolerance |N| |v_w| with N over all parameters (full
 /// information, `full_information` of the model's parameter order).
 std::vector<AbsorbedRotation> frameRotationsAbsorbed(const Cartesian& cmm,
                                                      const Eigen::MatrixXd& full_information,
                                                      double tolerance = 1e-9);
+
+/// What check and evaluate answer for a Cartesian CMM (cartesian_answers.hpp); empty for other
+/// models. `evaluation` may be null (check): then no profiles (else at nominal, `profile_steps`
+/// positions per axis, from the evaluation's V_p).
+CartesianAnswers cartesianAnswers(const Plan& plan, const Evaluation* evaluation,
+                                  int profile_steps = 11);
+
+/// The error functions `artcal report` draws along the axes (cartesian_report.hpp): at `p` with
+/// V_p = `V` (nominal for a plan evaluated, the estimate after a calibration: `calibrated`), and
+/// with `truth` (a simulated machine's full parameter vector) the same functions at the truth.
+/// Empty for other models.
+ErrorFunctionBands errorFunctionBands(const Plan& plan, const Eigen::MatrixXd& V,
+                                      const Eigen::VectorXd& p, bool calibrated,
+                                      const Eigen::VectorXd* truth = nullptr, int steps = 21);
 
 }  // namespace artcal

@@ -11,19 +11,13 @@
 #include <optional>
 #include <vector>
 
+#include "artcal/estimation/evaluation_result.hpp"
 #include "artcal/estimation/identifiability.hpp"
 #include "artcal/estimation/normal_matrix.hpp"
 #include "artcal/estimation/tip.hpp"
 #include "artcal/plan/plan.hpp"
 
 namespace artcal {
-
-/// V_p and what follows from it directly.
-struct ParameterCovariance {
-  Eigen::MatrixXd V;  ///< internal units
-  Eigen::VectorXd u;  ///< sqrt(diag V), internal units
-  Eigen::MatrixXd correlation;
-};
 
 /// Inverse of a (positive definite) information matrix; std::nullopt when it is not.
 std::optional<ParameterCovariance> covarianceFromInformation(const Eigen::MatrixXd& information);
@@ -37,18 +31,6 @@ Eigen::MatrixXd parameterInformation(const Plan& plan, const std::vector<Placeme
 /// PlanInformation::estimable is left empty and its second pass skipped.
 PlanInformation planInformation(const Plan& plan, const std::vector<Placement>& placements,
                                 const Eigen::VectorXd& p, bool with_estimable = true);
-
-struct Evaluation {
-  Identifiability identifiability;
-  Eigen::MatrixXd information;                    ///< of p, internal units
-  Eigen::VectorXd unreduced_diagonal;             ///< the rank test's scale (identifiability.hpp)
-  std::optional<ParameterCovariance> covariance;  ///< absent when not identifiable
-  std::optional<TipSummary> tip;
-  std::vector<ProfilePoint> profile;       ///< planar2r only
-  std::vector<Eigen::VectorXd> workspace;  ///< the configurations evaluated
-  WorkspaceDrops workspace_drops;          ///< samples left out of `workspace`
-  bool identifiable() const { return identifiability.identifiable() && covariance.has_value(); }
-};
 
 struct EvaluateOptions {
   double rank_tolerance = kDefaultRankTolerance;

@@ -14,16 +14,10 @@
 #include <optional>
 #include <vector>
 
+#include "artcal/estimation/evaluation_result.hpp"
 #include "artcal/plan/plan.hpp"
 
 namespace artcal {
-
-/// What workspaceConfigurations left out of a workspace.
-struct WorkspaceDrops {
-  int unreachable = 0;  ///< task-space samples with no posture within the joint limits
-  int failed = 0;       ///< configurations whose forward kinematics fails (closed chains)
-  int total() const { return unreachable + failed; }
-};
 
 /// The joint configurations of a workspace spec (internal units). Samples are uniform within
 /// the joint limits from a fixed generator (std::mt19937_64), identical on every platform.
@@ -35,19 +29,6 @@ struct WorkspaceDrops {
 std::vector<Eigen::VectorXd> workspaceConfigurations(const Machine& machine,
                                                      const WorkspaceSpec& spec,
                                                      WorkspaceDrops* drops = nullptr);
-
-struct TipPoint {
-  double total = 0.0;      ///< S
-  double kinematic = 0.0;  ///< S_m
-  double encoder = 0.0;    ///< S_q
-};
-
-struct TipSummary {
-  TipPoint worst;
-  int worst_index = -1;  ///< into the workspace configurations
-  double mean = 0.0;     ///< mean of S over the workspace
-  double rms = 0.0;      ///< sqrt(mean of S^2): the I criterion's root
-};
 
 class TipEvaluator {
  public:
@@ -93,12 +74,6 @@ class TipEvaluator {
 /// Tip uncertainty of a point at one configuration (no preparation).
 TipPoint tipUncertainty(const Machine& machine, const Noise& noise, const Eigen::VectorXd& q,
                         const Eigen::MatrixXd& V_p);
-
-/// One row of the reach profile: the worst branch at distance `reach` from the base.
-struct ProfilePoint {
-  double reach = 0.0;
-  TipPoint tip;
-};
 
 /// S_m, S_q and S against reach (seed Fig. 6) for a model whose tip uncertainty depends on the
 /// reach alone (Mechanism::reachRange; planar2r), `steps` rows from the inner to the outer reach;

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "artcal/core/enum_names.hpp"
 #include "artcal/core/error.hpp"
 #include "artcal/core/units.hpp"
 
@@ -29,7 +30,12 @@ enum class ForwardStatus {
   Singular,      ///< the configuration is singular (no unique pose, no Jacobian)
 };
 
-/// "did not converge", "singular configuration".
+/// What each status says in messages ("singular configuration").
+inline constexpr EnumNames<ForwardStatus, 3> kForwardStatusNames{
+    {{ForwardStatus::Ok, "ok"},
+     {ForwardStatus::NotConverged, "forward kinematics did not converge"},
+     {ForwardStatus::Singular, "singular configuration"}}};
+/// "forward kinematics did not converge", "singular configuration".
 std::string forwardStatusName(ForwardStatus status);
 
 struct ParameterInfo {

@@ -12,6 +12,7 @@
 
 #include "artcal/artifact/artifact.hpp"
 #include "artcal/artifact/rigid_transform.hpp"
+#include "artcal/core/enum_names.hpp"
 #include "artcal/core/units.hpp"
 #include "artcal/model/machine.hpp"
 
@@ -214,6 +215,14 @@ struct Plan {
   int artifactIndex(const std::string& id) const;
 };
 
+/// The criteria by their names in plan files ("design": {"criterion": ...}).
+inline constexpr EnumNames<Criterion, 6> kCriterionNames{{{Criterion::WorstTip, "worst-tip"},
+                                                          {Criterion::MeanTip, "mean-tip"},
+                                                          {Criterion::D, "D"},
+                                                          {Criterion::A, "A"},
+                                                          {Criterion::E, "E"},
+                                                          {Criterion::Pass, "pass"}}};
 std::string criterionName(Criterion criterion);
+std::optional<Criterion> criterionFromName(const std::string& name);
 
 }  // namespace artcal

@@ -31,6 +31,7 @@
 #include <string>
 #include <vector>
 
+#include "artcal/core/enum_names.hpp"
 #include "artcal/estimation/evaluator.hpp"
 #include "artcal/plan/plan.hpp"
 #include "artcal/planning/design_space.hpp"
@@ -38,6 +39,13 @@
 namespace artcal {
 
 enum class RefineAlgorithm { None, Subplex, Bobyqa, NelderMead, Cobyla };
+/// The refinement algorithms by their names on the command line (`optimize --algorithm`).
+inline constexpr EnumNames<RefineAlgorithm, 5> kRefineAlgorithmNames{
+    {{RefineAlgorithm::None, "none"},
+     {RefineAlgorithm::Subplex, "sbplx"},
+     {RefineAlgorithm::Bobyqa, "bobyqa"},
+     {RefineAlgorithm::NelderMead, "neldermead"},
+     {RefineAlgorithm::Cobyla, "cobyla"}}};
 std::string refineAlgorithmName(RefineAlgorithm algorithm);
 std::optional<RefineAlgorithm> refineAlgorithmFromName(const std::string& name);
 

@@ -16,6 +16,7 @@
 
 #include "artcal/plan/plan.hpp"
 #include "artcal/planning/optimizer.hpp"
+#include "artcal/planning/placement_sweep_result.hpp"
 
 namespace artcal {
 
@@ -24,25 +25,6 @@ struct SweepOptions {
   OptimizerOptions optimizer;    ///< per search (each count runs one or two searches)
   std::optional<double> target;  ///< criterion value to reach, mm (design.target_tip)
   std::function<void(int placements, double value)> progress;  ///< after each count
-};
-
-struct SweepPoint {
-  int placements = 0;
-  /// The designed placements (the spec's fixed ones apart); empty when the count cannot be
-  /// identifiable (counting condition) or no design was found.
-  std::vector<Placement> designed;
-  double value = 0.0;     ///< criterion, mm; +infinity without a design
-  bool extended = false;  ///< the design for m - 1 plus one placement won
-  double fresh = 0.0;     ///< the fresh search's value, mm (+infinity: none)
-  double seconds = 0.0;
-  std::string message;  ///< why there is no design
-};
-
-struct PlacementSweep {
-  std::vector<SweepPoint> points;
-  /// Index into points of the smallest count reaching SweepOptions::target; nullopt when none
-  /// does (or no target was given).
-  std::optional<std::size_t> first_reaching;
 };
 
 /// Parses "A..B" (1 <= A <= B <= 1000) or a single count; nullopt when malformed.

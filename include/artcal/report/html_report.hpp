@@ -2,11 +2,11 @@
 // The self-contained HTML report of a plan (`artcal report`): one file with inline SVG figures
 // and CSS, no scripts, nothing fetched; it prints on A4.
 //
-// It shows what the evaluator computed and nothing computed differently: every number in a
-// table or figure is read from evaluationToJson (report.hpp), the document `artcal evaluate
-// --json` prints, and carries that document's JSON pointer and exact value as
-// data-field="/tip/worst/total" data-value="0.0118..." so that a script (and the tests) can
-// check that the report and `evaluate --json` agree.
+// It shows what the evaluator computed and computes nothing itself (a view over typed results:
+// the Evaluation, its JSON, the Procedure): every number in a table or figure is read from
+// evaluationToJson (report.hpp), the document `artcal evaluate --json` prints, and carries that
+// document's JSON pointer and exact value as data-field="/tip/worst/total" data-value="0.0118..."
+// so that a script (and the tests) can check that the report and `evaluate --json` agree.
 //
 // Figures: the layout (machine reach, artifact placements, postures; 3-D: plan XY and side XZ
 // views), tip uncertainty (planar2r: S_m, S_q, S against reach, seed Fig. 6; every model: a map
@@ -18,8 +18,9 @@
 #include <string>
 #include <vector>
 
-#include "artcal/estimation/evaluator.hpp"
+#include "artcal/estimation/evaluation_result.hpp"
 #include "artcal/plan/plan.hpp"
+#include "artcal/planning/procedure_result.hpp"
 
 namespace artcal {
 
@@ -45,6 +46,11 @@ struct ReportInput {
   /// one: its P(pass), quantiles and (ISO 9283) points are tabled, with data-field pointers
   /// prefixed "/acceptance".
   const nlohmann::json* acceptance_json = nullptr;
+  /// The operator's procedure (planning/procedure.hpp, operatorProcedure), or null with
+  /// `no_procedure` saying why there is none (no joint values reach a placed feature); both
+  /// empty: no procedure section.
+  const Procedure* procedure = nullptr;
+  std::string no_procedure = {};
 };
 
 /// The report's figures, in the order the report shows them.

@@ -5,8 +5,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "artcal/estimation/evaluator.hpp"
-#include "artcal/estimation/identifiability.hpp"
+#include "artcal/estimation/evaluation_result.hpp"
 #include "artcal/plan/plan.hpp"
 
 namespace artcal {

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "artcal/plan/plan.hpp"
-#include "artcal/planning/placement_sweep.hpp"
+#include "artcal/planning/placement_sweep_result.hpp"
 
 namespace artcal {
 

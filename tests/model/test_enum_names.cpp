@@ -1,0 +1,47 @@
+// The enum name tables (core/enum_names.hpp): every value has one name, every name reads back to
+// its value, an unknown name is no value; and the names are the ones files and messages use.
+
+#include <gtest/gtest.h>
+
+#include <set>
+#include <string>
+
+#include "artcal/core/enum_names.hpp"
+#include "artcal/model/mechanism.hpp"
+#include "artcal/plan/plan.hpp"
+#include "artcal/planning/optimizer.hpp"
+
+namespace artcal {
+namespace enum_names_test {
+
+template <class Enum, std::size_t N>
+void expectRoundTrip(const EnumNames<Enum, N>& table) {
+  std::set<std::string> names;
+  for (const auto& [value, name] : table) {
+    EXPECT_EQ(nameOf(table, value), name);
+    EXPECT_EQ(fromName(table, name), value) << name;
+    names.insert(std::string(name));
+  }
+  EXPECT_EQ(names.size(), N);  // no two values share a name
+  EXPECT_EQ(fromName(table, "no such name"), std::nullopt);
+  EXPECT_EQ(fromName(table, ""), std::nullopt);
+}
+
+TEST(EnumNames, EveryTableReadsBackAndNamesAreUnique) {
+  expectRoundTrip(kCriterionNames);
+  expectRoundTrip(kRefineAlgorithmNames);
+  expectRoundTrip(kForwardStatusNames);
+}
+
+TEST(EnumNames, TheNamesFilesAndMessagesUse) {
+  EXPECT_EQ(criterionName(Criterion::WorstTip), "worst-tip");
+  EXPECT_EQ(criterionName(Criterion::Pass), "pass");
+  EXPECT_EQ(criterionFromName("mean-tip"), Criterion::MeanTip);
+  EXPECT_EQ(criterionFromName("worst_tip"), std::nullopt);
+  EXPECT_EQ(refineAlgorithmName(RefineAlgorithm::Subplex), "sbplx");
+  EXPECT_EQ(refineAlgorithmFromName("neldermead"), RefineAlgorithm::NelderMead);
+  EXPECT_EQ(forwardStatusName(ForwardStatus::Singular), "singular configuration");
+}
+
+}  // namespace enum_names_test
+}  // namespace artcal
