@@ -14,7 +14,7 @@
 #include "finite_difference.hpp"
 
 namespace artcal {
-namespace {
+namespace rotation_vector_test {
 
 using testing::centralDifferenceJacobian;
 using testing::expectJacobianNear;
@@ -64,5 +64,5 @@ TEST(RotationVector, ModelsWithoutOrientationSaySo) {
                std::logic_error);
 }
 
-}  // namespace
+}  // namespace rotation_vector_test
 }  // namespace artcal
