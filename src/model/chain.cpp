@@ -196,10 +196,22 @@ JointKind Chain::jointKind(int joint) const {
 // Rotation columns hold their world axis until the tip is known, then the cross product.
 ForwardStatus Chain::forward(const Eigen::VectorXd& p, const Eigen::VectorXd& q, Eigen::VectorXd& x,
                              Eigen::MatrixXd* J_x_p, Eigen::MatrixXd* J_x_q) const {
+  Eigen::Matrix3d R;
+  return forwardPose(p, q, x, R, J_x_p, J_x_q);
+}
+
+// The angular Jacobians are the world axes of forward()'s rotation columns (yaw, pitch, roll,
+// a revolute offset) before their cross product; translations do not turn the tip frame.
+ForwardStatus Chain::forwardPose(const Eigen::VectorXd& p, const Eigen::VectorXd& q,
+                                 Eigen::VectorXd& x, Eigen::Matrix3d& R, Eigen::MatrixXd* J_x_p,
+                                 Eigen::MatrixXd* J_x_q, Eigen::MatrixXd* J_w_p,
+                                 Eigen::MatrixXd* J_w_q) const {
   const int n = static_cast<int>(joints_.size());
-  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+  R = Eigen::Matrix3d::Identity();
   Eigen::Vector3d o = Eigen::Vector3d::Zero();
   ChainColumns pivots(3, n), joint_axes(3, n);
+  Eigen::MatrixXd axes_only;  // the rotation axes when J_w_p is asked for without J_x_p
+  if (J_w_p && !J_x_p) J_x_p = &axes_only;
   std::optional<Jacobian> Jp;
   if (J_x_p) {
     J_x_p->resize(3, parameterCount());
@@ -230,6 +242,24 @@ ForwardStatus Chain::forward(const Eigen::VectorXd& p, const Eigen::VectorXd& q,
   }
   x.resize(3);
   Eigen::Map<Eigen::Vector3d>(x.data()) = o;
+  if (J_w_p) {
+    J_w_p->setZero(3, parameterCount());
+    Jacobian Jw(J_w_p->data(), 3, parameterCount());
+    for (int i = 0; i < n; ++i) {
+      const int k = offsets_[i];
+      Jw.middleCols<3>(k + 3) = Jp->middleCols<3>(k + 3);
+      if (joints_[i].type == ChainJointType::Revolute) Jw.col(k + 6) = Jp->col(k + 6);
+    }
+  }
+  if (J_w_q) {
+    J_w_q->setZero(3, jointCount());
+    Jacobian Jw(J_w_q->data(), 3, jointCount());
+    for (int i = 0; i < n; ++i) {
+      if (joints_[i].type != ChainJointType::Revolute) continue;
+      const Coupling& c = couplings_[static_cast<std::size_t>(i)];
+      Jw.col(c.reading) += c.scale * joint_axes.col(i);
+    }
+  }
   if (Jp) {
     for (int i = 0; i < n; ++i) {
       const int k = offsets_[i];

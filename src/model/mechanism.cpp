@@ -1,5 +1,7 @@
 #include "artcal/model/mechanism.hpp"
 
+#include <stdexcept>
+
 namespace artcal {
 
 std::string forwardStatusName(ForwardStatus status) {
@@ -33,6 +35,12 @@ std::optional<std::array<double, 2>> Mechanism::reachRange(const Eigen::VectorXd
 std::vector<Eigen::VectorXd> Mechanism::configurationsAtReach(
     const Eigen::VectorXd&, double, const std::vector<std::array<double, 2>>&) const {
   return {};
+}
+
+ForwardStatus Mechanism::forwardPose(const Eigen::VectorXd&, const Eigen::VectorXd&,
+                                     Eigen::VectorXd&, Eigen::Matrix3d&, Eigen::MatrixXd*,
+                                     Eigen::MatrixXd*, Eigen::MatrixXd*, Eigen::MatrixXd*) const {
+  throw std::logic_error("model " + modelName() + " gives no orientation (hasOrientation())");
 }
 
 std::vector<Eigen::VectorXd> Mechanism::skeleton(const Eigen::VectorXd&,

@@ -73,8 +73,18 @@ SerialDH::SerialDH(std::vector<DHJoint> joints, DHConvention convention)
 ForwardStatus SerialDH::forward(const Eigen::VectorXd& p, const Eigen::VectorXd& q,
                                 Eigen::VectorXd& x, Eigen::MatrixXd* J_x_p,
                                 Eigen::MatrixXd* J_x_q) const {
+  Eigen::Matrix3d R;
+  return forwardPose(p, q, x, R, J_x_p, J_x_q);
+}
+
+// The angular Jacobians: each elementary rotation turns the tip frame about its world axis; the
+// translations (d, a, the probe) do not turn it.
+ForwardStatus SerialDH::forwardPose(const Eigen::VectorXd& p, const Eigen::VectorXd& q,
+                                    Eigen::VectorXd& x, Eigen::Matrix3d& R, Eigen::MatrixXd* J_x_p,
+                                    Eigen::MatrixXd* J_x_q, Eigen::MatrixXd* J_w_p,
+                                    Eigen::MatrixXd* J_w_q) const {
   const int n = jointCount();
-  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+  R = Eigen::Matrix3d::Identity();
   Eigen::Vector3d o = Eigen::Vector3d::Zero();
   JointAxes axes(n);
   for (int i = 0; i < n; ++i) {
@@ -146,6 +156,23 @@ ForwardStatus SerialDH::forward(const Eigen::VectorXd& p, const Eigen::VectorXd&
       } else {
         J.col(i) = axes.theta_axis.col(i);
       }
+    }
+  }
+  if (J_w_p) {
+    J_w_p->setZero(3, parameterCount());
+    Jacobian J(J_w_p->data(), 3, parameterCount());
+    for (int i = 0; i < n; ++i) {
+      const int k = offsets_[i];
+      J.col(k) = axes.theta_axis.col(i);
+      J.col(k + 3) = axes.alpha_axis.col(i);
+      if (joints_[i].has_beta) J.col(k + 4) = axes.beta_axis.col(i);
+    }
+  }
+  if (J_w_q) {
+    J_w_q->setZero(3, n);
+    Jacobian J(J_w_q->data(), 3, n);
+    for (int i = 0; i < n; ++i) {
+      if (joints_[i].kind == JointKind::Revolute) J.col(i) = axes.theta_axis.col(i);
     }
   }
   return ForwardStatus::Ok;

@@ -17,6 +17,7 @@
 
 #include "artcal/io/model_registry.hpp"
 #include "artcal/io/plan_io.hpp"
+#include "artcal/model/rotation_vector.hpp"
 #include "finite_difference.hpp"
 #include "test_paths.hpp"
 
@@ -78,6 +79,56 @@ std::vector<Eigen::VectorXd> randomConfigurations(const Plan& plan, int count,
   return out;
 }
 
+/// A model with orientation (instruments.md, "measures": "pose"): forwardPose gives forward()'s
+/// point and Jacobians, its angular Jacobians match central differences of log(R(v) R0^T)
+/// (the spatial turn), and the pose residual against a measured orientation far from R0 (so
+/// that J_l^-1 is not the identity) has derivative J_e_w J_w_p, exactly.
+void expectPoseJacobiansExact(const Mechanism& mechanism, const Eigen::VectorXd& p,
+                              const Eigen::VectorXd& q, std::mt19937_64& rng) {
+  const std::string where = mechanism.modelName() + " pose";
+  Eigen::VectorXd x, x_pose;
+  Eigen::MatrixXd J_x_p, J_x_q, Jp_pose, Jq_pose, J_w_p, J_w_q;
+  Eigen::Matrix3d R0;
+  ASSERT_EQ(mechanism.forward(p, q, x, &J_x_p, &J_x_q), ForwardStatus::Ok) << where;
+  ASSERT_EQ(mechanism.forwardPose(p, q, x_pose, R0, &Jp_pose, &Jq_pose, &J_w_p, &J_w_q),
+            ForwardStatus::Ok)
+      << where;
+  EXPECT_EQ((x_pose - x).norm(), 0.0) << where;
+  EXPECT_EQ((Jp_pose - J_x_p).norm(), 0.0) << where;
+  EXPECT_EQ((Jq_pose - J_x_q).norm(), 0.0) << where;
+  EXPECT_LT((R0.transpose() * R0 - Eigen::Matrix3d::Identity()).norm(), 1e-12) << where;
+  auto turn = [&](const Eigen::VectorXd& v, bool of_p) {
+    Eigen::VectorXd y;
+    Eigen::Matrix3d R;
+    EXPECT_EQ(mechanism.forwardPose(of_p ? v : p, of_p ? q : v, y, R), ForwardStatus::Ok);
+    return Eigen::VectorXd(rotationVector(R * R0.transpose()));
+  };
+  auto of_p = [&](const Eigen::VectorXd& v) { return turn(v, true); };
+  auto of_q = [&](const Eigen::VectorXd& v) { return turn(v, false); };
+  expectJacobianNear(J_w_p, centralDifferenceJacobian(of_p, p, 1e-5), 1e-6, where + " J_w_p");
+  expectJacobianNear(J_w_q, centralDifferenceJacobian(of_q, q, 1e-5), 1e-6, where + " J_w_q");
+  // Only the angular Jacobian asked for: the same columns.
+  Eigen::MatrixXd J_w_alone;
+  Eigen::Matrix3d R;
+  ASSERT_EQ(mechanism.forwardPose(p, q, x, R, nullptr, nullptr, &J_w_alone), ForwardStatus::Ok);
+  EXPECT_EQ((J_w_alone - J_w_p).norm(), 0.0) << where;
+  std::normal_distribution<double> normal(0.0, 1.0);
+  const Eigen::Vector3d measured = rotationVector(
+      rotationFromVector(Eigen::Vector3d(normal(rng), normal(rng), normal(rng)).normalized() *
+                         1.2) *
+      R0);
+  Eigen::Matrix3d J_e_w;
+  orientationResidual(R0, measured, &J_e_w);
+  auto residual_of_p = [&](const Eigen::VectorXd& v) {
+    Eigen::VectorXd y;
+    Eigen::Matrix3d Rv;
+    EXPECT_EQ(mechanism.forwardPose(v, q, y, Rv), ForwardStatus::Ok);
+    return Eigen::VectorXd(orientationResidual(Rv, measured));
+  };
+  expectJacobianNear(J_e_w * J_w_p, centralDifferenceJacobian(residual_of_p, p, 1e-5), 1e-6,
+                     where + " d residual / dp");
+}
+
 void expectJacobiansMatchDifferences(const Plan& plan, std::mt19937_64& rng) {
   const Machine& machine = plan.machine;
   const Mechanism& mechanism = *machine.mechanism;
@@ -107,6 +158,7 @@ void expectJacobiansMatchDifferences(const Plan& plan, std::mt19937_64& rng) {
       ASSERT_EQ(J_x_q.cols(), mechanism.jointCount()) << where;
       expectJacobianNear(J_x_p, centralDifferenceJacobian(of_p, p, 1e-4), 1e-6, where + " J_x_p");
       expectJacobianNear(J_x_q, centralDifferenceJacobian(of_q, q, 1e-4), 1e-6, where + " J_x_q");
+      if (mechanism.hasOrientation() && stylus == 0) expectPoseJacobiansExact(mechanism, p, q, rng);
     }
   }
 }

@@ -70,6 +70,12 @@ class Chain final : public Mechanism {
   ForwardStatus forward(const Eigen::VectorXd& p, const Eigen::VectorXd& q, Eigen::VectorXd& x,
                         Eigen::MatrixXd* J_x_p = nullptr,
                         Eigen::MatrixXd* J_x_q = nullptr) const override;
+  bool hasOrientation() const override { return true; }
+  /// The tip frame is the last joint's frame (its origin is the probe).
+  ForwardStatus forwardPose(const Eigen::VectorXd& p, const Eigen::VectorXd& q, Eigen::VectorXd& x,
+                            Eigen::Matrix3d& R, Eigen::MatrixXd* J_x_p = nullptr,
+                            Eigen::MatrixXd* J_x_q = nullptr, Eigen::MatrixXd* J_w_p = nullptr,
+                            Eigen::MatrixXd* J_w_q = nullptr) const override;
   /// The base, each joint frame's origin in turn, the probe (for drawings).
   std::vector<Eigen::VectorXd> skeleton(const Eigen::VectorXd& p,
                                         const Eigen::VectorXd& q) const override;

@@ -76,6 +76,17 @@ class Mechanism {
     return forward(p, q, x, J_x_p, J_x_q);
   }
 
+  /// True when forwardPose() gives the tip frame's orientation besides its point (chain,
+  /// serial-dh): the models an instrument with "measures": "pose" may read (instruments.md).
+  virtual bool hasOrientation() const { return false; }
+  /// forward() plus the tip frame's orientation R (base frame) and its spatial angular
+  /// Jacobians: a step dp turns the frame by R <- exp([J_w_p dp]x) R (3 x parameters; J_w_q
+  /// 3 x joints). Only for models with hasOrientation(); the others raise std::logic_error.
+  [[nodiscard]] virtual ForwardStatus forwardPose(
+      const Eigen::VectorXd& p, const Eigen::VectorXd& q, Eigen::VectorXd& x, Eigen::Matrix3d& R,
+      Eigen::MatrixXd* J_x_p = nullptr, Eigen::MatrixXd* J_x_q = nullptr,
+      Eigen::MatrixXd* J_w_p = nullptr, Eigen::MatrixXd* J_w_q = nullptr) const;
+
   int parameterCount() const { return static_cast<int>(parameters().size()); }
   /// Index of a parameter by name, or -1.
   int parameterIndex(const std::string& name) const;

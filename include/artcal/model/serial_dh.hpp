@@ -37,6 +37,12 @@ class SerialDH final : public Mechanism {
   ForwardStatus forward(const Eigen::VectorXd& p, const Eigen::VectorXd& q, Eigen::VectorXd& x,
                         Eigen::MatrixXd* J_x_p = nullptr,
                         Eigen::MatrixXd* J_x_q = nullptr) const override;
+  bool hasOrientation() const override { return true; }
+  /// The tip frame is the last joint frame (the probe offset does not turn it).
+  ForwardStatus forwardPose(const Eigen::VectorXd& p, const Eigen::VectorXd& q, Eigen::VectorXd& x,
+                            Eigen::Matrix3d& R, Eigen::MatrixXd* J_x_p = nullptr,
+                            Eigen::MatrixXd* J_x_q = nullptr, Eigen::MatrixXd* J_w_p = nullptr,
+                            Eigen::MatrixXd* J_w_q = nullptr) const override;
   /// The base, the origin of each joint frame (and the foot of its offset d), the probe.
   std::vector<Eigen::VectorXd> skeleton(const Eigen::VectorXd& p,
                                         const Eigen::VectorXd& q) const override;
