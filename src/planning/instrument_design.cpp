@@ -324,25 +324,10 @@ OptimizerSummary InstrumentSearch::run() {
     result.done = true;
     designs[static_cast<std::size_t>(start)] = std::move(design);
   });
-  OptimizerSummary summary;
-  summary.criterion = options_.criterion;
-  summary.starts = results;
-  summary.pool_size = pool_;
-  summary.value = kNoDesign;
-  for (int s = 0; s < starts; ++s) {
-    const StartResult& r = results[static_cast<std::size_t>(s)];
-    if (r.done && r.refined < summary.value) {
-      summary.value = r.refined;
-      summary.best_start = s;
-    }
-  }
-  summary.termination = timed_out_ ? OptimizerSummary::Termination::TimeLimit
-                                   : OptimizerSummary::Termination::Completed;
-  summary.seconds = std::chrono::duration<double>(SearchClock::now() - start_time_).count();
-  if (summary.best_start < 0) {
-    summary.message = "no start produced an identifiable design";
-    return summary;
-  }
+  OptimizerSummary summary = OptimizerSummary::ofStarts(
+      options_.criterion, results, pool_, timed_out_,
+      std::chrono::duration<double>(SearchClock::now() - start_time_).count());
+  if (summary.best_start < 0) return summary;
   summary.placements = placementsOf(designs[static_cast<std::size_t>(summary.best_start)]);
   summary.message = summary.briefReport();
   return summary;

@@ -101,6 +101,26 @@ int OptimizerSummary::startsDone() const {
       std::count_if(starts.begin(), starts.end(), [](const StartResult& s) { return s.done; }));
 }
 
+OptimizerSummary OptimizerSummary::ofStarts(Criterion criterion, std::vector<StartResult> starts,
+                                            int pool_size, bool timed_out, double seconds) {
+  OptimizerSummary summary;
+  summary.criterion = criterion;
+  summary.starts = std::move(starts);
+  summary.pool_size = pool_size;
+  summary.value = kInfinity;
+  for (std::size_t s = 0; s < summary.starts.size(); ++s) {
+    const StartResult& r = summary.starts[s];
+    if (r.done && r.refined < summary.value) {
+      summary.value = r.refined;
+      summary.best_start = static_cast<int>(s);
+    }
+  }
+  summary.termination = timed_out ? Termination::TimeLimit : Termination::Completed;
+  summary.seconds = seconds;
+  if (summary.best_start < 0) summary.message = "no start produced an identifiable design";
+  return summary;
+}
+
 std::string OptimizerSummary::briefReport() const {
   std::ostringstream out;
   out << (termination == Termination::Completed ? "completed" : "time limit reached") << ": "
@@ -762,25 +782,10 @@ OptimizerSummary Search::run() {
     if (remaining() <= 0.0) return;
     polish(ranked[static_cast<std::size_t>(i)], criteria_[static_cast<std::size_t>(worker)]);
   });
-  OptimizerSummary summary;
-  summary.criterion = options_.criterion;
-  summary.starts = results_;
-  summary.pool_size = static_cast<int>(pool_.size());
-  summary.value = kInfinity;
-  for (int s = 0; s < options_.starts; ++s) {
-    const StartResult& r = results_[static_cast<std::size_t>(s)];
-    if (r.done && r.refined < summary.value) {
-      summary.value = r.refined;
-      summary.best_start = s;
-    }
-  }
-  summary.termination = timed_out_ ? OptimizerSummary::Termination::TimeLimit
-                                   : OptimizerSummary::Termination::Completed;
-  summary.seconds = secondsSince(start_time_);
-  if (summary.best_start < 0) {
-    summary.message = "no start produced an identifiable design";
-    return summary;
-  }
+  OptimizerSummary summary =
+      OptimizerSummary::ofStarts(options_.criterion, results_, static_cast<int>(pool_.size()),
+                                 timed_out_, secondsSince(start_time_));
+  if (summary.best_start < 0) return summary;
   summary.placements = designs_[static_cast<std::size_t>(summary.best_start)];
   if (options_.criterion == Criterion::Pass) {
     DesignCriterion& criterion = criteria_.front();

@@ -137,6 +137,11 @@ struct OptimizerSummary {
   std::string message;
   int startsDone() const;
   std::string briefReport() const;
+  /// The summary of a search's starts: the best finished start (lowest refined value), the
+  /// termination and the time; without one, best_start -1 and the message says so. The search
+  /// then fills the best start's placements (and the message, briefReport).
+  static OptimizerSummary ofStarts(Criterion criterion, std::vector<StartResult> starts,
+                                   int pool_size, bool timed_out, double seconds);
 };
 
 /// Evaluates the criterion of designs from their placements' additive information terms.
