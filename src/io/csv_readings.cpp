@@ -106,7 +106,12 @@ std::vector<Eigen::VectorXd> readJointCsv(const std::string& path,
         fail("column " + std::to_string(i + 1) + ": expected a finite number");
       const double scale =
           kinds[i] == JointKind::Revolute ? units.angle_to_rad : units.length_to_mm;
-      q[static_cast<int>(i)] = *values[i] * scale;
+      const double converted = *values[i] * scale;
+      // A finite reading can overflow in conversion (1e306 m is inf mm): refused, not passed on.
+      if (!std::isfinite(converted))
+        fail("column " + std::to_string(i + 1) + ": \"" + shown(fields[i]) +
+             "\" is too large for a joint reading; check the column's unit");
+      q[static_cast<int>(i)] = converted;
     }
     rows.push_back(std::move(q));
     if (lines) lines->push_back(line_number);

@@ -21,6 +21,7 @@
 
 #include "artcal/artcal.hpp"
 #include "artcal/calibration/calibrator.hpp"
+#include "artcal/io/csv_readings.hpp"
 #include "sanitizers.hpp"
 #include "test_paths.hpp"
 
@@ -365,6 +366,23 @@ TEST(FuzzRegression, CmmReadingBeyondItsAxisRangeIsRefused) {
           0),
       0u)
       << r.err;
+}
+
+// Found by fuzz_csv on 2026-12-02: 1e306 is a finite reading, but read in metres for a prismatic
+// joint it became inf mm (x 1000) and went on into the readings. The converted value is checked.
+TEST(FuzzRegression, CsvReadingThatOverflowsInConversionIsRefused) {
+  const std::string file = testData("fuzz-regressions/csv-overflow-in-conversion.csv");
+  const std::vector<JointKind> kinds = {JointKind::Revolute, JointKind::Prismatic,
+                                        JointKind::Revolute};
+  EXPECT_EQ(readJointCsv(file, kinds, *readingUnitsFromName("mm")).at(0)[1], 1e306);
+  try {
+    (void)readJointCsv(file, kinds, *readingUnitsFromName("m"));
+    FAIL() << "no InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.describe(), file + ": line 1: column 2: \"1e306\" is too large for a joint "
+                                   "reading; check the column's unit")
+        << e.describe();
+  }
 }
 
 // ------------------------------------------------------------------------------ resource bounds
