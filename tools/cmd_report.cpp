@@ -7,11 +7,13 @@
 
 #include "artcal/calibration/calibrate_readings.hpp"
 #include "artcal/calibration/calibrator.hpp"
+#include "artcal/calibration/station_verification.hpp"
 #include "artcal/core/error.hpp"
 #include "artcal/estimation/error_functions.hpp"
 #include "artcal/estimation/evaluator.hpp"
 #include "artcal/io/output_file.hpp"
 #include "artcal/io/plan_io.hpp"
+#include "artcal/io/plausibility.hpp"
 #include "artcal/io/truth_io.hpp"
 #include "artcal/planning/procedure.hpp"
 #include "artcal/report/acceptance_report.hpp"
@@ -19,6 +21,8 @@
 #include "artcal/report/cartesian_report.hpp"
 #include "artcal/report/html_report.hpp"
 #include "artcal/report/report.hpp"
+#include "artcal/report/station_figures.hpp"
+#include "artcal/report/station_report.hpp"
 #include "commands.hpp"
 
 namespace artcal::cli {
@@ -34,12 +38,44 @@ struct ReportArguments {
   int profile_steps = 21;
   bool calibrate = false;
   double flag_threshold = CalibrationOptions{}.flag_threshold;
+  std::string held_out;  ///< an instrument plan's held-out stations (--held-out)
 };
 
 /// The readings are calibrated when asked, or when they were simulated (`artcal simulate`
 /// records a `simulation` block): nominal planning readings would only give zero residuals.
 bool wantsCalibration(const ReportArguments& args, const nlohmann::json& document) {
-  return args.calibrate || document.contains("simulation");
+  return args.calibrate || !args.held_out.empty() || document.contains("simulation");
+}
+
+/// The held-out stations of `file` verified with the nominal and with the calibrated machine
+/// (calibration/station_verification.hpp), as the report's held_out_json.
+nlohmann::json heldOutStations(const std::string& file, const Plan& calibrated_plan,
+                               const Calibration& calibration) {
+  Plan held = parsePlan(readJsonFile(file), file, true, /*check_plausibility=*/false);
+  const Machine& machine = calibrated_plan.machine;
+  const auto& mine = held.machine.mechanism->parameters();
+  const auto& theirs = machine.mechanism->parameters();
+  const bool same = held.machine.mechanism->modelName() == machine.mechanism->modelName() &&
+                    mine.size() == theirs.size() &&
+                    std::equal(mine.begin(), mine.end(), theirs.begin(),
+                               [](const auto& a, const auto& b) { return a.name == b.name; });
+  if (!same) {
+    throw InputError(file, "/machine",
+                     "the held-out plan's machine is not the calibrated plan's (another model or "
+                     "other parameters): give held-out readings of the same machine");
+  }
+  const StationsVerification nominal = verifyStations(held, held.machine.nominal, std::nullopt);
+  if (nominal.stations.empty()) {
+    throw InputError(file, "/placements",
+                     "no instrument station to hold out: --held-out takes an instrument plan's "
+                     "stations (for artifact placements, use artcal verify --machine)");
+  }
+  checkPlausibility(held, calibration.parameters, "the calibrated machine");
+  const StationsVerification calibrated =
+      verifyStations(held, calibration.parameters, calibration.uncertainty(machine));
+  return {{"plan", file},
+          {"nominal", stationsVerificationToJson(held, nominal)},
+          {"calibrated", stationsVerificationToJson(held, calibrated)}};
 }
 
 /// The HTML and, with --svg, every figure: written as one output (writeOutputFiles), so that a
@@ -155,6 +191,10 @@ void addReportCommand(CLI::App& app, Action& action) {
                   "normalized residual beyond which a reading is flagged (as calibrate)")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
+  cmd->add_option("--held-out", args->held_out,
+                  "an instrument plan of held-out stations of the same machine: the report shows "
+                  "their deviations with the nominal and the calibrated machine (implies "
+                  "--calibrate)");
   cmd->callback([&action, args] {
     action = [args] {
       checkOutputPath(args->output);
@@ -177,6 +217,9 @@ void addReportCommand(CLI::App& app, Action& action) {
         calibration_json = calibrationToJson(calibrated, calibrated.placements, *calibration);
         converged = calibration->summary.converged();
       }
+      std::optional<nlohmann::json> held_out_json;
+      if (!args->held_out.empty())
+        held_out_json = heldOutStations(args->held_out, calibrated, *calibration);
       // The plan's acceptance test, predicted by src/acceptance; the report reads it.
       const std::optional<PlanAcceptance> acceptance = predictPlanAcceptance(plan, evaluation);
       std::optional<nlohmann::json> acceptance_json;
@@ -191,8 +234,17 @@ void addReportCommand(CLI::App& app, Action& action) {
                               args->flag_threshold,
                               acceptance_json ? &*acceptance_json : nullptr,
                               procedure ? &*procedure : nullptr,
-                              no_procedure};
+                              no_procedure,
+                              held_out_json ? &*held_out_json : nullptr};
       std::vector<ReportFigure> figures = reportFigures(input);
+      if (calibration_json) {
+        for (ReportFigure& f : stationResidualFigures(calibrated, *calibration_json))
+          figures.push_back(std::move(f));
+      }
+      if (held_out_json) {
+        for (ReportFigure& f : heldOutDeviationFigures(*held_out_json))
+          figures.push_back(std::move(f));
+      }
       addErrorFunctionFigures(calibration ? calibrated : plan, document, args->plan, evaluation,
                               calibration, figures);
       if (acceptance) {
@@ -204,6 +256,7 @@ void addReportCommand(CLI::App& app, Action& action) {
       nlohmann::json summary =
           summaryJson(*args, html, figures, evaluation.identifiable(), converged);
       if (acceptance_json) summary["acceptance"] = *acceptance_json;
+      if (held_out_json) summary["held_out"] = *held_out_json;
       if (args->json) {
         summaryStream(args->output) << summary.dump(2) << std::endl;
       } else {

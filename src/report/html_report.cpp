@@ -783,6 +783,31 @@ void writeCalibrationWarnings(std::ostream& out, const json& cal) {
   }
 }
 
+/// Held-out stations (report --held-out): deviations with the nominal and the calibrated machine.
+void writeHeldOut(std::ostream& out, const ReportInput& in,
+                  const std::vector<ReportFigure>& figures) {
+  if (!in.held_out_json) return;
+  const json& held = *in.held_out_json;
+  out << "<h3>Held-out stations</h3>\n<p>The readings of <code>"
+      << svg::escape(held.value("plan", "")) << "</code>, each station fitted on its stationing "
+      << "readings; deviations of the others (mm).</p>\n<table>\n<tr><th>machine</th>"
+      << "<th>readings</th><th>mean</th><th>RMS</th><th>max</th><th>predicted RMS</th></tr>\n";
+  for (const char* machine : {"nominal", "calibrated"}) {
+    const std::string at = std::string("/") + machine + "/all/";
+    out << "<tr><td>" << machine << "</td>"
+        << numberCell(held, at + "readings", 1, "%.0f", "/held_out")
+        << numberCell(held, at + "mean", 1, "%.4f", "/held_out")
+        << numberCell(held, at + "rms", 1, "%.4f", "/held_out")
+        << numberCell(held, at + "max", 1, "%.4f", "/held_out")
+        << (std::string(machine) == "calibrated"
+                ? numberCell(held, at + "predicted_rms", 1, "%.4f", "/held_out")
+                : std::string("<td></td>"))
+        << "</tr>\n";
+  }
+  out << "</table>\n";
+  writeFigures(out, figures, "held-out");
+}
+
 /// The calibration of the plan's readings (calibrate --json, pointers under /calibration).
 void writeCalibration(std::ostream& out, const ReportInput& in,
                       const std::vector<ReportFigure>& figures) {
@@ -827,6 +852,8 @@ void writeCalibration(std::ostream& out, const ReportInput& in,
   writeCalibrationWarnings(out, cal);
   writeFigures(out, figures, "residuals");
   writeFlagged(out, cal);
+  writeFigures(out, figures, "station-");
+  writeHeldOut(out, in, figures);
 }
 
 /// The operator's procedure (procedure.hpp); a plan whose features cannot be reached gets a note.

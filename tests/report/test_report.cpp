@@ -846,6 +846,95 @@ TEST_F(ReportCli, SimulatedReadingsShowEstimateMinusTruthInU) {
 
 /// A planar 2R plan with `count` ball-bar placements spread over the reach annulus, readings by
 /// inverse kinematics (fixed seed).
+// An instrument plan's held-out stations (report --held-out): the table and histogram read the
+// deviations `verify` gives of the same readings with the nominal machine and with the machine
+// `calibrate --write-machine` writes; each station's residual figure draws calibrate's residuals.
+TEST_F(ReportCli, HeldOutStationsEqualVerifyWithTheNominalAndTheCalibratedMachine) {
+  const std::string plan = data("ref-instrument-arm6-2stations.json");
+  const std::string truth = test_support::planFile("tracker-arm6/truth.json");
+  const fs::path trained = dir_ / "trained.json", held = dir_ / "held.json",
+                 cal = dir_ / "cal.json", html_path = dir_ / "r.html";
+  ASSERT_EQ(run("simulate \"" + plan + "\" --truth \"" + truth + "\" --seed 3 -o \"" +
+                trained.string() + "\"")
+                .status,
+            0);
+  // Other readings of the same machine: the same configurations, drawn again; the first 8 of each
+  // station fit the station, the other 17 are held out.
+  const fs::path drawn = dir_ / "drawn.json";
+  ASSERT_EQ(run("simulate \"" + plan + "\" --truth \"" + truth + "\" --seed 11 -o \"" +
+                drawn.string() + "\"")
+                .status,
+            0);
+  json held_plan = json::parse(std::ifstream(drawn));
+  for (json& placement : held_plan["placements"])
+    for (std::size_t m = 0; m < 8; ++m) placement["measurements"][m]["stationing"] = true;
+  std::ofstream(held) << held_plan.dump(1);
+
+  const CliRun r = run("report \"" + trained.string() + "\" --held-out \"" + held.string() +
+                       "\" --json -o \"" + html_path.string() + "\"");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const json summary = json::parse(r.out);
+  ASSERT_EQ(
+      run("calibrate \"" + trained.string() + "\" --write-machine \"" + cal.string() + "\"").status,
+      0);
+  const json nominal = json::parse(run("verify --json \"" + held.string() + "\"").out);
+  const json calibrated = json::parse(
+      run("verify --json \"" + held.string() + "\" --machine \"" + cal.string() + "\"").out);
+  const json& shown = summary.at("held_out");
+  for (const auto& [machine, verified] :
+       {std::pair{"nominal", &nominal}, std::pair{"calibrated", &calibrated}}) {
+    SCOPED_TRACE(machine);
+    const json& expected = verified->at("instrument");
+    ASSERT_EQ(shown[machine]["stations"].size(), 2u);
+    for (std::size_t s = 0; s < 2; ++s) {
+      const json& mine = shown[machine]["stations"][s]["deviations"];
+      const json& theirs = expected["stations"][s]["deviations"];
+      ASSERT_EQ(mine.size(), 17u);
+      ASSERT_EQ(theirs.size(), 17u);
+      for (std::size_t i = 0; i < mine.size(); ++i)
+        EXPECT_NEAR(mine[i].get<double>(), theirs[i].get<double>(),
+                    1e-9 * (1.0 + theirs[i].get<double>()));
+    }
+    EXPECT_NEAR(shown[machine]["all"]["rms"].get<double>(), expected["all"]["rms"].get<double>(),
+                1e-9);
+  }
+  // The truth is off nominal by 0.1-0.25 mm: calibrated, the held-out readings fit to the noise.
+  EXPECT_LT(shown["calibrated"]["all"]["rms"].get<double>(),
+            0.3 * shown["nominal"]["all"]["rms"].get<double>());
+
+  const std::string html = slurp(html_path);
+  EXPECT_EQ(xmlFault(html), std::nullopt);
+  int held_fields = 0;
+  for (const Shown& s : shownNumbers(html)) {
+    if (s.pointer.rfind("/held_out/", 0) != 0) continue;
+    ++held_fields;
+    EXPECT_EQ(std::stod(s.value), shown.at(json::json_pointer(s.pointer.substr(9))).get<double>())
+        << s.pointer;
+  }
+  EXPECT_EQ(held_fields, 9);  // readings, mean, RMS, max of each; the calibrated predicted RMS
+  std::set<std::string> figures;
+  for (const json& f : summary["figures"]) figures.insert(f["name"].get<std::string>());
+  for (const char* name : {"station-0", "station-1", "held-out-deviations"})
+    EXPECT_TRUE(figures.count(name)) << name;
+  // One residual vector per reading of each station, named by calibrate's pointer.
+  for (int j = 0; j < 2; ++j)
+    for (int m = 0; m < 25; ++m) {
+      const std::string field = "data-field=\"/calibration/residuals/" + std::to_string(j) +
+                                "/measurements/" + std::to_string(m) + "/residual\"";
+      EXPECT_NE(html.find(field), std::string::npos) << field;
+    }
+
+  // The held-out readings of another machine: refused with its pointer, no report written.
+  fs::remove(html_path);
+  const CliRun other = run("report \"" + trained.string() + "\" --held-out \"" +
+                           data("ref-2r-calibrate.json") + "\" -o \"" + html_path.string() + "\"");
+  EXPECT_EQ(other.status, 2);
+  EXPECT_EQ(other.err.rfind("error: " + data("ref-2r-calibrate.json") + ": /machine: ", 0), 0u)
+      << other.err;
+  EXPECT_EQ(std::count(other.err.begin(), other.err.end(), '\n'), 1);
+  EXPECT_FALSE(fs::exists(html_path));
+}
+
 json largePlan(int count) {
   json plan = json::parse(std::ifstream(test_support::testDataFile("ref-2r-5bars.json")));
   Eigen::VectorXd p(3);
@@ -1070,5 +1159,5 @@ TEST_F(ReportCli, CartesianReportDrawsTheErrorFunctions) {
   }
 }
 
-}  // namespace
+}  // namespace report_test
 }  // namespace artcal

@@ -51,6 +51,10 @@ struct ReportInput {
   /// empty: no procedure section.
   const Procedure* procedure = nullptr;
   std::string no_procedure = {};
+  /// An instrument plan's held-out stations verified with the nominal and the calibrated
+  /// machine: {"plan": FILE, "nominal": ..., "calibrated": ...}, each stationsVerificationToJson
+  /// (station_report.hpp); tabled with data-field pointers prefixed "/held_out".
+  const nlohmann::json* held_out_json = nullptr;
 };
 
 /// The report's figures, in the order the report shows them.
