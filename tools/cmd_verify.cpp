@@ -35,9 +35,24 @@ int runVerify(const VerifyArguments& args) {
     uncertainty = parseMachineCovariance(document, args.machine, plan);
     checkPlausibility(plan, p, "the machine of " + args.machine);
   }
-  const Verification verification = verifyMachine(plan, p, uncertainty);
   // An instrument's stations (instruments.md): held-out readings against a fitted station.
   const StationsVerification stations = verifyStations(plan, p, uncertainty);
+  // Each instrument reading is a feature of its own: the artifact figures (a feature's spread over
+  // its postures, the lengths between features) say nothing of a plan of stations alone.
+  if (!stations.stations.empty() && stations.stations.size() == plan.placements.size()) {
+    if (args.json) {
+      printJson({{"plan", plan.name}, {"instrument", stationsVerificationToJson(plan, stations)}});
+    } else {
+      std::cout << "Plan " << plan.name << ": " << stations.stations.size()
+                << " stations verified, parameters held fixed (mm)\n  predicted RMS from "
+                << (uncertainty ? "the calibration's V_p and the reading noise"
+                                : "the reading noise alone (no covariance given)")
+                << "\n"
+                << stationsVerificationTable(plan, stations);
+    }
+    return 0;
+  }
+  const Verification verification = verifyMachine(plan, p, uncertainty);
   if (args.json) {
     nlohmann::json out = verificationToJson(plan, verification);
     if (!stations.stations.empty()) out["instrument"] = stationsVerificationToJson(plan, stations);

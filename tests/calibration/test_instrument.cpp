@@ -183,6 +183,14 @@ TEST(Instrument, CommandLineRefusesACollinearStationAndVerifiesStations) {
   ASSERT_EQ(out["instrument"]["stations"].size(), 2u);
   EXPECT_EQ(out["instrument"]["all"]["readings"], 50);
   EXPECT_LT(out["instrument"]["all"]["max"].get<double>(), 1e-9);
+  // Stations alone: no artifact figures (each reading would be a feature of one posture and every
+  // pair of readings a "length"), only the stations' table.
+  EXPECT_FALSE(out.contains("verify"));
+  const test_support::CliRun table = test_support::runCli("verify " + plan);
+  ASSERT_EQ(table.status, 0);
+  EXPECT_NE(table.out.find("2 stations verified"), std::string::npos) << table.out;
+  EXPECT_EQ(table.out.find("length error"), std::string::npos) << table.out;
+  EXPECT_LT(std::count(table.out.begin(), table.out.end(), '\n'), 12) << table.out;
 }
 
 }  // namespace
