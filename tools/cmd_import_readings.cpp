@@ -54,6 +54,16 @@ void addImportReadingsCommand(CLI::App& app, Action& action) {
       cmd->add_option("--artifact", in.artifact_file,
                       "the artifact: a file with an artifacts block {\"id\": {\"type\": ...}}");
   bar->excludes(artifact);
+  auto* instrument =
+      cmd->add_option("--instrument", in.instrument,
+                      "the artifact: a laser tracker or total station of this noise, mm per "
+                      "coordinate; DIR holds one CSV per station (joints, then x, y, z)")
+          ->check(CLI::PositiveNumber);
+  instrument->excludes(bar);
+  instrument->excludes(artifact);
+  cmd->add_option("--point-unit", in.point_unit,
+                  "unit of the measured points of an instrument (mm or m), instead of the header's")
+      ->check(CLI::IsMember({"mm", "m"}));
   cmd->add_option("--probe", args->probe, "noise.probe: mm per coordinate")->capture_default_str();
   cmd->add_option("--encoder", in.encoder, "noise.encoder: deg (mm for prismatic joints)")
       ->check(CLI::NonNegativeNumber)
@@ -75,8 +85,8 @@ void addImportReadingsCommand(CLI::App& app, Action& action) {
       throw CLI::ValidationError("import-readings", "needs --machine or --urdf");
     if (!given.urdf.empty() && (given.base.empty() || given.tip.empty()))
       throw CLI::ValidationError("import-readings", "--urdf needs --base and --tip");
-    if (!given.ball_bar && given.artifact_file.empty())
-      throw CLI::ValidationError("import-readings", "needs --ball-bar or --artifact");
+    if (!given.ball_bar && given.artifact_file.empty() && !given.instrument)
+      throw CLI::ValidationError("import-readings", "needs --ball-bar, --artifact or --instrument");
     action = [args] {
       ReadingsImport& import = args->import;
       checkOutputPath(args->output);

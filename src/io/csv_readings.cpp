@@ -57,6 +57,15 @@ std::string shown(std::string_view field) {
 
 std::optional<ReadingUnits> readingUnitsFromName(const std::string& name) {
   ReadingUnits units;
+  // "ANGLE+LENGTH": both units stated, e.g. ROS's rad and m.
+  if (const auto plus = name.find('+'); plus != std::string::npos) {
+    const std::string angle = name.substr(0, plus), length = name.substr(plus + 1);
+    if ((angle != "deg" && angle != "rad") || (length != "mm" && length != "m"))
+      return std::nullopt;
+    units.angle_to_rad = angle == "rad" ? 1.0 : kDegree;
+    units.length_to_mm = length == "m" ? 1000.0 : 1.0;
+    return units;
+  }
   if (name == "deg" || name == "mm") return units;
   if (name == "rad") {
     units.angle_to_rad = 1.0;

@@ -55,7 +55,9 @@ void appendCsvReadings(const Node& entry, const std::string& plan_source, const 
   ReadingUnits units;
   if (const auto unit = entry.find("unit")) {
     const auto named = readingUnitsFromName(unit->string());
-    if (!named) unit->fail("unknown unit \"" + unit->string() + "\" (expected deg, rad, mm or m)");
+    if (!named)
+      unit->fail("unknown unit \"" + unit->string() +
+                 "\" (expected deg, rad, mm, m, or an angle and a length unit as rad+m)");
     units = *named;
   }
   const double point_scale = pointUnitToMm(entry);

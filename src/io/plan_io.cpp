@@ -379,7 +379,9 @@ const CsvFiles::Parsed& csvRowsOf(const Node& entry, const Plan& plan, CsvFiles&
   ReadingUnits units;
   if (const auto unit = entry.find("unit")) {
     const auto named = readingUnitsFromName(unit->string());
-    if (!named) unit->fail("unknown unit \"" + unit->string() + "\" (expected deg, rad, mm or m)");
+    if (!named)
+      unit->fail("unknown unit \"" + unit->string() +
+                 "\" (expected deg, rad, mm, m, or an angle and a length unit as rad+m)");
     units = *named;
   }
   const Mechanism& mech = *plan.machine.mechanism;

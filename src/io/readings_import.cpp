@@ -67,31 +67,47 @@ std::optional<std::string> headerUnit(std::string field) {
   return std::nullopt;
 }
 
-/// The unit of a general-layout file from its header: one angle unit and one length unit at
-/// most, and not rad and m together (a measurement entry states one "unit").
-std::string unitFromHeader(const fs::path& file) {
+/// The header's fields of a CSV file (its first line split at commas).
+std::vector<std::string> headerFields(const fs::path& file) {
   const std::string header = firstLine(file);
-  std::set<std::string> units;
+  std::vector<std::string> fields;
   std::size_t start = 0;
   while (true) {
     const auto comma = header.find(',', start);
-    const auto unit = headerUnit(header.substr(start, comma - start));
+    fields.push_back(header.substr(start, comma - start));
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return fields;
+}
+
+/// The reading unit the header fields [first, last) name: one angle unit and one length unit at
+/// most ("rad+m" when both differ from deg and mm).
+std::string unitOfColumns(const fs::path& file, const std::vector<std::string>& fields,
+                          std::size_t first, std::size_t last) {
+  std::set<std::string> units;
+  for (std::size_t i = first; i < last; ++i) {
+    const auto unit = headerUnit(fields[i]);
     if (!unit) {
       throw InputError(file.string(), "line 1",
                        "expected a header naming each column's unit (q1_deg, q2_rad, q3_mm, ...), "
                        "or state the unit with --unit");
     }
     units.insert(*unit);
-    if (comma == std::string::npos) break;
-    start = comma + 1;
   }
   const bool rad = units.count("rad") > 0, m = units.count("m") > 0;
-  if ((rad && units.count("deg")) || (m && units.count("mm")) || (rad && m)) {
+  if ((rad && units.count("deg")) || (m && units.count("mm"))) {
     throw InputError(file.string(), "line 1",
                      "columns in mixed units: one file takes deg or rad for its angles and mm or "
-                     "m for its lengths, not rad and m together");
+                     "m for its lengths");
   }
-  return rad ? "rad" : m ? "m" : "deg";
+  return rad && m ? "rad+m" : rad ? "rad" : m ? "m" : "deg";
+}
+
+/// The unit of a general-layout file from its header.
+std::string unitFromHeader(const fs::path& file) {
+  const std::vector<std::string> fields = headerFields(file);
+  return unitOfColumns(file, fields, 0, fields.size());
 }
 
 /// The feature files of one folder, by feature index; empty when it holds none.
@@ -122,6 +138,91 @@ std::vector<FeatureFile> featureFiles(const fs::path& folder, const std::string&
   return out;
 }
 
+// ------------------------------------------------------------------ an instrument's stations
+
+/// The coordinates an instrument reports per reading (a point: x, y, z).
+constexpr std::size_t kPointColumns = 3;
+
+/// The CSV files of a folder, in name order.
+std::vector<fs::path> csvFiles(const fs::path& folder) {
+  std::vector<fs::path> out;
+  for (const fs::directory_entry& entry : fs::directory_iterator(folder)) {
+    if (entry.is_regular_file() && entry.path().extension() == ".csv") out.push_back(entry.path());
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+/// DIR's stations: its sub-folders holding CSV files (a station each, named after the folder, each
+/// file one entry), or, without such sub-folders, each CSV file of DIR (named after its stem).
+std::vector<std::pair<std::string, std::vector<fs::path>>> stations(const fs::path& dir) {
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) throw InputError(dir.string(), "", "is not a folder");
+  std::vector<std::pair<std::string, std::vector<fs::path>>> out;
+  std::vector<fs::path> folders;
+  for (const fs::directory_entry& entry : fs::directory_iterator(dir)) {
+    if (entry.is_directory() && !csvFiles(entry.path()).empty()) folders.push_back(entry.path());
+  }
+  std::sort(folders.begin(), folders.end());
+  for (const fs::path& folder : folders) out.emplace_back(folderName(folder), csvFiles(folder));
+  if (out.empty()) {
+    for (const fs::path& file : csvFiles(dir))
+      out.emplace_back(file.stem().string(), std::vector<fs::path>{file});
+  }
+  if (out.empty()) {
+    throw InputError(dir.string(), "",
+                     "no readings: expected one CSV file per station (or one sub-folder of CSV "
+                     "files per station), each row the joint readings then x, y, z");
+  }
+  return out;
+}
+
+/// A station file's measurement entry: its joints' unit and its point's, from --unit and
+/// --point-unit where given, otherwise from its header (the last 3 columns are the point's:
+/// `q1_deg, ..., x_m, y_m, z_m`); a point without a stated unit is in mm.
+json stationEntry(const fs::path& file, const ReadingsImport& import, const fs::path& plan_folder) {
+  std::string unit = import.unit, point_unit = import.point_unit;
+  const std::vector<std::string> fields = headerFields(file);
+  const bool units_in_header = std::all_of(
+      fields.begin(), fields.end(), [](const std::string& f) { return headerUnit(f).has_value(); });
+  if (unit.empty()) {
+    if (fields.size() <= kPointColumns || !units_in_header) {
+      throw InputError(file.string(), "line 1",
+                       "expected a header naming each column's unit (q1_deg, ..., x_m, y_m, z_m), "
+                       "or state the joints' unit with --unit and the point's with --point-unit");
+    }
+    unit = unitOfColumns(file, fields, 0, fields.size() - kPointColumns);
+  }
+  if (point_unit.empty() && units_in_header && fields.size() > kPointColumns) {
+    std::set<std::string> units;
+    for (std::size_t i = fields.size() - kPointColumns; i < fields.size(); ++i)
+      units.insert(*headerUnit(fields[i]));
+    if (units.size() != 1 || (*units.begin() != "mm" && *units.begin() != "m")) {
+      throw InputError(file.string(), "line 1",
+                       "the last 3 columns are the measured point: one length unit (x_mm, y_mm, "
+                       "z_mm or x_m, y_m, z_m)");
+    }
+    point_unit = *units.begin();
+  }
+  const fs::path relative = fs::absolute(file).lexically_normal().lexically_relative(plan_folder);
+  return {{"csv", relative.generic_string()},
+          {"unit", unit},
+          {"point_unit", point_unit.empty() ? "mm" : point_unit}};
+}
+
+json stationPlacements(const fs::path& dir, const ReadingsImport& import,
+                       const fs::path& plan_folder, const std::string& instrument_id) {
+  json placements = json::array();
+  for (const auto& [name, files] : stations(dir)) {
+    json measurements = json::array();
+    for (const fs::path& file : files)
+      measurements.push_back(stationEntry(file, import, plan_folder));
+    placements.push_back(
+        {{"name", name}, {"artifact", instrument_id}, {"measurements", measurements}});
+  }
+  return placements;
+}
+
 json machineBlock(const ReadingsImport& import) {
   if (!import.machine_file.empty()) {
     json machine = readJsonFile(import.machine_file);
@@ -138,6 +239,11 @@ json machineBlock(const ReadingsImport& import) {
 
 /// The artifacts block and the id of the artifact placed.
 std::pair<json, std::string> artifactBlock(const ReadingsImport& import) {
+  if (import.instrument) {
+    return {json{{"instrument",
+                  {{"type", "instrument"}, {"measures", "point"}, {"noise", *import.instrument}}}},
+            "instrument"};
+  }
   if (import.ball_bar) {
     json bar = {{"type", "ball_bar"}, {"length", *import.ball_bar}};
     if (import.u_length > 0.0) bar["u_length"] = import.u_length;
@@ -193,7 +299,12 @@ std::vector<std::string> widenJointLimits(json& document, const std::string& sou
       const std::string file =
           (folder / entry.at("csv").get<std::string>()).lexically_normal().string();
       const auto units = readingUnitsFromName(entry.at("unit").get<std::string>());
-      for (const Eigen::VectorXd& q : readJointCsv(file, kinds, *units)) {
+      // An instrument's rows end with the measured point, read here as lengths and not kept.
+      std::vector<JointKind> columns = kinds;
+      if (entry.contains("point_unit"))
+        columns.resize(kinds.size() + kPointColumns, JointKind::Prismatic);
+      for (const Eigen::VectorXd& row : readJointCsv(file, columns, *units)) {
+        const Eigen::VectorXd q = row.head(mech.jointCount());
         lo = lo.cwiseMin(q);
         hi = hi.cwiseMax(q);
       }
@@ -226,15 +337,20 @@ std::vector<std::string> widenJointLimits(json& document, const std::string& sou
 
 ImportedPlan importReadings(const ReadingsImport& import) {
   if (!import.unit.empty() && !readingUnitsFromName(import.unit)) {
-    throw InputError(import.unit, "", "unknown unit (expected deg, rad, mm or m)");
+    throw InputError(
+        import.unit, "",
+        "unknown unit (expected deg, rad, mm, m, or an angle and a length unit as rad+m)");
   }
   const fs::path dir = fs::path(import.folder).lexically_normal();
   const bool to_stdout = import.output.empty() || import.output == kStandardOutput;
   const fs::path output_folder = to_stdout ? fs::path() : fs::path(import.output).parent_path();
   const fs::path plan_folder = fs::absolute(output_folder.empty() ? fs::path(".") : output_folder);
   const auto [artifacts, artifact_id] = artifactBlock(import);
-  json placements = json::array();
-  for (const fs::path& folder : placementFolders(dir, import.unit)) {
+  const bool instrument = artifacts.at(artifact_id).value("type", "") == "instrument";
+  json placements =
+      instrument ? stationPlacements(dir, import, plan_folder, artifact_id) : json::array();
+  for (const fs::path& folder :
+       instrument ? std::vector<fs::path>{} : placementFolders(dir, import.unit)) {
     json measurements = json::array();
     for (const FeatureFile& file : featureFiles(folder, import.unit)) {
       if (import.ball_bar && file.feature > 1) {

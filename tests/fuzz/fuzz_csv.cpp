@@ -1,7 +1,7 @@
 // libFuzzer harness of the CSV reader of joint readings (models.md section 7): the input is a CSV
 // file read for a machine of three joints (revolute, prismatic, revolute), in degrees and in
-// radians and metres. An InputError is the proper answer; any other escape, a crash or a
-// non-finite reading is a finding.
+// radians and metres, and in both. An InputError is the proper answer; any other escape, a crash or
+// a non-finite reading is a finding.
 
 #include "artcal/io/csv_readings.hpp"
 #include "fuzz_common.hpp"
@@ -12,7 +12,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::string path = fuzz::writeInputFile(data, size, ".csv");
   const std::vector<JointKind> kinds = {JointKind::Revolute, JointKind::Prismatic,
                                         JointKind::Revolute};
-  for (const char* unit : {"deg", "rad", "m"}) {
+  for (const char* unit : {"deg", "rad", "m", "rad+m"}) {
     try {
       for (const Eigen::VectorXd& row : readJointCsv(path, kinds, *readingUnitsFromName(unit))) {
         if (row.size() != 3 || !row.allFinite())

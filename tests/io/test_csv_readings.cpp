@@ -93,6 +93,25 @@ TEST_F(CsvFolder, PrismaticReadingsInMetres) {
   EXPECT_FALSE(readingUnitsFromName("inch"));
 }
 
+// ROS's joint states: revolute joints in rad and prismatic ones in m, in one file ("rad+m").
+TEST_F(CsvFolder, AngleAndLengthUnitsTogether) {
+  const std::string path = write("ros.csv", "0.5,0.25\n-1,1.5\n");
+  const auto units = readingUnitsFromName("rad+m");
+  ASSERT_TRUE(units);
+  const auto rows = readJointCsv(path, {JointKind::Revolute, JointKind::Prismatic}, *units);
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_DOUBLE_EQ(rows[0][0], 0.5);
+  EXPECT_DOUBLE_EQ(rows[0][1], 250.0);
+  EXPECT_DOUBLE_EQ(rows[1][0], -1.0);
+  EXPECT_DOUBLE_EQ(rows[1][1], 1500.0);
+  const auto plain = readingUnitsFromName("deg+mm");
+  ASSERT_TRUE(plain);
+  EXPECT_DOUBLE_EQ(plain->angle_to_rad, std::numbers::pi / 180.0);
+  EXPECT_DOUBLE_EQ(plain->length_to_mm, 1.0);
+  for (const char* bad : {"rad+", "+m", "m+rad", "rad+m+", "rad+rad", "deg+inch"})
+    EXPECT_FALSE(readingUnitsFromName(bad)) << bad;
+}
+
 /// The InputError of reading `text` as a 2-joint CSV file.
 InputError faultOf(const std::string& path) {
   try {
@@ -192,5 +211,5 @@ TEST_F(CsvFolder, CommandLineAnswersWithOneLineAndStatusTwo) {
             std::string::npos);
 }
 
-}  // namespace
+}  // namespace csv_readings_test
 }  // namespace artcal

@@ -235,6 +235,84 @@ TEST_F(ImportFolder, GeneralLayoutTakesTheUnitsFromTheHeader) {
       << bare.out;
 }
 
+/// A station's readings of the instrument reference plan as CSV text: the joints times
+/// `joint_scale`, the point times `point_scale`, under `header`.
+std::string stationCsv(const json& station, double joint_scale, double point_scale,
+                       const std::string& header) {
+  std::string text = header.empty() ? "" : header + "\n";
+  char number[40];
+  for (const json& m : station["measurements"]) {
+    std::string row;
+    for (const json& q : m["joints"]) {
+      std::snprintf(number, sizeof number, "%.17g,", q.get<double>() * joint_scale);
+      row += number;
+    }
+    for (const json& x : m["point"]) {
+      std::snprintf(number, sizeof number, "%.17g,", x.get<double>() * point_scale);
+      row += number;
+    }
+    row.back() = '\n';
+    text += row;
+  }
+  return text;
+}
+
+// An instrument's export: one CSV file per station, each row the joints then x, y, z; the units
+// from the header or from --unit / --point-unit. The plan holds the reference plan's readings.
+TEST_F(ImportFolder, InstrumentStationsFromOneCsvFileEach) {
+  const json reference = readJsonFile(testDataFile("ref-instrument-arm6-2stations.json"));
+  write("machine.json", reference["machine"].dump());
+  const double rad = std::numbers::pi / 180.0;
+  write("tracker/station_a.csv",
+        stationCsv(reference["placements"][0], 1.0, 1e-3,
+                   "j1_deg,j2_deg,j3_deg,j4_deg,j5_deg,j6_deg,x_m,y_m,z_m"));
+  write("tracker/station_b.csv",
+        stationCsv(reference["placements"][1], rad, 1.0,
+                   "j1 [rad],j2 [rad],j3 [rad],j4 [rad],j5 [rad],j6 [rad],x (mm),y (mm),z (mm)"));
+  write("tracker/notes.txt", "not a station\n");
+  const auto run = runCli("import-readings " + path("tracker") + " --machine " +
+                          path("machine.json") + " --instrument 0.02 -o " + path("plan.json"));
+  ASSERT_EQ(run.status, 0) << run.out;
+  const Plan plan = loadPlan(path("plan.json"));
+  const Plan expected = loadPlan(testDataFile("ref-instrument-arm6-2stations.json"));
+  ASSERT_EQ(plan.placements.size(), 2u);
+  EXPECT_EQ(plan.placements[0].name, "station_a");  // files in name order, named by their stem
+  EXPECT_EQ(plan.placements[1].name, "station_b");
+  EXPECT_EQ(plan.artifacts.at(0).kind, ArtifactKind::Instrument);
+  EXPECT_TRUE(plan.machine.calibrate_identifiable);
+  for (std::size_t j = 0; j < 2; ++j) {
+    const auto& mine = plan.placements[j].measurements;
+    const auto& theirs = expected.placements[j].measurements;
+    ASSERT_EQ(mine.size(), theirs.size());
+    for (std::size_t i = 0; i < mine.size(); ++i) {
+      EXPECT_LT((mine[i].joints - theirs[i].joints).cwiseAbs().maxCoeff(), 1e-14);
+      EXPECT_LT((mine[i].point - theirs[i].point).cwiseAbs().maxCoeff(), 1e-9);
+    }
+  }
+  // Nominal points: the calibration fits them to rounding.
+  const auto calibrated = runCli("calibrate --json " + path("plan.json"));
+  ASSERT_EQ(calibrated.status, 0);
+  EXPECT_LT(json::parse(calibrated.out)["chi2"].get<double>(), 1e-12);
+
+  // A file without units and none given: refused, naming it; --unit and --point-unit state them.
+  write("bare/s1.csv", stationCsv(reference["placements"][0], 1.0, 1e-3, ""));
+  const std::string bare = "import-readings " + path("bare") + " --machine " +
+                           path("machine.json") + " --instrument 0.02 -o " + path("bare.json");
+  const auto refused = runCli(bare, Stderr::Only);
+  EXPECT_EQ(refused.status, 2);
+  EXPECT_NE(refused.out.find("s1.csv: line 1: expected a header naming each column's unit"),
+            std::string::npos)
+      << refused.out;
+  ASSERT_EQ(runCli(bare + " --unit deg --point-unit m").status, 0);
+  const Plan stated = loadPlan(path("bare.json"));
+  ASSERT_EQ(stated.placements.size(), 1u);
+  EXPECT_LT(
+      (stated.placements[0].measurements[3].point - expected.placements[0].measurements[3].point)
+          .cwiseAbs()
+          .maxCoeff(),
+      1e-9);
+}
+
 TEST_F(ImportFolder, CsvReadingOutsideTheJointLimitsNamesFileAndRow) {
   const TwoArm arm;
   json plan = arm.plan;
@@ -286,5 +364,5 @@ TEST_F(ImportFolder, PlacementNamesAreOptionalUniqueAndUsedByVerify) {
       << twice.out;
 }
 
-}  // namespace
+}  // namespace readings_import_test
 }  // namespace artcal

@@ -21,7 +21,8 @@ struct ReadingUnits {
   double length_to_mm = 1.0;      ///< prismatic readings times this are mm
 };
 
-/// "deg", "rad", "mm", "m"; std::nullopt for anything else.
+/// "deg", "rad", "mm", "m" (the other kind of joint in deg or mm), or an angle unit and a length
+/// unit joined by "+" ("rad+m", ROS's units; "deg+mm" is "deg"); std::nullopt for anything else.
 std::optional<ReadingUnits> readingUnitsFromName(const std::string& name);
 
 /// Largest number of rows read from one CSV file.

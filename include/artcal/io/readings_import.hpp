@@ -32,6 +32,13 @@ struct ReadingsImport {
   /// ... or an artifacts block ({"id": {"type": ...}}) read from this file (its first artifact is
   /// placed).
   std::string artifact_file;
+  /// ... or an instrument (a laser tracker, a total station) of this noise, mm per coordinate
+  /// (instruments.md): DIR then holds one CSV file per station (or one sub-folder of CSV files
+  /// per station), each row the joint readings then the measured x, y, z; an artifacts block
+  /// whose first artifact is an instrument reads DIR the same way.
+  std::optional<double> instrument;
+  /// The measured points' unit ("mm" or "m") for every station file, overriding the header's.
+  std::string point_unit;
   /// noise.probe (mm, or "estimate" where the plan format allows it) and noise.encoder (deg).
   nlohmann::json probe = 0.1;
   double encoder = 0.0;
