@@ -305,9 +305,8 @@ py::tuple calibrate(const PyPlan& p, int max_iterations, double step_tolerance,
     json machine_block;
     if (calibration.summary.converged()) {
       machine_block = machineToJson(plan.machine, calibration.parameters);
-      if (calibration.covariance)
-        machine_block["covariance"] =
-            covarianceToJson(plan.machine, calibration.covariance->V, calibration.birgeRatio());
+      if (const auto uncertainty = calibration.uncertainty(plan.machine))
+        machine_block["covariance"] = covarianceToJson(plan.machine, *uncertainty);
     }
     return std::make_pair(std::move(result), std::move(machine_block));
   });

@@ -117,9 +117,8 @@ int runCalibrate(const CalibrateArguments& args) {
     if (calibration.summary.converged()) {
       nlohmann::json machine = machineToJson(plan.machine, calibration.parameters);
       // V_p travels with the estimate: `verify --machine` predicts the spread from it.
-      if (calibration.covariance)
-        machine["covariance"] =
-            covarianceToJson(plan.machine, calibration.covariance->V, calibration.birgeRatio());
+      if (const auto uncertainty = calibration.uncertainty(plan.machine))
+        machine["covariance"] = covarianceToJson(plan.machine, *uncertainty);
       writeJsonOutput(args.write_machine, machine);
     } else {
       std::cerr << "warning: not converged: " << args.write_machine << " not written\n";

@@ -64,7 +64,10 @@ void addImportReadingsCommand(CLI::App& app, Action& action) {
   cmd->add_option("--point-unit", in.point_unit,
                   "unit of the measured points of an instrument (mm or m), instead of the header's")
       ->check(CLI::IsMember({"mm", "m"}));
-  cmd->add_option("--probe", args->probe, "noise.probe: mm per coordinate")->capture_default_str();
+  auto* probe = cmd->add_option("--probe", args->probe,
+                                "noise.probe: mm per coordinate, or \"estimate\" (the default with "
+                                "--instrument: the robot's own scatter, estimated by calibrate)")
+                    ->capture_default_str();
   cmd->add_option("--encoder", in.encoder, "noise.encoder: deg (mm for prismatic joints)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
@@ -79,7 +82,7 @@ void addImportReadingsCommand(CLI::App& app, Action& action) {
       "refused); default: widen a revolute joint's limits to its readings, with a warning");
   cmd->add_option("-o,--output", args->output, "plan file to write (- for stdout)")
       ->capture_default_str();
-  cmd->callback([&action, args] {
+  cmd->callback([&action, args, probe] {
     const ReadingsImport& given = args->import;
     if (given.machine_file.empty() && given.urdf.empty())
       throw CLI::ValidationError("import-readings", "needs --machine or --urdf");
@@ -87,6 +90,8 @@ void addImportReadingsCommand(CLI::App& app, Action& action) {
       throw CLI::ValidationError("import-readings", "--urdf needs --base and --tip");
     if (!given.ball_bar && given.artifact_file.empty() && !given.instrument)
       throw CLI::ValidationError("import-readings", "needs --ball-bar, --artifact or --instrument");
+    // Beside an instrument of stated noise, the robot's own scatter is what the readings state.
+    if (given.instrument && probe->count() == 0) args->probe = "estimate";
     action = [args] {
       ReadingsImport& import = args->import;
       checkOutputPath(args->output);

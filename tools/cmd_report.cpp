@@ -71,8 +71,9 @@ nlohmann::json heldOutStations(const std::string& file, const Plan& calibrated_p
                      "stations (for artifact placements, use artcal verify --machine)");
   }
   checkPlausibility(held, calibration.parameters, "the calibrated machine");
-  const StationsVerification calibrated =
-      verifyStations(held, calibration.parameters, calibration.uncertainty(machine));
+  const auto uncertainty = calibration.uncertainty(machine);
+  useEstimatedProbeNoise(held, uncertainty);
+  const StationsVerification calibrated = verifyStations(held, calibration.parameters, uncertainty);
   return {{"plan", file},
           {"nominal", stationsVerificationToJson(held, nominal)},
           {"calibrated", stationsVerificationToJson(held, calibrated)}};

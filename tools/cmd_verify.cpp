@@ -33,6 +33,7 @@ int runVerify(const VerifyArguments& args) {
     const nlohmann::json document = readJsonFile(args.machine);
     p = parseTruth(document, args.machine, plan);
     uncertainty = parseMachineCovariance(document, args.machine, plan);
+    useEstimatedProbeNoise(plan, uncertainty);
     checkPlausibility(plan, p, "the machine of " + args.machine);
   }
   // An instrument's stations (instruments.md): held-out readings against a fitted station.

@@ -55,7 +55,8 @@ double Calibration::birgeRatio() const {
 
 std::optional<ParameterUncertainty> Calibration::uncertainty(const Machine& machine) const {
   if (!covariance) return std::nullopt;
-  return ParameterUncertainty{machine.calibrated, covariance->V, birgeRatio()};
+  return ParameterUncertainty{machine.calibrated, covariance->V, birgeRatio(),
+                              noise_estimate ? noise_estimate->probe : 0.0};
 }
 
 Calibrator::Calibrator(const Plan& plan, const CalibrationOptions& options)

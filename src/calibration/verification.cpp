@@ -196,6 +196,11 @@ PlacementVerification verifyPlacement(const Plan& plan, int index, const Eigen::
 
 }  // namespace
 
+void useEstimatedProbeNoise(Plan& plan, const std::optional<ParameterUncertainty>& uncertainty) {
+  if (plan.noise.estimate_probe && uncertainty && uncertainty->probe_noise > 0.0)
+    plan.noise.probe = uncertainty->probe_noise;
+}
+
 Verification verifyMachine(const Plan& plan, const Eigen::VectorXd& p,
                            const std::optional<ParameterUncertainty>& uncertainty,
                            const VerifyOptions& options) {

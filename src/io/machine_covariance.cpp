@@ -36,6 +36,13 @@ nlohmann::json covarianceToJson(const Machine& machine, const Eigen::MatrixXd& V
   return out;
 }
 
+nlohmann::json covarianceToJson(const Machine& machine, const ParameterUncertainty& uncertainty) {
+  nlohmann::json out = covarianceToJson(machine, uncertainty.V, uncertainty.birge_ratio);
+  if (uncertainty.probe_noise > 0.0 && std::isfinite(uncertainty.probe_noise))
+    out["probe_noise"] = uncertainty.probe_noise;
+  return out;
+}
+
 std::optional<ParameterUncertainty> parseMachineCovariance(const nlohmann::json& document,
                                                            const std::string& source,
                                                            const Plan& plan) {
@@ -79,6 +86,7 @@ std::optional<ParameterUncertainty> parseMachineCovariance(const nlohmann::json&
   if (eigen.eigenvalues().minCoeff() < -1e-9 * std::max(scale, 1e-300))
     matrix.fail("expected a positive semi-definite matrix");
   if (const auto birge = covariance->find("birge_ratio")) out.birge_ratio = birge->positive();
+  if (const auto noise = covariance->find("probe_noise")) out.probe_noise = noise->positive();
   return out;
 }
 

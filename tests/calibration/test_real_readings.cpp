@@ -410,6 +410,37 @@ TEST_F(RealReadingsCli, VerifyChecksPlausibilityAgainstTheMachineVerified) {
   EXPECT_EQ(calibrated.status, 0);
 }
 
+// A plan saying `"probe": "estimate"` verifies with the noise the calibration estimated (the
+// machine file carries it as covariance.probe_noise): verify's predicted figures equal those of
+// the same plan stating that noise, not those of the estimate's starting value.
+TEST_F(RealReadingsCli, VerifyOfAnEstimatedNoisePlanPredictsWithTheEstimate) {
+  const std::string readings = simulate({{"l1", 150.02}, {"dt2", 0.01}});
+  json plan = readJsonFile(readings);
+  plan["noise"]["probe"] = "estimate";
+  const std::string estimated = write("estimated.json", plan.dump());
+  const std::string machine = path("cal.json");
+  const auto calibrated =
+      test_support::runCli("calibrate --json " + estimated + " --write-machine " + machine);
+  ASSERT_EQ(calibrated.status, 0);
+  const double noise = json::parse(calibrated.out)["noise_estimate"]["probe"].get<double>();
+  ASSERT_GT(noise, 0.0);
+  EXPECT_NE(noise, 0.1);  // not the starting value
+  EXPECT_EQ(readJsonFile(machine)["covariance"]["probe_noise"].get<double>(), noise);
+  plan["noise"]["probe"] = noise;
+  const std::string stated = write("stated.json", plan.dump());
+  const auto verify = [&](const std::string& file, const std::string& start) {
+    json p = readJsonFile(file);
+    if (!start.empty()) p["noise"]["probe"] = json{{"estimate", std::stod(start)}};
+    const std::string f = write("v-" + start + ".json", p.dump());
+    const auto run = test_support::runCli("verify --json " + f + " --machine " + machine);
+    EXPECT_EQ(run.status, 0);
+    return json::parse(run.out)["verify"]["predicted_spread_rms"].get<double>();
+  };
+  const double with_estimate = verify(estimated, "");
+  EXPECT_NEAR(with_estimate, verify(stated, ""), 1e-12 * with_estimate);
+  EXPECT_NEAR(verify(estimated, "0.5"), with_estimate, 1e-12 * with_estimate);  // any start
+}
+
 // A correction beyond 5 % of the machine's mean link length (planar2r: (150 + 100) / 2 mm) or of
 // the parameter's own nominal value is named in a warning; one within it is not.
 TEST_F(RealReadingsCli, AnImplausibleCorrectionIsAWarningNamingTheParameter) {
@@ -455,5 +486,5 @@ TEST_F(RealReadingsCli, ExportUrdfWarnsOfAnImplausibleCorrection) {
       << run.out;
 }
 
-}  // namespace
+}  // namespace real_readings_test
 }  // namespace artcal

@@ -280,6 +280,7 @@ TEST_F(ImportFolder, InstrumentStationsFromOneCsvFileEach) {
   EXPECT_EQ(plan.placements[1].name, "station_b");
   EXPECT_EQ(plan.artifacts.at(0).kind, ArtifactKind::Instrument);
   EXPECT_TRUE(plan.machine.calibrate_identifiable);
+  EXPECT_TRUE(plan.noise.estimate_probe);  // beside the instrument, the robot's scatter estimated
   for (std::size_t j = 0; j < 2; ++j) {
     const auto& mine = plan.placements[j].measurements;
     const auto& theirs = expected.placements[j].measurements;

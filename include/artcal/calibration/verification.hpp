@@ -45,7 +45,14 @@ struct ParameterUncertainty {
   /// sqrt(chi2/dof) of the calibration that produced V, 0 when not known. The readings of that
   /// fit scattered this many times as much as the stated noise says.
   double birge_ratio = 0.0;
+  /// The probe noise the calibration estimated (`"probe": "estimate"`), mm; 0 when it was stated.
+  /// V is in the units of that noise; a plan that also says "estimate" predicts with it.
+  double probe_noise = 0.0;
 };
+
+/// A plan whose probe noise is `"estimate"` takes the noise the calibration behind `uncertainty`
+/// estimated (verify's prediction of held-out readings of the same machine); a stated noise stays.
+void useEstimatedProbeNoise(Plan& plan, const std::optional<ParameterUncertainty>& uncertainty);
 
 struct FeatureSpread {
   int feature = 0;

@@ -2,9 +2,12 @@
 // The calibrated parameters' covariance V_p carried in a machine file (`calibrate
 // --write-machine` writes it beside the machine block; `verify --machine` reads it for the
 // predicted figures, docs/models.md section 6):
-//   "covariance": {"parameters": [names], "matrix": [[...], ...], "birge_ratio": 1.21}
+//   "covariance": {"parameters": [names], "matrix": [[...], ...], "birge_ratio": 1.21,
+//                  "probe_noise": 0.0093}
 // in file units: entry (i, j) in the units of parameter i times those of parameter j (mm, deg);
-// "birge_ratio" (optional) is sqrt(chi2/dof) of the fit that produced the matrix.
+// "birge_ratio" (optional) is sqrt(chi2/dof) of the fit that produced the matrix; "probe_noise"
+// (optional, mm) the probe noise that fit estimated (`"probe": "estimate"`), which a plan saying
+// "estimate" then verifies with.
 
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
@@ -21,6 +24,9 @@ namespace artcal {
 /// `birge_ratio` <= 0 (no redundancy) is left out.
 nlohmann::json covarianceToJson(const Machine& machine, const Eigen::MatrixXd& V,
                                 double birge_ratio);
+/// The same for a calibration's uncertainty (Calibration::uncertainty), with the probe noise it
+/// estimated as "probe_noise" (mm) when it estimated one.
+nlohmann::json covarianceToJson(const Machine& machine, const ParameterUncertainty& uncertainty);
 
 /// The "covariance" member of a machine file for `plan`'s model (internal units); std::nullopt
 /// when there is none. InputError naming `source` and the pointer when malformed, when a name is
