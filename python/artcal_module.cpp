@@ -532,8 +532,14 @@ std::shared_ptr<PyPlan> importReadingsPlan(ReadingsImport import, const py::obje
     throw std::invalid_argument("import-readings: --machine excludes --urdf");
   if (!import.urdf.empty() && (import.base.empty() || import.tip.empty()))
     throw std::invalid_argument("import-readings: --urdf needs --base and --tip");
-  if (!import.ball_bar && import.artifact_file.empty())
-    throw std::invalid_argument("import-readings: needs --ball-bar or --artifact");
+  if (!import.ball_bar && import.artifact_file.empty() && !import.instrument)
+    throw std::invalid_argument("import-readings: needs --ball-bar, --artifact or --instrument");
+  if (import.instrument && (import.ball_bar || !import.artifact_file.empty()))
+    throw std::invalid_argument("import-readings: --instrument excludes --ball-bar and --artifact");
+  if (import.instrument && !(*import.instrument > 0.0 && std::isfinite(*import.instrument)))
+    throw std::invalid_argument("import-readings: --instrument: expected a noise > 0 (mm)");
+  if (!import.point_unit.empty() && import.point_unit != "mm" && import.point_unit != "m")
+    throw std::invalid_argument("import-readings: --point-unit: expected mm or m");
   if (import.ball_bar && !import.artifact_file.empty())
     throw std::invalid_argument("import-readings: --ball-bar excludes --artifact");
   if (import.ball_bar && !(*import.ball_bar > 0.0 && std::isfinite(*import.ball_bar)))
@@ -723,7 +729,8 @@ PYBIND11_MODULE(_native, m) {
          const std::string& base, const std::string& tip, std::optional<double> ball_bar,
          double u_length, const std::string& artifact, const py::object& probe, double encoder,
          const std::string& unit, bool keep_calibrate, bool keep_limits,
-         const std::string& output) {
+         const std::string& output, std::optional<double> instrument,
+         const std::string& point_unit) {
         artcal::ReadingsImport import;
         import.folder = folder;
         import.machine_file = machine;
@@ -738,12 +745,14 @@ PYBIND11_MODULE(_native, m) {
         import.keep_calibrate = keep_calibrate;
         import.keep_limits = keep_limits;
         import.output = output;
+        import.instrument = instrument;
+        import.point_unit = point_unit;
         return importReadingsPlan(std::move(import), probe);
       },
       py::arg("folder"), py::arg("machine"), py::arg("urdf"), py::arg("base"), py::arg("tip"),
       py::arg("ball_bar"), py::arg("u_length"), py::arg("artifact"), py::arg("probe"),
       py::arg("encoder"), py::arg("unit"), py::arg("keep_calibrate"), py::arg("keep_limits"),
-      py::arg("output"));
+      py::arg("output"), py::arg("instrument"), py::arg("point_unit"));
   m.def("export_urdf", &exportCalibratedUrdf, py::arg("machine"), py::arg("urdf"),
         py::arg("output"));
   py::class_<PyEvaluator>(m, "_Evaluator")

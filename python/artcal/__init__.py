@@ -416,22 +416,27 @@ def import_readings(folder: PathLike, *, urdf: Optional[PathLike] = None,
                     base: Optional[str] = None, tip: Optional[str] = None,
                     machine: Optional[PathLike] = None, ball_bar: Optional[float] = None,
                     u_length: float = 0.0, artifact: Optional[PathLike] = None,
-                    probe: Union[float, str] = 0.1, encoder: float = 0.0,
+                    probe: Union[float, str, None] = None, encoder: float = 0.0,
                     unit: Optional[str] = None, keep_calibrate: bool = False,
-                    keep_limits: bool = False, output: Optional[PathLike] = None) -> Plan:
+                    keep_limits: bool = False, output: Optional[PathLike] = None,
+                    instrument: Optional[float] = None,
+                    point_unit: Optional[str] = None) -> Plan:
     """``artcal import-readings FOLDER (--urdf U --base B --tip T | --machine M) (--ball-bar L |
-    --artifact A) [-o OUTPUT]``: the plan of a folder of CSV readings (one sub-folder per
-    placement, one file per feature; docs/plan-format.md). ``probe`` in mm (or "estimate"),
-    ``encoder`` in deg. With ``output`` the plan is also written there (CSV paths relative to
+    --artifact A | --instrument NOISE) [-o OUTPUT]``: the plan of a folder of CSV readings (one
+    sub-folder per placement, one file per feature; with ``instrument``, one CSV file per
+    station: joints then x, y, z; docs/plan-format.md). ``probe`` in mm (or "estimate"; default
+    0.1, "estimate" beside an instrument), ``encoder`` in deg, ``point_unit`` "mm" or "m". With ``output`` the plan is also written there (CSV paths relative to
     its folder; without it, to the current folder). The import's warnings (joint limits widened
     to the readings) are in ``plan.warnings``."""
     def text(value: Any) -> str:
         return "" if value is None else os.fspath(value)
 
+    if probe is None:
+        probe = "estimate" if instrument is not None else 0.1
     native = _native.import_readings(text(folder), text(machine), text(urdf), base or "",
                                      tip or "", ball_bar, u_length, text(artifact), probe,
                                      encoder, unit or "", keep_calibrate, keep_limits,
-                                     text(output))
+                                     text(output), instrument, point_unit or "")
     plan = Plan.__new__(Plan)
     plan._require_placements = True
     plan._set_native(native)

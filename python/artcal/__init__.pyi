@@ -175,15 +175,17 @@ def import_readings(
     ball_bar: Optional[float] = None,
     u_length: float = 0.0,
     artifact: Optional[PathLike] = None,
-    probe: Union[float, str] = 0.1,
+    probe: Union[float, str, None] = None,
     encoder: float = 0.0,
     unit: Optional[str] = None,
     keep_calibrate: bool = False,
     keep_limits: bool = False,
     output: Optional[PathLike] = None,
+    instrument: Optional[float] = None,
+    point_unit: Optional[str] = None,
 ) -> Plan:
     """artcal import-readings FOLDER (--urdf U --base B --tip T | --machine M) (--ball-bar L |
-    --artifact A) [-o OUTPUT]."""
+    --artifact A | --instrument NOISE) [-o OUTPUT]."""
 def export_urdf(
     machine: Union[PathLike, Mapping[str, Any]], urdf: PathLike, output: Optional[PathLike] = None
 ) -> str:

@@ -26,6 +26,18 @@ def test_import_readings_equals_cli():
     assert joints.shape[1] == 7
 
 
+def test_import_readings_of_instrument_stations_equals_cli():
+    options = ["--machine", "plans/tracker-arm6-2stations.json", "--unit", "deg",
+               "--point-unit", "m"]
+    expected = cli_json("import-readings", "plans/tracker-arm6", *options, "--instrument", "0.02",
+                        "-o", "-")
+    plan = artcal.import_readings("plans/tracker-arm6", machine="plans/tracker-arm6-2stations.json",
+                                  unit="deg", point_unit="m", instrument=0.02)
+    assert plan.to_dict() == expected
+    assert expected["noise"]["probe"] == "estimate"
+    assert [p["name"] for p in expected["placements"]] == ["station1", "station2"]
+
+
 def test_import_readings_written_equals_cli_file(tmp_path):
     cli_out, py_out = tmp_path / "cli.json", tmp_path / "py.json"
     args = ["--probe", "0.12", "--encoder", "0.005", "--u-length", "0.001"]
