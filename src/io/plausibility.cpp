@@ -112,6 +112,13 @@ double poseDisagreement(const Plan& plan, const Artifact& artifact, const Placem
   return worst;
 }
 
+/// False for an instrument's station planned without its measured points: its pose (where the
+/// instrument will stand) has nothing yet to be compared with.
+bool everyPointGiven(const Placement& placement) {
+  return std::all_of(placement.measurements.begin(), placement.measurements.end(),
+                     [](const Measurement& m) { return m.point_given; });
+}
+
 /// The largest distance between two of the artifact's features (mm).
 double artifactDiameter(const Artifact& artifact) {
   double diameter = 0.0;
@@ -225,7 +232,7 @@ void checkPlausibility(const Plan& plan, const Eigen::VectorXd& p, const std::st
               "metres) and that each reading's feature index is right");
     }
     checkArtifactFitsTheMachine(plan, placement, where, reach);
-    if (!placement.pose) continue;
+    if (!placement.pose || !everyPointGiven(placement)) continue;
     const double pose_threshold = std::max(threshold, kPoseFloor);
     const double disagreement = poseDisagreement(plan, artifact, placement, points);
     if (!(disagreement <= pose_threshold)) {
