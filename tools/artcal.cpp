@@ -39,6 +39,31 @@ std::vector<CommandFactory> registeredCommands() {
   return out;
 }
 
+namespace {
+
+/// A validator of the numbers `accept` takes, naming them as `expected` ("a number > 0").
+CLI::Validator numberValidator(bool (*accept)(double), const std::string& expected) {
+  return CLI::Validator(
+      [accept, expected](std::string& input) -> std::string {
+        char* end = nullptr;
+        const double value = std::strtod(input.c_str(), &end);
+        if (input.empty() || end != input.c_str() + input.size() || !accept(value))
+          return "expected " + expected + ", not \"" + input + "\"";
+        return {};
+      },
+      "NUMBER", "");
+}
+
+}  // namespace
+
+CLI::Validator positiveNumber() {
+  return numberValidator([](double v) { return v > 0.0; }, "a number > 0");
+}
+
+CLI::Validator nonNegativeNumber() {
+  return numberValidator([](double v) { return v >= 0.0; }, "a number >= 0");
+}
+
 Plan loadPlanReporting(const std::string& path, bool require_placements) {
   Plan plan = loadPlan(path, require_placements);
   for (const std::string& warning : plan.warnings) std::cerr << "warning: " << warning << "\n";
@@ -203,7 +228,8 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    app.exit(e);
+    // One line, as every input error: what is wrong, and where to look.
+    std::cerr << "error: " << e.what() << " (artcal --help; artcal COMMAND --help)" << std::endl;
     return 2;
   }
   const std::string input = noteCommandLineInputs(app);

@@ -216,7 +216,7 @@ void addAcceptanceCommand(CLI::App& app, Action& action) {
   cmd->add_option("--seed", mc.seed, "random seed (same seed, same result, any thread count)")
       ->capture_default_str();
   cmd->add_option("--threads", mc.threads, "worker threads (0: all cores)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(nonNegativeNumber())
       ->capture_default_str();
   cmd->add_flag("--posterior", args->posterior,
                 "with a machine file: scale its covariance by its Birge ratio squared");

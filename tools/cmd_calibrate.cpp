@@ -89,7 +89,7 @@ void addSimulateCommand(CLI::App& app, Action& action) {
   cmd->add_option("-o,--output", args->output, "output plan with simulated readings ('-': stdout)")
       ->required();
   cmd->add_option("--noise-scale", args->noise_scale, "simulate K times the declared noise")
-      ->check(CLI::NonNegativeNumber)
+      ->check(nonNegativeNumber())
       ->capture_default_str();
   cmd->add_flag("--no-artifact-errors", args->no_artifact_errors,
                 "do not draw the artifacts' systematic errors (c = 0)");
@@ -147,20 +147,20 @@ void addCalibrateCommand(CLI::App& app, Action& action) {
                   "machine) to this file, when converged ('-': stdout, the tables then on "
                   "stderr)");
   cmd->add_option("--max-iterations", args->options.max_iterations, "iteration limit")
-      ->check(CLI::PositiveNumber)
+      ->check(positiveNumber())
       ->capture_default_str();
   cmd->add_option("--step-tol", args->options.step_tolerance,
                   "converged when every step is below this many standard uncertainties")
-      ->check(CLI::PositiveNumber)
+      ->check(positiveNumber())
       ->capture_default_str();
   cmd->add_option("--flag-threshold", args->options.flag_threshold,
                   "flag normalised residuals larger than this")
-      ->check(CLI::PositiveNumber)
+      ->check(positiveNumber())
       ->capture_default_str();
   cmd->add_option("--gross-threshold", args->options.gross_threshold,
                   "call a reading a gross error when its normalised residual exceeds this many "
                   "times max(1, Birge ratio)")
-      ->check(CLI::PositiveNumber)
+      ->check(positiveNumber())
       ->capture_default_str();
   cmd->callback([&action, args] { action = [args] { return runCalibrate(*args); }; });
 }
@@ -213,14 +213,14 @@ void addConfirmCommand(CLI::App& app, Action& action) {
       ->capture_default_str();
   cmd->add_option("--noise-scale", o.noise_scale,
                   "simulate K times the declared noise (K = 2 must not confirm)")
-      ->check(CLI::PositiveNumber)
+      ->check(positiveNumber())
       ->capture_default_str();
   cmd->add_option("--perturbation", o.perturbation,
                   "true parameters = nominal + this many predicted u times N(0, 1)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(nonNegativeNumber())
       ->capture_default_str();
   cmd->add_option("--allowance", o.allowance, "relative non-linearity allowance of the band")
-      ->check(CLI::NonNegativeNumber)
+      ->check(nonNegativeNumber())
       ->capture_default_str();
   cmd->add_option("--level", o.level, "family-wise false-alarm probability of the band")
       ->check(CLI::Range(1e-12, 0.5))

@@ -24,7 +24,7 @@ void addCommonOptions(CLI::App* cmd, EvaluateArguments& args) {
   cmd->add_flag("--json", args.json, "print one JSON document instead of the table");
   cmd->add_option("--rank-tol", args.rank_tolerance,
                   "relative eigenvalue tolerance of the rank test on the scaled N_red")
-      ->check(CLI::PositiveNumber)
+      ->check(positiveNumber())
       ->capture_default_str();
 }
 

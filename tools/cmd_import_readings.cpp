@@ -46,9 +46,9 @@ void addImportReadingsCommand(CLI::App& app, Action& action) {
   cmd->add_option("--tip", in.tip, "URDF link whose origin is the probe centre")->needs(urdf);
   auto* bar =
       cmd->add_option("--ball-bar", in.ball_bar, "the artifact: a ball bar of this length, mm")
-          ->check(CLI::PositiveNumber);
+          ->check(positiveNumber());
   cmd->add_option("--u-length", in.u_length, "standard uncertainty of the bar's length, mm")
-      ->check(CLI::NonNegativeNumber)
+      ->check(nonNegativeNumber())
       ->needs(bar);
   auto* artifact =
       cmd->add_option("--artifact", in.artifact_file,
@@ -58,7 +58,7 @@ void addImportReadingsCommand(CLI::App& app, Action& action) {
       cmd->add_option("--instrument", in.instrument,
                       "the artifact: a laser tracker or total station of this noise, mm per "
                       "coordinate; DIR holds one CSV per station (joints, then x, y, z)")
-          ->check(CLI::PositiveNumber);
+          ->check(positiveNumber());
   instrument->excludes(bar);
   instrument->excludes(artifact);
   cmd->add_option("--point-unit", in.point_unit,
@@ -69,7 +69,7 @@ void addImportReadingsCommand(CLI::App& app, Action& action) {
                                 "--instrument: the robot's own scatter, estimated by calibrate)")
                     ->capture_default_str();
   cmd->add_option("--encoder", in.encoder, "noise.encoder: deg (mm for prismatic joints)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(nonNegativeNumber())
       ->capture_default_str();
   cmd->add_option("--unit", in.unit,
                   "unit of every file's readings (deg, rad, mm, m), instead of "

@@ -211,10 +211,9 @@ void addOptimizeCommand(CLI::App& app, Action& action) {
   cmd->add_flag("--quiet", args->quiet, "no progress line on stderr");
   cmd->add_option("--starts", args->starts, "starts (overrides design.starts)")
       ->check(CLI::Range(1, 10000));
-  cmd->add_option("--seed", args->seed, "seed (overrides design.seed)")
-      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--seed", args->seed, "seed (overrides design.seed)")->check(nonNegativeNumber());
   cmd->add_option("--time-limit", args->time_limit, "seconds (overrides design.time_limit)")
-      ->check(CLI::PositiveNumber);
+      ->check(positiveNumber());
   cmd->add_option("--threads", args->threads, "worker threads; 0: all cores")
       ->check(CLI::Range(0, kMaxThreads))
       ->capture_default_str();
@@ -239,7 +238,7 @@ void addOptimizeCommand(CLI::App& app, Action& action) {
                   "the summary");
   cmd->add_option("--target-tip", args->target_tip,
                   "with --placements: the criterion to reach, mm (overrides design.target_tip)")
-      ->check(CLI::PositiveNumber);
+      ->check(positiveNumber());
   cmd->add_option("--algorithm", args->algorithm, "continuous refinement (NLopt)")
       ->check(CLI::IsMember({"sbplx", "bobyqa", "neldermead", "cobyla", "none"}))
       ->capture_default_str();

@@ -179,7 +179,7 @@ void addReportCommand(CLI::App& app, Action& action) {
   cmd->add_flag("--json", args->json, "print what was written as one JSON document");
   cmd->add_option("--rank-tol", args->rank_tolerance,
                   "relative eigenvalue tolerance of the rank test on the scaled N_red")
-      ->check(CLI::PositiveNumber)
+      ->check(positiveNumber())
       ->capture_default_str();
   cmd->add_option("--profile-steps", args->profile_steps,
                   "rows of the planar2r tip-uncertainty profile against reach")
@@ -190,7 +190,7 @@ void addReportCommand(CLI::App& app, Action& action) {
                 "(automatic for a plan written by `artcal simulate`)");
   cmd->add_option("--flag-threshold", args->flag_threshold,
                   "normalized residual beyond which a reading is flagged (as calibrate)")
-      ->check(CLI::PositiveNumber)
+      ->check(positiveNumber())
       ->capture_default_str();
   cmd->add_option("--held-out", args->held_out,
                   "an instrument plan of held-out stations of the same machine: the report shows "

@@ -78,7 +78,7 @@ void addVerifyCommand(CLI::App& app, Action& action) {
                   "default: the plan's own nominal machine");
   cmd->add_option("--outliers", args->outliers,
                   "how many of the readings farthest from their feature's mean to list")
-      ->check(CLI::NonNegativeNumber)
+      ->check(nonNegativeNumber())
       ->capture_default_str();
   cmd->add_flag("--json", args->json, "print one JSON document instead of the tables");
   cmd->callback([&action, args] { action = [args] { return runVerify(*args); }; });

@@ -13,6 +13,11 @@
 
 namespace artcal::cli {
 
+/// CLI11's PositiveNumber and NonNegativeNumber, saying what they expect in a line a user reads
+/// (CLI11's own prints the range up to the largest double).
+CLI::Validator positiveNumber();
+CLI::Validator nonNegativeNumber();
+
 /// What main runs once the command line is parsed.
 using Action = std::function<int()>;
 

@@ -379,10 +379,27 @@ TEST(FuzzRegression, CsvReadingThatOverflowsInConversionIsRefused) {
     (void)readJointCsv(file, kinds, *readingUnitsFromName("m"));
     FAIL() << "no InputError";
   } catch (const InputError& e) {
-    EXPECT_EQ(e.describe(), file + ": line 1: column 2: \"1e306\" is too large for a joint "
-                                   "reading; check the column's unit")
+    EXPECT_EQ(e.describe(), file +
+                                ": line 1: column 2: \"1e306\" is too large for a joint "
+                                "reading; check the column's unit")
         << e.describe();
   }
+}
+
+// A command line the parser refuses (a number out of its range, options that exclude each other)
+// is one line saying what it expected, exit 2, as every input error.
+TEST(CommandLine, AnOptionOutOfItsRangeIsOneLineNamingIt) {
+  TempDir dir;
+  const std::string plan = test_support::planFile("paper-2r-5bars.json");
+  const CliResult negative = runCli(dir, "calibrate '" + plan + "' --gross-threshold -1");
+  EXPECT_EQ(negative.status, 2);
+  EXPECT_EQ(negative.err,
+            "error: --gross-threshold: expected a number > 0, not \"-1\" (artcal --help; artcal "
+            "COMMAND --help)\n");
+  const CliResult word = runCli(dir, "evaluate '" + plan + "' --rank-tol abc");
+  EXPECT_EQ(word.status, 2);
+  EXPECT_EQ(lineCount(word.err), 1u) << word.err;
+  EXPECT_NE(word.err.find("--rank-tol"), std::string::npos) << word.err;
 }
 
 // ------------------------------------------------------------------------------ resource bounds
@@ -897,5 +914,5 @@ TEST(OutputSafety, DashMeansStandardOutputForEveryWritingCommand) {
   }
 }
 
-}  // namespace
+}  // namespace hardening_test
 }  // namespace artcal

@@ -86,7 +86,10 @@ def test_import_readings_missing_options_raise_the_cli_line(options, kwargs):
     done = run_cli("import-readings", f"{MUKCA}/panda_2", *options, expect=(2,))
     with pytest.raises(artcal.InputError) as raised:
         artcal.import_readings(f"{MUKCA}/panda_2", **kwargs)
-    assert str(raised.value) == done.stderr.splitlines()[0]
+    # The command line's one line without its "error: " and its pointer to --help.
+    line = done.stderr.splitlines()[0]
+    assert line.startswith("error: ") and line.endswith(" (artcal --help; artcal COMMAND --help)")
+    assert str(raised.value) == line[len("error: "):-len(" (artcal --help; artcal COMMAND --help)")]
 
 
 def test_export_urdf_equals_cli_bytes(tmp_path):
