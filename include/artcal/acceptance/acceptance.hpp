@@ -1,5 +1,5 @@
 #pragma once
-// What an acceptance-test prediction starts from (spec acceptance.md): the calibrated machine
+// What an acceptance-test prediction starts from (docs/method.md section 9): the calibrated machine
 // (its parameters), the covariance V_p of its calibrated parameters (a plan's predicted one, or
 // a machine file's), and the noise of the readings (the plan's: probing per point, encoders per
 // reading). Parameters outside the covariance are taken as exact.

@@ -1,6 +1,6 @@
 #pragma once
-// The ISO 10360-2 length test of a Cartesian CMM predicted from the calibration (spec
-// acceptance.md, docs/method.md "Acceptance tests"):
+// The ISO 10360-2 length test of a Cartesian CMM predicted from the calibration (docs/method.md
+// section 9, "Acceptance tests predicted"):
 //
 // - the volume: the box of stylus-0 tip positions over the axis ranges (axes along the machine
 //   frame's x, y, z, either sign); its centre c;

@@ -1,6 +1,6 @@
 #pragma once
 // Monte-Carlo of an acceptance test whose results are linear in one shared Gaussian draw plus
-// independent Gaussian noise per result (docs/method.md, acceptance; spec acceptance.md):
+// independent Gaussian noise per result (docs/method.md, acceptance; docs/method.md section 9):
 //
 //   s = A z,  z ~ N(0, I_n)               the systematic part, ONE draw per trial shared by all
 //                                          results (A = G chol(V_p): rows are the results'

@@ -1,6 +1,6 @@
 #pragma once
-// The ISO 9283 pose accuracy test of an arm or robot predicted from the calibration (spec
-// acceptance.md, docs/method.md "Acceptance tests"):
+// The ISO 9283 pose accuracy test of an arm or robot predicted from the calibration (docs/method.md
+// section 9, "Acceptance tests predicted"):
 //
 // - the cube: edge e, centre c, axes along the base frame, h = e/2; the measuring plane through
 //   Q1 = c + (-h,-h,-h), Q2 = c + (h,h,-h), Q3 = c + (h,h,h), Q4 = c + (-h,-h,h); the points

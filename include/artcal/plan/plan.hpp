@@ -189,7 +189,7 @@ struct CalibratedSetResolution {
   std::vector<double> weak_fraction;  ///< each one's surviving fraction when it was held
 };
 
-/// The plan's optional `acceptance` block (docs/plan-format.md; spec acceptance.md): the test
+/// The plan's optional `acceptance` block (docs/plan-format.md; docs/method.md section 9): the test
 /// the calibrated machine must pass, as the file states it.
 struct AcceptanceSpec {
   std::string test;                       ///< "iso10360-2" or "iso9283"
