@@ -1044,7 +1044,7 @@ double legendreExplicit(int n, double s) {
 
 struct CmmCurvesCase {
   Plan plan = loadPlan(test_support::planFile("cmm-plate-3planes.json"));
-  const Cartesian& cmm = *cartesianOf(plan);
+  const AxisErrorFunctions& cmm = *axisErrorFunctionsOf(plan);
   Eigen::MatrixXd V;
   Eigen::VectorXd estimate, truth;
 
@@ -1148,7 +1148,7 @@ TEST_F(ReportCli, CartesianReportDrawsTheErrorFunctions) {
   std::set<std::string> names;
   for (const json& f : summary.at("figures")) names.insert(f.at("name").get<std::string>());
   const Plan plan = loadPlan(data("ref-cartesian-plate.json"));
-  for (const CartesianAxis& axis : cartesianOf(plan)->axes()) {
+  for (const CartesianAxis& axis : axisErrorFunctionsOf(plan)->axes()) {
     for (const char* kind : {"-translations", "-rotations"}) {
       const std::string name = "error-functions-" + axis.name + kind;
       ASSERT_TRUE(names.count(name)) << name;
