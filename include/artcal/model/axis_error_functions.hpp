@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include "artcal/core/enum_names.hpp"
+
 namespace artcal {
 
 struct CartesianAxis {
@@ -25,8 +27,15 @@ struct CartesianAxis {
 enum class AxisError { Tx, Ty, Tz, Rx, Ry, Rz };
 inline constexpr int kAxisErrorCount = 6;
 
+/// The functions' names in parameter names ("x.ty.2") and tables.
+inline constexpr EnumNames<AxisError, kAxisErrorCount> kAxisErrorNames{{{AxisError::Tx, "tx"},
+                                                                        {AxisError::Ty, "ty"},
+                                                                        {AxisError::Tz, "tz"},
+                                                                        {AxisError::Rx, "rx"},
+                                                                        {AxisError::Ry, "ry"},
+                                                                        {AxisError::Rz, "rz"}}};
 /// "tx", ..., "rz".
-const char* axisErrorName(AxisError error);
+std::string axisErrorName(AxisError error);
 /// The metrologist's name of axis `axis`'s error function `error` along an axis whose direction
 /// is `direction`: positioning, straightness (in y), pitch, yaw, roll, ...
 std::string axisErrorMeaning(const Eigen::Vector3d& direction, AxisError error);
