@@ -125,10 +125,10 @@ std::vector<AbsorbedRotation> frameRotationsAbsorbed(const Mechanism& model,
     AbsorbedRotation rotation;
     rotation.axis = axis;
     // Sign: the largest component positive, so that "about x" reads as +x; of components equal
-    // up to rounding (a diagonal), the first, so that rounding does not flip the axis.
+    // up to rounding (a diagonal), the last, so that rounding does not flip the axis.
     const double largest = rotation.axis.cwiseAbs().maxCoeff();
-    int at = 0;
-    while (std::abs(rotation.axis[at]) < largest - 1e-9) ++at;
+    int at = 2;
+    while (std::abs(rotation.axis[at]) < largest - 1e-9) --at;
     if (rotation.axis[at] < 0.0) rotation.axis = -rotation.axis;
     const Eigen::VectorXd v = frameRotationDirection(model, rotation.axis);
     for (int i = 0; i < v.size(); ++i) {
