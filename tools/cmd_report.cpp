@@ -103,7 +103,7 @@ void addErrorFunctionFigures(const Plan& plan, const nlohmann::json& document,
                              const std::string& path, const Evaluation& evaluation,
                              const std::optional<Calibration>& calibration,
                              std::vector<ReportFigure>& figures) {
-  if (!cartesianOf(plan)) return;
+  if (!axisErrorFunctionsOf(plan)) return;
   std::vector<ReportFigure> more;
   if (calibration && calibration->covariance) {
     std::optional<Eigen::VectorXd> truth;

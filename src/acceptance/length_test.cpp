@@ -5,7 +5,7 @@
 #include <limits>
 
 #include "artcal/core/error.hpp"
-#include "artcal/model/cartesian.hpp"
+#include "artcal/model/axis_error_functions.hpp"
 
 namespace artcal {
 
@@ -17,8 +17,9 @@ namespace {
 
 constexpr double kDirectionTolerance = 1e-9;
 
-const Cartesian& cartesianOf(const AcceptanceInput& input) {
-  const auto* cartesian = dynamic_cast<const Cartesian*>(input.machine->mechanism.get());
+// The machine has axes (Mechanism::axisErrorFunctions(): a Cartesian CMM's), each along x, y or z.
+void checkMachineAxes(const AcceptanceInput& input) {
+  const AxisErrorFunctions* cartesian = input.machine->mechanism->axisErrorFunctions();
   if (!cartesian)
     throw InputError(input.source, "/machine/model",
                      "the ISO 10360-2 length test needs a Cartesian CMM (model \"cartesian\")");
@@ -28,7 +29,6 @@ const Cartesian& cartesianOf(const AcceptanceInput& input) {
       throw InputError(input.source, "/machine/axes/" + std::to_string(k) + "/direction",
                        "the length test needs every axis along the machine frame's x, y or z");
   }
-  return *cartesian;
 }
 
 /// The box of stylus-0 tip positions over the axis ranges (nominal geometry: the corners).
@@ -86,17 +86,19 @@ double segmentLength(const Eigen::Vector3d& half, const Eigen::Vector3d& u) {
 }
 
 /// Axis readings putting stylus 0 on `tip`, with J_p and J_q there.
-Eigen::VectorXd readingsAt(const AcceptanceInput& input, const Cartesian& cartesian,
-                           const Eigen::Vector3d& tip, Eigen::MatrixXd& J_p, Eigen::MatrixXd& J_q) {
-  auto q = cartesian.inverse(input.parameters, tip, 0);
-  if (!q)
+Eigen::VectorXd readingsAt(const AcceptanceInput& input, const Eigen::Vector3d& tip,
+                           Eigen::MatrixXd& J_p, Eigen::MatrixXd& J_q) {
+  // The axes' one solution (Newton from the nominal closed form).
+  const Mechanism& cartesian = *input.machine->mechanism;
+  const std::vector<Eigen::VectorXd> q = cartesian.closedFormInverse(input.parameters, tip, 0);
+  if (q.empty())
     throw RunError(input.source, "/machine",
                    "the length test's end (" + std::to_string(tip.x()) + ", " +
                        std::to_string(tip.y()) + ", " + std::to_string(tip.z()) +
                        ") mm cannot be reached by stylus 0");
   Eigen::VectorXd x;
-  forwardOrThrow(cartesian, input.parameters, *q, x, &J_p, &J_q, 0);
-  return *q;
+  forwardOrThrow(cartesian, input.parameters, q.front(), x, &J_p, &J_q, 0);
+  return q.front();
 }
 
 /// u^T J_q Sigma_q J_q^T u.
@@ -115,9 +117,8 @@ std::vector<int> exactParameters(const AcceptanceInput& input) {
   return exact;
 }
 
-Gauge makeGauge(const AcceptanceInput& input, const Cartesian& cartesian,
-                const LengthTestPrediction& prediction, const Line& line, double fraction,
-                const Mpe& mpe) {
+Gauge makeGauge(const AcceptanceInput& input, const LengthTestPrediction& prediction,
+                const Line& line, double fraction, const Mpe& mpe) {
   Gauge gauge;
   gauge.kind = line.kind;
   gauge.direction = line.direction;
@@ -127,8 +128,8 @@ Gauge makeGauge(const AcceptanceInput& input, const Cartesian& cartesian,
   gauge.a = prediction.center - 0.5 * gauge.length * line.direction;
   gauge.b = prediction.center + 0.5 * gauge.length * line.direction;
   Eigen::MatrixXd J_p_a, J_q_a, J_p_b, J_q_b;
-  gauge.joints_a = readingsAt(input, cartesian, gauge.a, J_p_a, J_q_a);
-  gauge.joints_b = readingsAt(input, cartesian, gauge.b, J_p_b, J_q_b);
+  gauge.joints_a = readingsAt(input, gauge.a, J_p_a, J_q_a);
+  gauge.joints_b = readingsAt(input, gauge.b, J_p_b, J_q_b);
   const Eigen::RowVectorXd g_full = line.direction.transpose() * (J_p_b - J_p_a).topRows(3);
   gauge.g = calibratedColumns(g_full, input.uncertainty.indices);
   gauge.g_exact = calibratedColumns(g_full, exactParameters(input));
@@ -263,7 +264,7 @@ double conditionalStatisticQuantile(const LengthTestPrediction& prediction,
 
 LengthTestPrediction predictLengthTestLinear(const AcceptanceInput& input,
                                              const LengthTestOptions& options) {
-  const Cartesian& cartesian = cartesianOf(input);
+  checkMachineAxes(input);
   LengthTestPrediction prediction;
   prediction.mpe = options.mpe;
   prediction.repetitions = options.repetitions;
@@ -273,7 +274,7 @@ LengthTestPrediction predictLengthTestLinear(const AcceptanceInput& input,
   prediction.lines = static_cast<int>(lines.size());
   for (std::size_t l = 0; l < lines.size(); ++l) {
     for (double fraction : options.fractions) {
-      Gauge gauge = makeGauge(input, cartesian, prediction, lines[l], fraction, options.mpe);
+      Gauge gauge = makeGauge(input, prediction, lines[l], fraction, options.mpe);
       gauge.line = static_cast<int>(l);
       prediction.gauges.push_back(std::move(gauge));
     }

@@ -6,17 +6,7 @@
 namespace artcal {
 
 std::string artifactKindName(ArtifactKind kind) {
-  switch (kind) {
-    case ArtifactKind::BallBar:
-      return "ball_bar";
-    case ArtifactKind::BallPlate:
-      return "ball_plate";
-    case ArtifactKind::StepGauge:
-      return "step_gauge";
-    case ArtifactKind::Instrument:
-      return "instrument";
-  }
-  throw std::logic_error("unknown artifact kind");
+  return nameOf(kArtifactKindNames, kind);
 }
 
 Artifact Artifact::ballBar(std::string id, int dimension, double length, double u_length) {

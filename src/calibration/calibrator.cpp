@@ -8,15 +8,7 @@
 namespace artcal {
 
 std::string terminationName(TerminationType type) {
-  switch (type) {
-    case TerminationType::Converged:
-      return "converged";
-    case TerminationType::NoConvergence:
-      return "no_convergence";
-    case TerminationType::Failure:
-      return "failure";
-  }
-  return "failure";
+  return nameOf(kTerminationNames, type);
 }
 
 bool CalibrationOptions::isValid(std::string* error) const {

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "artcal/core/error.hpp"
+#include "artcal/estimation/reading_noise.hpp"
 
 namespace artcal {
 
@@ -32,9 +33,8 @@ ReadingLinearization linearize(const Plan& plan, const Artifact& instrument, con
   for (std::size_t k = 0; k < indices.size(); ++k)
     out.J.col(static_cast<int>(k)) = station.R * J_x_p.col(indices[k]);
   const Eigen::MatrixXd Jq = station.R * J_x_q;
-  out.Sigma = Jq * plan.noise.encoder.array().square().matrix().asDiagonal() * Jq.transpose();
-  out.Sigma.diagonal().array() +=
-      plan.noise.probe * plan.noise.probe + instrument.noise * instrument.noise;
+  readingCovariance(plan.noise.encoder, Jq,
+                    readingPointVariance(plan.noise.probe, instrument.noise), out.Sigma);
   return out;
 }
 

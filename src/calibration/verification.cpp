@@ -5,6 +5,7 @@
 
 #include "artcal/estimation/design_matrix.hpp"
 #include "artcal/estimation/normal_matrix.hpp"
+#include "artcal/estimation/reading_noise.hpp"
 
 namespace artcal {
 
@@ -28,8 +29,8 @@ ReadingModel modelReading(const Plan& plan, const Eigen::VectorXd& p, const Meas
   out.J.resize(d, static_cast<int>(indices.size()));
   for (std::size_t k = 0; k < indices.size(); ++k)
     out.J.col(static_cast<int>(k)) = J_x_p.col(indices[k]);
-  out.Sigma = J_x_q * plan.noise.encoder.array().square().matrix().asDiagonal() * J_x_q.transpose();
-  out.Sigma.diagonal().array() += plan.noise.probe * plan.noise.probe;
+  readingCovariance(plan.noise.encoder, J_x_q, readingPointVariance(plan.noise.probe, 0.0),
+                    out.Sigma);
   return out;
 }
 

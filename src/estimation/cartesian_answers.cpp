@@ -1,5 +1,5 @@
-// What a Cartesian CMM's plan answers (cartesian_answers.hpp), computed once here for check,
-// evaluate and report, which print it.
+// What a plan of a model with axis error functions (a Cartesian CMM) answers
+// (cartesian_answers.hpp), computed once here for check, evaluate and report, which print it.
 #include <algorithm>
 #include <map>
 #include <string>
@@ -12,14 +12,15 @@ namespace artcal {
 
 namespace {
 
-// The reduced information of every model parameter (the frame-rotation test needs them all).
-Eigen::MatrixXd fullInformation(const Plan& plan) {
+// The information of every model parameter as the rank test sees it (the frame-rotation test
+// needs them all): N_red without the prior and the unreduced diagonal.
+PlanInformation fullInformation(const Plan& plan) {
   Plan all = plan;
   all.machine.calibrated.clear();
   for (int i = 0; i < plan.machine.mechanism->parameterCount(); ++i) {
     all.machine.calibrated.push_back(i);
   }
-  return parameterInformation(all, all.placements, all.machine.nominal);
+  return planInformation(all, all.placements, all.machine.nominal, false);
 }
 
 // Model parameters not calibrated: the dropped ones of "identifiable", or those the plan fixed.
@@ -35,23 +36,24 @@ std::vector<int> notCalibrated(const Plan& plan) {
 
 }  // namespace
 
-const Cartesian* cartesianOf(const Plan& plan) {
-  return dynamic_cast<const Cartesian*>(plan.machine.mechanism.get());
+const AxisErrorFunctions* axisErrorFunctionsOf(const Plan& plan) {
+  return plan.machine.mechanism->axisErrorFunctions();
 }
 
 CartesianAnswers cartesianAnswers(const Plan& plan, const Evaluation* evaluation,
                                   int profile_steps) {
   CartesianAnswers answers;
-  const Cartesian* cmm = cartesianOf(plan);
+  const AxisErrorFunctions* cmm = axisErrorFunctionsOf(plan);
   if (!cmm) return answers;
-  answers.absorbed = frameRotationsAbsorbed(*cmm, fullInformation(plan));
+  const Mechanism& model = *plan.machine.mechanism;
+  answers.absorbed = frameRotationsAbsorbed(model, fullInformation(plan));
   std::vector<int> dropped = notCalibrated(plan);
   // Each absorbed rotation holds one of the parameters it moves at its nominal value: the
   // squareness the frame defines. The rest of the dropped ones the plan cannot separate.
   for (const AbsorbedRotation& rotation : answers.absorbed) {
     std::string held;
     for (auto it = dropped.begin(); it != dropped.end(); ++it) {
-      const std::string& name = cmm->parameters()[static_cast<std::size_t>(*it)].name;
+      const std::string& name = model.parameters()[static_cast<std::size_t>(*it)].name;
       if (std::find(rotation.involves.begin(), rotation.involves.end(), name) !=
           rotation.involves.end()) {
         held = name;
@@ -75,7 +77,7 @@ CartesianAnswers cartesianAnswers(const Plan& plan, const Evaluation* evaluation
         {axis.name + "." + axisErrorName(error), axisErrorMeaning(axis.direction, error), degrees});
   }
   if (evaluation && evaluation->covariance) {
-    answers.profiles = errorFunctionProfiles(*cmm, plan.machine, evaluation->covariance->V,
+    answers.profiles = errorFunctionProfiles(plan.machine, evaluation->covariance->V,
                                              plan.machine.nominal, profile_steps);
   }
   return answers;
@@ -86,10 +88,9 @@ ErrorFunctionBands errorFunctionBands(const Plan& plan, const Eigen::MatrixXd& V
                                       const Eigen::VectorXd* truth, int steps) {
   ErrorFunctionBands bands;
   bands.calibrated = calibrated;
-  const Cartesian* cmm = cartesianOf(plan);
-  if (!cmm) return bands;
-  bands.profiles = errorFunctionProfiles(*cmm, plan.machine, V, p, steps);
-  if (truth) bands.truth = errorFunctionProfiles(*cmm, plan.machine, V, *truth, steps);
+  if (!axisErrorFunctionsOf(plan)) return bands;
+  bands.profiles = errorFunctionProfiles(plan.machine, V, p, steps);
+  if (truth) bands.truth = errorFunctionProfiles(plan.machine, V, *truth, steps);
   return bands;
 }
 

@@ -3,6 +3,8 @@
 #include <Eigen/Cholesky>
 #include <set>
 
+#include "artcal/estimation/reading_noise.hpp"
+
 namespace artcal {
 
 DesignMatrixBuilder::DesignMatrixBuilder(const Machine& machine, const Noise& noise)
@@ -57,8 +59,7 @@ void DesignMatrixBuilder::build(const Artifact& artifact,
   block.A_c.setZero(rows, n_c);
   if (with_residuals) block.e.resize(rows);
   // An instrument's own noise adds in quadrature to the probe's (instruments.md).
-  const double sigma_p2 = noise_->probe * noise_->probe + artifact.noise * artifact.noise;
-  const auto sigma_q2 = noise_->encoder.array().square().matrix().asDiagonal();
+  const double sigma_p2 = readingPointVariance(noise_->probe, artifact.noise);
   J_r_.resize(k, n_r);
   for (std::size_t i = 0; i < measurements.size(); ++i) {
     const Measurement& m = measurements[i];
@@ -89,8 +90,8 @@ void DesignMatrixBuilder::build(const Artifact& artifact,
       L = held->factors[i].topLeftCorner(k, k);
     } else {
       J_valued_q_.noalias() = R_valued.lazyProduct(J_x_q_);
-      Small sigma = (J_valued_q_ * sigma_q2).lazyProduct(J_valued_q_.transpose());
-      sigma.diagonal().array() += sigma_p2;
+      Small sigma;
+      readingCovariance(noise_->encoder, J_valued_q_, sigma_p2, sigma);
       L = Eigen::LLT<Small>(sigma).matrixL();
     }
     if (record) {
@@ -110,7 +111,6 @@ void DesignMatrixBuilder::misfits(const Artifact& artifact,
                                   const Eigen::VectorXd& p, const RigidTransform& r,
                                   const Eigen::VectorXd& c, std::vector<ReadingMisfit>& out) const {
   const int k = artifact.valuedPerFeature();
-  const auto sigma_q2 = noise_->encoder.array().square().matrix().asDiagonal();
   Eigen::VectorXd x;
   Eigen::MatrixXd J_x_q;
   for (const Measurement& m : measurements) {
@@ -118,9 +118,9 @@ void DesignMatrixBuilder::misfits(const Artifact& artifact,
     const Eigen::MatrixXd J_valued_q = r.R.topRows(k) * J_x_q;
     ReadingMisfit misfit;
     misfit.residual = (r.apply(x) - readingTarget(artifact, m, c)).head(k);
-    misfit.encoder_covariance = J_valued_q * sigma_q2 * J_valued_q.transpose();
     // An instrument's stated noise is known: it joins the part the probe-noise estimate keeps.
-    misfit.encoder_covariance.diagonal().array() += artifact.noise * artifact.noise;
+    readingCovariance(noise_->encoder, J_valued_q, readingPointVariance(0.0, artifact.noise),
+                      misfit.encoder_covariance);
     out.push_back(std::move(misfit));
   }
 }

@@ -3,6 +3,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "artcal/core/linear_algebra.hpp"
 
@@ -19,18 +20,27 @@ std::vector<int> calibratedPositions(const Machine& machine) {
   return where;
 }
 
+// The model's error-function layout; a model without one is the caller's mistake.
+const AxisErrorFunctions& axisErrorsOf(const Mechanism& model) {
+  const AxisErrorFunctions* layout = model.axisErrorFunctions();
+  if (!layout)
+    throw std::logic_error("error functions of model " + model.modelName() +
+                           ", which has none (Mechanism::axisErrorFunctions)");
+  return *layout;
+}
+
 }  // namespace
 
-std::vector<ErrorFunctionProfile> errorFunctionProfiles(const Cartesian& cmm,
-                                                        const Machine& machine,
+std::vector<ErrorFunctionProfile> errorFunctionProfiles(const Machine& machine,
                                                         const Eigen::MatrixXd& V,
                                                         const Eigen::VectorXd& p, int steps) {
+  const AxisErrorFunctions& cmm = axisErrorsOf(*machine.mechanism);
   const std::vector<int> where = calibratedPositions(machine);
   const int degree = cmm.degree();
   std::vector<double> P(static_cast<std::size_t>(degree + 1)), dP(P.size());
   std::vector<ErrorFunctionProfile> out;
   steps = std::max(steps, 2);
-  for (int k = 0; k < cmm.jointCount(); ++k) {
+  for (int k = 0; k < static_cast<int>(cmm.axes().size()); ++k) {
     const CartesianAxis& axis = cmm.axes()[static_cast<std::size_t>(k)];
     for (int e = 0; e < kAxisErrorCount; ++e) {
       ErrorFunctionProfile profile;
@@ -72,46 +82,38 @@ std::vector<ErrorFunctionProfile> errorFunctionProfiles(const Cartesian& cmm,
   return out;
 }
 
-Eigen::VectorXd frameRotationDirection(const Cartesian& cmm, const Eigen::Vector3d& w) {
-  Eigen::VectorXd v = Eigen::VectorXd::Zero(cmm.parameterCount());
-  for (int k = 0; k < cmm.jointCount(); ++k) {
-    const CartesianAxis& axis = cmm.axes()[static_cast<std::size_t>(k)];
+Eigen::VectorXd frameRotationDirection(const Mechanism& model, const Eigen::Vector3d& w) {
+  const AxisErrorFunctions& cmm = axisErrorsOf(model);
+  Eigen::VectorXd v = Eigen::VectorXd::Zero(model.parameterCount());
+  for (std::size_t k = 0; k < cmm.axes().size(); ++k) {
+    const CartesianAxis& axis = cmm.axes()[k];
     const double half_width = 0.5 * (axis.range[1] - axis.range[0]);
-    v.segment<3>(cmm.parameterIndex(k, AxisError::Tx, 1)) = w.cross(axis.direction) * half_width;
+    v.segment<3>(cmm.parameterIndex(static_cast<int>(k), AxisError::Tx, 1)) =
+        w.cross(axis.direction) * half_width;
   }
   return v;
 }
 
-std::vector<AbsorbedRotation> frameRotationsAbsorbed(const Cartesian& cmm,
-                                                     const Eigen::MatrixXd& full_information,
+std::vector<AbsorbedRotation> frameRotationsAbsorbed(const Mechanism& model,
+                                                     const PlanInformation& information,
                                                      double tolerance) {
-  // Scaled as the rank policy scales (identifiability.hpp): S = D^-1/2 N D^-1/2, y_w = D^1/2 v_w.
-  // A parameter whose information is rounding (D_i <= 1e-9 max D) is unobserved: its row is 0,
-  // not rounding blown up to 1.
-  const Eigen::VectorXd d = full_information.diagonal().cwiseMax(0.0).cwiseSqrt();
-  const double observed = 1e-9 * d.maxCoeff();
-  Eigen::VectorXd scale(d.size());
-  for (int i = 0; i < d.size(); ++i) scale[i] = d[i] > observed ? d[i] : 1.0;
-  Eigen::MatrixXd S =
-      scale.cwiseInverse().asDiagonal() * full_information * scale.cwiseInverse().asDiagonal();
-  for (int i = 0; i < d.size(); ++i) {
-    if (d[i] <= observed) {
-      S.row(i).setZero();
-      S.col(i).setZero();
-    }
-  }
+  // The rank test's matrix (identifiability.hpp): S = D^-1/2 N_red D^-1/2 with D the unreduced
+  // diagonal, an unobserved parameter's row and column 0; the direction v_w in the same scaled
+  // coordinates, y_w = D^1/2 v_w. The Rayleigh quotient y^T S y / y^T y is then the fraction of
+  // the rotation's own information that survives, compared absolutely as every rank decision.
+  const Eigen::MatrixXd S = scaledInformation(information);
+  const Eigen::VectorXd root = information.unreduced_diagonal.cwiseMax(0.0).cwiseSqrt();
   Eigen::MatrixXd Y(S.rows(), 3);
   for (int a = 0; a < 3; ++a) {
-    Y.col(a) = scale.asDiagonal() * frameRotationDirection(cmm, Eigen::Vector3d::Unit(a));
+    Y.col(a) = root.asDiagonal() * frameRotationDirection(model, Eigen::Vector3d::Unit(a));
   }
   // The rotations w minimising w^T (Y^T S Y) w / w^T (Y^T Y) w: the generalized eigenproblem.
   const Eigen::Matrix3d A = Y.transpose() * S * Y;
   const Eigen::Matrix3d B = Y.transpose() * Y;
-  const double largest = SymmetricEigenSolver(S, Eigen::EigenvaluesOnly).eigenvalues().maxCoeff();
   Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::Matrix3d> solver(A, B);
   std::vector<Eigen::Vector3d> axes;
   for (int a = 0; a < 3; ++a) {
-    if (solver.eigenvalues()[a] <= tolerance * largest) {
+    if (!(solver.eigenvalues()[a] > tolerance)) {
       axes.push_back(solver.eigenvectors().col(a).normalized());
     }
   }
@@ -122,14 +124,16 @@ std::vector<AbsorbedRotation> frameRotationsAbsorbed(const Cartesian& cmm,
   for (const Eigen::Vector3d& axis : axes) {
     AbsorbedRotation rotation;
     rotation.axis = axis;
-    // Sign: the largest component positive, so that "about x" reads as +x.
-    int at = 0;
-    rotation.axis.cwiseAbs().maxCoeff(&at);
+    // Sign: the largest component positive, so that "about x" reads as +x; of components equal
+    // up to rounding (a diagonal), the last, so that rounding does not flip the axis.
+    const double largest = rotation.axis.cwiseAbs().maxCoeff();
+    int at = 2;
+    while (std::abs(rotation.axis[at]) < largest - 1e-9) --at;
     if (rotation.axis[at] < 0.0) rotation.axis = -rotation.axis;
-    const Eigen::VectorXd v = frameRotationDirection(cmm, rotation.axis);
+    const Eigen::VectorXd v = frameRotationDirection(model, rotation.axis);
     for (int i = 0; i < v.size(); ++i) {
       if (std::abs(v[i]) > 1e-9 * v.cwiseAbs().maxCoeff()) {
-        rotation.involves.push_back(cmm.parameters()[static_cast<std::size_t>(i)].name);
+        rotation.involves.push_back(model.parameters()[static_cast<std::size_t>(i)].name);
       }
     }
     out.push_back(std::move(rotation));

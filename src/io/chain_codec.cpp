@@ -14,9 +14,7 @@ namespace {
 ChainJointType readJointType(const Node& joint) {
   const Node type = joint.at("type");
   const std::string t = type.string();
-  if (t == "revolute") return ChainJointType::Revolute;
-  if (t == "prismatic") return ChainJointType::Prismatic;
-  if (t == "fixed") return ChainJointType::Fixed;
+  if (const auto known = fromName(kChainJointTypeNames, t)) return *known;
   type.fail("unknown joint type \"" + t + "\" (expected revolute, prismatic or fixed)");
 }
 
@@ -94,18 +92,6 @@ MachineBlock readChain(const Node& machine, std::vector<std::string>& warnings) 
   return block;
 }
 
-const char* typeName(ChainJointType type) {
-  switch (type) {
-    case ChainJointType::Revolute:
-      return "revolute";
-    case ChainJointType::Prismatic:
-      return "prismatic";
-    case ChainJointType::Fixed:
-      break;
-  }
-  return "fixed";
-}
-
 void writeChain(const Mechanism& mechanism, const Eigen::VectorXd& parameters,
                 nlohmann::json& out) {
   const auto& chain = static_cast<const Chain&>(mechanism);  // made by readChain
@@ -117,7 +103,7 @@ void writeChain(const Mechanism& mechanism, const Eigen::VectorXd& parameters,
     const ChainJoint& joint = chain.joints()[static_cast<std::size_t>(i)];
     const int k = chain.parameterOffset(i);
     nlohmann::json entry = {{"name", joint.name},
-                            {"type", typeName(joint.type)},
+                            {"type", nameOf(kChainJointTypeNames, joint.type)},
                             {"origin",
                              {{"xyz", {fileValue(k), fileValue(k + 1), fileValue(k + 2)}},
                               {"rpy", {fileValue(k + 3), fileValue(k + 4), fileValue(k + 5)}}}}};

@@ -22,11 +22,8 @@ DHConvention readConvention(const Node& machine) {
   const auto convention = machine.find("convention");
   if (!convention) return DHConvention::Standard;
   const std::string c = convention->string();
-  if (c == "modified") return DHConvention::Modified;
-  if (c != "standard") {
-    convention->fail("unknown convention \"" + c + "\" (expected standard or modified)");
-  }
-  return DHConvention::Standard;
+  if (const auto known = fromName(kDHConventionNames, c)) return *known;
+  convention->fail("unknown convention \"" + c + "\" (expected standard or modified)");
 }
 
 // docs/models.md section 2: a joint may carry a Hayati "beta" (deg); jN.beta exists only then.
@@ -73,7 +70,8 @@ void writeSerialDH(const Mechanism& mechanism, const Eigen::VectorXd& parameters
     if (arm.hasBeta(j)) joint["beta"] = fileValue(k + 4);
     joints.push_back(joint);
   }
-  if (arm.convention() == DHConvention::Modified) out["convention"] = "modified";
+  if (arm.convention() == DHConvention::Modified)
+    out["convention"] = nameOf(kDHConventionNames, arm.convention());
   out["joints"] = joints;
   const int k = arm.probeParameterOffset();
   out["probe"] = {fileValue(k), fileValue(k + 1), fileValue(k + 2)};

@@ -39,9 +39,8 @@ void expAndRightJacobian(const Eigen::Vector3d& w, Eigen::Matrix3d& R, Eigen::Ma
 
 }  // namespace
 
-const char* axisErrorName(AxisError error) {
-  static constexpr const char* kNames[] = {"tx", "ty", "tz", "rx", "ry", "rz"};
-  return kNames[static_cast<int>(error)];
+std::string axisErrorName(AxisError error) {
+  return nameOf(kAxisErrorNames, error);
 }
 
 std::string axisErrorMeaning(const Eigen::Vector3d& direction, AxisError error) {

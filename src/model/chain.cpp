@@ -263,10 +263,10 @@ ForwardStatus Chain::forwardPose(const Eigen::VectorXd& p, const Eigen::VectorXd
   if (Jp) {
     for (int i = 0; i < n; ++i) {
       const int k = offsets_[i];
-      const Eigen::Vector3d arm = o - pivots.col(i);
-      for (int c = k + 3; c < k + 6; ++c) Jp->col(c) = Jp->col(c).cross(arm).eval();
+      for (int c = k + 3; c < k + 6; ++c)
+        Jp->col(c) = tipColumn(true, Jp->col(c), pivots.col(i), o);
       if (joints_[i].type == ChainJointType::Revolute) {
-        Jp->col(k + 6) = Jp->col(k + 6).cross(arm).eval();
+        Jp->col(k + 6) = tipColumn(true, Jp->col(k + 6), pivots.col(i), o);
       }
     }
   }
@@ -277,11 +277,8 @@ ForwardStatus Chain::forwardPose(const Eigen::VectorXd& p, const Eigen::VectorXd
       const ChainJointType type = joints_[i].type;
       if (!isMovable(type)) continue;
       const Coupling& c = couplings_[static_cast<std::size_t>(i)];
-      if (type == ChainJointType::Revolute) {
-        Jq.col(c.reading) += c.scale * joint_axes.col(i).cross(o - pivots.col(i));
-      } else {
-        Jq.col(c.reading) += c.scale * joint_axes.col(i);
-      }
+      Jq.col(c.reading) += c.scale * tipColumn(type == ChainJointType::Revolute, joint_axes.col(i),
+                                               pivots.col(i), o);
     }
   }
   return ForwardStatus::Ok;

@@ -112,7 +112,7 @@ std::optional<Eigen::VectorXd> solveInverseKinematics(const Machine& machine,
                                                       const IkOptions& options) {
   const Mechanism& mech = *machine.mechanism;
   if (mech.hasClosedFormInverse()) return closedFormNear(machine, p, target, q0, options.stylus);
-  if (const auto* oriented = dynamic_cast<const OrientedPostures*>(&mech)) {
+  if (const OrientedPostures* oriented = mech.orientedPostures()) {
     return orientedNear(machine, *oriented, p, target, q0);
   }
   Eigen::VectorXd q = q0;
@@ -152,7 +152,7 @@ std::vector<Eigen::VectorXd> diversePostures(const Machine& machine, const Eigen
                                              const IkOptions& options) {
   const int n = machine.jointCount();
   std::vector<Eigen::VectorXd> found;
-  const auto* oriented = dynamic_cast<const OrientedPostures*>(machine.mechanism.get());
+  const OrientedPostures* oriented = machine.mechanism->orientedPostures();
   if (oriented) found = orientedCandidates(machine, *oriented, p, target, attempts, rng, options);
   for (int a = 0; a < (oriented ? 0 : attempts); ++a) {
     Eigen::VectorXd q0(n);

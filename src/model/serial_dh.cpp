@@ -130,7 +130,7 @@ ForwardStatus SerialDH::forwardPose(const Eigen::VectorXd& p, const Eigen::Vecto
   x.resize(3);
   Eigen::Map<Eigen::Vector3d>(x.data()) = tip;
   auto turning = [&](const DhColumns& axis, const DhColumns& pivot, int i) -> Eigen::Vector3d {
-    return axis.col(i).cross(tip - pivot.col(i));
+    return tipColumn(true, axis.col(i), pivot.col(i), tip);
   };
   // Written through fixed-row maps: GCC 12 warns (-Warray-bounds, falsely) when fixed-size
   // vectors are assigned into blocks of a dynamic matrix under -march=native.
@@ -151,11 +151,8 @@ ForwardStatus SerialDH::forwardPose(const Eigen::VectorXd& p, const Eigen::Vecto
     J_x_q->resize(3, n);
     Jacobian J(J_x_q->data(), 3, n);
     for (int i = 0; i < n; ++i) {
-      if (joints_[i].kind == JointKind::Revolute) {
-        J.col(i) = turning(axes.theta_axis, axes.theta_pivot, i);
-      } else {
-        J.col(i) = axes.theta_axis.col(i);
-      }
+      J.col(i) = tipColumn(joints_[i].kind == JointKind::Revolute, axes.theta_axis.col(i),
+                           axes.theta_pivot.col(i), tip);
     }
   }
   if (J_w_p) {

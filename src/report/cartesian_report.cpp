@@ -136,7 +136,7 @@ svg::Plot recoveryPlot(const CartesianAxis& axis, const std::vector<ErrorFunctio
 
 nlohmann::json cartesianAnswersToJson(const Plan& plan, const CartesianAnswers& answers) {
   nlohmann::json out = nlohmann::json::object();
-  if (!cartesianOf(plan)) return out;
+  if (!axisErrorFunctionsOf(plan)) return out;
   nlohmann::json absorbed = nlohmann::json::array();
   for (std::size_t r = 0; r < answers.absorbed.size(); ++r) {
     const AbsorbedRotation& rotation = answers.absorbed[r];
@@ -173,7 +173,7 @@ nlohmann::json cartesianAnswersToJson(const Plan& plan, const CartesianAnswers& 
 }
 
 std::string cartesianAnswersTable(const Plan& plan, const CartesianAnswers& answers) {
-  const Cartesian* cmm = cartesianOf(plan);
+  const AxisErrorFunctions* cmm = axisErrorFunctionsOf(plan);
   if (!cmm) return {};
   std::ostringstream out;
   out << "\nFrame rotations the placements absorb (any artifact calibration; not a plan defect)\n";
@@ -218,7 +218,7 @@ std::string cartesianAnswersTable(const Plan& plan, const CartesianAnswers& answ
 
 std::vector<ReportFigure> errorFunctionFigures(const Plan& plan, const ErrorFunctionBands& bands) {
   std::vector<ReportFigure> figures;
-  const Cartesian* cmm = cartesianOf(plan);
+  const AxisErrorFunctions* cmm = axisErrorFunctionsOf(plan);
   if (!cmm || bands.profiles.empty()) return figures;
   const bool calibrated = bands.calibrated;
   const std::vector<ErrorFunctionProfile>& profiles = bands.profiles;
@@ -227,7 +227,7 @@ std::vector<ReportFigure> errorFunctionFigures(const Plan& plan, const ErrorFunc
   const std::string band = calibrated
                                ? "the calibrated estimate e(u) (markers) between e - u and e + u"
                                : "the band +- u of the predicted standard uncertainty";
-  for (int k = 0; k < cmm->jointCount(); ++k) {
+  for (int k = 0; k < static_cast<int>(cmm->axes().size()); ++k) {
     const CartesianAxis& axis = cmm->axes()[static_cast<std::size_t>(k)];
     const auto first = static_cast<std::ptrdiff_t>(k * kAxisErrorCount);
     const std::vector<ErrorFunctionProfile> functions(profiles.begin() + first,

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <initializer_list>
 #include <map>
+#include <optional>
 #include <sstream>
 
 #include "artcal/report/procedure.hpp"
@@ -649,27 +650,83 @@ void writeOptimization(std::ostream& out, const json& optimization) {
   out << "</table>\n";
 }
 
+/// One number of the optimizer's predicted block beside the same figure evaluated now.
+struct PredictedRow {
+  std::string label;  ///< its pointer in the predicted block, named elements by name (and unit)
+  json value;         ///< as the plan file has it
+  std::string now;    ///< its pointer in evaluate --json; empty: not evaluated now
+};
+
+const json* memberOf(const json* now, const std::string& key) {
+  return now && now->is_object() && now->contains(key) ? &now->at(key) : nullptr;
+}
+
+const json* elementOf(const json* now, std::size_t i) {
+  return now && now->is_array() && i < now->size() ? &(*now)[i] : nullptr;
+}
+
+std::optional<std::string> nameOfElement(const json& element) {
+  if (!element.is_object() || !element.contains("name") || !element.at("name").is_string())
+    return std::nullopt;
+  return element.at("name").get<std::string>();
+}
+
+/// The leaves of the predicted `value` paired with the same figure of the evaluation `now`: an
+/// element of an array of named objects (the parameters) is matched by its name, not by its index
+/// (the parameter set may have changed since the optimizer ran), and labelled by its name and unit.
+void pairPredicted(const json& value, const std::string& label, const json* now,
+                   const std::string& now_pointer, const std::string& unit,
+                   std::vector<PredictedRow>& rows) {
+  if (value.is_object()) {
+    for (const auto& [key, leaf] : value.items()) {
+      pairPredicted(leaf, label + "/" + key, memberOf(now, key), now_pointer + "/" + key, unit,
+                    rows);
+    }
+  } else if (value.is_array() && !value.empty() && !value.front().is_primitive()) {
+    for (std::size_t i = 0; i < value.size(); ++i) {
+      const json& element = value[i];
+      const std::optional<std::string> name = nameOfElement(element);
+      std::size_t j = i;  // unnamed elements pair by index
+      if (name) {
+        j = std::string::npos;  // none of that name now
+        for (std::size_t k = 0; now && now->is_array() && k < now->size(); ++k) {
+          if (nameOfElement((*now)[k]) == name) {
+            j = k;
+            break;
+          }
+        }
+      }
+      const std::string element_unit =
+          element.is_object() && element.contains("unit") && element.at("unit").is_string()
+              ? element.at("unit").get<std::string>()
+              : unit;
+      pairPredicted(element, label + "/" + (name ? *name : std::to_string(i)), elementOf(now, j),
+                    now_pointer + "/" + std::to_string(j), element_unit, rows);
+    }
+  } else if (value.is_number()) {
+    const bool evaluated = now && now->is_number();
+    rows.push_back({label + (unit.empty() ? "" : " (" + unit + ")"), value,
+                    evaluated ? now_pointer : std::string()});
+  }
+}
+
 /// The predicted numbers the optimizer wrote beside the same figures evaluated now (the same
-/// pointers of evaluate --json; the profile and correlation are shown in their figures).
+/// figures of evaluate --json, parameters by name; the profile and correlation are shown in their
+/// figures).
 void writePredicted(std::ostream& out, const json& predicted, const json& evaluation) {
-  std::vector<std::pair<std::string, json>> rows;
-  flatten(predicted, "", rows);
+  std::vector<PredictedRow> rows;
+  pairPredicted(predicted, "", &evaluation, "", "", rows);
   out << "<table>\n<tr><th>predicted by the optimizer</th><th>in the plan file</th>"
       << "<th>evaluated now</th></tr>\n";
-  for (const auto& [pointer, value] : rows) {
-    if (!value.is_number() || pointer.starts_with("/optimization") ||
-        pointer.starts_with("/profile") || pointer.starts_with("/correlation")) {
+  for (const PredictedRow& row : rows) {
+    if (row.label.starts_with("/optimization") || row.label.starts_with("/profile") ||
+        row.label.starts_with("/correlation")) {
       continue;
     }
-    out << "<tr><td>" << svg::escape(pointer.substr(1)) << "</td><td class=\"num\">"
-        << svg::escape(jsonText(value)) << "</td>";
-    const json::json_pointer here(pointer);
-    if (value.is_number() && evaluation.contains(here) && evaluation.at(here).is_number()) {
-      out << numberCell(evaluation, pointer, 1, "%.6g");
-    } else {
-      out << "<td></td>";
-    }
-    out << "</tr>\n";
+    out << "<tr><td>" << svg::escape(row.label.substr(1)) << "</td><td class=\"num\">"
+        << svg::escape(jsonText(row.value)) << "</td>"
+        << (row.now.empty() ? "<td></td>" : numberCell(evaluation, row.now, 1, "%.6g"))
+        << "</tr>\n";
   }
   out << "</table>\n";
 }

@@ -94,7 +94,7 @@ TEST(CartesianAnswers, OneStylusAbsorbsEveryFrameRotation) {
 // Styli offset by d: only the rotation about d is absorbed (models.md section 4).
 TEST(CartesianAnswers, TwoStyliLeaveOnlyTheRotationAboutTheirOffset) {
   const Plan plan = examplePlan("cmm-plate-3planes-2styli");
-  const auto* cmm = cartesianOf(plan);
+  const auto* cmm = axisErrorFunctionsOf(plan);
   ASSERT_TRUE(cmm);
   const Eigen::Vector3d d = (cmm->styli()[1] - cmm->styli()[0]).normalized();
   const CartesianAnswers answers = cartesianAnswers(plan, nullptr);
@@ -110,7 +110,7 @@ TEST(CartesianAnswers, ProfileEndsAreSumsOfTheCoefficients) {
   ASSERT_TRUE(ev.covariance);
   const CartesianAnswers answers = cartesianAnswers(plan, &ev, 5);
   ASSERT_EQ(answers.profiles.size(), 18u);
-  const auto* cmm = cartesianOf(plan);
+  const auto* cmm = axisErrorFunctionsOf(plan);
   for (const ErrorFunctionProfile& f : answers.profiles) {
     for (const int end : {0, 4}) {
       Eigen::VectorXd g = Eigen::VectorXd::Zero(plan.machine.calibratedCount());
@@ -136,5 +136,5 @@ TEST(CartesianPlans, StylusOfEachReadingIsReadAndWritten) {
   EXPECT_EQ(written[0]["measurements"][1]["stylus"], 1);
   EXPECT_FALSE(written[0]["measurements"][0].contains("stylus"));
 }
-}  // namespace
+}  // namespace cartesian_plans_test
 }  // namespace artcal

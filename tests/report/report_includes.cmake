@@ -5,8 +5,9 @@
 #   evaluation_result.hpp      the Evaluation (identifiability, V_p, tip summary, S per workspace
 #                              configuration, the placed features), from evaluatePlan
 #   identifiability_result.hpp its identifiability (counting condition, rank, combinations)
-#   cartesian_answers.hpp      a Cartesian CMM's answers and error-function bands, from
-#                              cartesianAnswers / errorFunctionBands (error_functions.hpp)
+#   cartesian_answers.hpp      the answers and error-function bands of a model with axis error
+#                              functions (a Cartesian CMM), from cartesianAnswers /
+#                              errorFunctionBands (error_functions.hpp)
 #   procedure_result.hpp       the operator's procedure (poses, inverse kinematics), from
 #                              operatorProcedure (planning/procedure.hpp)
 #   placement_sweep_result.hpp the placement sweep, from sweepPlacements

@@ -17,6 +17,7 @@
 #include <regex>
 #include <set>
 #include <sstream>
+#include <tuple>
 
 #include "artcal/artcal.hpp"
 #include "artcal/estimation/error_functions.hpp"
@@ -751,6 +752,48 @@ TEST_F(ReportCli, OptimizedPlanShowsDesignAndPredictedBesideEvaluation) {
   expectNumbersMatchEvaluate(html, json::parse(ev.out));
 }
 
+// The optimizer predicted a different parameter set (another order, one parameter gone since):
+// each predicted parameter's row is named by the parameter and its unit and sits beside that
+// parameter's figure evaluated now, found by name, not by its index in the array.
+TEST_F(ReportCli, PredictedParametersMeetTheirEvaluationByName) {
+  json plan = json::parse(std::ifstream(data("ref-2r-5bars.json")));
+  plan["predicted"] = {{"tip", {{"worst", {{"total", 0.0123}}}}},
+                       {"parameters",
+                        {{{"name", "dt2"}, {"nominal", 0.5}, {"u", 0.0123}, {"unit", "deg"}},
+                         {{"name", "l0"}, {"nominal", 1.0}, {"u", 0.7}, {"unit", "mm"}},
+                         {{"name", "l1"}, {"nominal", 150.0}, {"u", 0.009}, {"unit", "mm"}}}}};
+  const fs::path plan_path = dir_ / "optimized.json", html_path = dir_ / "r.html";
+  std::ofstream(plan_path) << plan.dump(1);
+  const CliRun r = run("report \"" + plan_path.string() + "\" -o \"" + html_path.string() + "\"");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const std::string html = slurp(html_path);
+  const CliRun ev = run("evaluate --json \"" + plan_path.string() + "\"");
+  ASSERT_EQ(ev.status, 0) << ev.err;
+  const json evaluated = json::parse(ev.out);
+  const auto indexOf = [&](const std::string& name) {
+    const json& parameters = evaluated.at("parameters");
+    for (std::size_t i = 0; i < parameters.size(); ++i)
+      if (parameters[i].at("name") == name) return static_cast<int>(i);
+    return -1;
+  };
+  ASSERT_EQ(indexOf("dt2"), 2);  // not the predicted block's index 0
+  ASSERT_EQ(indexOf("l0"), -1);
+  for (const auto& [name, unit, predicted] :
+       {std::tuple<std::string, std::string, std::string>{"dt2", "deg", "0.0123"},
+        {"l1", "mm", "0.009"}}) {
+    const std::string row = "<td>parameters/" + name + "/u (" + unit + ")</td><td class=\"num\">" +
+                            predicted + "</td><td class=\"num\" data-field=\"/parameters/" +
+                            std::to_string(indexOf(name)) + "/u\"";
+    EXPECT_NE(html.find(row), std::string::npos) << row;
+  }
+  EXPECT_NE(html.find("<td>parameters/l0/u (mm)</td><td class=\"num\">0.7</td><td></td>"),
+            std::string::npos);
+  EXPECT_EQ(html.find("<td>parameters/0/"), std::string::npos);  // no row labelled by index
+  EXPECT_NE(html.find("<td>tip/worst/total</td><td class=\"num\">0.0123</td>"), std::string::npos);
+  // Every number shown beside a prediction is the evaluation's at its data-field.
+  expectNumbersMatchEvaluate(html, evaluated);
+}
+
 TEST_F(ReportCli, BadInputIsOneLineExitTwoAndNoFile) {
   json plan = json::parse(std::ifstream(data("ref-2r-5bars.json")));
   plan["placements"][1]["measurements"][0]["joints"] = {1.0, 2.0, 3.0};
@@ -1044,7 +1087,7 @@ double legendreExplicit(int n, double s) {
 
 struct CmmCurvesCase {
   Plan plan = loadPlan(test_support::planFile("cmm-plate-3planes.json"));
-  const Cartesian& cmm = *cartesianOf(plan);
+  const AxisErrorFunctions& cmm = *axisErrorFunctionsOf(plan);
   Eigen::MatrixXd V;
   Eigen::VectorXd estimate, truth;
 
@@ -1148,7 +1191,7 @@ TEST_F(ReportCli, CartesianReportDrawsTheErrorFunctions) {
   std::set<std::string> names;
   for (const json& f : summary.at("figures")) names.insert(f.at("name").get<std::string>());
   const Plan plan = loadPlan(data("ref-cartesian-plate.json"));
-  for (const CartesianAxis& axis : cartesianOf(plan)->axes()) {
+  for (const CartesianAxis& axis : axisErrorFunctionsOf(plan)->axes()) {
     for (const char* kind : {"-translations", "-rotations"}) {
       const std::string name = "error-functions-" + axis.name + kind;
       ASSERT_TRUE(names.count(name)) << name;

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "artcal/core/enum_names.hpp"
+
 namespace artcal {
 
 /// Instrument: a laser tracker, total station or optical tracker (docs: instruments.md). Each
@@ -15,6 +17,13 @@ namespace artcal {
 /// in its own frame (all coordinates valued, N(r_j) = 6 as for a ball plate).
 enum class ArtifactKind { BallBar, BallPlate, StepGauge, Instrument };
 
+/// The names of the plan format's artifact "type".
+inline constexpr EnumNames<ArtifactKind, 4> kArtifactKindNames{
+    {{ArtifactKind::BallBar, "ball_bar"},
+     {ArtifactKind::BallPlate, "ball_plate"},
+     {ArtifactKind::StepGauge, "step_gauge"},
+     {ArtifactKind::Instrument, "instrument"}}};
+/// "ball_bar", "ball_plate", "step_gauge", "instrument".
 std::string artifactKindName(ArtifactKind kind);
 
 /// One systematic error of an artifact: moves coordinate `coordinate` of feature `feature` by c,

@@ -25,6 +25,7 @@
 
 #include "artcal/calibration/levenberg_marquardt.hpp"
 #include "artcal/calibration/verification.hpp"
+#include "artcal/core/enum_names.hpp"
 #include "artcal/estimation/design_matrix.hpp"
 #include "artcal/estimation/evaluator.hpp"
 #include "artcal/estimation/normal_matrix.hpp"
@@ -38,6 +39,12 @@ enum class TerminationType {
   Failure,        ///< no descent step exists, or the problem became non-finite
 };
 
+/// The names calibrate's --json and its summary line use.
+inline constexpr EnumNames<TerminationType, 3> kTerminationNames{
+    {{TerminationType::Converged, "converged"},
+     {TerminationType::NoConvergence, "no_convergence"},
+     {TerminationType::Failure, "failure"}}};
+/// "converged", "no_convergence", "failure".
 std::string terminationName(TerminationType type);
 
 struct CalibrationOptions {

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "artcal/model/cartesian.hpp"
+#include "artcal/model/axis_error_functions.hpp"
 #include "artcal/plan/plan.hpp"
 
 namespace artcal {
@@ -32,8 +32,9 @@ struct AbsorbedRotation {
   std::vector<std::string> involves;  ///< the squareness coefficients it moves
 };
 
-/// The plan's machine as a Cartesian CMM, or null for other models.
-const Cartesian* cartesianOf(const Plan& plan);
+/// The error-function layout of the plan's model (Mechanism::axisErrorFunctions(): a Cartesian
+/// CMM's), or null for models without one.
+const AxisErrorFunctions* axisErrorFunctionsOf(const Plan& plan);
 
 /// What check and evaluate answer for a Cartesian CMM; empty for other models.
 struct CartesianAnswers {

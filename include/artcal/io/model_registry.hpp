@@ -5,10 +5,15 @@
 // with each parameter's Quantity (length, angle, or a coefficient unit such as "um/m"), forward
 // kinematics with exact Jacobians and status, and its capabilities (Mechanism's virtual
 // functions with defaults: closed-form inverse kinematics, postures per point, reach profile,
-// skeleton for drawings). The codec (src/io/, the only layer that sees JSON) reads the plan's
-// machine block into that Mechanism, its nominal parameter vector and, when the family has
-// them, its own default joint limits; and writes the block back with given parameters
-// (`calibrate --write-machine`). Nothing outside this registry compares model names.
+// skeleton for drawings; a family's extras as interfaces the model returns itself as:
+// orientedPostures() when its postures are orientations, axisErrorFunctions() when its
+// parameters are error functions of its axes, whose analyses live in estimation/ and
+// acceptance/). The codec (src/io/, the only layer that sees JSON) reads the plan's machine
+// block into that Mechanism, its nominal parameter vector and, when the family has them, its
+// own default joint limits; and writes the block back with given parameters (`calibrate
+// --write-machine`). Nothing outside the model layer and this registry names a family: no
+// include of its header, no cast to its class, no comparison with its name
+// (tests/model/family_names.cmake checks it).
 //
 // How to add a family "foo":
 //   1. include/artcal/model/foo.hpp + src/model/foo.cpp: `class Foo final : public Mechanism`.
@@ -16,7 +21,8 @@
 //      and any capability whose default does not suit (a closed-form inverse makes the planner
 //      faster and exact; posturesPerPoint() when the solutions are a finite set; reachRange()
 //      and configurationsAtReach() only when the tip uncertainty depends on the reach alone;
-//      skeleton() to be drawn in the report). Quantities: Quantity::Length, Quantity::Angle or
+//      skeleton() to be drawn in the report; orientedPostures() or axisErrorFunctions() to
+//      reach the analyses written for them). Quantities: Quantity::Length, Quantity::Angle or
 //      Quantity::coefficient(kind, "unit", scale) (core/units.hpp; kMicrometrePerMetre).
 //      Test it in tests/model/test_foo.cpp with the finite-difference battery
 //      (tests/support/finite_difference.hpp).

@@ -17,30 +17,12 @@
 #include <string>
 #include <vector>
 
+#include "artcal/model/axis_error_functions.hpp"
 #include "artcal/model/mechanism.hpp"
 
 namespace artcal {
 
-struct CartesianAxis {
-  std::string name;
-  Eigen::Vector3d direction = Eigen::Vector3d::UnitX();  ///< unit vector
-  std::array<double, 2> range = {0.0, 1.0};              ///< mm, lower < upper
-};
-
-/// The six error functions of an axis, in parameter order within one degree.
-enum class AxisError { Tx, Ty, Tz, Rx, Ry, Rz };
-inline constexpr int kAxisErrorCount = 6;
-
-/// "tx", ..., "rz".
-const char* axisErrorName(AxisError error);
-/// The metrologist's name of axis `axis`'s error function `error` along an axis whose direction
-/// is `direction`: positioning, straightness (in y), pitch, yaw, roll, ...
-std::string axisErrorMeaning(const Eigen::Vector3d& direction, AxisError error);
-
-/// Legendre polynomials P_0..P_degree at s and their derivatives (Bonnet's recursion).
-void legendre(int degree, double s, double* P, double* dP);
-
-class Cartesian final : public Mechanism {
+class Cartesian final : public Mechanism, public AxisErrorFunctions {
  public:
   Cartesian(std::vector<CartesianAxis> axes, int degree, std::vector<Eigen::Vector3d> styli);
 
@@ -67,16 +49,16 @@ class Cartesian final : public Mechanism {
                               Eigen::VectorXd& x, Eigen::MatrixXd* J_x_p = nullptr,
                               Eigen::MatrixXd* J_x_q = nullptr) const override;
 
-  const std::vector<CartesianAxis>& axes() const { return axes_; }
-  int degree() const { return degree_; }
-  const std::vector<Eigen::Vector3d>& styli() const { return styli_; }
-  /// Index in p of the coefficient of degree n (1..degree) of `error` of axis `axis`.
-  int parameterIndex(int axis, AxisError error, int n) const {
+  /// The capability its analyses ask for (axis_error_functions.hpp).
+  const AxisErrorFunctions* axisErrorFunctions() const override { return this; }
+  const std::vector<CartesianAxis>& axes() const override { return axes_; }
+  int degree() const override { return degree_; }
+  const std::vector<Eigen::Vector3d>& styli() const override { return styli_; }
+  int parameterIndex(int axis, AxisError error, int n) const override {
     return (axis * degree_ + (n - 1)) * kAxisErrorCount + static_cast<int>(error);
   }
   using Mechanism::parameterIndex;
-  /// The normalised position s in [-1, 1] of reading u of axis `axis`.
-  double normalised(int axis, double u) const;
+  double normalised(int axis, double u) const override;
 
   /// Readings that put stylus `stylus` on `target` at nominal (p = 0): the target minus the
   /// stylus resolved along the axis directions; std::nullopt when the directions are singular.

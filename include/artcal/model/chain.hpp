@@ -19,11 +19,17 @@
 #include <string>
 #include <vector>
 
+#include "artcal/core/enum_names.hpp"
 #include "artcal/model/mechanism.hpp"
 
 namespace artcal {
 
 enum class ChainJointType { Revolute, Prismatic, Fixed };
+/// The names of the machine block's joint "type".
+inline constexpr EnumNames<ChainJointType, 3> kChainJointTypeNames{
+    {{ChainJointType::Revolute, "revolute"},
+     {ChainJointType::Prismatic, "prismatic"},
+     {ChainJointType::Fixed, "fixed"}}};
 
 /// A joint's coupling to its master: value = multiplier * q_master + offset.
 struct ChainMimic {

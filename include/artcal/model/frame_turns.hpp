@@ -1,6 +1,7 @@
 #pragma once
 // In-place rotations of a frame about its own axes, R <- R Rx/Ry/Rz(angle): two columns turn,
-// the third stays. The serial models (serial-dh, chain) build their frames with them.
+// the third stays. The serial models (serial-dh, chain) build their frames with them, and their
+// geometric Jacobians with tipColumn.
 
 #include <Eigen/Core>
 #include <cmath>
@@ -29,6 +30,15 @@ inline void turnAboutX(Eigen::Matrix3d& R, double angle) {
   const Eigen::Vector3d y = R.col(1), z = R.col(2);
   R.col(1) = c * y + s * z;
   R.col(2) = c * z - s * y;
+}
+
+/// The geometric Jacobian's column of one elementary motion of a serial model (docs/method.md
+/// section 1), for the tip at `tip`: a rotation about the world axis `axis` through `pivot`
+/// moves it by axis x (tip - pivot), a translation along `axis` by axis. chain and serial-dh
+/// build their J_x_p and J_x_q from it.
+inline Eigen::Vector3d tipColumn(bool rotation, const Eigen::Vector3d& axis,
+                                 const Eigen::Vector3d& pivot, const Eigen::Vector3d& tip) {
+  return rotation ? Eigen::Vector3d(axis.cross(tip - pivot)) : axis;
 }
 
 /// The cross-product matrix: skew(v) * w = v x w.

@@ -54,6 +54,7 @@ class Hexapod final : public ClosedChainMechanism, public OrientedPostures {
                               const Eigen::Matrix3d& R) const;
 
   // OrientedPostures: the platform orientation is the posture.
+  const OrientedPostures* orientedPostures() const override { return this; }
   Eigen::Matrix3d homeOrientation() const override { return home_.R; }
   Eigen::VectorXd readingsAt(const Eigen::VectorXd& p, const Eigen::Vector3d& target,
                              const Eigen::Matrix3d& R) const override {

@@ -38,6 +38,9 @@ inline constexpr EnumNames<ForwardStatus, 3> kForwardStatusNames{
 /// "forward kinematics did not converge", "singular configuration".
 std::string forwardStatusName(ForwardStatus status);
 
+class AxisErrorFunctions;  // axis_error_functions.hpp
+class OrientedPostures;    // closed_chain.hpp
+
 struct ParameterInfo {
   std::string name;
   Quantity quantity;
@@ -92,7 +95,8 @@ class Mechanism {
   int parameterIndex(const std::string& name) const;
 
   // Capabilities. Every numerical module asks the model, never its name; the defaults suit a
-  // general model (numerical IK, any number of postures, no reach profile, nothing drawn).
+  // general model (numerical IK, any number of postures, no reach profile, nothing drawn, no
+  // family analysis).
   // How to add a family: include/artcal/io/model_registry.hpp.
 
   /// True when closedFormInverse() gives every solution for a target.
@@ -115,6 +119,15 @@ class Mechanism {
   virtual std::vector<Eigen::VectorXd> configurationsAtReach(
       const Eigen::VectorXd& p, double reach,
       const std::vector<std::array<double, 2>>& limits) const;
+  /// The model's postures are orientations of its moving body (the hexapod's platform): inverse
+  /// kinematics and the posture generator draw orientations (inverse_kinematics.hpp); null for
+  /// the others. The model returns itself, so that no caller names its family.
+  virtual const OrientedPostures* orientedPostures() const { return nullptr; }
+  /// The model's parameters are error functions of its axes' positions (a Cartesian CMM;
+  /// axis_error_functions.hpp): the error-function bands and frame rotations of
+  /// estimation/error_functions.hpp and the ISO 10360-2 length test ask for it; null for the
+  /// others.
+  virtual const AxisErrorFunctions* axisErrorFunctions() const { return nullptr; }
   /// Points to draw the mechanism by, from its base to the probe (e.g. joint-frame origins),
   /// each of dimension(); empty when the model is not drawn (the report then draws the probe
   /// positions only).

@@ -9,11 +9,15 @@
 // probe.y, probe.z. Jacobians are the geometric ones (rotation about / translation along each
 // elementary transform's axis), exact.
 
+#include "artcal/core/enum_names.hpp"
 #include "artcal/model/mechanism.hpp"
 
 namespace artcal {
 
 enum class DHConvention { Standard, Modified };
+/// The names of the machine block's "convention".
+inline constexpr EnumNames<DHConvention, 2> kDHConventionNames{
+    {{DHConvention::Standard, "standard"}, {DHConvention::Modified, "modified"}}};
 
 struct DHJoint {
   JointKind kind = JointKind::Revolute;

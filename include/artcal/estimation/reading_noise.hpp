@@ -1,0 +1,30 @@
+#pragma once
+// The noise of one reading's point, formed in one place (docs/method.md section 2;
+// instruments.md): the encoders' noise through the joint Jacobian plus the noise every coordinate
+// carries on its own (the probe's, an instrument's own in quadrature):
+//   Sigma = J_q Sigma_q J_q^T + s^2 I,   Sigma_q = diag(sigma_q^2),   s^2 = s_p^2 + s_i^2.
+// The design matrix whitens by it, calibrate's probe-noise estimate keeps its known part (s_p
+// left out), verify predicts the readings' deviations with it.
+
+#include <Eigen/Core>
+
+namespace artcal {
+
+/// s^2 = s_p^2 + s_i^2 (mm^2): the probe's noise and an instrument's own noise in quadrature.
+inline double readingPointVariance(double probe_sigma, double instrument_sigma) {
+  return probe_sigma * probe_sigma + instrument_sigma * instrument_sigma;
+}
+
+/// Sigma = J_q diag(encoder_sigma^2) J_q^T + point_variance I into `sigma`. J_q: the point's
+/// joint Jacobian as the reading sees it (rows rotated into the artifact frame, valued rows
+/// only); `encoder_sigma` (internal units) one per joint.
+template <typename JacobianQ, typename Covariance>
+void readingCovariance(const Eigen::VectorXd& encoder_sigma,
+                       const Eigen::MatrixBase<JacobianQ>& J_q, double point_variance,
+                       Covariance& sigma) {
+  const auto sigma_q2 = encoder_sigma.array().square().matrix().asDiagonal();
+  sigma = (J_q * sigma_q2).lazyProduct(J_q.transpose());
+  sigma.diagonal().array() += point_variance;
+}
+
+}  // namespace artcal

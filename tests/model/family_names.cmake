@@ -1,0 +1,84 @@
+# A family is reached through the registry (issue 20 point 2): no code outside the model layer
+# and the registry names a mechanism family. The families are found, not listed: every
+# `class NAME final : public ...Mechanism` of include/artcal/model/ with its header and the name
+# its modelName() returns. Outside the allowed files below no line of code
+#   - includes a family's header (artcal/model/<family>.hpp),
+#   - names a family's class (a dynamic_cast, a static_cast, a member),
+#   - compares with a family's name in files ("cartesian" == ...),
+#   - asks a model for a type by dynamic_cast (a capability is a virtual of Mechanism).
+# A family's extras reach the rest through Mechanism's capabilities (orientedPostures(),
+# axisErrorFunctions(), stylusCount(), ...). Allowed: src/model/ and include/artcal/model/, the
+# registry and the codecs (src/io/model_registry.cpp, src/io/*_codec.cpp and their headers), the
+# chain's other exchange format (io/urdf, io/calibrated_urdf) and the public umbrella artcal.hpp.
+# Run: cmake -DSOURCE_DIR=... -P tests/model/family_names.cmake
+cmake_minimum_required(VERSION 3.20)
+set(word "[^A-Za-z0-9_]")
+file(GLOB model_headers ${SOURCE_DIR}/include/artcal/model/*.hpp)
+set(classes "")
+set(headers "")
+set(names "")
+foreach(header ${model_headers})
+  file(STRINGS ${header} lines REGEX "^class [A-Za-z0-9_]+ final : public .*Mechanism")
+  if(NOT lines)
+    continue()
+  endif()
+  foreach(line ${lines})
+    string(REGEX REPLACE "^class ([A-Za-z0-9_]+) final.*" "\\1" class "${line}")
+    list(APPEND classes ${class})
+  endforeach()
+  get_filename_component(stem ${header} NAME_WE)
+  list(APPEND headers ${stem})
+  file(STRINGS ${header} named REGEX "modelName\\(\\) const override { return \"")
+  foreach(line ${named})
+    string(REGEX REPLACE ".*return \"([^\"]+)\".*" "\\1" name "${line}")
+    list(APPEND names ${name})
+  endforeach()
+endforeach()
+list(LENGTH classes class_count)
+list(LENGTH names name_count)
+if(class_count LESS 5 OR NOT class_count EQUAL name_count)
+  message(FATAL_ERROR "family_names.cmake found ${class_count} families (${classes}) and "
+                      "${name_count} model names (${names}): update its patterns")
+endif()
+
+list(JOIN headers "|" header_pattern)
+list(JOIN classes "|" class_pattern)
+list(JOIN names "|" name_pattern)
+
+file(GLOB_RECURSE files RELATIVE ${SOURCE_DIR} ${SOURCE_DIR}/src/*.cpp ${SOURCE_DIR}/src/*.hpp
+     ${SOURCE_DIR}/include/*.hpp ${SOURCE_DIR}/tools/*.cpp ${SOURCE_DIR}/tools/*.hpp
+     ${SOURCE_DIR}/python/*.cpp)
+set(allowed "^(src/model/|include/artcal/model/|src/io/model_registry\\.cpp$|src/io/[a-z0-9_]+_codec\\.cpp$|include/artcal/io/[a-z0-9_]+_codec\\.hpp$|include/artcal/io/model_registry\\.hpp$|src/io/urdf\\.cpp$|include/artcal/io/urdf\\.hpp$|src/io/calibrated_urdf\\.cpp$|include/artcal/io/calibrated_urdf\\.hpp$|include/artcal/artcal\\.hpp$)")
+set(faults "")
+foreach(file ${files})
+  if(file MATCHES "${allowed}")
+    continue()
+  endif()
+  file(STRINGS ${SOURCE_DIR}/${file} lines)
+  set(number 0)
+  foreach(line IN LISTS lines)
+    math(EXPR number "${number} + 1")
+    # Code only: no comment (a family may be named in prose).
+    string(REGEX REPLACE "//.*" "" code " ${line} ")
+    string(REGEX REPLACE "\"[^\"]*\"" "\"\"" code_outside_strings "${code}")
+    if(code MATCHES "#include \"artcal/model/(${header_pattern})\\.hpp\"")
+      string(APPEND faults "  ${file}:${number} includes artcal/model/${CMAKE_MATCH_1}.hpp\n")
+    endif()
+    if(code_outside_strings MATCHES "${word}(${class_pattern})${word}")
+      string(APPEND faults "  ${file}:${number} names the class ${CMAKE_MATCH_1}\n")
+    endif()
+    if(code_outside_strings MATCHES "dynamic_cast *<")
+      string(APPEND faults "  ${file}:${number} casts a model (ask Mechanism for a capability)\n")
+    endif()
+    if(code MATCHES "[=!]= *\"(${name_pattern})\"")
+      string(APPEND faults "  ${file}:${number} compares with the model name \"${CMAKE_MATCH_1}\"\n")
+    elseif(code MATCHES "\"(${name_pattern})\" *[=!]=")
+      string(APPEND faults "  ${file}:${number} compares with the model name \"${CMAKE_MATCH_1}\"\n")
+    endif()
+  endforeach()
+endforeach()
+if(faults)
+  message(FATAL_ERROR "a family is reached through the registry and Mechanism's capabilities "
+                      "(include/artcal/io/model_registry.hpp), never by its name:\n${faults}")
+endif()
+message(STATUS "families ${classes} (${names}): named only in the model layer and the registry\n")
