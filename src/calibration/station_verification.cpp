@@ -13,7 +13,7 @@ namespace artcal {
 namespace {
 
 struct ReadingLinearization {
-  Eigen::VectorXd W;  ///< R f(p, q) + t
+  Eigen::VectorXd W;                            ///< R f(p, q) + t
   Eigen::Vector3d e = Eigen::Vector3d::Zero();  ///< a pose's orientation residual (rad)
   /// Rigid columns (rows x 6): the point's rows at W, then a pose's orientation rows.
   Eigen::MatrixXd A;
@@ -59,8 +59,8 @@ ReadingLinearization linearize(const Plan& plan, const Artifact& instrument, con
   out.J.resize(rows, static_cast<int>(indices.size()));
   for (std::size_t k = 0; k < indices.size(); ++k)
     out.J.col(static_cast<int>(k)) = rows_p.col(indices[k]);
-  out.Sigma = rows_q * plan.noise.encoder.array().square().matrix().asDiagonal() *
-              rows_q.transpose();
+  out.Sigma =
+      rows_q * plan.noise.encoder.array().square().matrix().asDiagonal() * rows_q.transpose();
   out.Sigma.diagonal() += variance;
   return out;
 }
@@ -168,8 +168,8 @@ StationVerification verifyStation(const Plan& plan, std::size_t j, const Eigen::
     deviations.push_back((m.point - held_lin.back().W).norm());
     angular.push_back(radToDeg(held_lin.back().e.norm()));
   }
-  station.deviations = Eigen::Map<Eigen::VectorXd>(deviations.data(),
-                                                   static_cast<Eigen::Index>(deviations.size()));
+  station.deviations =
+      Eigen::Map<Eigen::VectorXd>(deviations.data(), static_cast<Eigen::Index>(deviations.size()));
   summarize(deviations, station.summary);
   points.deviations.insert(points.deviations.end(), deviations.begin(), deviations.end());
   if (held_lin.empty()) return station;

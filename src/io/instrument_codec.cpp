@@ -3,8 +3,8 @@
 #include <filesystem>
 
 #include "artcal/core/error.hpp"
-#include "artcal/core/units.hpp"
 #include "artcal/core/linear_algebra.hpp"
+#include "artcal/core/units.hpp"
 #include "artcal/io/csv_readings.hpp"
 
 namespace artcal {
@@ -60,8 +60,7 @@ std::vector<Eigen::VectorXd> readStationCsv(const std::string& file,
     if (message.rfind("expected ", 0) != 0) throw;
     throw InputError(e.file(), e.pointer(),
                      message + " (" + std::to_string(joints) + " joints, then the " +
-                         std::to_string(measuredCoordinates(instrument)) +
-                         " measured coordinates" +
+                         std::to_string(measuredCoordinates(instrument)) + " measured coordinates" +
                          (instrument.measures_pose
                               ? ": x, y, z, then the orientation as a rotation vector in deg)"
                               : ")"));

@@ -962,7 +962,8 @@ nlohmann::json placementsToJson(const Plan& plan) {
         json entry = {{"joints", joints}};
         if (m.point_given) {  // a pose's orientation follows, as a rotation vector in deg
           std::vector<double> point(m.point.data(), m.point.data() + m.point.size());
-          for (int k = 0; k < m.orientation.size(); ++k) point.push_back(radToDeg(m.orientation[k]));
+          for (int k = 0; k < m.orientation.size(); ++k)
+            point.push_back(radToDeg(m.orientation[k]));
           entry["point"] = point;
         }
         if (m.stationing) entry["stationing"] = true;

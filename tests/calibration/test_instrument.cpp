@@ -332,8 +332,8 @@ TEST(Instrument, ConfirmConfirmsThePosePlanInAThousandTrials) {
 }
 
 TEST(Instrument, SimulatedPosesRoundTripThroughThePlanFile) {
-  const Plan plan = simulatedPosePlan(
-      parsePlan(poseTrackerDocument(), "tracker-pose.json").machine.nominal, 11);
+  const Plan plan =
+      simulatedPosePlan(parsePlan(poseTrackerDocument(), "tracker-pose.json").machine.nominal, 11);
   nlohmann::json document = poseTrackerDocument();
   document["placements"] = placementsToJson(plan);
   ASSERT_EQ(document["placements"][0]["measurements"][0]["point"].size(), 6u);

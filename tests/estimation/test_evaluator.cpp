@@ -422,8 +422,8 @@ TEST(Evaluator, PoseObservationRowsMatchCentralDifferences) {
   auto over_p = [&](const Eigen::VectorXd& g) {
     return whitened(plan.machine.withCalibrated(p, g), station);
   };
-  testing::expectJacobianNear(block.A_p, testing::centralDifferenceJacobian(over_p, g0, 1e-6),
-                              1e-6, "A_p");
+  testing::expectJacobianNear(block.A_p, testing::centralDifferenceJacobian(over_p, g0, 1e-6), 1e-6,
+                              "A_p");
   auto over_r = [&](const Eigen::VectorXd& delta) {
     return whitened(p, station.perturbed(tracker.expandFullRigidStep(delta)));
   };
@@ -447,8 +447,8 @@ TEST(Evaluator, PoseObservationRowsMatchCentralDifferences) {
     Eigen::MatrixXd Sigma =
         J_q * plan.noise.encoder.array().square().matrix().asDiagonal() * J_q.transpose();
     const double s2 = plan.noise.probe * plan.noise.probe + tracker.noise * tracker.noise;
-    Sigma.diagonal() += (Eigen::VectorXd(6) << s2, s2, s2, Eigen::Vector3d::Constant(
-                             tracker.noise_angle * tracker.noise_angle))
+    Sigma.diagonal() += (Eigen::VectorXd(6) << s2, s2, s2,
+                         Eigen::Vector3d::Constant(tracker.noise_angle * tracker.noise_angle))
                             .finished();
     // L^-1 Sigma L^-T = I: every row, the orientation's too, at its own scale.
     const Eigen::Matrix<double, 6, 6>& L = weights.factors[i];
@@ -459,5 +459,5 @@ TEST(Evaluator, PoseObservationRowsMatchCentralDifferences) {
   }
 }
 
-}  // namespace
+}  // namespace evaluator_test
 }  // namespace artcal

@@ -175,8 +175,7 @@ Eigen::MatrixXd denseOraclePoseCovariance(const Plan& plan) {
   const Artifact& tracker = plan.artifacts[0];
   const int n_p = machine.calibratedCount();
   const int stations = static_cast<int>(plan.placements.size());
-  const std::vector<RigidTransform> fitted =
-      fitPlacements(plan, plan.placements, machine.nominal);
+  const std::vector<RigidTransform> fitted = fitPlacements(plan, plan.placements, machine.nominal);
   std::vector<Eigen::MatrixXd> rows;
   for (int j = 0; j < stations; ++j) {
     const RigidTransform& station = fitted[static_cast<std::size_t>(j)];
@@ -233,5 +232,5 @@ TEST(Reference, InstrumentPoseMatchesADenseOracle) {
   for (int k = 0; k < V.rows(); ++k) EXPECT_LE(ev.covariance->u[k], points.covariance->u[k]);
 }
 
-}  // namespace
+}  // namespace reference_test
 }  // namespace artcal
