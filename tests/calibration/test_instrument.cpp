@@ -34,6 +34,18 @@ std::string refusal(const nlohmann::json& document) {
 
 using testing::shiftedTruth;
 
+/// The calibration converged and every calibrated parameter is within 3 u of `truth`.
+void expectWithin3u(const Calibration& calibration, const Plan& plan,
+                    const Eigen::VectorXd& truth) {
+  ASSERT_TRUE(calibration.summary.converged());
+  ASSERT_TRUE(calibration.covariance);
+  const Eigen::VectorXd error =
+      calibration.estimate(plan.machine) - plan.machine.calibratedValues(truth);
+  for (int k = 0; k < error.size(); ++k) {
+    EXPECT_LT(std::abs(error[k]), 3.0 * calibration.covariance->u[k]) << "parameter " << k;
+  }
+}
+
 TEST(Instrument, SimulatedTrackerReadingsCalibrateToTheTruthWithin3u) {
   Plan plan = parsePlan(trackerDocument(), "tracker.json");
   const Evaluation prediction = evaluatePlan(plan);
@@ -47,13 +59,7 @@ TEST(Instrument, SimulatedTrackerReadingsCalibrateToTheTruthWithin3u) {
                 .norm(),
             0.0);
   const Calibration calibration = calibratePlan(plan);
-  ASSERT_TRUE(calibration.summary.converged());
-  ASSERT_TRUE(calibration.covariance);
-  const Eigen::VectorXd error =
-      calibration.estimate(plan.machine) - plan.machine.calibratedValues(truth);
-  for (int k = 0; k < error.size(); ++k) {
-    EXPECT_LT(std::abs(error[k]), 3.0 * calibration.covariance->u[k]) << "parameter " << k;
-  }
+  expectWithin3u(calibration, plan, truth);
   // chi2/dof near 1: the tracker's noise is in the weights (quadrature with the probe's).
   EXPECT_GT(calibration.chi2_per_dof, 0.5);
   EXPECT_LT(calibration.chi2_per_dof, 1.6);
@@ -290,12 +296,9 @@ TEST(Instrument, SimulatedPoseReadingsCalibrateToTheTruthWithin3u) {
   Plan plan = simulatedPosePlan(truth, 7);
   ASSERT_EQ(plan.placements[0].measurements[0].orientation.size(), 3);
   const Calibration calibration = calibratePlan(plan);
-  ASSERT_TRUE(calibration.summary.converged());
+  expectWithin3u(calibration, plan, truth);
   ASSERT_TRUE(calibration.covariance);
-  const Eigen::VectorXd error =
-      calibration.estimate(plan.machine) - plan.machine.calibratedValues(truth);
-  for (int k = 0; k < error.size(); ++k) {
-    EXPECT_LT(std::abs(error[k]), 3.0 * calibration.covariance->u[k]) << "parameter " << k;
+  for (int k = 0; k < calibration.covariance->u.size(); ++k) {
     // The calibration's u is the planned one (the same rows at the estimate).
     EXPECT_NEAR(calibration.covariance->u[k], prediction.covariance->u[k],
                 0.05 * prediction.covariance->u[k]);
