@@ -409,6 +409,18 @@ TEST(Instrument, APoseInstrumentNeedsItsAngularNoise) {
   EXPECT_NE(refusal(document).find("/placements/1/measurements/4/point"), std::string::npos);
 }
 
+// Orientations in the wrong unit (rad where deg are read) are no machine error: exit 2 naming
+// the station, with what to check.
+TEST(Instrument, OrientationsInTheWrongUnitAreRefusedNamingTheStation) {
+  nlohmann::json document = poseTrackerDocument();
+  for (auto& reading : document["placements"][1]["measurements"]) {
+    for (int k = 3; k < 6; ++k) reading["point"][k] = degToRad(reading["point"][k].get<double>());
+  }
+  const std::string what = refusal(document);
+  EXPECT_NE(what.find("tracker.json: /placements/1: "), std::string::npos) << what;
+  EXPECT_NE(what.find("rotation vector in deg"), std::string::npos) << what;
+}
+
 // Pose readings from a CSV (joints, then x, y, z and the rotation vector in deg): the same
 // readings as inline, point_unit scaling only the point; a row of the wrong width is refused
 // naming the file and its line, on the command line with exit 2 and one line.
