@@ -197,7 +197,7 @@ int Calibrator::degreesOfFreedom(const std::vector<Placement>& placements) const
   int dof = layout_.priorRows() - layout_.parameters;  // a prior is one row each
   for (const Placement& placement : placements) {
     const Artifact& artifact = artifactOf(*plan_, placement);
-    dof += artifact.valuedPerFeature() * static_cast<int>(placement.measurements.size());
+    dof += artifact.rowsPerReading() * static_cast<int>(placement.measurements.size());
     dof -= rigidRankOfFeatures(artifact, placement.measurements);  // effective N(r_j)
   }
   return dof;
@@ -391,9 +391,11 @@ void Calibrator::fillDetails(const std::vector<Placement>& placements, Calibrati
       entry.measurement = static_cast<int>(i);
       entry.feature = m.feature;
       entry.residual = (out.poses[j].apply(x) - artifact.feature(m.feature, c[j])).head(k);
-      const int row = k * static_cast<int>(i);
-      entry.normalized.resize(k);
-      for (int r = 0; r < k; ++r) {
+      // A pose's rows: the point's, then the orientation's (each standardised).
+      const int per = artifact.rowsPerReading();
+      const int row = per * static_cast<int>(i);
+      entry.normalized.resize(per);
+      for (int r = 0; r < per; ++r) {
         // A row the fit absorbs (almost) entirely, 1 - h < 1e-3, cannot be tested: it reports 0
         // rather than a ratio of two rounding-level numbers.
         constexpr double kTestable = 0.0316;

@@ -11,6 +11,7 @@
 #include "artcal/core/error.hpp"
 #include "artcal/core/random.hpp"
 #include "artcal/estimation/design_matrix.hpp"
+#include "artcal/model/rotation_vector.hpp"
 
 namespace artcal {
 
@@ -146,18 +147,30 @@ SimulatedReading simulatedReading(const Machine& machine, const Eigen::VectorXd&
 
 // An instrument's station (instruments.md): the machine drives to the planned configurations
 // q, the instrument reports the true tip in its frame, point = r_j f(p_true, q) + its noise and
-// the probe's (each coordinate drawn), and the joints read q + delta_q. Draw order per reading:
-// the d point deviates, then the joint deviates.
+// the probe's (each coordinate drawn), and the joints read q + delta_q. A pose instrument also
+// reports the true orientation turned by its angular noise n: exp([n]x) R_r R(p_true, q), whose
+// residual against the truth is -n. Draw order per reading: the d point deviates, a pose's 3
+// angular deviates, then the joint deviates.
 void simulateStation(const Plan& plan, const Eigen::VectorXd& p_true, const RigidTransform& station,
                      const Artifact& instrument, double scale, Placement& placement,
                      NormalSource& normal) {
   const double point_sigma = scale * std::hypot(plan.noise.probe, instrument.noise);
+  const double angle_sigma = scale * instrument.noise_angle;
   Eigen::VectorXd x;
+  Eigen::Matrix3d R;
   for (Measurement& m : placement.measurements) {
-    forwardOrThrow(*plan.machine.mechanism, p_true, m.joints, x, nullptr, nullptr, m.stylus);
+    if (instrument.measures_pose)
+      forwardPoseOrThrow(*plan.machine.mechanism, p_true, m.joints, x, R);
+    else
+      forwardOrThrow(*plan.machine.mechanism, p_true, m.joints, x, nullptr, nullptr, m.stylus);
     m.point = station.apply(x);
     m.point_given = true;
     for (int k = 0; k < m.point.size(); ++k) m.point[k] += point_sigma * normal();
+    if (instrument.measures_pose) {
+      Eigen::Vector3d n;
+      for (int k = 0; k < 3; ++k) n[k] = angle_sigma * normal();
+      m.orientation = rotationVector(Eigen::Matrix3d(rotationFromVector(n) * station.R * R));
+    }
     for (int k = 0; k < m.joints.size(); ++k)
       m.joints[k] += scale * plan.noise.encoder[k] * normal();
   }

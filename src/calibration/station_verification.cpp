@@ -5,36 +5,60 @@
 #include <cmath>
 
 #include "artcal/core/error.hpp"
+#include "artcal/core/units.hpp"
 #include "artcal/estimation/reading_noise.hpp"
+#include "artcal/model/rotation_vector.hpp"
 
 namespace artcal {
 
 namespace {
 
 struct ReadingLinearization {
-  Eigen::VectorXd W;  ///< R f(p, q) + t
-  Eigen::MatrixXd A;  ///< rigid columns at W (3 x 6)
-  Eigen::MatrixXd J;  ///< R df/dp over the covariance's parameters
+  Eigen::VectorXd W;                            ///< R f(p, q) + t
+  Eigen::Vector3d e = Eigen::Vector3d::Zero();  ///< a pose's orientation residual (rad)
+  /// Rigid columns (rows x 6): the point's rows at W, then a pose's orientation rows.
+  Eigen::MatrixXd A;
+  Eigen::MatrixXd J;  ///< the same rows' derivatives over the covariance's parameters
   Eigen::MatrixXd Sigma;
 };
 
 ReadingLinearization linearize(const Plan& plan, const Artifact& instrument, const Measurement& m,
                                const Eigen::VectorXd& p, const RigidTransform& station,
                                const std::vector<int>& indices) {
-  const Machine& machine = plan.machine;
+  const Mechanism& mechanism = *plan.machine.mechanism;
+  const int d = instrument.dimension;
+  const int rows = instrument.rowsPerReading();
   Eigen::VectorXd x;
-  Eigen::MatrixXd J_x_p, J_x_q;
-  forwardOrThrow(*machine.mechanism, p, m.joints, x, &J_x_p, &J_x_q, m.stylus);
+  Eigen::Matrix3d R;
+  Eigen::MatrixXd J_x_p, J_x_q, J_w_p, J_w_q;
+  if (instrument.measures_pose)
+    forwardPoseOrThrow(mechanism, p, m.joints, x, R, &J_x_p, &J_x_q, &J_w_p, &J_w_q);
+  else
+    forwardOrThrow(mechanism, p, m.joints, x, &J_x_p, &J_x_q, m.stylus);
   ReadingLinearization out;
   out.W = station.apply(x);
-  out.A.resize(instrument.dimension, instrument.fullRigidDof());
-  instrument.fullRigidJacobian(out.W, out.A);
-  out.J.resize(instrument.dimension, static_cast<int>(indices.size()));
+  out.A = Eigen::MatrixXd::Zero(rows, instrument.fullRigidDof());
+  instrument.fullRigidJacobian(out.W, out.A.topRows(d));
+  Eigen::MatrixXd rows_p(rows, J_x_p.cols()), rows_q(rows, J_x_q.cols());
+  rows_p.topRows(d) = station.R * J_x_p;
+  rows_q.topRows(d) = station.R * J_x_q;
+  if (instrument.measures_pose) {  // the orientation rows (design_matrix.hpp)
+    Eigen::Matrix3d J_e_w;
+    out.e = orientationResidual(Eigen::Matrix3d(station.R * R), m.orientation, &J_e_w);
+    const Eigen::Matrix3d factor = J_e_w * station.R;
+    rows_p.bottomRows(3) = factor * J_w_p;
+    rows_q.bottomRows(3) = factor * J_w_q;
+    const std::vector<int>& order = instrument.fullRigidOrder();
+    for (std::size_t c = 0; c < order.size(); ++c) {
+      if (order[c] >= 3) out.A.block(d, static_cast<int>(c), 3, 1) = J_e_w.col(order[c] - 3);
+    }
+  }
+  out.J.resize(rows, static_cast<int>(indices.size()));
   for (std::size_t k = 0; k < indices.size(); ++k)
-    out.J.col(static_cast<int>(k)) = station.R * J_x_p.col(indices[k]);
-  const Eigen::MatrixXd Jq = station.R * J_x_q;
-  readingCovariance(plan.noise.encoder, Jq,
-                    readingPointVariance(plan.noise.probe, instrument.noise), out.Sigma);
+    out.J.col(static_cast<int>(k)) = rows_p.col(indices[k]);
+  readingCovariance(plan.noise.encoder, rows_q,
+                    readingPointVariance(plan.noise.probe, instrument.noise), d,
+                    instrument.noise_angle * instrument.noise_angle, out.Sigma);
   return out;
 }
 
@@ -51,31 +75,119 @@ void summarize(const std::vector<double>& d, DeviationSummary& s) {
   s.rms = std::sqrt(sum2 / static_cast<double>(d.size()));
 }
 
-// Expected squared deviations of the held-out readings (header), summed: (with V_p, without).
+/// The rows of the held-out deviations a sum is over: the point's or a pose's orientation's.
+struct RowRange {
+  int first = 0;
+  int count = 0;
+};
+
+// Expected squared deviations of the held-out readings (header), summed over their rows `held_rows`
+// (with V_p, without); the station fitted on the fit readings' points (their first d rows).
 double expectedSquares(const std::vector<ReadingLinearization>& fit,
-                       const std::vector<ReadingLinearization>& held, const Eigen::MatrixXd* V) {
+                       const std::vector<ReadingLinearization>& held, const Eigen::MatrixXd* V,
+                       int d, RowRange held_rows) {
   const int n_r = static_cast<int>(fit.front().A.cols());
-  const int d = static_cast<int>(fit.front().A.rows());
   const int n_s = static_cast<int>(fit.size());
   Eigen::MatrixXd A_s(d * n_s, n_r), J_s(d * n_s, fit.front().J.cols());
   Eigen::MatrixXd Sigma_s = Eigen::MatrixXd::Zero(d * n_s, d * n_s);
   for (int i = 0; i < n_s; ++i) {
-    A_s.middleRows(d * i, d) = fit[static_cast<std::size_t>(i)].A;
+    const ReadingLinearization& r = fit[static_cast<std::size_t>(i)];
+    A_s.middleRows(d * i, d) = r.A.topRows(d);
     // No calibrated parameter (the nominal machine): J_s has no columns and no data to offset.
-    if (J_s.cols() > 0) J_s.middleRows(d * i, d) = fit[static_cast<std::size_t>(i)].J;
-    Sigma_s.block(d * i, d * i, d, d) = fit[static_cast<std::size_t>(i)].Sigma;
+    if (J_s.cols() > 0) J_s.middleRows(d * i, d) = r.J.topRows(d);
+    Sigma_s.block(d * i, d * i, d, d) = r.Sigma.topLeftCorner(d, d);
   }
   const Eigen::MatrixXd K = (A_s.transpose() * A_s).ldlt().solve(A_s.transpose());
   const Eigen::MatrixXd KJ = K * J_s, KSK = K * Sigma_s * K.transpose();
   double total = 0.0;
+  const int first = held_rows.first, count = held_rows.count;
   for (const ReadingLinearization& r : held) {
-    total += r.Sigma.trace() + (r.A * KSK * r.A.transpose()).trace();
+    const Eigen::MatrixXd A = r.A.middleRows(first, count);
+    total += r.Sigma.block(first, first, count, count).trace() + (A * KSK * A.transpose()).trace();
     if (V) {
-      const Eigen::MatrixXd G = r.J - r.A * KJ;
+      const Eigen::MatrixXd G = r.J.middleRows(first, count) - A * KJ;
       total += (G * (*V) * G.transpose()).trace();
     }
   }
   return total;
+}
+
+/// A deviation kind's figures of one station, and the sums `all` is made of.
+struct DeviationTally {
+  std::vector<double> deviations;
+  double expected = 0.0;  ///< summed expected squares
+};
+
+void addPrediction(DeviationSummary& summary, double expected, std::size_t count, double scale) {
+  if (count > 0) summary.predicted_rms = scale * std::sqrt(expected / static_cast<double>(count));
+}
+
+/// One instrument placement: the station fitted, its held-out deviations (points, and a pose's
+/// angles in `angular`) and their predictions.
+StationVerification verifyStation(const Plan& plan, std::size_t j, const Eigen::VectorXd& p,
+                                  const std::vector<int>& indices, const Eigen::MatrixXd* V,
+                                  DeviationTally& points, DeviationTally& angles) {
+  const Placement& placement = plan.placements[j];
+  const Artifact& instrument = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
+  const bool marked = std::any_of(placement.measurements.begin(), placement.measurements.end(),
+                                  [](const Measurement& m) { return m.stationing; });
+  StationVerification station;
+  station.placement = static_cast<int>(j);
+  std::vector<const Measurement*> fit_on;
+  for (std::size_t i = 0; i < placement.measurements.size(); ++i) {
+    const Measurement& m = placement.measurements[i];
+    if (!marked || m.stationing) fit_on.push_back(&m);
+    if (!marked || !m.stationing) station.held_out.push_back(static_cast<int>(i));
+  }
+  const std::string label = placementLabel(plan.placements, j);
+  if (fit_on.size() < 3)
+    throw InputError(plan.source, "/placements/" + std::to_string(j),
+                     "station \"" + label + "\": fewer than 3 stationing readings");
+  const int d = instrument.dimension;
+  Eigen::MatrixXd machine_points(d, static_cast<int>(fit_on.size()));
+  Eigen::MatrixXd measured(d, static_cast<int>(fit_on.size()));
+  Eigen::VectorXd x;
+  for (std::size_t i = 0; i < fit_on.size(); ++i) {
+    forwardOrThrow(*plan.machine.mechanism, p, fit_on[i]->joints, x, nullptr, nullptr,
+                   fit_on[i]->stylus);
+    machine_points.col(static_cast<int>(i)) = x;
+    measured.col(static_cast<int>(i)) = fit_on[i]->point;
+  }
+  station.stationing = static_cast<int>(fit_on.size());
+  station.station = fitRigid(machine_points, measured);
+  std::vector<double> deviations, angular;
+  std::vector<ReadingLinearization> fit_lin, held_lin;
+  for (const Measurement* m : fit_on)
+    fit_lin.push_back(linearize(plan, instrument, *m, p, station.station, indices));
+  for (int i : station.held_out) {
+    const Measurement& m = placement.measurements[static_cast<std::size_t>(i)];
+    held_lin.push_back(linearize(plan, instrument, m, p, station.station, indices));
+    deviations.push_back((m.point - held_lin.back().W).norm());
+    angular.push_back(radToDeg(held_lin.back().e.norm()));
+  }
+  station.deviations =
+      Eigen::Map<Eigen::VectorXd>(deviations.data(), static_cast<Eigen::Index>(deviations.size()));
+  summarize(deviations, station.summary);
+  points.deviations.insert(points.deviations.end(), deviations.begin(), deviations.end());
+  if (held_lin.empty()) return station;
+  const double expected = expectedSquares(fit_lin, held_lin, V, d, {0, d});
+  points.expected += expected;
+  addPrediction(station.summary, expected, held_lin.size(), 1.0);
+  if (instrument.measures_pose) {
+    station.angular_deviations =
+        Eigen::Map<Eigen::VectorXd>(angular.data(), static_cast<Eigen::Index>(angular.size()));
+    station.angular.emplace();
+    summarize(angular, *station.angular);
+    angles.deviations.insert(angles.deviations.end(), angular.begin(), angular.end());
+    const double expected_angles = expectedSquares(fit_lin, held_lin, V, d, {d, 3});
+    angles.expected += expected_angles;
+    addPrediction(*station.angular, expected_angles, held_lin.size(), radToDeg(1.0));
+  }
+  return station;
+}
+
+void scalePosterior(DeviationSummary& s, double birge) {
+  s.predicted_rms_posterior = birge * s.predicted_rms;
 }
 
 }  // namespace
@@ -85,66 +197,29 @@ StationsVerification verifyStations(const Plan& plan, const Eigen::VectorXd& p,
   StationsVerification out;
   const std::vector<int> no_indices;
   const std::vector<int>& indices = uncertainty ? uncertainty->indices : no_indices;
-  std::vector<double> all;
-  double all_expected = 0.0;
+  const Eigen::MatrixXd* V = uncertainty ? &uncertainty->V : nullptr;
+  DeviationTally points, angles;
   for (std::size_t j = 0; j < plan.placements.size(); ++j) {
-    const Placement& placement = plan.placements[j];
-    const Artifact& instrument = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
+    const Artifact& instrument =
+        plan.artifacts[static_cast<std::size_t>(plan.placements[j].artifact)];
     if (instrument.kind != ArtifactKind::Instrument) continue;
-    const bool marked = std::any_of(placement.measurements.begin(), placement.measurements.end(),
-                                    [](const Measurement& m) { return m.stationing; });
-    StationVerification station;
-    station.placement = static_cast<int>(j);
-    std::vector<const Measurement*> fit_on;
-    for (std::size_t i = 0; i < placement.measurements.size(); ++i) {
-      const Measurement& m = placement.measurements[i];
-      if (!marked || m.stationing) fit_on.push_back(&m);
-      if (!marked || !m.stationing) station.held_out.push_back(static_cast<int>(i));
-    }
-    const std::string label = placementLabel(plan.placements, j);
-    if (fit_on.size() < 3)
-      throw InputError(plan.source, "/placements/" + std::to_string(j),
-                       "station \"" + label + "\": fewer than 3 stationing readings");
-    Eigen::MatrixXd machine_points(instrument.dimension, static_cast<int>(fit_on.size()));
-    Eigen::MatrixXd measured(instrument.dimension, static_cast<int>(fit_on.size()));
-    Eigen::VectorXd x;
-    for (std::size_t i = 0; i < fit_on.size(); ++i) {
-      forwardOrThrow(*plan.machine.mechanism, p, fit_on[i]->joints, x, nullptr, nullptr,
-                     fit_on[i]->stylus);
-      machine_points.col(static_cast<int>(i)) = x;
-      measured.col(static_cast<int>(i)) = fit_on[i]->point;
-    }
-    station.stationing = static_cast<int>(fit_on.size());
-    station.station = fitRigid(machine_points, measured);
-    std::vector<double> deviations;
-    std::vector<ReadingLinearization> fit_lin, held_lin;
-    for (const Measurement* m : fit_on)
-      fit_lin.push_back(linearize(plan, instrument, *m, p, station.station, indices));
-    for (int i : station.held_out) {
-      const Measurement& m = placement.measurements[static_cast<std::size_t>(i)];
-      held_lin.push_back(linearize(plan, instrument, m, p, station.station, indices));
-      deviations.push_back((m.point - held_lin.back().W).norm());
-    }
-    station.deviations = Eigen::Map<Eigen::VectorXd>(deviations.data(),
-                                                     static_cast<Eigen::Index>(deviations.size()));
-    summarize(deviations, station.summary);
-    all.insert(all.end(), deviations.begin(), deviations.end());
-    if (!held_lin.empty()) {
-      const double expected =
-          expectedSquares(fit_lin, held_lin, uncertainty ? &uncertainty->V : nullptr);
-      all_expected += expected;
-      station.summary.predicted_rms = std::sqrt(expected / static_cast<double>(held_lin.size()));
-    }
-    out.stations.push_back(std::move(station));
+    out.stations.push_back(verifyStation(plan, j, p, indices, V, points, angles));
+    if (out.stations.back().angular && !out.angular_all) out.angular_all.emplace();
   }
-  summarize(all, out.all);
-  if (!all.empty())
-    out.all.predicted_rms = std::sqrt(all_expected / static_cast<double>(all.size()));
+  summarize(points.deviations, out.all);
+  addPrediction(out.all, points.expected, points.deviations.size(), 1.0);
+  if (out.angular_all) {
+    summarize(angles.deviations, *out.angular_all);
+    addPrediction(*out.angular_all, angles.expected, angles.deviations.size(), radToDeg(1.0));
+  }
   const double birge = uncertainty ? uncertainty->birge_ratio : 0.0;
   if (birge > 0.0) {
-    for (StationVerification& s : out.stations)
-      s.summary.predicted_rms_posterior = birge * s.summary.predicted_rms;
-    out.all.predicted_rms_posterior = birge * out.all.predicted_rms;
+    for (StationVerification& s : out.stations) {
+      scalePosterior(s.summary, birge);
+      if (s.angular) scalePosterior(*s.angular, birge);
+    }
+    scalePosterior(out.all, birge);
+    if (out.angular_all) scalePosterior(*out.angular_all, birge);
   }
   return out;
 }

@@ -2,6 +2,9 @@
 
 #include <Eigen/Cholesky>
 #include <set>
+#include <stdexcept>
+
+#include "artcal/model/rotation_vector.hpp"
 
 #include "artcal/estimation/reading_noise.hpp"
 
@@ -25,10 +28,11 @@ Eigen::MatrixXd DesignMatrixBuilder::probePositions(const std::vector<Measuremen
 
 namespace {
 
-// At most 3 valued coordinates per point: the small matrices live on the stack.
-using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, 3, 3>;
+// At most 6 rows per reading (3 valued coordinates, and a pose's 3 orientation coordinates): the
+// small matrices live on the stack.
+using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, 6, 6>;
 
-// rows <- L^-1 rows for a lower-triangular L of order 1 to 3 (forward substitution).
+// rows <- L^-1 rows for a lower-triangular L of order 1 to 6 (forward substitution).
 template <typename Rows>
 void whiten(const Small& L, Rows&& rows) {
   const int k = static_cast<int>(L.rows());
@@ -49,7 +53,8 @@ void DesignMatrixBuilder::build(const Artifact& artifact,
                                 ReadingWeights* record) {
   const Machine& machine = *machine_;
   const int k = artifact.valuedPerFeature();
-  const int rows = k * static_cast<int>(measurements.size());
+  const int per = artifact.rowsPerReading();  // k, and a pose's 3 orientation rows
+  const int rows = per * static_cast<int>(measurements.size());
   const int n_p = machine.calibratedCount();
   const int n_r = artifact.fullRigidDof();  // rank policy: the full rigid block
   const int n_c = artifact.systematicCount();
@@ -60,11 +65,18 @@ void DesignMatrixBuilder::build(const Artifact& artifact,
   if (with_residuals) block.e.resize(rows);
   // An instrument's own noise adds in quadrature to the probe's (instruments.md).
   const double sigma_p2 = readingPointVariance(noise_->probe, artifact.noise);
+  const double sigma_angle2 = artifact.noise_angle * artifact.noise_angle;
   J_r_.resize(k, n_r);
   for (std::size_t i = 0; i < measurements.size(); ++i) {
     const Measurement& m = measurements[i];
-    const int row = k * static_cast<int>(i);
-    forwardOrThrow(*machine.mechanism, p, m.joints, x_, &J_x_p_, &J_x_q_, m.stylus);
+    const int row = per * static_cast<int>(i);
+    if (artifact.measures_pose) {
+      forwardPoseOrThrow(*machine.mechanism, p, m.joints, x_, R_tip_, &J_x_p_, &J_x_q_, &J_w_p_,
+                         &J_w_q_);
+      orientationRows(artifact, m, r, row + k, with_residuals, block);
+    } else {
+      forwardOrThrow(*machine.mechanism, p, m.joints, x_, &J_x_p_, &J_x_q_, m.stylus);
+    }
     W_.noalias() = r.R * x_;
     W_ += r.t;
     // dF/dp and dF/dq: the valued rows of R J (the rigid motion does not depend on p or q).
@@ -87,23 +99,56 @@ void DesignMatrixBuilder::build(const Artifact& artifact,
     // rows *= L^-1.
     Small L;
     if (held) {
-      L = held->factors[i].topLeftCorner(k, k);
+      L = held->factors[i].topLeftCorner(per, per);
     } else {
-      J_valued_q_.noalias() = R_valued.lazyProduct(J_x_q_);
+      J_valued_q_.resize(per, J_x_q_.cols());
+      J_valued_q_.topRows(k).noalias() = R_valued.lazyProduct(J_x_q_);
+      // A pose's orientation rows move with q as with p: the same J_l^-1(e) R_r factor.
+      if (artifact.measures_pose)
+        J_valued_q_.bottomRows(3).noalias() = orientation_factor_ * J_w_q_;
       Small sigma;
-      readingCovariance(noise_->encoder, J_valued_q_, sigma_p2, sigma);
+      readingCovariance(noise_->encoder, J_valued_q_, sigma_p2, k, sigma_angle2, sigma);
       L = Eigen::LLT<Small>(sigma).matrixL();
     }
     if (record) {
       record->factors.resize(measurements.size());
       record->factors[i].setZero();
-      record->factors[i].topLeftCorner(k, k) = L;
+      record->factors[i].topLeftCorner(per, per) = L;
     }
-    whiten(L, A_p);
-    whiten(L, A_r);
-    if (n_c > 0) whiten(L, block.A_c.middleRows(row, k));
-    if (with_residuals) whiten(L, block.e.segment(row, k));
+    whiten(L, block.A_p.middleRows(row, per));
+    whiten(L, block.A_r.middleRows(row, per));
+    if (n_c > 0) whiten(L, block.A_c.middleRows(row, per));
+    if (with_residuals) whiten(L, block.e.segment(row, per));
   }
+}
+
+// A pose reading's orientation rows at `row` (unwhitened): the residual of the predicted
+// orientation in the station's frame, R_r R(p, q), against the measured one, and its exact
+// derivatives (header); leaves J_l^-1(e) R_r in orientation_factor_ for the encoders' part.
+void DesignMatrixBuilder::orientationRows(const Artifact& artifact, const Measurement& m,
+                                          const RigidTransform& r, int row, bool with_residuals,
+                                          ObservationBlock& block) {
+  if (m.orientation.size() != 3)
+    throw std::logic_error("a pose instrument's reading without its orientation");
+  Eigen::Matrix3d J_e_w;
+  const Eigen::Matrix3d R_station = r.R;
+  const Eigen::Vector3d e = orientationResidual(R_station * R_tip_, m.orientation, &J_e_w);
+  orientation_factor_.noalias() = J_e_w * R_station;
+  const std::vector<int>& calibrated = machine_->calibrated;
+  auto A_p = block.A_p.middleRows(row, 3);
+  for (std::size_t j = 0; j < calibrated.size(); ++j)
+    A_p.col(static_cast<int>(j)).noalias() = orientation_factor_ * J_w_p_.col(calibrated[j]);
+  // A station step exp(delta) turns the prediction by delta's rotation and not by its translation.
+  const std::vector<int>& order = artifact.fullRigidOrder();
+  auto A_r = block.A_r.middleRows(row, 3);
+  for (std::size_t c = 0; c < order.size(); ++c) {
+    const int direction = order[c];
+    if (direction < 3)
+      A_r.col(static_cast<int>(c)).setZero();
+    else
+      A_r.col(static_cast<int>(c)) = J_e_w.col(direction - 3);
+  }
+  if (with_residuals) block.e.segment<3>(row) = e;
 }
 
 void DesignMatrixBuilder::misfits(const Artifact& artifact,

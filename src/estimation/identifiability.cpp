@@ -16,7 +16,7 @@ CountingCondition countingCondition(const Plan& plan, const std::vector<Placemen
   count.N_p = plan.machine.calibratedCount();
   for (std::size_t j = 0; j < placements.size(); ++j) {
     const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placements[j].artifact)];
-    count.N_b += artifact.valuedPerFeature() * static_cast<int>(placements[j].measurements.size());
+    count.N_b += artifact.rowsPerReading() * static_cast<int>(placements[j].measurements.size());
     const int table = artifact.rigidDof();
     // What the readings see, but never more than the calibrated features can: real readings make
     // a ball bar's roll look observed by their mismatch, which creates no equation.
@@ -33,7 +33,7 @@ CountingCondition countingCondition(const Plan& plan, const std::vector<Placemen
   if (!placements.empty()) {
     const Placement& first = placements.front();
     const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(first.artifact)];
-    const int per = artifact.valuedPerFeature() * static_cast<int>(first.measurements.size()) -
+    const int per = artifact.rowsPerReading() * static_cast<int>(first.measurements.size()) -
                     count.rigid_effective.front();
     if (per > 0) count.minimum_alike = (count.N_p + per - 1) / per;
   }

@@ -4,6 +4,7 @@
 
 #include "artcal/core/error.hpp"
 #include "artcal/core/linear_algebra.hpp"
+#include "artcal/core/units.hpp"
 #include "artcal/io/csv_readings.hpp"
 
 namespace artcal {
@@ -11,11 +12,6 @@ namespace artcal {
 namespace {
 
 constexpr std::size_t kMaxStationReadings = 10'000;
-
-bool modelGivesOrientation(const Machine& machine) {
-  const std::string model = machine.mechanism->modelName();
-  return model == "chain" || model == "serial-dh";
-}
 
 /// mm per unit of `point_unit` ("mm" or "m").
 double pointUnitToMm(const Node& entry) {
@@ -27,10 +23,19 @@ double pointUnitToMm(const Node& entry) {
   unit->fail("unknown point_unit \"" + name + "\" (expected mm or m)");
 }
 
-void appendReading(Measurement measurement, const Eigen::VectorXd& point, Artifact& instrument,
+/// Measured coordinates per reading: the point's, then a pose's 3 orientation coordinates.
+int measuredCoordinates(const Artifact& instrument) {
+  return instrument.dimension + (instrument.measures_pose ? 3 : 0);
+}
+
+/// A reading's measured coordinates (file units: the point in mm, a pose's orientation as a
+/// rotation vector in deg) into `measurement`, which then joins the station.
+void appendReading(Measurement measurement, const Eigen::VectorXd& measured, Artifact& instrument,
                    Placement& placement) {
-  measurement.feature = instrument.appendFeature(point);
-  measurement.point = point;
+  const int d = instrument.dimension;
+  measurement.point = measured.head(d);
+  if (instrument.measures_pose) measurement.orientation = measured.tail(3) * degToRad(1.0);
+  measurement.feature = instrument.appendFeature(measurement.point);
   placement.measurements.push_back(std::move(measurement));
 }
 
@@ -40,6 +45,26 @@ Eigen::VectorXd nominalTip(const Machine& machine, const Eigen::VectorXd& q) {
   Eigen::VectorXd x;
   forwardOrThrow(*machine.mechanism, machine.nominal, q, x, nullptr, nullptr, 0);
   return x;
+}
+
+/// The CSV's rows, a wrong column count told in an instrument's terms (joints, then what the
+/// instrument measures), at the file and line.
+std::vector<Eigen::VectorXd> readStationCsv(const std::string& file,
+                                            const std::vector<JointKind>& kinds,
+                                            const ReadingUnits& units, int joints,
+                                            const Artifact& instrument, std::vector<long>& lines) {
+  try {
+    return readJointCsv(file, kinds, units, &lines);
+  } catch (const InputError& e) {
+    const std::string message = e.what();
+    if (message.rfind("expected ", 0) != 0) throw;
+    throw InputError(e.file(), e.pointer(),
+                     message + " (" + std::to_string(joints) + " joints, then the " +
+                         std::to_string(measuredCoordinates(instrument)) + " measured coordinates" +
+                         (instrument.measures_pose
+                              ? ": x, y, z, then the orientation as a rotation vector in deg)"
+                              : ")"));
+  }
 }
 
 void appendCsvReadings(const Node& entry, const std::string& plan_source, const Machine& machine,
@@ -66,13 +91,16 @@ void appendCsvReadings(const Node& entry, const std::string& plan_source, const 
   const Mechanism& mech = *machine.mechanism;
   const int joints = mech.jointCount();
   const int d = instrument.dimension;
-  // The measured coordinates read as lengths (the file's length unit), rescaled to point_unit.
+  const int measured = measuredCoordinates(instrument);
+  // The measured coordinates read as lengths (the file's length unit), rescaled to point_unit
+  // for the point; a pose's orientation is in deg whatever the units.
   std::vector<JointKind> kinds;
   for (int i = 0; i < joints; ++i) kinds.push_back(mech.jointKind(i));
-  for (int k = 0; k < d; ++k) kinds.push_back(JointKind::Prismatic);
+  for (int k = 0; k < measured; ++k) kinds.push_back(JointKind::Prismatic);
   const std::string file = path.lexically_normal().string();
   std::vector<long> lines;
-  const std::vector<Eigen::VectorXd> rows = readJointCsv(file, kinds, units, &lines);
+  const std::vector<Eigen::VectorXd> rows =
+      readStationCsv(file, kinds, units, joints, instrument, lines);
   for (std::size_t r = 0; r < rows.size(); ++r) {
     const std::string where =
         "line " + std::to_string(lines[r]) + " (row " + std::to_string(r + 1) + ")";
@@ -85,8 +113,9 @@ void appendCsvReadings(const Node& entry, const std::string& plan_source, const 
     measurement.csv_row = static_cast<int>(r + 1);
     measurement.entry = entry_index;
     measurement.stationing = stationing;
-    const Eigen::VectorXd point = rows[r].tail(d) / units.length_to_mm * point_scale;
-    appendReading(std::move(measurement), point, instrument, placement);
+    Eigen::VectorXd coordinates = rows[r].tail(measured) / units.length_to_mm;
+    coordinates.head(d) *= point_scale;
+    appendReading(std::move(measurement), coordinates, instrument, placement);
   }
 }
 
@@ -96,21 +125,26 @@ Artifact parseInstrumentArtifact(const std::string& id, const Node& node, const 
                                  std::vector<std::string>& warnings) {
   node.warnUnknown({"type", "measures", "noise", "noise_angle"}, warnings);
   const double noise = node.find("noise") ? node.at("noise").standardDeviation(true) : 0.0;
+  Artifact instrument = Artifact::instrument(id, machine.dimension(), noise);
   if (const auto measures = node.find("measures")) {
     const std::string what = measures->string();
+    if (what != "point" && what != "pose")
+      measures->fail("unknown measures \"" + what + "\" (expected point or pose)");
     if (what == "pose") {
-      if (!modelGivesOrientation(machine)) {
+      if (!machine.mechanism->hasOrientation()) {
         measures->fail(
             "a \"pose\" measurement needs a model whose forward kinematics gives an "
             "orientation (chain, serial-dh); model " +
             machine.mechanism->modelName() + " gives points: use \"point\"");
       }
-      measures->fail("\"pose\" measurements are not supported by this version: use \"point\"");
+      // The orientation rows need a noise of their own (deg, per rotation-vector coordinate).
+      if (!node.has("noise_angle"))
+        node.fail("a \"pose\" instrument needs \"noise_angle\" (deg, > 0)");
+      instrument.measures_pose = true;
+      instrument.noise_angle = degToRad(node.at("noise_angle").standardDeviation(false));
     }
-    if (what != "point")
-      measures->fail("unknown measures \"" + what + "\" (expected point or pose)");
   }
-  return Artifact::instrument(id, machine.dimension(), noise);
+  return instrument;
 }
 
 void parseStationReadings(const Node& measurements, const std::string& plan_source,
@@ -119,7 +153,7 @@ void parseStationReadings(const Node& measurements, const std::string& plan_sour
                           const CheckCsvJoints& check_csv_joints,
                           std::vector<std::string>& warnings) {
   const std::size_t n = measurements.arraySize(1, kMaxStationReadings);
-  const auto d = static_cast<std::size_t>(instrument.dimension);
+  const auto measured = static_cast<std::size_t>(measuredCoordinates(instrument));
   for (std::size_t i = 0; i < n; ++i) {
     const Node m = measurements[i];
     m.object();
@@ -137,14 +171,16 @@ void parseStationReadings(const Node& measurements, const std::string& plan_sour
       if (!stationing->value().is_boolean()) stationing->fail("expected true or false");
       measurement.stationing = stationing->value().get<bool>();
     }
-    Eigen::VectorXd point;
     if (const auto given = m.find("point")) {
-      point = given->finiteNumbers(d) * pointUnitToMm(m);
+      Eigen::VectorXd coordinates = given->finiteNumbers(measured);
+      coordinates.head(instrument.dimension) *= pointUnitToMm(m);
+      appendReading(std::move(measurement), coordinates, instrument, placement);
     } else {
-      point = nominalTip(machine, measurement.joints);
+      setNominalReading(machine, instrument, measurement);
       measurement.point_given = false;
+      measurement.feature = instrument.appendFeature(measurement.point);
+      placement.measurements.push_back(std::move(measurement));
     }
-    appendReading(std::move(measurement), point, instrument, placement);
   }
 }
 

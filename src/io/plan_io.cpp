@@ -958,10 +958,14 @@ nlohmann::json placementsToJson(const Plan& plan) {
       for (int i = 0; i < m.joints.size(); ++i) {
         joints.push_back(toFileUnit(jointQuantity(mech.jointKind(i)), m.joints[i]));
       }
-      if (instrument) {  // a station's reading: its joints and the point measured (mm)
+      if (instrument) {  // a station's reading: its joints and what was measured (mm, deg)
         json entry = {{"joints", joints}};
-        if (m.point_given)
-          entry["point"] = std::vector<double>(m.point.data(), m.point.data() + m.point.size());
+        if (m.point_given) {  // a pose's orientation follows, as a rotation vector in deg
+          std::vector<double> point(m.point.data(), m.point.data() + m.point.size());
+          for (int k = 0; k < m.orientation.size(); ++k)
+            point.push_back(radToDeg(m.orientation[k]));
+          entry["point"] = point;
+        }
         if (m.stationing) entry["stationing"] = true;
         measurements.push_back(entry);
         continue;

@@ -9,6 +9,8 @@
 
 #include "artcal/artifact/rigid_transform.hpp"
 #include "artcal/core/error.hpp"
+#include "artcal/core/units.hpp"
+#include "artcal/model/rotation_vector.hpp"
 
 namespace artcal {
 
@@ -21,6 +23,7 @@ constexpr double kPoseFloor = 10.0;         // mm: a pose entered by hand may be
 constexpr double kReachFactor = 10.0;       // an artifact 10 x the machine's diameter is not on it
 constexpr double kMachineFraction = 0.05;   // a real machine may be off nominal by 5 % of its reach
 constexpr double kCollapsedRatio = 0.5;     // features probed closer than half their true spacing
+constexpr double kAngleFloorDeg = 5.0;      // deg: a real machine's tip frame is not turned more
 
 std::string millimetres(double value) {
   char text[64];
@@ -117,6 +120,48 @@ double poseDisagreement(const Plan& plan, const Artifact& artifact, const Placem
 bool everyPointGiven(const Placement& placement) {
   return std::all_of(placement.measurements.begin(), placement.measurements.end(),
                      [](const Measurement& m) { return m.point_given; });
+}
+
+/// A pose instrument's station: the RMS angle (deg) between the measured orientations and the
+/// machine's at p, after the best rigid fit of the probed points onto the measured ones (the
+/// station). 0 when a reading's orientation cannot be evaluated (left to the numerical code).
+double orientationResidualDeg(const Plan& plan, const Eigen::VectorXd& p,
+                              const Placement& placement, const Eigen::MatrixXd& points) {
+  Eigen::MatrixXd measured(points.rows(), points.cols());
+  for (std::size_t i = 0; i < placement.measurements.size(); ++i)
+    measured.col(static_cast<int>(i)) = placement.measurements[i].point;
+  const RigidTransform station = fitRigid(points, measured);
+  double sum = 0.0;
+  Eigen::VectorXd x;
+  Eigen::Matrix3d R;
+  for (const Measurement& m : placement.measurements) {
+    if (plan.machine.mechanism->forwardPose(p, m.joints, x, R) != ForwardStatus::Ok) return 0.0;
+    sum += orientationResidual(Eigen::Matrix3d(station.R * R), m.orientation).squaredNorm();
+  }
+  return radToDeg(std::sqrt(sum / static_cast<double>(placement.measurements.size())));
+}
+
+/// A pose instrument's orientations must agree with the machine's to within a machine error
+/// (kAngleFloorDeg) or 100 x their noise: otherwise their units or their frame are wrong.
+void checkOrientations(const Plan& plan, const Eigen::VectorXd& p, const Placement& placement,
+                       const Eigen::MatrixXd& points, const std::string& where,
+                       const std::string& machine) {
+  const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
+  if (!artifact.measures_pose) return;
+  const double threshold = std::max(kAngleFloorDeg, kNoiseFactor * radToDeg(artifact.noise_angle));
+  const double residual = orientationResidualDeg(plan, p, placement, points);
+  if (residual <= threshold) return;
+  char text[64], limit[64];
+  std::snprintf(text, sizeof text, "%.4g deg (RMS)", residual);
+  std::snprintf(limit, sizeof limit, "%.3g deg", threshold);
+  throw InputError(plan.source, where,
+                   machine + " turns the tip " + text +
+                       " away from the measured orientations after the best rigid fit of the "
+                       "station, more than a machine error or noise explains (" +
+                       limit +
+                       "): check the orientation's units (a rotation vector in deg) and "
+                       "that it is the tip frame's (serial-dh: the last joint's frame; chain: "
+                       "the tip link's)");
 }
 
 /// The largest distance between two of the artifact's features (mm).
@@ -232,6 +277,7 @@ void checkPlausibility(const Plan& plan, const Eigen::VectorXd& p, const std::st
               "metres) and that each reading's feature index is right");
     }
     checkArtifactFitsTheMachine(plan, placement, where, reach);
+    checkOrientations(plan, p, placement, points, where, machine);
     if (!placement.pose || !everyPointGiven(placement)) continue;
     const double pose_threshold = std::max(threshold, kPoseFloor);
     const double disagreement = poseDisagreement(plan, artifact, placement, points);

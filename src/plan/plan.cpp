@@ -3,6 +3,8 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include "artcal/model/rotation_vector.hpp"
+
 namespace artcal {
 
 bool Region::contains(const Eigen::VectorXd& x) const {
@@ -25,6 +27,19 @@ Eigen::VectorXd readingTarget(const Artifact& artifact, const Measurement& m,
   if (artifact.kind == ArtifactKind::Instrument && m.point.size() == artifact.dimension)
     return m.point;
   return artifact.feature(m.feature, c);
+}
+
+void setNominalReading(const Machine& machine, const Artifact& instrument, Measurement& m) {
+  Eigen::VectorXd x;
+  if (!instrument.measures_pose) {
+    forwardOrThrow(*machine.mechanism, machine.nominal, m.joints, x, nullptr, nullptr, m.stylus);
+    m.point = x;
+    return;
+  }
+  Eigen::Matrix3d R;
+  forwardPoseOrThrow(*machine.mechanism, machine.nominal, m.joints, x, R);
+  m.point = x;
+  m.orientation = rotationVector(R);
 }
 
 RigidTransform poseTransform(int dimension, const Pose& pose) {

@@ -97,7 +97,7 @@ class InstrumentSearch {
   int n_p_, n_r_;
   int threads_ = 1;
   std::deque<DesignCriterion> criteria_;
-  Eigen::MatrixXd rows_;   ///< 3 rows per candidate: whitened [A_p | A_r]
+  Eigen::MatrixXd rows_;   ///< rowsPerReading() rows per candidate: whitened [A_p | A_r]
   Eigen::MatrixXd fixed_;  ///< the spec's own placements, over g
   std::atomic<bool> timed_out_{false};
 };
@@ -106,7 +106,10 @@ void InstrumentSearch::buildRows() {
   const Machine& machine = spec_.machine;
   const Artifact& instrument = designInstrument(spec_);
   std::vector<Measurement> readings(candidates_.size());
-  for (std::size_t c = 0; c < candidates_.size(); ++c) readings[c].joints = candidates_[c];
+  for (std::size_t c = 0; c < candidates_.size(); ++c) {
+    readings[c].joints = candidates_[c];
+    setNominalReading(machine, instrument, readings[c]);  // a pose's orientation rows need it
+  }
   DesignMatrixBuilder builder(machine, spec_.noise);
   ObservationBlock block;
   builder.build(instrument, readings, machine.nominal,
@@ -120,7 +123,7 @@ void InstrumentSearch::buildRows() {
 }
 
 Eigen::MatrixXd InstrumentSearch::readingTerm(int candidate) const {
-  const int k = designInstrument(spec_).valuedPerFeature();
+  const int k = designInstrument(spec_).rowsPerReading();
   const auto a = rows_.middleRows(k * candidate, k);
   return a.transpose() * a;
 }
@@ -281,7 +284,6 @@ double InstrumentSearch::exchange(StationDesign& design, double value, std::mt19
 std::vector<Placement> InstrumentSearch::placementsOf(const StationDesign& design) const {
   const Machine& machine = spec_.machine;
   std::vector<Placement> out;
-  Eigen::VectorXd x;
   int stations_before = 0;
   for (const Placement& p : spec_.placements)
     if (p.artifact == spec_.design->artifact) ++stations_before;
@@ -292,8 +294,8 @@ std::vector<Placement> InstrumentSearch::placementsOf(const StationDesign& desig
     for (int c : design.readings[s]) {
       Measurement m;
       m.joints = candidates_[static_cast<std::size_t>(c)];
-      forwardOrThrow(*machine.mechanism, machine.nominal, m.joints, x);
-      m.point = x;  // the nominal tip, the station at the machine frame: planning only
+      // The nominal tip, the station at the machine frame: planning only.
+      setNominalReading(machine, designInstrument(spec_), m);
       m.point_given = false;
       station.measurements.push_back(std::move(m));
     }
@@ -378,15 +380,11 @@ OptimizerSummary optimizeInstrumentDesign(const Plan& spec, const OptimizerOptio
 }
 
 void appendDesignedPlacements(Plan& plan, const std::vector<Placement>& designed) {
-  Eigen::VectorXd x;
   for (Placement placement : designed) {
     Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
     if (artifact.kind == ArtifactKind::Instrument) {
       for (Measurement& m : placement.measurements) {
-        if (m.point.size() == 0) {
-          forwardOrThrow(*plan.machine.mechanism, plan.machine.nominal, m.joints, x);
-          m.point = x;
-        }
+        if (m.point.size() == 0) setNominalReading(plan.machine, artifact, m);
         m.feature = artifact.appendFeature(m.point);
       }
     }

@@ -346,14 +346,14 @@ void checkInstrumentDesignCount(const Plan& plan, const CountingCondition& fixed
   const DesignSpec& design = *plan.design;
   const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(design.artifact)];
   const int readings = design.instrument->readings;
-  const int per_station = readings * artifact.valuedPerFeature() - artifact.fullRigidDof();
+  const int per_station = readings * artifact.rowsPerReading() - artifact.fullRigidDof();
   const int equations = fixed.N_b - fixed.N_r + design.placements * per_station;
   const int N_p = plan.machine.calibratedCount();
   if (equations >= N_p) return;
   std::ostringstream message;
   message << "cannot be identifiable: " << design.placements << " station(s) of \"" << artifact.id
           << "\" with " << readings << " readings give " << design.placements << " x (" << readings
-          << " readings x " << artifact.valuedPerFeature() << " coordinates - "
+          << " readings x " << artifact.rowsPerReading() << " coordinates - "
           << artifact.fullRigidDof() << " rigid unknowns)";
   if (!plan.placements.empty()) message << " + " << fixed.N_b - fixed.N_r << " (fixed placements)";
   message << " = " << equations << " equations for " << N_p

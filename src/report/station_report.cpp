@@ -38,9 +38,19 @@ nlohmann::json stationsVerificationToJson(const Plan& plan, const StationsVerifi
       deviations.push_back(finiteOrNull(s.deviations[i]));
     entry["deviations"] = deviations;
     entry["held_out"] = s.held_out;
+    if (s.angular) {  // a pose instrument: the angular deviations, deg
+      nlohmann::json angular = summaryToJson(*s.angular);
+      nlohmann::json angles = nlohmann::json::array();
+      for (int i = 0; i < s.angular_deviations.size(); ++i)
+        angles.push_back(finiteOrNull(s.angular_deviations[i]));
+      angular["deviations"] = angles;
+      entry["angular"] = angular;
+    }
     stations.push_back(entry);
   }
-  return {{"stations", stations}, {"all", summaryToJson(v.all)}};
+  nlohmann::json out = {{"stations", stations}, {"all", summaryToJson(v.all)}};
+  if (v.angular_all) out["angular_all"] = summaryToJson(*v.angular_all);
+  return out;
 }
 
 std::string stationsVerificationTable(const Plan& plan, const StationsVerification& v) {
@@ -55,6 +65,18 @@ std::string stationsVerificationTable(const Plan& plan, const StationsVerificati
   int stationing = 0;
   for (const StationVerification& s : v.stations) stationing += s.stationing;
   out += summaryRow("all", stationing, v.all);
+  if (!v.angular_all) return out;
+  out +=
+      "\nangular deviations of the held-out poses (orientation residual |log(R_pred R_meas^T)|; "
+      "deg)\n"
+      "station          stationing  held-out       mean        rms        max  predicted rms"
+      "    posterior\n";
+  for (const StationVerification& s : v.stations) {
+    if (!s.angular) continue;
+    out += summaryRow(placementLabel(plan.placements, static_cast<std::size_t>(s.placement)),
+                      s.stationing, *s.angular);
+  }
+  out += summaryRow("all", stationing, *v.angular_all);
   return out;
 }
 

@@ -34,6 +34,18 @@ std::string refusal(const nlohmann::json& document) {
 
 using testing::shiftedTruth;
 
+/// The calibration converged and every calibrated parameter is within 3 u of `truth`.
+void expectWithin3u(const Calibration& calibration, const Plan& plan,
+                    const Eigen::VectorXd& truth) {
+  ASSERT_TRUE(calibration.summary.converged());
+  ASSERT_TRUE(calibration.covariance);
+  const Eigen::VectorXd error =
+      calibration.estimate(plan.machine) - plan.machine.calibratedValues(truth);
+  for (int k = 0; k < error.size(); ++k) {
+    EXPECT_LT(std::abs(error[k]), 3.0 * calibration.covariance->u[k]) << "parameter " << k;
+  }
+}
+
 TEST(Instrument, SimulatedTrackerReadingsCalibrateToTheTruthWithin3u) {
   Plan plan = parsePlan(trackerDocument(), "tracker.json");
   const Evaluation prediction = evaluatePlan(plan);
@@ -47,13 +59,7 @@ TEST(Instrument, SimulatedTrackerReadingsCalibrateToTheTruthWithin3u) {
                 .norm(),
             0.0);
   const Calibration calibration = calibratePlan(plan);
-  ASSERT_TRUE(calibration.summary.converged());
-  ASSERT_TRUE(calibration.covariance);
-  const Eigen::VectorXd error =
-      calibration.estimate(plan.machine) - plan.machine.calibratedValues(truth);
-  for (int k = 0; k < error.size(); ++k) {
-    EXPECT_LT(std::abs(error[k]), 3.0 * calibration.covariance->u[k]) << "parameter " << k;
-  }
+  expectWithin3u(calibration, plan, truth);
   // chi2/dof near 1: the tracker's noise is in the weights (quadrature with the probe's).
   EXPECT_GT(calibration.chi2_per_dof, 0.5);
   EXPECT_LT(calibration.chi2_per_dof, 1.6);
@@ -265,6 +271,257 @@ TEST_F(PlainStations, LiftingColumnCalibratesAndVerifiesOnHeldOutStations) {
   EXPECT_GT(held["rms"].get<double>(), 0.7 * predicted);
   EXPECT_LT(held["rms"].get<double>(), 1.3 * predicted);
   EXPECT_LT(held["rms"].get<double>(), 0.2 * nominal["rms"].get<double>());
+}
+
+
+// Pose instruments ("measures": "pose", instruments.md): the tracker plan with each reading's
+// orientation (tests/support/plan_builders.hpp, poseTrackerDocument).
+
+using testing::poseTrackerDocument;
+
+/// The pose plan with its readings simulated from `truth` (seed `seed`).
+Plan simulatedPosePlan(const Eigen::VectorXd& truth, std::uint64_t seed) {
+  Plan plan = parsePlan(poseTrackerDocument(), "tracker-pose.json");
+  NormalSource normal(seed);
+  plan.placements = Simulator(plan).simulate(truth, normal).placements;
+  return plan;
+}
+
+TEST(Instrument, SimulatedPoseReadingsCalibrateToTheTruthWithin3u) {
+  const Plan nominal = parsePlan(poseTrackerDocument(), "tracker-pose.json");
+  const Evaluation prediction = evaluatePlan(nominal);
+  ASSERT_TRUE(prediction.covariance);
+  // 30 u off nominal on every parameter, alternately up and down.
+  const Eigen::VectorXd truth = shiftedTruth(nominal, 10.0 * prediction.covariance->u);
+  Plan plan = simulatedPosePlan(truth, 7);
+  ASSERT_EQ(plan.placements[0].measurements[0].orientation.size(), 3);
+  const Calibration calibration = calibratePlan(plan);
+  expectWithin3u(calibration, plan, truth);
+  ASSERT_TRUE(calibration.covariance);
+  for (int k = 0; k < calibration.covariance->u.size(); ++k) {
+    // The calibration's u is the planned one (the same rows at the estimate).
+    EXPECT_NEAR(calibration.covariance->u[k], prediction.covariance->u[k],
+                0.05 * prediction.covariance->u[k]);
+  }
+  // 2 x 25 readings x 6 rows - 2 x 6 - 21: chi2/dof near 1 with the angular rows weighted right.
+  EXPECT_EQ(calibration.dof, 267);
+  EXPECT_GT(calibration.chi2_per_dof, 0.7);
+  EXPECT_LT(calibration.chi2_per_dof, 1.3);
+  // Each reading's standardised residual has the 6 rows.
+  EXPECT_EQ(calibration.residuals.front().normalized.size(), 6);
+}
+
+Confirmation confirmPosePlan(int trials) {
+  const Plan plan = parsePlan(poseTrackerDocument(), "tracker-pose.json");
+  ConfirmationOptions options;
+  options.trials = trials;
+  options.seed = 5;
+  return confirmPlan(plan, options);
+}
+
+TEST(Instrument, ConfirmConfirmsThePosePlan) {
+  const Confirmation confirmation = confirmPosePlan(100);
+  EXPECT_EQ(confirmation.converged_trials, confirmation.trials);
+  EXPECT_TRUE(confirmation.confirmed);
+  EXPECT_NEAR(confirmation.mean_chi2_per_dof, 1.0, 0.1);
+}
+
+// The issue's figure: 1000 trials (label long).
+TEST(Instrument, ConfirmConfirmsThePosePlanInAThousandTrials) {
+  const Confirmation confirmation = confirmPosePlan(1000);
+  EXPECT_EQ(confirmation.converged_trials, 1000);
+  EXPECT_TRUE(confirmation.confirmed);
+  EXPECT_NEAR(confirmation.mean_chi2_per_dof, 1.0, 0.03);
+}
+
+TEST(Instrument, SimulatedPosesRoundTripThroughThePlanFile) {
+  const Plan plan =
+      simulatedPosePlan(parsePlan(poseTrackerDocument(), "tracker-pose.json").machine.nominal, 11);
+  nlohmann::json document = poseTrackerDocument();
+  document["placements"] = placementsToJson(plan);
+  ASSERT_EQ(document["placements"][0]["measurements"][0]["point"].size(), 6u);
+  const Plan reread = parsePlan(document, "tracker-pose.json");
+  for (std::size_t j = 0; j < plan.placements.size(); ++j) {
+    for (std::size_t i = 0; i < plan.placements[j].measurements.size(); ++i) {
+      const Measurement& a = plan.placements[j].measurements[i];
+      const Measurement& b = reread.placements[j].measurements[i];
+      EXPECT_LT((a.point - b.point).norm(), 1e-9);
+      EXPECT_LT((a.orientation - b.orientation).norm(), 1e-12);
+    }
+  }
+}
+
+// The nominal pose readings at nominal: no deviation, of either kind; the prediction of the
+// angular deviations is about sqrt(3) x noise_angle (its 3 coordinates) and a little more.
+TEST(Instrument, VerifyPosesAtTheMachineThatMadeThemDeviatesByNothing) {
+  Plan plan = parsePlan(poseTrackerDocument(), "tracker-pose.json");
+  for (Placement& placement : plan.placements) {
+    for (std::size_t i = 0; i < 10; ++i) placement.measurements[i].stationing = true;
+  }
+  const StationsVerification v = verifyStations(plan, plan.machine.nominal, std::nullopt);
+  ASSERT_TRUE(v.angular_all);
+  ASSERT_TRUE(v.stations[1].angular);
+  EXPECT_EQ(v.angular_all->count, 30);
+  EXPECT_LT(v.all.max, 1e-9);
+  EXPECT_LT(v.angular_all->max, 1e-9);
+  const double noise_deg = radToDeg(plan.artifacts[0].noise_angle);
+  EXPECT_GT(v.angular_all->predicted_rms, std::sqrt(3.0) * noise_deg);
+  EXPECT_LT(v.angular_all->predicted_rms, 1.2 * std::sqrt(3.0) * noise_deg);
+}
+
+// Held-out pose stations of a calibrated machine: the observed RMS of both deviations agrees
+// with the prediction (30 held-out readings: a statistical band); the nominal machine is worse.
+TEST(Instrument, VerifyHeldOutPoseStationsAgainstThePrediction) {
+  const Plan plan = parsePlan(poseTrackerDocument(), "tracker-pose.json");
+  const Evaluation prediction = evaluatePlan(plan);
+  ASSERT_TRUE(prediction.covariance);
+  const Eigen::VectorXd truth = shiftedTruth(plan, 10.0 * prediction.covariance->u);
+  const Calibration calibration = calibratePlan(simulatedPosePlan(truth, 21));
+  ASSERT_TRUE(calibration.summary.converged());
+  const auto uncertainty = calibration.uncertainty(plan.machine);
+  ASSERT_TRUE(uncertainty);
+  Plan held = simulatedPosePlan(truth, 22);
+  for (Placement& placement : held.placements) {
+    for (std::size_t i = 0; i < 10; ++i) placement.measurements[i].stationing = true;
+  }
+  const StationsVerification v = verifyStations(held, calibration.parameters, uncertainty);
+  ASSERT_TRUE(v.angular_all);
+  EXPECT_GT(v.all.rms, 0.6 * v.all.predicted_rms);
+  EXPECT_LT(v.all.rms, 1.5 * v.all.predicted_rms);
+  EXPECT_GT(v.angular_all->rms, 0.6 * v.angular_all->predicted_rms);
+  EXPECT_LT(v.angular_all->rms, 1.5 * v.angular_all->predicted_rms);
+  const StationsVerification nominal = verifyStations(held, plan.machine.nominal, std::nullopt);
+  EXPECT_GT(nominal.all.rms, 2.0 * v.all.rms);
+  EXPECT_GT(nominal.angular_all->rms, 1.5 * v.angular_all->rms);
+}
+
+TEST(Instrument, APoseInstrumentNeedsItsAngularNoise) {
+  nlohmann::json document = poseTrackerDocument();
+  document["artifacts"]["tracker"].erase("noise_angle");
+  const std::string what = refusal(document);
+  EXPECT_NE(what.find("/artifacts/tracker"), std::string::npos) << what;
+  EXPECT_NE(what.find("noise_angle"), std::string::npos) << what;
+  document["artifacts"]["tracker"]["noise_angle"] = 0;
+  EXPECT_NE(refusal(document).find("/artifacts/tracker/noise_angle"), std::string::npos);
+  // A point of 3 numbers where a pose is measured: the reading's pointer.
+  document = poseTrackerDocument();
+  document["placements"][1]["measurements"][4]["point"] = {1.0, 2.0, 3.0};
+  EXPECT_NE(refusal(document).find("/placements/1/measurements/4/point"), std::string::npos);
+}
+
+// Orientations in the wrong unit (rad where deg are read) are no machine error: exit 2 naming
+// the station, with what to check.
+TEST(Instrument, OrientationsInTheWrongUnitAreRefusedNamingTheStation) {
+  nlohmann::json document = poseTrackerDocument();
+  for (auto& reading : document["placements"][1]["measurements"]) {
+    for (int k = 3; k < 6; ++k) reading["point"][k] = degToRad(reading["point"][k].get<double>());
+  }
+  const std::string what = refusal(document);
+  EXPECT_NE(what.find("tracker.json: /placements/1: "), std::string::npos) << what;
+  EXPECT_NE(what.find("rotation vector in deg"), std::string::npos) << what;
+}
+
+// Pose readings from a CSV (joints, then x, y, z and the rotation vector in deg): the same
+// readings as inline, point_unit scaling only the point; a row of the wrong width is refused
+// naming the file and its line, on the command line with exit 2 and one line.
+class PoseCsv : public test_support::TempFolder {
+ protected:
+  PoseCsv() : TempFolder("pose-csv") {}
+
+  /// The pose plan whose station 2 is read from `rows` (in metres for the point).
+  std::string writePlan(const std::string& rows) {
+    write("station2.csv", rows);
+    nlohmann::json document = poseTrackerDocument();
+    document["placements"][1]["measurements"] = {
+        {{"csv", "station2.csv"}, {"unit", "deg"}, {"point_unit", "m"}}};
+    return write("tracker-pose.json", document.dump());
+  }
+};
+
+TEST_F(PoseCsv, RowsReadAsTheInlineReadings) {
+  const nlohmann::json inline_document = poseTrackerDocument();
+  std::ostringstream rows;
+  rows.precision(17);
+  rows << "q1,q2,q3,q4,q5,q6,x,y,z,wx,wy,wz\n";
+  for (const auto& reading : inline_document["placements"][1]["measurements"]) {
+    for (const auto& q : reading["joints"]) rows << q.get<double>() << ",";
+    const auto& point = reading["point"];
+    for (int k = 0; k < 6; ++k)
+      rows << (k < 3 ? point[k].get<double>() / 1000.0 : point[k].get<double>())
+           << (k < 5 ? "," : "\n");
+  }
+  const Plan from_csv = loadPlan(writePlan(rows.str()));
+  const Plan from_json = parsePlan(inline_document, "tracker-pose.json");
+  const auto& a = from_csv.placements[1].measurements;
+  const auto& b = from_json.placements[1].measurements;
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    EXPECT_LT((a[i].point - b[i].point).norm(), 1e-9);
+    EXPECT_LT((a[i].orientation - b[i].orientation).norm(), 1e-12);
+    EXPECT_EQ(a[i].csv_row, static_cast<int>(i) + 1);
+  }
+}
+
+TEST_F(PoseCsv, ARowOfTheWrongWidthIsRefusedNamingTheFileAndLine) {
+  const std::string plan = writePlan(
+      "10,20,30,40,50,60,1.1,0.2,0.3,10,20,30\n"
+      "10,20,30,40,50,60,1.1,0.2,0.3\n");
+  try {
+    loadPlan(plan);
+    FAIL() << "a row of 9 numbers was read as a pose reading";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), path("station2.csv"));
+    EXPECT_EQ(e.pointer(), "line 2");
+    EXPECT_NE(std::string(e.what()).find("6 joints, then the 6 measured coordinates"),
+              std::string::npos)
+        << e.what();
+  }
+  const test_support::CliRun refused =
+      test_support::runCli("check " + plan, test_support::Stderr::Only);
+  EXPECT_EQ(refused.status, 2);
+  EXPECT_NE(refused.out.find("station2.csv: line 2: expected 12 readings"), std::string::npos)
+      << refused.out;
+  EXPECT_EQ(std::count(refused.out.begin(), refused.out.end(), '\n'), 1);
+}
+
+// The command line: pose readings through simulate, calibrate and verify (the angular table
+// and its --json twin); a pose instrument on a model without orientation is exit 2, one line.
+TEST_F(PoseCsv, CommandLineSimulatesCalibratesAndVerifiesPoses) {
+  const std::string plan = write("tracker-pose.json", poseTrackerDocument().dump());
+  write("truth.json", R"({"parameters": {"j2.theta": 0.01, "j3.d": 600.05, "probe.x": 150.03}})");
+  const std::string simulated = path("simulated.json");
+  ASSERT_EQ(test_support::runCli("simulate " + plan + " --truth " + path("truth.json") +
+                                 " --seed 3 -o " + simulated)
+                .status,
+            0);
+  const std::string machine = path("machine.json");
+  ASSERT_EQ(test_support::runCli("calibrate " + simulated + " --write-machine " + machine).status,
+            0);
+  const test_support::CliRun verified =
+      test_support::runCli("verify --json " + simulated + " --machine " + machine);
+  ASSERT_EQ(verified.status, 0);
+  const nlohmann::json out = nlohmann::json::parse(verified.out);
+  ASSERT_TRUE(out["instrument"].contains("angular_all"));
+  EXPECT_EQ(out["instrument"]["angular_all"]["readings"], 50);
+  EXPECT_EQ(out["instrument"]["stations"][0]["angular"]["deviations"].size(), 25u);
+  const test_support::CliRun table = test_support::runCli("verify " + simulated);
+  EXPECT_NE(table.out.find("angular deviations of the held-out poses"), std::string::npos);
+
+  nlohmann::json planar = nlohmann::json::parse(R"({
+    "format": "artcal-plan/1",
+    "machine": {"model": "planar2r", "parameters": {"l1": 150, "l2": 100, "dt2": 0}},
+    "noise": {"probe": 0.01, "encoder": 0.001},
+    "artifacts": {"tracker": {"type": "instrument", "measures": "pose", "noise": 0.02,
+                              "noise_angle": 0.005}},
+    "placements": [{"artifact": "tracker", "measurements": [
+      {"joints": [0, 30]}, {"joints": [40, 60]}, {"joints": [80, 20]}]}]})");
+  const std::string bad = write("planar-pose.json", planar.dump());
+  const test_support::CliRun refused =
+      test_support::runCli("check " + bad, test_support::Stderr::Only);
+  EXPECT_EQ(refused.status, 2);
+  EXPECT_NE(refused.out.find(bad + ": /artifacts/tracker/measures: "), std::string::npos)
+      << refused.out;
+  EXPECT_EQ(std::count(refused.out.begin(), refused.out.end(), '\n'), 1);
 }
 
 }  // namespace instrument_test

@@ -10,6 +10,7 @@
 #include <numbers>
 
 #include "artcal/artcal.hpp"
+#include "finite_difference.hpp"
 #include "plan_builders.hpp"
 #include "test_paths.hpp"
 
@@ -384,5 +385,79 @@ TEST(TipEvaluator, KinematicVarianceMatchesTheDirectTrace) {
   expectKinematicVarianceMatchesDirectTrace(machine, noise);
 }
 
-}  // namespace
+// A pose instrument's observation rows (design_matrix.hpp) against central differences, off the
+// nominal machine and away from a zero residual (the readings are turned and moved so that
+// J_l^-1(e) is not the identity): with the whitening held, dF/dp = A_p and dF/dr = A_r over a
+// station step exp(delta); and the whitening's covariance is diag(s^2 I, s_angle^2 I) + J_q
+// Sigma_q J_q^T with J_q the central differences of the raw rows in the joints.
+TEST(Evaluator, PoseObservationRowsMatchCentralDifferences) {
+  const Plan plan = parsePlan(testing::poseTrackerDocument(), "tracker-pose.json");
+  const Artifact& tracker = plan.artifacts[0];
+  ASSERT_EQ(tracker.rowsPerReading(), 6);
+  std::vector<Measurement> readings(plan.placements[0].measurements.begin(),
+                                    plan.placements[0].measurements.begin() + 4);
+  for (std::size_t i = 0; i < readings.size(); ++i) {
+    const double turn = 0.3 * static_cast<double>(i + 1);  // residuals from 0.3 to 1.2 rad
+    readings[i].orientation += Eigen::Vector3d(turn, -0.5 * turn, 0.2);
+    readings[i].point += Eigen::Vector3d(0.1, -0.2, 0.3);
+  }
+  Eigen::VectorXd p = plan.machine.nominal;
+  for (int k = 0; k < plan.machine.calibratedCount(); ++k)
+    p[plan.machine.calibrated[k]] += 1e-3 * (k % 3 - 1);
+  const RigidTransform station = fitPlacements(plan, plan.placements, p)[0];
+  DesignMatrixBuilder builder(plan.machine, plan.noise);
+  ObservationBlock block;
+  ReadingWeights weights;
+  builder.build(tracker, readings, p, station, Eigen::VectorXd(), true, block, nullptr, &weights);
+  ASSERT_EQ(block.rows(), 24);
+  ASSERT_GT(block.e.segment<3>(3).norm(), 0.1);  // whitened by 0.005 deg: far from zero
+
+  auto whitened = [&](const Eigen::VectorXd& at_p, const RigidTransform& at_r) {
+    ObservationBlock b;
+    DesignMatrixBuilder(plan.machine, plan.noise)
+        .build(tracker, readings, at_p, at_r, Eigen::VectorXd(), true, b, &weights);
+    return b.e;
+  };
+  const Eigen::VectorXd g0 = plan.machine.calibratedValues(p);
+  auto over_p = [&](const Eigen::VectorXd& g) {
+    return whitened(plan.machine.withCalibrated(p, g), station);
+  };
+  testing::expectJacobianNear(block.A_p, testing::centralDifferenceJacobian(over_p, g0, 1e-6), 1e-6,
+                              "A_p");
+  auto over_r = [&](const Eigen::VectorXd& delta) {
+    return whitened(p, station.perturbed(tracker.expandFullRigidStep(delta)));
+  };
+  testing::expectJacobianNear(
+      block.A_r, testing::centralDifferenceJacobian(over_r, Eigen::VectorXd::Zero(6), 1e-7), 1e-6,
+      "A_r");
+
+  // The whitening: L L^T against the covariance from the raw rows' joint derivatives.
+  for (std::size_t i = 0; i < readings.size(); ++i) {
+    auto raw = [&](const Eigen::VectorXd& q) {
+      std::vector<Measurement> one{readings[i]};
+      one[0].joints = q;
+      ReadingWeights unit;
+      unit.factors.assign(1, Eigen::Matrix<double, 6, 6>::Identity());
+      ObservationBlock b;
+      DesignMatrixBuilder(plan.machine, plan.noise)
+          .build(tracker, one, p, station, Eigen::VectorXd(), true, b, &unit);
+      return Eigen::VectorXd(b.e);
+    };
+    const Eigen::MatrixXd J_q = testing::centralDifferenceJacobian(raw, readings[i].joints, 1e-6);
+    Eigen::MatrixXd Sigma =
+        J_q * plan.noise.encoder.array().square().matrix().asDiagonal() * J_q.transpose();
+    const double s2 = plan.noise.probe * plan.noise.probe + tracker.noise * tracker.noise;
+    Sigma.diagonal() += (Eigen::VectorXd(6) << s2, s2, s2,
+                         Eigen::Vector3d::Constant(tracker.noise_angle * tracker.noise_angle))
+                            .finished();
+    // L^-1 Sigma L^-T = I: every row, the orientation's too, at its own scale.
+    const Eigen::Matrix<double, 6, 6>& L = weights.factors[i];
+    const Eigen::MatrixXd half = L.triangularView<Eigen::Lower>().solve(Sigma);
+    const Eigen::MatrixXd unit = L.triangularView<Eigen::Lower>().solve(half.transpose());
+    EXPECT_LT((unit - Eigen::MatrixXd::Identity(6, 6)).cwiseAbs().maxCoeff(), 1e-6)
+        << "reading " << i;
+  }
+}
+
+}  // namespace evaluator_test
 }  // namespace artcal

@@ -5,6 +5,7 @@
 #include <fstream>
 
 #include "artcal/artcal.hpp"
+#include "plan_builders.hpp"
 #include "test_paths.hpp"
 
 namespace artcal {
@@ -163,5 +164,73 @@ TEST(Reference, InstrumentCollinearStationIsRefused) {
   }
 }
 
-}  // namespace
+// A pose instrument (instruments.md, "measures": "pose") against a dense oracle built here from
+// the model's own Jacobians (Mechanism::forwardPose): per reading the 6 rows [R J_x_p; R J_w_p]
+// over p and [I, -[W]x; 0, I] over its station's rigid motion, whitened by the 6 x 6 covariance
+// diag(s^2 I, s_angle^2 I) + [R J_x_q; R J_w_q] Sigma_q [...]^T (the orientation residual's
+// J_l^-1 is I at the nominal readings), stacked over both stations; the covariance of p is the p
+// block of the full inverse (each station's 6 rigid parameters eliminated). u matches to 1e-6.
+Eigen::MatrixXd denseOraclePoseCovariance(const Plan& plan) {
+  const Machine& machine = plan.machine;
+  const Artifact& tracker = plan.artifacts[0];
+  const int n_p = machine.calibratedCount();
+  const int stations = static_cast<int>(plan.placements.size());
+  const std::vector<RigidTransform> fitted = fitPlacements(plan, plan.placements, machine.nominal);
+  std::vector<Eigen::MatrixXd> rows;
+  for (int j = 0; j < stations; ++j) {
+    const RigidTransform& station = fitted[static_cast<std::size_t>(j)];
+    for (const Measurement& m : plan.placements[static_cast<std::size_t>(j)].measurements) {
+      Eigen::VectorXd x;
+      Eigen::Matrix3d R;
+      Eigen::MatrixXd J_x_p, J_x_q, J_w_p, J_w_q;
+      const ForwardStatus status = machine.mechanism->forwardPose(machine.nominal, m.joints, x, R,
+                                                                  &J_x_p, &J_x_q, &J_w_p, &J_w_q);
+      EXPECT_EQ(status, ForwardStatus::Ok);
+      Eigen::MatrixXd A = Eigen::MatrixXd::Zero(6, n_p + 6 * stations);
+      for (int k = 0; k < n_p; ++k) {
+        A.block(0, k, 3, 1) = station.R * J_x_p.col(machine.calibrated[k]);
+        A.block(3, k, 3, 1) = station.R * J_w_p.col(machine.calibrated[k]);
+      }
+      const Eigen::Vector3d W = station.apply(x);
+      Eigen::Matrix3d minus_W_cross;
+      minus_W_cross << 0, W.z(), -W.y(), -W.z(), 0, W.x(), W.y(), -W.x(), 0;
+      A.block(0, n_p + 6 * j, 3, 3).setIdentity();
+      A.block(0, n_p + 6 * j + 3, 3, 3) = minus_W_cross;
+      A.block(3, n_p + 6 * j + 3, 3, 3).setIdentity();
+      Eigen::MatrixXd J_q(6, J_x_q.cols());
+      J_q << station.R * J_x_q, station.R * J_w_q;
+      Eigen::MatrixXd Sigma =
+          J_q * plan.noise.encoder.array().square().matrix().asDiagonal() * J_q.transpose();
+      const double s2 = plan.noise.probe * plan.noise.probe + tracker.noise * tracker.noise;
+      for (int k = 0; k < 3; ++k) {
+        Sigma(k, k) += s2;
+        Sigma(3 + k, 3 + k) += tracker.noise_angle * tracker.noise_angle;
+      }
+      rows.push_back(Eigen::LLT<Eigen::MatrixXd>(Sigma).matrixL().solve(A));
+    }
+  }
+  Eigen::MatrixXd N = Eigen::MatrixXd::Zero(n_p + 6 * stations, n_p + 6 * stations);
+  for (const Eigen::MatrixXd& a : rows) N += a.transpose() * a;
+  return N.inverse().topLeftCorner(n_p, n_p);
+}
+
+TEST(Reference, InstrumentPoseMatchesADenseOracle) {
+  const Plan plan = parsePlan(testing::poseTrackerDocument(), "tracker-pose.json");
+  ASSERT_TRUE(plan.artifacts[0].measures_pose);
+  const Evaluation ev = evaluatePlan(plan);
+  ASSERT_TRUE(ev.covariance);
+  const Eigen::MatrixXd V = denseOraclePoseCovariance(plan);
+  ASSERT_EQ(V.rows(), ev.covariance->u.size());
+  for (int k = 0; k < V.rows(); ++k)
+    expectRelative(ev.covariance->u[k], std::sqrt(V(k, k)), 1e-6, "parameter " + std::to_string(k));
+  // The counting condition with N(b_j) = 6 n_j: 2 stations x 25 readings x 6 - 2 x 6.
+  const nlohmann::json got = evaluationToJson(plan, ev);
+  EXPECT_EQ(got["counting"]["N_b"], 300);
+  EXPECT_EQ(got["counting"]["N_r"], 12);
+  // The orientations add information: every u at most the point tracker's.
+  const Evaluation points = evaluatePlan(readPlan("ref-instrument-arm6-2stations"));
+  for (int k = 0; k < V.rows(); ++k) EXPECT_LE(ev.covariance->u[k], points.covariance->u[k]);
+}
+
+}  // namespace reference_test
 }  // namespace artcal

@@ -4,11 +4,13 @@
 // bars whose balls are each read in several postures (readings by inverse kinematics at nominal).
 
 #include <cmath>
+#include <fstream>
 #include <numbers>
 #include <random>
 #include <string>
 
 #include "artcal/internal.hpp"
+#include "artcal/model/rotation_vector.hpp"
 #include "test_paths.hpp"
 
 namespace artcal::testing {
@@ -123,6 +125,39 @@ inline Eigen::VectorXd shiftedTruth(const Plan& plan, const Eigen::VectorXd& u) 
   for (int k = 0; k < u.size(); ++k) shift[k] = (k % 2 == 0 ? 3.0 : -3.0) * u[k];
   const Machine& machine = plan.machine;
   return machine.withCalibrated(machine.nominal, machine.calibratedValues(machine.nominal) + shift);
+}
+
+/// The tracker plan of tests/data/ref-instrument-arm6-2stations.json made a pose instrument
+/// (`"measures": "pose"`, `noise_angle` 0.005 deg): each reading's `point` extended by the nominal
+/// tip frame's orientation seen from its station (the rigid fit of the nominal tips onto the
+/// plan's points), a rotation vector in deg, so that the readings are the nominal machine's.
+inline nlohmann::json poseTrackerDocument() {
+  std::ifstream in(test_support::testDataFile("ref-instrument-arm6-2stations.json"));
+  nlohmann::json document = nlohmann::json::parse(in);
+  const Plan points = parsePlan(document, "tracker.json");
+  document["artifacts"]["tracker"]["measures"] = "pose";
+  document["artifacts"]["tracker"]["noise_angle"] = 0.005;
+  const Mechanism& mechanism = *points.machine.mechanism;
+  for (std::size_t j = 0; j < points.placements.size(); ++j) {
+    const std::vector<Measurement>& readings = points.placements[j].measurements;
+    Eigen::MatrixXd tips(3, static_cast<int>(readings.size())), measured = tips;
+    std::vector<Eigen::Matrix3d> turns;
+    for (std::size_t i = 0; i < readings.size(); ++i) {
+      Eigen::VectorXd x;
+      Eigen::Matrix3d R;
+      forwardPoseOrThrow(mechanism, points.machine.nominal, readings[i].joints, x, R);
+      tips.col(static_cast<int>(i)) = x;
+      measured.col(static_cast<int>(i)) = readings[i].point;
+      turns.push_back(R);
+    }
+    const RigidTransform station = fitRigid(tips, measured);
+    for (std::size_t i = 0; i < readings.size(); ++i) {
+      const Eigen::Vector3d w = rotationVector(Eigen::Matrix3d(station.R * turns[i]));
+      for (int k = 0; k < 3; ++k)
+        document["placements"][j]["measurements"][i]["point"].push_back(radToDeg(w[k]));
+    }
+  }
+  return document;
 }
 
 }  // namespace artcal::testing

@@ -44,6 +44,11 @@ class Artifact {
   /// An instrument's random error per coordinate (mm), added in quadrature to the probe noise of
   /// its readings; 0 for calibrated artifacts.
   double noise = 0.0;
+  /// An instrument that measures poses (`"measures": "pose"`, instruments.md): each reading also
+  /// values the tip frame's orientation (a rotation vector, 3 more rows), with `noise_angle`
+  /// (rad, per rotation-vector coordinate). Only on models whose forward kinematics gives one.
+  bool measures_pose = false;
+  double noise_angle = 0.0;
 
   static Artifact ballBar(std::string id, int dimension, double length, double u_length);
   static Artifact ballPlate(std::string id, const Eigen::MatrixXd& centers, double u);
@@ -57,6 +62,8 @@ class Artifact {
   int featureCount() const { return static_cast<int>(features.cols()); }
   /// k: valued coordinates per feature (all of them for a ball, the first for a step-gauge face).
   int valuedPerFeature() const { return kind == ArtifactKind::StepGauge ? 1 : dimension; }
+  /// Observation rows per reading: the valued coordinates, and 3 orientation rows for a pose.
+  int rowsPerReading() const { return valuedPerFeature() + (measures_pose ? 3 : 0); }
   /// N(r_j): the rigid-motion directions that move valued coordinates (docs/method.md section 1).
   int rigidDof() const { return static_cast<int>(rigidDirections().size()); }
   /// Indices into the full rigid motion (translation, rotation) that a placement estimates.

@@ -12,6 +12,12 @@
 //   E|d_i|^2 = tr(G V_p G^T) + tr(Sigma_i) + tr(A_i K Sigma_s K^T A_i^T),  G = J_i - A_i K J_s,
 // and predicted_rms = sqrt(mean_i E|d_i|^2) over the held-out readings (the posterior one scales
 // V_p and the Sigma by the calibration's Birge ratio squared).
+//
+// A pose instrument (`"measures": "pose"`): the station is fitted on the stationing readings'
+// points as above, and each held-out reading also has an angular deviation, |e_i| with e_i =
+// log(R_r R(p, q_i) exp([m_i]x)^T) (deg). Its prediction is the same formula over the
+// orientation rows: B_i = [0, J_l^-1(e_i)] the rigid columns, J_i = J_l^-1(e_i) R_r J_w_p, Sigma_i
+// = s_angle^2 I + (J_l^-1 R_r J_w_q) Sigma_q (...)^T, with K from the points' fit.
 
 #include <Eigen/Core>
 #include <optional>
@@ -38,11 +44,15 @@ struct StationVerification {
   Eigen::VectorXd deviations;  ///< mm, per held-out reading, in measurement order
   std::vector<int> held_out;   ///< the held-out readings' indices in the placement
   DeviationSummary summary;
+  /// A pose instrument only: the angular deviations (deg) and their summary (its figures in deg).
+  Eigen::VectorXd angular_deviations;
+  std::optional<DeviationSummary> angular;
 };
 
 struct StationsVerification {
   std::vector<StationVerification> stations;
   DeviationSummary all;
+  std::optional<DeviationSummary> angular_all;  ///< deg; when a station is a pose instrument's
 };
 
 /// The instrument placements of `plan` verified at full parameters `p`; `uncertainty` (optional)

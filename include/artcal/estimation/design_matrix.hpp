@@ -41,10 +41,16 @@ struct ReadingMisfit {
 /// them while it tries steps (iteratively reweighted least squares), so that a trial's cost is
 /// compared with the current one under the same weights.
 struct ReadingWeights {
-  std::vector<Eigen::Matrix3d> factors;
+  /// Top-left rows x rows of each: 3 (or fewer) for a point, 6 for a pose (instruments.md).
+  std::vector<Eigen::Matrix<double, 6, 6>> factors;
 };
 
 /// Builds observation blocks; holds scratch space so that repeated builds do not allocate.
+/// A pose instrument's reading (Artifact::measures_pose) gives 6 rows: its point's, then its
+/// orientation's, e = log(R_r R(p, q) exp([m]x)^T) (model/rotation_vector.hpp) with the exact
+/// derivatives de/dp = J_l^-1(e) R_r J_w_p, de/dq likewise, de/d(rotation of r) = J_l^-1(e),
+/// de/d(translation of r) = 0; whitened together, Sigma = diag(s^2 I_3, s_angle^2 I_3) +
+/// J_q Sigma_q J_q^T over the 6 rows.
 class DesignMatrixBuilder {
  public:
   explicit DesignMatrixBuilder(const Machine& machine, const Noise& noise);
@@ -71,8 +77,12 @@ class DesignMatrixBuilder {
   const Machine* machine_;
   const Noise* noise_;
   Eigen::VectorXd x_;
-  Eigen::MatrixXd J_x_p_, J_x_q_, J_valued_q_, J_r_;
+  Eigen::MatrixXd J_x_p_, J_x_q_, J_w_p_, J_w_q_, J_valued_q_, J_r_;
+  Eigen::Matrix3d R_tip_, orientation_factor_;
   Eigen::VectorXd W_;
+
+  void orientationRows(const Artifact& artifact, const Measurement& m, const RigidTransform& r,
+                       int row, bool with_residuals, ObservationBlock& block);
 };
 
 /// Rigid fit of each placement's probed points at parameters `p` onto the artifact's features:

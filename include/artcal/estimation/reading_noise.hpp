@@ -27,4 +27,17 @@ void readingCovariance(const Eigen::VectorXd& encoder_sigma,
   sigma.diagonal().array() += point_variance;
 }
 
+/// The same for a pose reading (instruments.md, "measures": "pose"): J_q has the position's
+/// `position_rows` rows, then the orientation's; the orientation rows carry `angle_variance`
+/// (rad^2, the instrument's noise_angle squared) instead of the point's.
+template <typename JacobianQ, typename Covariance>
+void readingCovariance(const Eigen::VectorXd& encoder_sigma,
+                       const Eigen::MatrixBase<JacobianQ>& J_q, double point_variance,
+                       int position_rows, double angle_variance, Covariance& sigma) {
+  const auto sigma_q2 = encoder_sigma.array().square().matrix().asDiagonal();
+  sigma = (J_q * sigma_q2).lazyProduct(J_q.transpose());
+  sigma.diagonal().head(position_rows).array() += point_variance;
+  sigma.diagonal().tail(sigma.rows() - position_rows).array() += angle_variance;
+}
+
 }  // namespace artcal

@@ -141,5 +141,10 @@ using MechanismPtr = std::shared_ptr<const Mechanism>;
 void forwardOrThrow(const Mechanism& mechanism, const Eigen::VectorXd& p, const Eigen::VectorXd& q,
                     Eigen::VectorXd& x, Eigen::MatrixXd* J_x_p = nullptr,
                     Eigen::MatrixXd* J_x_q = nullptr, int stylus = 0);
+/// forwardPose() likewise: a failure raises KinematicsError.
+void forwardPoseOrThrow(const Mechanism& mechanism, const Eigen::VectorXd& p,
+                        const Eigen::VectorXd& q, Eigen::VectorXd& x, Eigen::Matrix3d& R,
+                        Eigen::MatrixXd* J_x_p = nullptr, Eigen::MatrixXd* J_x_q = nullptr,
+                        Eigen::MatrixXd* J_w_p = nullptr, Eigen::MatrixXd* J_w_q = nullptr);
 
 }  // namespace artcal

@@ -45,6 +45,9 @@ struct Measurement {
   /// An instrument's reading (instruments.md): the point it reported, in its station's frame
   /// (mm); empty for a calibrated artifact. Simulation rewrites it with the readings it draws.
   Eigen::VectorXd point = {};
+  /// A pose instrument's reading (`"measures": "pose"`): the orientation it reported, a rotation
+  /// vector in its station's frame (rad; deg in files); empty otherwise.
+  Eigen::VectorXd orientation = {};
   /// An instrument's reading only: `stationing` (verify fits the new station on these).
   bool stationing = false;
   /// An instrument's reading only: false when the plan left `point` out (planning only).
@@ -55,6 +58,11 @@ struct Measurement {
 /// otherwise the artifact's feature with the systematic errors c added.
 Eigen::VectorXd readingTarget(const Artifact& artifact, const Measurement& m,
                               const Eigen::VectorXd& c);
+
+/// An instrument's reading of the nominal machine with the station at the machine frame (planning
+/// only, when the plan gives no point): `m.point` the nominal tip and, for a pose instrument,
+/// `m.orientation` the nominal tip frame's orientation.
+void setNominalReading(const Machine& machine, const Artifact& instrument, Measurement& m);
 
 /// Where one reading stands in the input, for a message: its CSV file (the plan's folder joined
 /// with the name the plan gives) and "row N", or the plan and the reading's JSON pointer.
