@@ -1,5 +1,6 @@
 #include "artcal/calibration/calibrator.hpp"
 
+#include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -108,27 +109,51 @@ bool Calibrator::settled(const std::vector<Placement>& placements, bool& finite)
   if (current_lin_.fresh || reweightings_ >= kMaxReweightings) return true;
   ++reweightings_;
   // The weights at the current estimate replace the held ones; the loop goes on with them.
-  finite = linearize(placements, current_, current_lin_);
+  // The same state's blocks, re-whitened with the weights at it (recorded when they were built).
+  finite = rewhiten(placements, current_lin_.own_weights);
   return false;
+}
+
+void Calibrator::computeRigidCaps(const std::vector<Placement>& placements) {
+  rigid_caps_.clear();
+  for (const Placement& placement : placements) {
+    rigid_caps_.push_back(
+        rigidRankOfFeatures(artifactOf(*plan_, placement), placement.measurements));
+  }
 }
 
 bool Calibrator::linearize(const std::vector<Placement>& placements, const CalibrationState& state,
                            Linearization& out, const Linearization* weights) {
+  computeRigidCaps(placements);
+  return linearizeCapped(placements, state, out, weights);
+}
+
+bool Calibrator::linearizeCapped(const std::vector<Placement>& placements,
+                                 const CalibrationState& state, Linearization& out,
+                                 const Linearization* weights) {
   const Plan& plan = *plan_;
   reducer_.reset();
   out.eliminations.resize(placements.size());
   out.weights.resize(placements.size());
+  out.blocks.resize(placements.size());
+  out.own_weights.resize(weights ? placements.size() : 0);
   out.fresh = weights == nullptr;
   for (std::size_t j = 0; j < placements.size(); ++j) {
     const Artifact& artifact = artifactOf(plan, placements[j]);
     const Eigen::VectorXd c_j = artifactErrors(layout_, artifact, placements[j].artifact, state.c);
-    builder_.build(artifact, placements[j].measurements, state.p, state.poses[j], c_j, true, block_,
-                   weights ? &weights->weights[j] : nullptr, &out.weights[j]);
+    ObservationBlock& block = out.blocks[j];
+    builder_.build(artifact, placements[j].measurements, state.p, state.poses[j], c_j, true, block,
+                   weights ? &weights->weights[j] : nullptr, &out.weights[j],
+                   weights ? &out.own_weights[j] : nullptr);
     // Rank policy (docs/method.md section 5): only the rigid directions the measured features can
     // see are eliminated and stepped; noise must not make an unseen one look observed.
-    reducer_.add(block_, placements[j].artifact, &out.eliminations[j],
-                 rigidRankOfFeatures(artifact, placements[j].measurements));
+    reducer_.add(block, placements[j].artifact, &out.eliminations[j], rigid_caps_[j]);
   }
+  return finishLinearization(state, out);
+}
+
+bool Calibrator::finishLinearization(const CalibrationState& state, Linearization& out) {
+  const Plan& plan = *plan_;
   // The priors as whitened rows (docs/method.md section 3): on c, cost c^T Sigma_c^-1 c; on p,
   // (p - p0)^T Sigma_p0^-1 (p - p0) about the nominal values; gradient and curvature added.
   const Eigen::VectorXd prior_c = layout_.c_sigma.array().square().inverse();
@@ -168,7 +193,7 @@ void Calibrator::extendStep(const Eigen::VectorXd& dg, const std::vector<Placeme
                             double& actual) {
   for (double scale = 2.0; scale <= kMaxExtension; scale *= 2.0) {
     step(current_, current_lin_, scale * dg, placements, extended_);
-    if (!linearize(placements, extended_, extended_lin_, &current_lin_) ||
+    if (!linearizeCapped(placements, extended_, extended_lin_, &current_lin_) ||
         !(extended_lin_.cost < trial_lin_.cost)) {
       return;
     }
@@ -206,9 +231,131 @@ int Calibrator::degreesOfFreedom(const std::vector<Placement>& placements) const
   for (const Placement& placement : placements) {
     const Artifact& artifact = artifactOf(*plan_, placement);
     dof += artifact.valuedPerFeature() * static_cast<int>(placement.measurements.size());
-    dof -= rigidRankOfFeatures(artifact, placement.measurements);  // effective N(r_j)
   }
+  for (const int rank : rigid_caps_) dof -= rank;  // effective N(r_j)
   return dof;
+}
+
+bool Calibrator::prepare(const std::vector<Placement>& placements, const CalibrationState& state) {
+  current_ = state;
+  const bool finite = linearize(placements, current_, current_lin_);
+  prepared_of_ = &placements;
+  prepared_probe_ = plan_->noise.probe;
+  return finite;
+}
+
+bool Calibrator::reweightToProbe(const std::vector<Placement>& placements) {
+  // Sigma = L L^T holds s_p^2 I once: with s_p changed, Sigma' = L L^T + (s'^2 - s^2) I = L' L'^T.
+  const double shift = plan_->noise.probe * plan_->noise.probe - prepared_probe_ * prepared_probe_;
+  using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, 3, 3>;
+  std::vector<ReadingWeights> targets = current_lin_.weights;
+  for (std::size_t j = 0; j < placements.size(); ++j) {
+    const int k = artifactOf(*plan_, placements[j]).valuedPerFeature();
+    for (Eigen::Matrix3d& factor : targets[j].factors) {
+      const Small held = factor.topLeftCorner(k, k);
+      Small sigma = held * held.transpose();
+      sigma.diagonal().array() += shift;
+      factor.topLeftCorner(k, k) = Eigen::LLT<Small>(sigma).matrixL();
+    }
+  }
+  prepared_probe_ = plan_->noise.probe;
+  return rewhiten(placements, targets);
+}
+
+namespace {
+
+// rows <- T rows for a lower-triangular T of order k (1 to 3), in place (the last row first: the
+// rows above it are still unchanged).
+template <typename Rows>
+void transformRows(const Eigen::Matrix3d& T, int k, Rows&& rows) {
+  for (int i = k - 1; i >= 0; --i) {
+    rows.row(i) *= T(i, i);
+    for (int j = 0; j < i; ++j) rows.row(i) += T(i, j) * rows.row(j);
+  }
+}
+
+}  // namespace
+
+bool Calibrator::rewhiten(const std::vector<Placement>& placements,
+                          const std::vector<ReadingWeights>& targets) {
+  // A reading whitened with L has rows L^-1 A; with L' it has L'^-1 A = (L'^-1 L) L^-1 A
+  // (design_matrix.cpp): the same block, re-whitened, without building it again.
+  reducer_.reset();
+  for (std::size_t j = 0; j < placements.size(); ++j) {
+    const int k = artifactOf(*plan_, placements[j]).valuedPerFeature();
+    ObservationBlock& block = current_lin_.blocks[j];
+    std::vector<Eigen::Matrix3d>& factors = current_lin_.weights[j].factors;
+    for (std::size_t i = 0; i < factors.size(); ++i) {
+      const Eigen::Matrix3d& own = targets[j].factors[i];
+      // Padded with the identity beyond k x k: one 3 x 3 triangular solve.
+      Eigen::Matrix3d held = Eigen::Matrix3d::Identity(), target = Eigen::Matrix3d::Identity();
+      held.topLeftCorner(k, k) = factors[i].topLeftCorner(k, k);
+      target.topLeftCorner(k, k) = own.topLeftCorner(k, k);
+      const Eigen::Matrix3d T = target.triangularView<Eigen::Lower>().solve(
+          Eigen::Matrix3d(held.triangularView<Eigen::Lower>()));
+      const int row = k * static_cast<int>(i);
+      transformRows(T, k, block.A_p.middleRows(row, k));
+      transformRows(T, k, block.A_r.middleRows(row, k));
+      transformRows(T, k, block.A_c.middleRows(row, k));
+      transformRows(T, k, block.e.segment(row, k));
+      factors[i] = own;
+    }
+    reducer_.add(block, placements[j].artifact, &current_lin_.eliminations[j], rigid_caps_[j]);
+  }
+  current_lin_.fresh = true;
+  return finishLinearization(current_, current_lin_);
+}
+
+bool Calibrator::isPrepared(const std::vector<Placement>& placements,
+                            const CalibrationState& state) const {
+  if (prepared_of_ != &placements || !current_lin_.fresh) return false;
+  if (state.p != current_.p || state.c != current_.c) return false;
+  if (state.poses.size() != current_.poses.size()) return false;
+  for (std::size_t j = 0; j < state.poses.size(); ++j) {
+    if (state.poses[j].R != current_.poses[j].R || state.poses[j].t != current_.poses[j].t) {
+      return false;
+    }
+  }
+  return rigid_caps_.size() == placements.size();
+}
+
+PlanInformation Calibrator::information(const std::vector<Placement>& placements) {
+  // As planInformation (evaluator.cpp): every block reduced with its full rigid motion, the
+  // readings' own information of p (no parameter prior).
+  reducer_.reset();
+  for (std::size_t j = 0; j < placements.size(); ++j) {
+    reducer_.add(current_lin_.blocks[j], placements[j].artifact, nullptr, -1);
+  }
+  PlanInformation out;
+  out.reduced = reducer_.parameterInformation(ParameterPrior::Excluded);
+  out.unreduced_diagonal = reducer_.unreducedDiagonal();
+  out.rigid_ranks = reducer_.rigidRanks();
+  out.poses = current_.poses;
+  return out;
+}
+
+std::vector<ReadingMisfit> Calibrator::misfits(const std::vector<Placement>& placements) const {
+  const double probe2 = plan_->noise.probe * plan_->noise.probe;
+  std::vector<ReadingMisfit> out;
+  for (std::size_t j = 0; j < placements.size(); ++j) {
+    const int k = artifactOf(*plan_, placements[j]).valuedPerFeature();
+    const ObservationBlock& block = current_lin_.blocks[j];
+    const std::vector<Eigen::Matrix3d>& factors = current_lin_.weights[j].factors;
+    for (std::size_t i = 0; i < placements[j].measurements.size(); ++i) {
+      // The factors are zero beyond k x k: whole 3 x 3 products, then the valued corner.
+      const Eigen::Matrix3d L = factors[i].triangularView<Eigen::Lower>();
+      Eigen::Vector3d e = Eigen::Vector3d::Zero();
+      e.head(k) = block.e.segment(k * static_cast<int>(i), k);
+      // Sigma = s_p^2 I + (encoders and the instrument's own noise) = L L^T.
+      Eigen::Matrix3d sigma = L * L.transpose();
+      sigma.diagonal().array() -= probe2;
+      ReadingMisfit misfit;
+      misfit.residual = (L * e).head(k);
+      misfit.encoder_covariance = sigma.topLeftCorner(k, k);
+      out.push_back(std::move(misfit));
+    }
+  }
+  return out;
 }
 
 Calibration Calibrator::run(const std::vector<Placement>& placements) {
@@ -224,11 +371,25 @@ Calibration Calibrator::run(const std::vector<Placement>& placements,
                             const CalibrationState& start) {
   Calibration out;
   CalibrationSummary& summary = out.summary;
+  // From prepare()'s or the last run's own linearisation when it is at `start` (the probe noise
+  // re-estimated: the same blocks re-weighted).
+  const bool prepared = isPrepared(placements, start);
+  const bool same_noise = prepared && prepared_probe_ == plan_->noise.probe;
+  prepared_of_ = nullptr;
+  if (!prepared) computeRigidCaps(placements);
   dof_ = degreesOfFreedom(placements);
   reweightings_ = 0;
-  current_ = start;
   strategy_.reset();
-  bool finite = linearize(placements, current_, current_lin_);
+  bool finite = true;
+  if (same_noise) {
+    finite = std::isfinite(current_lin_.cost) && current_lin_.N.allFinite() &&
+             current_lin_.b.allFinite();
+  } else if (prepared) {
+    finite = reweightToProbe(placements);
+  } else {
+    current_ = start;
+    finite = linearizeCapped(placements, current_, current_lin_);
+  }
   summary.initial_cost = current_lin_.cost;
   if (!finite) {
     summary.termination = TerminationType::Failure;
@@ -275,7 +436,7 @@ Calibration Calibrator::run(const std::vector<Placement>& placements,
     if (solved && predicted > 0.0) {
       step(current_, current_lin_, dg, placements, trial_);
       // The trial's cost under the current weights (iteratively reweighted least squares).
-      if (linearize(placements, trial_, trial_lin_, &current_lin_)) {
+      if (linearizeCapped(placements, trial_, trial_lin_, &current_lin_)) {
         actual = current_lin_.cost - trial_lin_.cost;
         accepted = actual > 0.0;
       }
@@ -324,7 +485,12 @@ Calibration Calibrator::run(const std::vector<Placement>& placements,
     summary.message = "the problem became non-finite";
   }
   // The figures at the estimate's own weights.
-  if (finite && !current_lin_.fresh) linearize(placements, current_, current_lin_);
+  bool own = finite && current_lin_.fresh;
+  if (finite && !current_lin_.fresh) own = linearizeCapped(placements, current_, current_lin_);
+  if (own) {  // a run from the estimate (the noise re-estimated) starts from here
+    prepared_of_ = &placements;
+    prepared_probe_ = plan_->noise.probe;
+  }
   summary.final_cost = current_lin_.cost;
   out.parameters = current_.p;
   out.systematic = current_.c;
@@ -364,16 +530,14 @@ void Calibrator::fillDetails(const std::vector<Placement>& placements, Calibrati
   const Plan& plan = *plan_;
   reducer_.reset();
   out.residuals.clear();
-  std::vector<ObservationBlock> blocks(placements.size());
+  // The estimate's own linearisation (run() leaves it fresh at the estimate): its blocks.
+  const std::vector<ObservationBlock>& blocks = current_lin_.blocks;
   std::vector<PlacementElimination> eliminations(placements.size());
   std::vector<Eigen::VectorXd> c(placements.size());
   for (std::size_t j = 0; j < placements.size(); ++j) {
     const Artifact& artifact = artifactOf(plan, placements[j]);
     c[j] = artifactErrors(layout_, artifact, placements[j].artifact, out.systematic);
-    builder_.build(artifact, placements[j].measurements, out.parameters, out.poses[j], c[j], true,
-                   blocks[j]);
-    reducer_.add(blocks[j], placements[j].artifact, &eliminations[j],
-                 rigidRankOfFeatures(artifact, placements[j].measurements));
+    reducer_.add(blocks[j], placements[j].artifact, &eliminations[j], rigid_caps_[j]);
   }
   out.covariance = covarianceFromInformation(reducer_.parameterInformation());
   const auto global = covarianceFromInformation(reducer_.normalWithPrior());

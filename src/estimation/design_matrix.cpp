@@ -44,7 +44,7 @@ void DesignMatrixBuilder::build(const Artifact& artifact,
                                 const Eigen::VectorXd& p, const RigidTransform& r,
                                 const Eigen::VectorXd& c, bool with_residuals,
                                 ObservationBlock& block, const ReadingWeights* held,
-                                ReadingWeights* record) {
+                                ReadingWeights* record, ReadingWeights* own) {
   const Machine& machine = *machine_;
   const int k = artifact.valuedPerFeature();
   const int rows = k * static_cast<int>(measurements.size());
@@ -87,6 +87,7 @@ void DesignMatrixBuilder::build(const Artifact& artifact,
     Small L;
     if (held) {
       L = held->factors[i].topLeftCorner(k, k);
+      if (own) ownFactor(r.R, k, sigma_p2, own, measurements.size(), i);
     } else {
       J_valued_q_.noalias() = R_valued.lazyProduct(J_x_q_);
       Small sigma = (J_valued_q_ * sigma_q2).lazyProduct(J_valued_q_.transpose());
@@ -102,6 +103,34 @@ void DesignMatrixBuilder::build(const Artifact& artifact,
     whiten(L, A_r);
     if (n_c > 0) whiten(L, block.A_c.middleRows(row, k));
     if (with_residuals) whiten(L, block.e.segment(row, k));
+  }
+}
+
+void DesignMatrixBuilder::ownFactor(const Eigen::MatrixXd& R, int k, double sigma_p2,
+                                    ReadingWeights* own, std::size_t readings,
+                                    std::size_t i) const {
+  // Sigma at p (as build() whitens a fresh block), from J_x_q_ of the last forward call:
+  // C = J_q diag(sigma_q^2) J_q^T in the machine frame (zero-padded to 3 x 3), then its valued
+  // rows in the artifact's.
+  const int d = static_cast<int>(J_x_q_.rows());
+  Eigen::Matrix3d C = Eigen::Matrix3d::Zero();
+  for (int q = 0; q < J_x_q_.cols(); ++q) {
+    const double s2 = noise_->encoder[q] * noise_->encoder[q];
+    Eigen::Vector3d column = Eigen::Vector3d::Zero();
+    for (int a = 0; a < d; ++a) column[a] = J_x_q_(a, q);
+    C.noalias() += s2 * column * column.transpose();
+  }
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Zero();
+  rotation.topLeftCorner(d, d) = R;
+  Eigen::Matrix3d sigma = rotation * C * rotation.transpose();
+  sigma.diagonal().array() += sigma_p2;
+  own->factors.resize(readings);
+  own->factors[i].setZero();
+  if (k == 3) {
+    own->factors[i] = Eigen::LLT<Eigen::Matrix3d>(sigma).matrixL();
+  } else {
+    own->factors[i].topLeftCorner(k, k) =
+        Eigen::LLT<Small>(Small(sigma.topLeftCorner(k, k))).matrixL();
   }
 }
 

@@ -52,11 +52,12 @@ class DesignMatrixBuilder {
   /// The block of one placement at parameters `p` (full vector) and artifact pose `r`.
   /// `c` holds the artifact's systematic errors (may be empty: zero).
   /// `held`: whiten with these factors instead of the ones at p; `record`: receives the factors
-  /// used.
+  /// used; `own`: receives the factors at p also when `held` whitened (what re-whitening the
+  /// block for its own state needs, calibrator.cpp).
   void build(const Artifact& artifact, const std::vector<Measurement>& measurements,
              const Eigen::VectorXd& p, const RigidTransform& r, const Eigen::VectorXd& c,
              bool with_residuals, ObservationBlock& block, const ReadingWeights* held = nullptr,
-             ReadingWeights* record = nullptr);
+             ReadingWeights* record = nullptr, ReadingWeights* own = nullptr);
 
   /// Appends the misfit of each measurement at (p, r, c) to `out` (see ReadingMisfit).
   void misfits(const Artifact& artifact, const std::vector<Measurement>& measurements,
@@ -68,6 +69,10 @@ class DesignMatrixBuilder {
                                  const Eigen::VectorXd& p) const;
 
  private:
+  /// own->factors[i] (of `readings`): the whitening factor at the last forward call's J_q.
+  void ownFactor(const Eigen::MatrixXd& R, int k, double sigma_p2, ReadingWeights* own,
+                 std::size_t readings, std::size_t i) const;
+
   const Machine* machine_;
   const Noise* noise_;
   Eigen::VectorXd x_;
