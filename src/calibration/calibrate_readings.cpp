@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstdio>
 #include <numbers>
+#include <optional>
+#include <utility>
 
 #include "artcal/calibration/corrections.hpp"
 #include "artcal/core/error.hpp"
@@ -26,11 +28,9 @@ std::string number(double value) {
   return text;
 }
 
-// Holds at nominal the calibrated parameters whose surviving fraction at p is below
+// Holds at nominal the calibrated parameters whose surviving fraction in `information` is below
 // kWeakInformationTolerance (greedy in the calibrated set's order); true when it held any.
-bool holdWeaklyDetermined(Plan& plan, const Eigen::VectorXd& p) {
-  const PlanInformation information =
-      planInformation(plan, plan.placements, p, /*with_estimable=*/false);
+bool holdWeaklyDetermined(Plan& plan, const PlanInformation& information) {
   const CalibratedSetChoice choice = chooseIdentifiableSet(information, kWeakInformationTolerance);
 
   if (choice.dropped.empty()) return false;
@@ -46,68 +46,121 @@ bool holdWeaklyDetermined(Plan& plan, const Eigen::VectorXd& p) {
   return true;
 }
 
-// A reading's misfit in the eigenbasis of its encoder covariance Q diag(lambda) Q^T: with the
-// probe noise s added, Sigma = Q diag(lambda + s^2) Q^T and the whitened chi2 is
-// sum_i (Q^T e)_i^2 / (lambda_i + s^2), so that the bisection on s solves nothing per step.
-struct SpectralMisfit {
-  Eigen::VectorXd lambda;     // eigenvalues of the encoder covariance (clamped at 0)
-  Eigen::VectorXd projected;  // (Q^T e)_i^2
+// The readings' misfits in the eigenbases of their encoder covariances Q diag(lambda) Q^T: with
+// the probe noise s added, Sigma = Q diag(lambda + s^2) Q^T and the whitened chi2 is
+// sum_i (Q^T e)_i^2 / (lambda_i + s^2), so that the bisection on s solves nothing per step. One
+// entry per valued coordinate of every reading, flat, so that a bisection step is one loop.
+struct SpectralMisfits {
+  std::vector<double> lambda;     // eigenvalues of the encoder covariance (clamped at 0)
+  std::vector<double> projected;  // (Q^T e)_i^2
 };
 
-std::vector<SpectralMisfit> spectralMisfits(const std::vector<ReadingMisfit>& misfits) {
-  std::vector<SpectralMisfit> out;
-  out.reserve(misfits.size());
+SpectralMisfits spectralMisfits(const std::vector<ReadingMisfit>& misfits) {
+  SpectralMisfits out;
+  out.lambda.reserve(3 * misfits.size());
+  out.projected.reserve(3 * misfits.size());
   // At most 3 x 3: on the stack. Not finite (Eigen's iteration leaves its results unspecified
   // there): NaN, which no bisection step accepts.
   using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, 3, 3>;
   for (const ReadingMisfit& m : misfits) {
     const auto k = m.residual.size();
     if (!m.encoder_covariance.allFinite() || !m.residual.allFinite()) {
-      const Eigen::VectorXd nan = Eigen::VectorXd::Constant(k, std::nan(""));
-      out.push_back({nan, nan});
+      out.lambda.insert(out.lambda.end(), static_cast<std::size_t>(k), std::nan(""));
+      out.projected.insert(out.projected.end(), static_cast<std::size_t>(k), std::nan(""));
+      continue;
+    }
+    if (k == 3) {  // points: the closed form of a 3 x 3 (Eigen's computeDirect)
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
+      eig.computeDirect(Eigen::Matrix3d(m.encoder_covariance));
+      const Eigen::Vector3d projected =
+          (eig.eigenvectors().transpose() * Eigen::Vector3d(m.residual)).array().square();
+      for (int i = 0; i < 3; ++i) {
+        out.lambda.push_back(std::max(eig.eigenvalues()[i], 0.0));
+        out.projected.push_back(projected[i]);
+      }
       continue;
     }
     const Eigen::SelfAdjointEigenSolver<Small> eig{Small(m.encoder_covariance)};
-    out.push_back({eig.eigenvalues().cwiseMax(0.0),
-                   (eig.eigenvectors().transpose() * m.residual).array().square().matrix()});
+    const Eigen::VectorXd projected =
+        (eig.eigenvectors().transpose() * m.residual).array().square().matrix();
+    for (Eigen::Index i = 0; i < k; ++i) {
+      out.lambda.push_back(std::max(eig.eigenvalues()[i], 0.0));
+      out.projected.push_back(projected[i]);
+    }
   }
   return out;
 }
 
 // Whitened chi2 of the readings' misfits at probe noise s (encoders as stated).
-double readingsChi2(const std::vector<SpectralMisfit>& misfits, double s) {
+double readingsChi2(const SpectralMisfits& misfits, double s) {
   double chi2 = 0.0;
-  for (const SpectralMisfit& m : misfits) {
-    chi2 += (m.projected.array() / (m.lambda.array() + s * s)).sum();
+  for (std::size_t i = 0; i < misfits.lambda.size(); ++i) {
+    chi2 += misfits.projected[i] / (misfits.lambda[i] + s * s);
   }
   return chi2;
 }
 
-// Calibrates at the plan's noise; with `"probe": "estimate"`, sets noise.probe to the variance
-// component that gives chi2 = dof and calibrates again until it settles.
-Calibration calibrateWithNoise(Plan& plan, const CalibrationOptions& options,
-                               const Eigen::VectorXd& start) {
-  Calibration calibration = Calibrator(plan, options).run(plan.placements, start);
+// The s_p that makes chi2 = dof for these misfits at the calibration's estimate.
+double probeNoiseOfMisfits(const Plan& plan, const std::vector<ReadingMisfit>& readings,
+                           const Calibration& calibration) {
+  const SpectralMisfits misfits = spectralMisfits(readings);
+  // The priors' part of the cost does not depend on s_p: chi2(s) = readings(s) + priors = dof.
+  const double priors = std::max(0.0, calibration.chi2 - readingsChi2(misfits, plan.noise.probe));
+  const double target = calibration.dof - priors;
+  if (!(target > 0.0)) return plan.noise.probe;
+  // readings(s) decreases with s: bisection on log s (a closed form only without encoders).
+  double low = kProbeNoiseFloor * 1e-3, high = 1e6;
+  if (readingsChi2(misfits, low) <= target) return 0.0;  // the encoders explain it all
+  if (readingsChi2(misfits, high) >= target) return high;
+  for (int i = 0; i < 80 && high / low > 1.0 + 1e-12; ++i) {
+    const double mid = std::sqrt(low * high);
+    (readingsChi2(misfits, mid) > target ? low : high) = mid;
+  }
+  return std::sqrt(low * high);
+}
+
+// Calibrates at the plan's noise (`calibrator` is the plan's, its calibrated set as now); with
+// `"probe": "estimate"`, sets noise.probe to the variance component that gives chi2 = dof and
+// calibrates again until it settles.
+Calibration calibrateWithNoise(Plan& plan, Calibrator& calibrator, const CalibrationState& start) {
+  Calibration calibration = calibrator.run(plan.placements, start);
   if (!plan.noise.estimate_probe) return calibration;
   NoiseEstimate estimate;
   estimate.stated = plan.noise.probe;
   for (estimate.fits = 1; estimate.fits < kMaxNoiseFits; ++estimate.fits) {
     if (calibration.dof <= 0 || !std::isfinite(calibration.chi2)) break;
+    // The misfits at the estimate from the calibrator's last linearisation, built there.
     const double s =
-        std::max(probeNoiseForUnitBirgeRatio(plan, plan.placements, calibration), kProbeNoiseFloor);
+        std::max(probeNoiseOfMisfits(plan, calibrator.misfits(plan.placements), calibration),
+                 kProbeNoiseFloor);
     if (std::abs(s - plan.noise.probe) <= kNoiseSettled * plan.noise.probe) break;
-    plan.noise.probe = s;
+    plan.noise.probe = s;  // the calibrator whitens with plan.noise: the new s from here on
     // From where the last fit converged: the poses and c too, so that only the reweighting moves.
     CalibrationState state;
     state.p = calibration.parameters;
     state.c = calibration.systematic;
     state.poses = calibration.poses;
-    calibration = Calibrator(plan, options).run(plan.placements, state);
+    calibration = calibrator.run(plan.placements, state);
   }
   estimate.probe = plan.noise.probe;
   estimate.u = calibration.dof > 0 ? estimate.probe / std::sqrt(2.0 * calibration.dof) : 0.0;
   calibration.noise_estimate = estimate;
   return calibration;
+}
+
+// The information the rank rule reads at the calibration's estimate: the calibrator's own
+// linearisation there when every coordinate of the points is valued (the reduced information of
+// p then does not depend on the placements' poses, Calibrator::information), otherwise built
+// again at the rigid fits of the readings (planInformation).
+PlanInformation informationAtEstimate(const Plan& plan, Calibrator& calibrator,
+                                      const Calibration& calibration) {
+  const bool all_valued =
+      std::all_of(plan.placements.begin(), plan.placements.end(), [&](const Placement& placement) {
+        const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
+        return artifact.valuedPerFeature() == artifact.dimension;
+      });
+  if (all_valued) return calibrator.information(plan.placements);
+  return planInformation(plan, plan.placements, calibration.parameters, /*with_estimable=*/false);
 }
 
 // An angle and the same angle plus a turn describe the same machine (rpy, DH theta and alpha,
@@ -157,20 +210,7 @@ double probeNoiseForUnitBirgeRatio(const Plan& plan, const std::vector<Placement
     builder.misfits(artifact, placements[j].measurements, calibration.parameters,
                     calibration.poses[j], c, readings);
   }
-  const std::vector<SpectralMisfit> misfits = spectralMisfits(readings);
-  // The priors' part of the cost does not depend on s_p: chi2(s) = readings(s) + priors = dof.
-  const double priors = std::max(0.0, calibration.chi2 - readingsChi2(misfits, plan.noise.probe));
-  const double target = calibration.dof - priors;
-  if (!(target > 0.0)) return plan.noise.probe;
-  // readings(s) decreases with s: bisection on log s (a closed form only without encoders).
-  double low = kProbeNoiseFloor * 1e-3, high = 1e6;
-  if (readingsChi2(misfits, low) <= target) return 0.0;  // the encoders explain it all
-  if (readingsChi2(misfits, high) >= target) return high;
-  for (int i = 0; i < 80 && high / low > 1.0 + 1e-12; ++i) {
-    const double mid = std::sqrt(low * high);
-    (readingsChi2(misfits, mid) > target ? low : high) = mid;
-  }
-  return std::sqrt(low * high);
+  return probeNoiseOfMisfits(plan, readings, calibration);
 }
 
 // An instrument's reading without its measured point is for planning only (instruments.md):
@@ -192,16 +232,26 @@ Calibration calibrateReadings(Plan& plan, const CalibrationOptions& options) {
   requireMeasuredPoints(plan);
   const bool resolve = plan.machine.calibrate_identifiable && plan.calibrate_resolution.has_value();
   const Eigen::VectorXd& nominal = plan.machine.nominal;
-  // Rank policy on measured readings (docs/method.md section 5): at the nominal parameters ...
-  if (resolve) holdWeaklyDetermined(plan, nominal);
-  Calibration calibration = calibrateWithNoise(plan, options, nominal);
+  std::optional<Calibrator> calibrator(std::in_place, plan, options);
+  CalibrationState start = calibrator->initialState(plan.placements, nominal);
+  // Rank policy on measured readings (docs/method.md section 5): at the nominal parameters, from
+  // the linearisation the calibration then starts from ...
+  if (resolve) {
+    calibrator->prepare(plan.placements, start);
+    if (holdWeaklyDetermined(plan, calibrator->information(plan.placements))) {
+      calibrator.emplace(plan, options);  // the calibrated set changed
+    }
+  }
+  Calibration calibration = calibrateWithNoise(plan, *calibrator, start);
   // ... and again at the estimate, the newly held parameters back at nominal.
   for (int round = 0; resolve && round < kMaxWeakRounds && calibration.summary.converged();
        ++round) {
-    if (!holdWeaklyDetermined(plan, calibration.parameters)) break;
-    const Eigen::VectorXd start =
-        plan.machine.withCalibrated(nominal, plan.machine.calibratedValues(calibration.parameters));
-    calibration = calibrateWithNoise(plan, options, start);
+    if (!holdWeaklyDetermined(plan, informationAtEstimate(plan, *calibrator, calibration))) break;
+    calibrator.emplace(plan, options);
+    start = calibrator->initialState(
+        plan.placements, plan.machine.withCalibrated(
+                             nominal, plan.machine.calibratedValues(calibration.parameters)));
+    calibration = calibrateWithNoise(plan, *calibrator, start);
   }
   nearestTurn(plan, calibration);
   addWarnings(plan, calibration);

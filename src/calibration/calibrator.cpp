@@ -1,5 +1,6 @@
 #include "artcal/calibration/calibrator.hpp"
 
+#include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -100,27 +101,51 @@ bool Calibrator::settled(const std::vector<Placement>& placements, bool& finite)
   if (current_lin_.fresh || reweightings_ >= kMaxReweightings) return true;
   ++reweightings_;
   // The weights at the current estimate replace the held ones; the loop goes on with them.
-  finite = linearize(placements, current_, current_lin_);
+  // The same state's blocks, re-whitened with the weights at it (recorded when they were built).
+  finite = rewhiten(placements, current_lin_.own_weights);
   return false;
+}
+
+void Calibrator::computeRigidCaps(const std::vector<Placement>& placements) {
+  rigid_caps_.clear();
+  for (const Placement& placement : placements) {
+    rigid_caps_.push_back(
+        rigidRankOfFeatures(artifactOf(*plan_, placement), placement.measurements));
+  }
 }
 
 bool Calibrator::linearize(const std::vector<Placement>& placements, const CalibrationState& state,
                            Linearization& out, const Linearization* weights) {
+  computeRigidCaps(placements);
+  return linearizeCapped(placements, state, out, weights);
+}
+
+bool Calibrator::linearizeCapped(const std::vector<Placement>& placements,
+                                 const CalibrationState& state, Linearization& out,
+                                 const Linearization* weights) {
   const Plan& plan = *plan_;
   reducer_.reset();
   out.eliminations.resize(placements.size());
   out.weights.resize(placements.size());
+  out.blocks.resize(placements.size());
+  out.own_weights.resize(weights ? placements.size() : 0);
   out.fresh = weights == nullptr;
   for (std::size_t j = 0; j < placements.size(); ++j) {
     const Artifact& artifact = artifactOf(plan, placements[j]);
     const Eigen::VectorXd c_j = artifactErrors(layout_, artifact, placements[j].artifact, state.c);
-    builder_.build(artifact, placements[j].measurements, state.p, state.poses[j], c_j, true, block_,
-                   weights ? &weights->weights[j] : nullptr, &out.weights[j]);
+    ObservationBlock& block = out.blocks[j];
+    builder_.build(artifact, placements[j].measurements, state.p, state.poses[j], c_j, true, block,
+                   weights ? &weights->weights[j] : nullptr, &out.weights[j],
+                   weights ? &out.own_weights[j] : nullptr);
     // Rank policy (docs/method.md section 5): only the rigid directions the measured features can
     // see are eliminated and stepped; noise must not make an unseen one look observed.
-    reducer_.add(block_, placements[j].artifact, &out.eliminations[j],
-                 rigidRankOfFeatures(artifact, placements[j].measurements));
+    reducer_.add(block, placements[j].artifact, &out.eliminations[j], rigid_caps_[j]);
   }
+  return finishLinearization(state, out);
+}
+
+bool Calibrator::finishLinearization(const CalibrationState& state, Linearization& out) {
+  const Plan& plan = *plan_;
   // The priors as whitened rows (docs/method.md section 3): on c, cost c^T Sigma_c^-1 c; on p,
   // (p - p0)^T Sigma_p0^-1 (p - p0) about the nominal values; gradient and curvature added.
   const Eigen::VectorXd prior_c = layout_.c_sigma.array().square().inverse();
@@ -160,7 +185,7 @@ void Calibrator::extendStep(const Eigen::VectorXd& dg, const std::vector<Placeme
                             double& actual) {
   for (double scale = 2.0; scale <= kMaxExtension; scale *= 2.0) {
     step(current_, current_lin_, scale * dg, placements, extended_);
-    if (!linearize(placements, extended_, extended_lin_, &current_lin_) ||
+    if (!linearizeCapped(placements, extended_, extended_lin_, &current_lin_) ||
         !(extended_lin_.cost < trial_lin_.cost)) {
       return;
     }
@@ -198,9 +223,133 @@ int Calibrator::degreesOfFreedom(const std::vector<Placement>& placements) const
   for (const Placement& placement : placements) {
     const Artifact& artifact = artifactOf(*plan_, placement);
     dof += artifact.rowsPerReading() * static_cast<int>(placement.measurements.size());
-    dof -= rigidRankOfFeatures(artifact, placement.measurements);  // effective N(r_j)
   }
+  for (const int rank : rigid_caps_) dof -= rank;  // effective N(r_j)
   return dof;
+}
+
+bool Calibrator::prepare(const std::vector<Placement>& placements, const CalibrationState& state) {
+  current_ = state;
+  const bool finite = linearize(placements, current_, current_lin_);
+  prepared_of_ = &placements;
+  prepared_probe_ = plan_->noise.probe;
+  return finite;
+}
+
+namespace {
+
+// One reading's whitening factor: at most 6 x 6 (a pose; a point's 3 x 3 or fewer), on the stack.
+using Factor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, 6, 6>;
+
+// rows <- T rows for a lower-triangular T of order 1 to 6, in place (the last row first: the
+// rows above it are still unchanged).
+template <typename Rows>
+void transformRows(const Factor& T, Rows&& rows) {
+  for (int i = static_cast<int>(T.rows()) - 1; i >= 0; --i) {
+    rows.row(i) *= T(i, i);
+    for (int j = 0; j < i; ++j) rows.row(i) += T(i, j) * rows.row(j);
+  }
+}
+
+}  // namespace
+
+bool Calibrator::reweightToProbe(const std::vector<Placement>& placements) {
+  // Sigma = L L^T holds s_p^2 I over the point's rows once: with s_p changed,
+  // Sigma' = L L^T + (s'^2 - s^2) I_point = L' L'^T (a pose's orientation rows keep theirs).
+  const double shift = plan_->noise.probe * plan_->noise.probe - prepared_probe_ * prepared_probe_;
+  std::vector<ReadingWeights> targets = current_lin_.weights;
+  for (std::size_t j = 0; j < placements.size(); ++j) {
+    const Artifact& artifact = artifactOf(*plan_, placements[j]);
+    const int per = artifact.rowsPerReading(), k = artifact.valuedPerFeature();
+    for (auto& factor : targets[j].factors) {
+      const Factor held = factor.topLeftCorner(per, per);
+      Factor sigma = held * held.transpose();
+      sigma.diagonal().head(k).array() += shift;
+      factor.topLeftCorner(per, per) = Eigen::LLT<Factor>(sigma).matrixL();
+    }
+  }
+  prepared_probe_ = plan_->noise.probe;
+  return rewhiten(placements, targets);
+}
+
+bool Calibrator::rewhiten(const std::vector<Placement>& placements,
+                          const std::vector<ReadingWeights>& targets) {
+  // A reading whitened with L has rows L^-1 A; with L' it has L'^-1 A = (L'^-1 L) L^-1 A
+  // (design_matrix.cpp): the same block, re-whitened, without building it again.
+  reducer_.reset();
+  for (std::size_t j = 0; j < placements.size(); ++j) {
+    const int per = artifactOf(*plan_, placements[j]).rowsPerReading();
+    ObservationBlock& block = current_lin_.blocks[j];
+    auto& factors = current_lin_.weights[j].factors;
+    for (std::size_t i = 0; i < factors.size(); ++i) {
+      const auto& own = targets[j].factors[i];
+      const Factor held = factors[i].topLeftCorner(per, per);
+      const Factor target = own.topLeftCorner(per, per);
+      const Factor T =
+          target.triangularView<Eigen::Lower>().solve(Factor(held.triangularView<Eigen::Lower>()));
+      const int row = per * static_cast<int>(i);
+      transformRows(T, block.A_p.middleRows(row, per));
+      transformRows(T, block.A_r.middleRows(row, per));
+      transformRows(T, block.A_c.middleRows(row, per));
+      transformRows(T, block.e.segment(row, per));
+      factors[i] = own;
+    }
+    reducer_.add(block, placements[j].artifact, &current_lin_.eliminations[j], rigid_caps_[j]);
+  }
+  current_lin_.fresh = true;
+  return finishLinearization(current_, current_lin_);
+}
+
+bool Calibrator::isPrepared(const std::vector<Placement>& placements,
+                            const CalibrationState& state) const {
+  if (prepared_of_ != &placements || !current_lin_.fresh) return false;
+  if (state.p != current_.p || state.c != current_.c) return false;
+  if (state.poses.size() != current_.poses.size()) return false;
+  for (std::size_t j = 0; j < state.poses.size(); ++j) {
+    if (state.poses[j].R != current_.poses[j].R || state.poses[j].t != current_.poses[j].t) {
+      return false;
+    }
+  }
+  return rigid_caps_.size() == placements.size();
+}
+
+PlanInformation Calibrator::information(const std::vector<Placement>& placements) {
+  // As planInformation (evaluator.cpp): every block reduced with its full rigid motion, the
+  // readings' own information of p (no parameter prior).
+  reducer_.reset();
+  for (std::size_t j = 0; j < placements.size(); ++j) {
+    reducer_.add(current_lin_.blocks[j], placements[j].artifact, nullptr, -1);
+  }
+  PlanInformation out;
+  out.reduced = reducer_.parameterInformation(ParameterPrior::Excluded);
+  out.unreduced_diagonal = reducer_.unreducedDiagonal();
+  out.rigid_ranks = reducer_.rigidRanks();
+  out.poses = current_.poses;
+  return out;
+}
+
+std::vector<ReadingMisfit> Calibrator::misfits(const std::vector<Placement>& placements) const {
+  // As DesignMatrixBuilder::misfits: the point's residual and the known part of its covariance
+  // (a pose's orientation rows do not enter the probe-noise estimate).
+  const double probe2 = plan_->noise.probe * plan_->noise.probe;
+  std::vector<ReadingMisfit> out;
+  for (std::size_t j = 0; j < placements.size(); ++j) {
+    const Artifact& artifact = artifactOf(*plan_, placements[j]);
+    const int per = artifact.rowsPerReading(), k = artifact.valuedPerFeature();
+    const ObservationBlock& block = current_lin_.blocks[j];
+    const auto& factors = current_lin_.weights[j].factors;
+    for (std::size_t i = 0; i < placements[j].measurements.size(); ++i) {
+      const Factor L = factors[i].topLeftCorner(per, per).triangularView<Eigen::Lower>();
+      // Sigma = s_p^2 I + (encoders and the instrument's own noise) = L L^T.
+      Factor sigma = L * L.transpose();
+      sigma.diagonal().head(k).array() -= probe2;
+      ReadingMisfit misfit;
+      misfit.residual = (L * block.e.segment(per * static_cast<int>(i), per)).head(k);
+      misfit.encoder_covariance = sigma.topLeftCorner(k, k);
+      out.push_back(std::move(misfit));
+    }
+  }
+  return out;
 }
 
 Calibration Calibrator::run(const std::vector<Placement>& placements) {
@@ -216,11 +365,25 @@ Calibration Calibrator::run(const std::vector<Placement>& placements,
                             const CalibrationState& start) {
   Calibration out;
   CalibrationSummary& summary = out.summary;
+  // From prepare()'s or the last run's own linearisation when it is at `start` (the probe noise
+  // re-estimated: the same blocks re-weighted).
+  const bool prepared = isPrepared(placements, start);
+  const bool same_noise = prepared && prepared_probe_ == plan_->noise.probe;
+  prepared_of_ = nullptr;
+  if (!prepared) computeRigidCaps(placements);
   dof_ = degreesOfFreedom(placements);
   reweightings_ = 0;
-  current_ = start;
   strategy_.reset();
-  bool finite = linearize(placements, current_, current_lin_);
+  bool finite = true;
+  if (same_noise) {
+    finite = std::isfinite(current_lin_.cost) && current_lin_.N.allFinite() &&
+             current_lin_.b.allFinite();
+  } else if (prepared) {
+    finite = reweightToProbe(placements);
+  } else {
+    current_ = start;
+    finite = linearizeCapped(placements, current_, current_lin_);
+  }
   summary.initial_cost = current_lin_.cost;
   if (!finite) {
     summary.termination = TerminationType::Failure;
@@ -267,7 +430,7 @@ Calibration Calibrator::run(const std::vector<Placement>& placements,
     if (solved && predicted > 0.0) {
       step(current_, current_lin_, dg, placements, trial_);
       // The trial's cost under the current weights (iteratively reweighted least squares).
-      if (linearize(placements, trial_, trial_lin_, &current_lin_)) {
+      if (linearizeCapped(placements, trial_, trial_lin_, &current_lin_)) {
         actual = current_lin_.cost - trial_lin_.cost;
         accepted = actual > 0.0;
       }
@@ -316,7 +479,12 @@ Calibration Calibrator::run(const std::vector<Placement>& placements,
     summary.message = "the problem became non-finite";
   }
   // The figures at the estimate's own weights.
-  if (finite && !current_lin_.fresh) linearize(placements, current_, current_lin_);
+  bool own = finite && current_lin_.fresh;
+  if (finite && !current_lin_.fresh) own = linearizeCapped(placements, current_, current_lin_);
+  if (own) {  // a run from the estimate (the noise re-estimated) starts from here
+    prepared_of_ = &placements;
+    prepared_probe_ = plan_->noise.probe;
+  }
   summary.final_cost = current_lin_.cost;
   out.parameters = current_.p;
   out.systematic = current_.c;
@@ -356,16 +524,14 @@ void Calibrator::fillDetails(const std::vector<Placement>& placements, Calibrati
   const Plan& plan = *plan_;
   reducer_.reset();
   out.residuals.clear();
-  std::vector<ObservationBlock> blocks(placements.size());
+  // The estimate's own linearisation (run() leaves it fresh at the estimate): its blocks.
+  const std::vector<ObservationBlock>& blocks = current_lin_.blocks;
   std::vector<PlacementElimination> eliminations(placements.size());
   std::vector<Eigen::VectorXd> c(placements.size());
   for (std::size_t j = 0; j < placements.size(); ++j) {
     const Artifact& artifact = artifactOf(plan, placements[j]);
     c[j] = artifactErrors(layout_, artifact, placements[j].artifact, out.systematic);
-    builder_.build(artifact, placements[j].measurements, out.parameters, out.poses[j], c[j], true,
-                   blocks[j]);
-    reducer_.add(blocks[j], placements[j].artifact, &eliminations[j],
-                 rigidRankOfFeatures(artifact, placements[j].measurements));
+    reducer_.add(blocks[j], placements[j].artifact, &eliminations[j], rigid_caps_[j]);
   }
   out.covariance = covarianceFromInformation(reducer_.parameterInformation());
   const auto global = covarianceFromInformation(reducer_.normalWithPrior());

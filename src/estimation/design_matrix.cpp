@@ -50,7 +50,7 @@ void DesignMatrixBuilder::build(const Artifact& artifact,
                                 const Eigen::VectorXd& p, const RigidTransform& r,
                                 const Eigen::VectorXd& c, bool with_residuals,
                                 ObservationBlock& block, const ReadingWeights* held,
-                                ReadingWeights* record) {
+                                ReadingWeights* record, ReadingWeights* own) {
   const Machine& machine = *machine_;
   const int k = artifact.valuedPerFeature();
   const int per = artifact.rowsPerReading();  // k, and a pose's 3 orientation rows
@@ -100,21 +100,14 @@ void DesignMatrixBuilder::build(const Artifact& artifact,
     Small L;
     if (held) {
       L = held->factors[i].topLeftCorner(per, per);
+      // The factor at this block's own state, for the convergence test's reweighting.
+      if (own)
+        storeFactor(*own, measurements.size(), i,
+                    readingFactor(R_valued, per, k, sigma_p2, sigma_angle2, artifact));
     } else {
-      J_valued_q_.resize(per, J_x_q_.cols());
-      J_valued_q_.topRows(k).noalias() = R_valued.lazyProduct(J_x_q_);
-      // A pose's orientation rows move with q as with p: the same J_l^-1(e) R_r factor.
-      if (artifact.measures_pose)
-        J_valued_q_.bottomRows(3).noalias() = orientation_factor_ * J_w_q_;
-      Small sigma;
-      readingCovariance(noise_->encoder, J_valued_q_, sigma_p2, k, sigma_angle2, sigma);
-      L = Eigen::LLT<Small>(sigma).matrixL();
+      L = readingFactor(R_valued, per, k, sigma_p2, sigma_angle2, artifact);
     }
-    if (record) {
-      record->factors.resize(measurements.size());
-      record->factors[i].setZero();
-      record->factors[i].topLeftCorner(per, per) = L;
-    }
+    if (record) storeFactor(*record, measurements.size(), i, L);
     whiten(L, block.A_p.middleRows(row, per));
     whiten(L, block.A_r.middleRows(row, per));
     if (n_c > 0) whiten(L, block.A_c.middleRows(row, per));
@@ -149,6 +142,27 @@ void DesignMatrixBuilder::orientationRows(const Artifact& artifact, const Measur
       A_r.col(static_cast<int>(c)) = J_e_w.col(direction - 3);
   }
   if (with_residuals) block.e.segment<3>(row) = e;
+}
+
+// The Cholesky factor L of one reading's covariance at the last forward call (docs/method.md
+// section 2): Sigma = J_q Sigma_q J_q^T + s^2 I over the point's rows, plus s_angle^2 I over a
+// pose's orientation rows (whose J_q is J_l^-1(e) R_r J_w_q, left by orientationRows).
+DesignMatrixBuilder::Small DesignMatrixBuilder::readingFactor(
+    const Eigen::Ref<const Eigen::MatrixXd>& R_valued, int per, int k, double sigma_p2,
+    double sigma_angle2, const Artifact& artifact) {
+  J_valued_q_.resize(per, J_x_q_.cols());
+  J_valued_q_.topRows(k).noalias() = R_valued.lazyProduct(J_x_q_);
+  if (artifact.measures_pose) J_valued_q_.bottomRows(3).noalias() = orientation_factor_ * J_w_q_;
+  Small sigma;
+  readingCovariance(noise_->encoder, J_valued_q_, sigma_p2, k, sigma_angle2, sigma);
+  return Eigen::LLT<Small>(sigma).matrixL();
+}
+
+void DesignMatrixBuilder::storeFactor(ReadingWeights& weights, std::size_t readings, std::size_t i,
+                                      const Small& L) {
+  weights.factors.resize(readings);
+  weights.factors[i].setZero();
+  weights.factors[i].topLeftCorner(L.rows(), L.cols()) = L;
 }
 
 void DesignMatrixBuilder::misfits(const Artifact& artifact,

@@ -160,8 +160,15 @@ struct Linearization {
   double rigid_reduction = 0.0;
   /// Per placement, the weights used (held for the trials of the next step).
   std::vector<ReadingWeights> weights;
+  /// Per placement, the weights at its own state when it was whitened with held ones: what
+  /// makes it fresh without building it again (the convergence tests' re-weighting).
+  std::vector<ReadingWeights> own_weights;
   /// Whitened with the weights at its own state (false: with another state's, held).
   bool fresh = true;
+  /// Per placement, the whitened observation block (residuals included) it was reduced from:
+  /// what the rank rule at the estimate and the probe-noise estimate read back
+  /// (Calibrator::information, Calibrator::misfits) instead of building them again.
+  std::vector<ObservationBlock> blocks;
   double predictedReduction(const Eigen::VectorXd& dg) const;
 };
 
@@ -188,6 +195,22 @@ class Calibrator {
   /// non-finite.
   bool linearize(const std::vector<Placement>& placements, const CalibrationState& state,
                  Linearization& out, const Linearization* weights = nullptr);
+  /// Linearises at `state` with its own weights and keeps it (linearization()): a run() from
+  /// the same state over the same placements, noise unchanged, starts from it instead of
+  /// linearising again. What the rank rule at the starting values reads (information()).
+  bool prepare(const std::vector<Placement>& placements, const CalibrationState& state);
+  /// The last linearisation with its own weights: prepare()'s, or the estimate's after run().
+  const Linearization& linearization() const { return current_lin_; }
+  /// The information of p at linearization()'s state, each placement's *full* rigid motion
+  /// eliminated and c with its prior, without the parameter prior (as planInformation with
+  /// with_estimable = false, evaluator.hpp): from the kept blocks, nothing built again. Its
+  /// poses are linearization()'s. With every coordinate of the points valued (k = dimension) the
+  /// reduced information of p does not depend on the poses (the span of a placement's rigid
+  /// motions is the same whatever its pose, and the whitened Gram is rotation-invariant).
+  PlanInformation information(const std::vector<Placement>& placements);
+  /// Each reading's misfit at linearization()'s state (DesignMatrixBuilder::misfits), from the
+  /// kept blocks: residual L e_w and encoder covariance L L^T - s_p^2 I, L the whitening factor.
+  std::vector<ReadingMisfit> misfits(const std::vector<Placement>& placements) const;
   /// The state after the global step dg, each r_j back-substituted (docs/method.md section 3).
   void step(const CalibrationState& from, const Linearization& at, const Eigen::VectorXd& dg,
             const std::vector<Placement>& placements, CalibrationState& to) const;
@@ -211,6 +234,23 @@ class Calibrator {
   static double stepInUncertainties(const Eigen::MatrixXd& N, const Eigen::VectorXd& dg);
   /// Valued coordinates observed + prior rows - N(p) - sum of the effective N(r_j).
   int degreesOfFreedom(const std::vector<Placement>& placements) const;
+  /// rigid_caps_ <- each placement's rigidRankOfFeatures: the caps of the reduction, once per
+  /// run (they depend on the readings' features, not on the state).
+  void computeRigidCaps(const std::vector<Placement>& placements);
+  /// linearize() with the caps of rigid_caps_.
+  bool linearizeCapped(const std::vector<Placement>& placements, const CalibrationState& state,
+                       Linearization& out, const Linearization* weights = nullptr);
+  /// True when current_lin_ is its own (fresh) linearisation at `state` over `placements`.
+  bool isPrepared(const std::vector<Placement>& placements, const CalibrationState& state) const;
+  /// current_lin_'s blocks re-whitened for the plan's probe noise, changed since it was built.
+  bool reweightToProbe(const std::vector<Placement>& placements);
+  /// current_lin_'s blocks re-whitened with `targets` (per placement and reading, the factors L'
+  /// of the new Sigma = L' L'^T): each reading's rows times L'^-1 L, then reduced again. Fresh
+  /// afterwards (the targets are the weights at its own state).
+  bool rewhiten(const std::vector<Placement>& placements,
+                const std::vector<ReadingWeights>& targets);
+  /// The priors, N, b and the rigid reduction of `out`, its blocks added to reducer_.
+  bool finishLinearization(const CalibrationState& state, Linearization& out);
 
   const Plan* plan_;
   CalibrationOptions options_;
@@ -222,7 +262,12 @@ class Calibrator {
   CalibrationState current_, trial_, extended_;
   Linearization current_lin_, trial_lin_, extended_lin_;
   int dof_ = 0;
-  int reweightings_ = 0;  ///< weights re-evaluated at a converged estimate so far
+  int reweightings_ = 0;         ///< weights re-evaluated at a converged estimate so far
+  std::vector<int> rigid_caps_;  ///< per placement of the current run (computeRigidCaps)
+  /// The placements and probe noise of current_lin_ when it is fresh at current_ (prepare(), or
+  /// a run's end); null once a run has started from it.
+  const std::vector<Placement>* prepared_of_ = nullptr;
+  double prepared_probe_ = 0.0;
   /// Rounds of reweighting at a converged estimate (settled()).
   static constexpr int kMaxReweightings = 1;
   static constexpr double kExtendRatio = 1.5;

@@ -58,11 +58,12 @@ class DesignMatrixBuilder {
   /// The block of one placement at parameters `p` (full vector) and artifact pose `r`.
   /// `c` holds the artifact's systematic errors (may be empty: zero).
   /// `held`: whiten with these factors instead of the ones at p; `record`: receives the factors
-  /// used.
+  /// used; `own`: receives the factors at p also when `held` whitened (what re-whitening the
+  /// block for its own state needs, calibrator.cpp).
   void build(const Artifact& artifact, const std::vector<Measurement>& measurements,
              const Eigen::VectorXd& p, const RigidTransform& r, const Eigen::VectorXd& c,
              bool with_residuals, ObservationBlock& block, const ReadingWeights* held = nullptr,
-             ReadingWeights* record = nullptr);
+             ReadingWeights* record = nullptr, ReadingWeights* own = nullptr);
 
   /// Appends the misfit of each measurement at (p, r, c) to `out` (see ReadingMisfit).
   void misfits(const Artifact& artifact, const std::vector<Measurement>& measurements,
@@ -74,6 +75,16 @@ class DesignMatrixBuilder {
                                  const Eigen::VectorXd& p) const;
 
  private:
+  /// One reading's covariance is at most 6 x 6 (a pose): on the stack.
+  using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, 6, 6>;
+  /// The whitening factor L (Sigma = L L^T) of the reading of the last forward call: `per` rows,
+  /// the point's `k` valued rows (rotated by R_valued) then a pose's orientation rows.
+  Small readingFactor(const Eigen::Ref<const Eigen::MatrixXd>& R_valued, int per, int k,
+                      double sigma_p2, double sigma_angle2, const Artifact& artifact);
+  /// weights.factors[i] (of `readings`) = L, zero-padded.
+  static void storeFactor(ReadingWeights& weights, std::size_t readings, std::size_t i,
+                          const Small& L);
+
   const Machine* machine_;
   const Noise* noise_;
   Eigen::VectorXd x_;
