@@ -102,23 +102,35 @@ std::string procedureTable(const Plan& plan, const Procedure& procedure) {
   for (const auto& placement : procedure.placements) readings += placement.readings.size();
   out << "Procedure for plan " << plan.name << ": " << procedure.placements.size()
       << " placements, " << readings << " readings, in measuring order\n";
-  std::string header = "  reading  feature  posture" + std::string(styli ? "  stylus" : "");
-  header += "  feature position mm" + std::string(machine.dimension() == 2 ? 6 : 16, ' ');
-  for (int i = 0; i < machine.jointCount(); ++i) {
-    char column[48];
-    std::snprintf(column, sizeof column, "%9s%d %-3s", "q", i + 1, jointUnit(machine, i).c_str());
-    header += column;
-  }
+  // A station of an instrument (docs/instruments.md): each reading is a point of its own, where
+  // the tip goes (no feature, no posture).
+  const auto header = [&](bool station) {
+    std::string text = station ? "  reading" : "  reading  feature  posture";
+    if (styli) text += "  stylus";
+    text += station ? "  target position mm " : "  feature position mm";
+    text += std::string(machine.dimension() == 2 ? 6 : 16, ' ');
+    for (int i = 0; i < machine.jointCount(); ++i) {
+      char column[48];
+      std::snprintf(column, sizeof column, "%9s%d %-3s", "q", i + 1, jointUnit(machine, i).c_str());
+      text += column;
+    }
+    return text;
+  };
   for (std::size_t j = 0; j < procedure.placements.size(); ++j) {
     const ProcedurePlacement& placement = procedure.placements[j];
     const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
+    const bool station = artifact.kind == ArtifactKind::Instrument;
     out << "\nPlacement " << placementLabel(plan.placements, j) << ": " << artifact.id << " ("
-        << artifactKindName(artifact.kind) << ") at " << poseText(plan, placement) << "\n"
-        << header << "\n";
+        << artifactKindName(artifact.kind) << (station ? " station" : "") << ") at "
+        << poseText(plan, placement) << "\n"
+        << header(station) << "\n";
     for (std::size_t k = 0; k < placement.readings.size(); ++k) {
       const ProcedureReading& r = placement.readings[k];
       char row[96];
-      std::snprintf(row, sizeof row, "  %7zu  %7d  %7d", k, r.feature, r.posture);
+      if (station)
+        std::snprintf(row, sizeof row, "  %7zu", k);
+      else
+        std::snprintf(row, sizeof row, "  %7zu  %7d  %7d", k, r.feature, r.posture);
       out << row;
       if (styli) out << "  " << std::string(6 - std::to_string(r.stylus).size(), ' ') << r.stylus;
       const std::string position = vectorText(r.position, 3);

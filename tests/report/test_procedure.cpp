@@ -8,6 +8,7 @@
 #include <Eigen/Geometry>
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <numbers>
 #include <set>
 #include <sstream>
 
@@ -225,11 +226,35 @@ TEST(Procedure, CsvHasOneRowPerReadingWithUnitsInTheHeader) {
   EXPECT_NE(table.out.find("Placement 4: bar80 (ball_bar) at centre"), std::string::npos);
 }
 
+// An instrument's station: each reading is a target position of its own, without the feature
+// and posture columns of an artifact; one row per reading, the joints those of the plan.
+TEST(Procedure, AStationListsEachReadingsTargetPosition) {
+  const std::string path = test_support::planFile("tracker-arm6-2stations.json");
+  const auto table = runCli("procedure " + path);
+  ASSERT_EQ(table.status, 0);
+  EXPECT_NE(table.out.find("Placement station 1: tracker (instrument station) at centre"),
+            std::string::npos)
+      << table.out;
+  EXPECT_NE(table.out.find("\n  reading  target position mm "), std::string::npos) << table.out;
+  EXPECT_EQ(table.out.find("feature  posture"), std::string::npos) << table.out;
+  std::istringstream lines(table.out);
+  int rows = 0;
+  for (std::string line; std::getline(lines, line);)
+    rows += line.find("  [") != std::string::npos && line.find("Placement") == std::string::npos;
+  EXPECT_EQ(rows, 50);
+  const Plan plan = loadPlan(path);
+  const json procedure = json::parse(runCli("procedure --json " + path).out);
+  const json& first = procedure["placements"][0]["readings"][0]["joints"];
+  for (int i = 0; i < 6; ++i)
+    EXPECT_NEAR(first[static_cast<std::size_t>(i)].get<double>(),
+                plan.placements[0].measurements[0].joints[i] * 180.0 / std::numbers::pi, 1e-6);
+}
+
 TEST(Procedure, BadInputIsExitStatusTwoWithOneLine) {
   const auto run = runCli("procedure /nonexistent/plan.json", test_support::Stderr::Only);
   EXPECT_EQ(run.status, 2);
   EXPECT_EQ(run.out.rfind("error: /nonexistent/plan.json", 0), 0u) << run.out;
 }
 
-}  // namespace
+}  // namespace procedure_test
 }  // namespace artcal
