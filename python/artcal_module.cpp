@@ -728,9 +728,8 @@ PYBIND11_MODULE(_native, m) {
       [](const std::string& folder, const std::string& machine, const std::string& urdf,
          const std::string& base, const std::string& tip, std::optional<double> ball_bar,
          double u_length, const std::string& artifact, const py::object& probe, double encoder,
-         const std::string& unit, bool keep_calibrate, bool keep_limits,
-         const std::string& output, std::optional<double> instrument,
-         const std::string& point_unit) {
+         const std::string& unit, bool keep_calibrate, bool keep_limits, const std::string& output,
+         std::optional<double> instrument, const std::string& point_unit) {
         artcal::ReadingsImport import;
         import.folder = folder;
         import.machine_file = machine;

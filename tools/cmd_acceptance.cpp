@@ -1,5 +1,5 @@
-// artcal acceptance (docs/method.md section 9): will the calibrated machine pass its acceptance test?
-// ISO 10360-2 (Cartesian CMMs) and ISO 9283 (arms, robots) predicted from a plan's V_p or a
+// artcal acceptance (docs/method.md section 9): will the calibrated machine pass its acceptance
+// test? ISO 10360-2 (Cartesian CMMs) and ISO 9283 (arms, robots) predicted from a plan's V_p or a
 // calibrated machine file's covariance.
 
 #include <cmath>

@@ -57,8 +57,8 @@ ReportFigure stationFigure(const Plan& plan, std::size_t j, const json& entries)
   }
   const double scale = residualScale((hi - lo).maxCoeff(), largest);
   const std::string label = placementLabel(plan.placements, j);
-  svg::Plot plot("station-" + std::to_string(j), label + ": residuals after the calibration", "x (mm)",
-                 "y (mm)", 520.0, 440.0);
+  svg::Plot plot("station-" + std::to_string(j), label + ": residuals after the calibration",
+                 "x (mm)", "y (mm)", 520.0, 440.0);
   plot.setEqualAspect(true);
   for (std::size_t m = 0; m < entries.size() && m < placement.measurements.size(); ++m) {
     const Eigen::VectorXd& point = placement.measurements[m].point;

@@ -913,5 +913,5 @@ TEST(AcceptanceCli, BadInputIsOneErrorLineWithStatus2) {
   }
 }
 
-}  // namespace
+}  // namespace acceptance_test
 }  // namespace artcal

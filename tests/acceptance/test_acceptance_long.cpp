@@ -40,5 +40,5 @@ TEST(LengthTestLongRun, MillionTrialsAgreeWithTheAdaptiveRunAndTheReference) {
       3.0 * std::hypot(reference_run.p_pass_standard_error, expected["p_pass_se"].get<double>()));
 }
 
-}  // namespace
+}  // namespace acceptance_long_test
 }  // namespace artcal

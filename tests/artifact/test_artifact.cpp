@@ -162,5 +162,5 @@ TEST(RigidTransform, FitRigidRecoversAKnownTransform) {
   EXPECT_LT((fit.t - T.t).norm(), 1e-9);
 }
 
-}  // namespace
+}  // namespace artifact_test
 }  // namespace artcal

@@ -11,10 +11,10 @@
 #include <filesystem>
 #include <random>
 
-#include "artcal/internal.hpp"
 #include "artcal/calibration/calibrator.hpp"
 #include "artcal/calibration/confirmation.hpp"
 #include "artcal/calibration/simulation.hpp"
+#include "artcal/internal.hpp"
 #include "test_paths.hpp"
 
 namespace artcal {

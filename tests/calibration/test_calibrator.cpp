@@ -568,5 +568,5 @@ TEST(CalibrateCommand, BadOptionsExitTwo) {
   EXPECT_EQ(runCli("calibrate /nonexistent/plan.json").status, 2);
 }
 
-}  // namespace
+}  // namespace calibrator_test
 }  // namespace artcal

@@ -89,5 +89,5 @@ TEST(CartesianCalibration, TwoGaussNewtonStepsConverge) {
   }
 }
 
-}  // namespace
+}  // namespace cartesian_calibration_test
 }  // namespace artcal

@@ -178,5 +178,5 @@ TEST(ConfirmCommand, ExitStatusAndFields) {
   EXPECT_EQ(runCli("confirm " + plan + " --trials 1").status, 2);
 }
 
-}  // namespace
+}  // namespace confirmation_test
 }  // namespace artcal

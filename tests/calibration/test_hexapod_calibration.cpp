@@ -84,5 +84,5 @@ TEST(HexapodPlan, UnsolvableReadingIsAnInputErrorNamingIt) {
   }
 }
 
-}  // namespace
+}  // namespace hexapod_calibration_test
 }  // namespace artcal

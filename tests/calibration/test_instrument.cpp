@@ -273,7 +273,6 @@ TEST_F(PlainStations, LiftingColumnCalibratesAndVerifiesOnHeldOutStations) {
   EXPECT_LT(held["rms"].get<double>(), 0.2 * nominal["rms"].get<double>());
 }
 
-
 // Pose instruments ("measures": "pose", instruments.md): the tracker plan with each reading's
 // orientation (tests/support/plan_builders.hpp, poseTrackerDocument).
 

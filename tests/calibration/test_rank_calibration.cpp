@@ -231,5 +231,5 @@ TEST(RankCalibration, ConfirmationConfirmsThePrediction) {
   }
 }
 
-}  // namespace
+}  // namespace rank_calibration_test
 }  // namespace artcal

@@ -329,5 +329,5 @@ TEST(SimulateCommand, BadTruthExitsTwoWithoutOutput) {
   EXPECT_FALSE(std::ifstream(out).good());
 }
 
-}  // namespace
+}  // namespace simulation_test
 }  // namespace artcal

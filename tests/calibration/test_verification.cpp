@@ -330,5 +330,5 @@ TEST(PandaReadings, LeaveOneOutPosteriorSpreadIsWithin30PercentOfTheObserved) {
   }
 }
 
-}  // namespace
+}  // namespace verification_test
 }  // namespace artcal

@@ -322,4 +322,4 @@ TEST_F(Cli, ConsoleBlocksOfTheDocumentsAreReproduced) {
   EXPECT_GE(checked, 5) << "README.md's walk-through blocks are no longer found";
 }
 
-}  // namespace
+}  // namespace cli_test

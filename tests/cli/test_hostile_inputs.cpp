@@ -414,4 +414,4 @@ TEST(HostileMessages, AHugeUrdfAxisIsNamedAsSuchNotAsAZeroAxis) {
                 "<axis xyz> needs 3 numbers within +-1e9");
 }
 
-}  // namespace
+}  // namespace hostile_inputs_test

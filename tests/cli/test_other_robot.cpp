@@ -206,5 +206,5 @@ TEST(OtherRobot, Ur5FromItsUrdfCalibratedAndVerifiedWithTheSameCommands) {
   fs::remove_all(scratch);
 }
 
-}  // namespace
+}  // namespace other_robot_test
 }  // namespace artcal

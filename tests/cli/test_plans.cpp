@@ -238,5 +238,5 @@ TEST(Plans, ArticulatedArmReadsEachBallInThreeDistinctPostures) {
   EXPECT_EQ(evaluation.identifiability.counting.minimum_alike, 2);
 }
 
-}  // namespace
+}  // namespace plans_test
 }  // namespace artcal

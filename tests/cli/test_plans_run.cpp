@@ -146,5 +146,5 @@ TEST(PlansRun, OptimizedReadingsKeepTheJointMargin) {
   EXPECT_GT(checked, 0);
 }
 
-}  // namespace
+}  // namespace plans_run_test
 }  // namespace artcal

@@ -224,5 +224,5 @@ TEST(GreedyChoice, AgreesWithTheSmallestEigenvalueOfEveryTrial) {
             (std::vector<int>{3, 7, 9}));
 }
 
-}  // namespace
+}  // namespace identifiability_test
 }  // namespace artcal

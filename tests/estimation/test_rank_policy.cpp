@@ -219,5 +219,5 @@ TEST(CalibrateIdentifiable, ParsedFromThePlanFile) {
   EXPECT_THROW(parsePlan(doc, path, true), InputError);
 }
 
-}  // namespace
+}  // namespace rank_policy_test
 }  // namespace artcal

@@ -573,7 +573,7 @@ TEST(PlanIo, PlacementsWrittenBackReadTheSame) {
   }
 }
 
-}  // namespace
+}  // namespace plan_io_test
 }  // namespace artcal
 
 namespace artcal {
@@ -618,5 +618,5 @@ TEST(CalibrateChoice, TooFewEquationsAsksForPlacementsNotForFixedParameters) {
   EXPECT_EQ(table.find("fix:"), std::string::npos) << table;
 }
 
-}  // namespace
+}  // namespace plan_io_test
 }  // namespace artcal

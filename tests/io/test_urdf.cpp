@@ -256,5 +256,5 @@ TEST(UrdfCli, MachineThatDoesNotFitTheUrdfIsOneLineAndExitStatus2) {
       kData + "/ref-2r-5bars.json", "/machine/model");
 }
 
-}  // namespace
+}  // namespace urdf_test
 }  // namespace artcal

@@ -273,5 +273,5 @@ TEST(UrdfMimic, UnresolvableMimicsInAMachineBlockAreRefusedWithTheirPointer) {
   EXPECT_NE(refusal(types).find("/joints/3/mimic/joint"), std::string::npos) << refusal(types);
 }
 
-}  // namespace
+}  // namespace urdf_mimic_test
 }  // namespace artcal

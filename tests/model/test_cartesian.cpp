@@ -186,5 +186,5 @@ TEST(Cartesian, ErrorFunctionsNamedAsAMetrologistReadsThem) {
   EXPECT_EQ(axisErrorMeaning(z, AxisError::Tz), "positioning");
 }
 
-}  // namespace
+}  // namespace cartesian_test
 }  // namespace artcal

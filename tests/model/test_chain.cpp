@@ -404,5 +404,5 @@ TEST(SerialDH, NoBetaStandardEqualsTheKindsConstructor) {
   EXPECT_EQ(xa, xb);
 }
 
-}  // namespace
+}  // namespace chain_test
 }  // namespace artcal

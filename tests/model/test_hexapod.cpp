@@ -301,5 +301,5 @@ TEST(HexapodLayout, LegsAndPlatformAtEveryReadingInPlanAndSideViews) {
   }
 }
 
-}  // namespace
+}  // namespace hexapod_test
 }  // namespace artcal

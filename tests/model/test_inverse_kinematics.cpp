@@ -158,5 +158,5 @@ TEST(ApplyJointLimits, WrapsFullTurnsAndClampsOthers) {
   EXPECT_NEAR(q[1], 90 * kDeg, 1e-12);
 }
 
-}  // namespace
+}  // namespace inverse_kinematics_test
 }  // namespace artcal

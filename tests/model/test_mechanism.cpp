@@ -145,5 +145,5 @@ TEST(SerialDH, RefusesMoreJointsThanPlanFilesAllow) {
   EXPECT_NO_THROW(SerialDH(std::vector<JointKind>(32, JointKind::Revolute)));
 }
 
-}  // namespace
+}  // namespace mechanism_test
 }  // namespace artcal

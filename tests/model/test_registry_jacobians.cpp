@@ -186,5 +186,5 @@ TEST(RegisteredModels, AMimicChainHasExactJacobians) {
   expectJacobiansMatchDifferences(plan, rng);
 }
 
-}  // namespace
+}  // namespace registry_jacobians_test
 }  // namespace artcal

@@ -77,5 +77,5 @@ TEST(ActiveSet, BoundsGFromBelowAndEqualsItWhereActivated) {
   RecordProperty("short_bounds", short_bounds);
 }
 
-}  // namespace
+}  // namespace active_set_test
 }  // namespace artcal

@@ -203,5 +203,5 @@ TEST(InstrumentDesign, BadInstrumentDesignsAreRefusedWithTheirPointer) {
       << refusal(document);
 }
 
-}  // namespace
+}  // namespace instrument_design_test
 }  // namespace artcal

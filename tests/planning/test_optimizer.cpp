@@ -582,5 +582,5 @@ TEST(DesignCriterion, KeepsThePriorOfASystematicBarLength) {
   EXPECT_NEAR(a.value(information), expected, 1e-9 * expected);
 }
 
-}  // namespace
+}  // namespace optimizer_test
 }  // namespace artcal

@@ -82,5 +82,5 @@ TEST(PlacementSweep, CountRanges) {
   EXPECT_FALSE(parseCountRange(""));
 }
 
-}  // namespace
+}  // namespace placement_sweep_test
 }  // namespace artcal

@@ -175,5 +175,5 @@ TEST_F(Layout, UnreachablePoseIsBadInputNamingTheRequest) {
   EXPECT_EQ(runCli("plan --complete " + in + " -o " + in).status, 2);
 }
 
-}  // namespace
+}  // namespace plan_completion_test
 }  // namespace artcal

@@ -121,5 +121,5 @@ TEST(ReportPdf, CartesianCmmPrints) {
   expectPrintedReport("cmm-plate-xy");
 }
 
-}  // namespace
+}  // namespace report_pdf_test
 }  // namespace artcal

@@ -1,8 +1,8 @@
 #pragma once
 // The plan's own acceptance test (its "acceptance" block, docs/plan-format.md;
-// docs/method.md section 9) predicted from the plan's V_p: what `artcal report` shows. The figures are those
-// of `artcal acceptance PLAN` with the block's test and the default Monte-Carlo options (the same
-// seed and adaptive trials), computed here once; the report only formats them.
+// docs/method.md section 9) predicted from the plan's V_p: what `artcal report` shows. The figures
+// are those of `artcal acceptance PLAN` with the block's test and the default Monte-Carlo options
+// (the same seed and adaptive trials), computed here once; the report only formats them.
 
 #include <optional>
 #include <string>

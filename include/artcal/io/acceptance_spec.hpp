@@ -1,5 +1,6 @@
 #pragma once
-// The plan's optional acceptance test (docs/plan-format.md, "acceptance"; docs/method.md section 9):
+// The plan's optional acceptance test (docs/plan-format.md, "acceptance"; docs/method.md section
+// 9):
 //   "acceptance": {"test": "iso10360-2", "mpe": "1.5 + L/333"}
 //   "acceptance": {"test": "iso9283", "cube": 600, "center": [500, 0, 400], "mpe": 0.1}
 // parsePlan keeps it as Plan::acceptance; `artcal acceptance PLAN` takes what the command line

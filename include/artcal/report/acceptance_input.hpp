@@ -1,6 +1,6 @@
 #pragma once
-// What `artcal acceptance` predicts from (docs/method.md section 9): a plan's own predicted V_p, or a
-// calibrated machine file's parameters and covariance with the noise and workspace of the plan it
+// What `artcal acceptance` predicts from (docs/method.md section 9): a plan's own predicted V_p, or
+// a calibrated machine file's parameters and covariance with the noise and workspace of the plan it
 // was calibrated from. The command line and the Python module take their input here, with the
 // same errors.
 

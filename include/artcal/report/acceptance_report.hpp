@@ -1,7 +1,7 @@
 #pragma once
-// Results of `acceptance` (docs/method.md section 9) as JSON, human tables and the E-against-L figure.
-// Lengths, ends and joints in file units (mm, deg); E's standard deviations and the MPE in um in
-// the fields ending `_um` and in the tables (the items also carry `sigma_sys`, `sigma_noise`,
+// Results of `acceptance` (docs/method.md section 9) as JSON, human tables and the E-against-L
+// figure. Lengths, ends and joints in file units (mm, deg); E's standard deviations and the MPE in
+// um in the fields ending `_um` and in the tables (the items also carry `sigma_sys`, `sigma_noise`,
 // `sigma_total` in mm, the reference's fields).
 
 #include <nlohmann/json.hpp>
