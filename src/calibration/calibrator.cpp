@@ -245,6 +245,7 @@ using Factor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColM
 // rows above it are still unchanged).
 template <typename Rows>
 void transformRows(const Factor& T, Rows&& rows) {
+  if (rows.cols() == 0) return;  // no systematic error: an empty block has no rows to address
   for (int i = static_cast<int>(T.rows()) - 1; i >= 0; --i) {
     rows.row(i) *= T(i, i);
     for (int j = 0; j < i; ++j) rows.row(i) += T(i, j) * rows.row(j);
