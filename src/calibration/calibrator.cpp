@@ -245,7 +245,6 @@ using Factor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColM
 // rows above it are still unchanged).
 template <typename Rows>
 void transformRows(const Factor& T, Rows&& rows) {
-  if (rows.cols() == 0) return;  // no systematic error: an empty block has no rows to address
   for (int i = static_cast<int>(T.rows()) - 1; i >= 0; --i) {
     rows.row(i) *= T(i, i);
     for (int j = 0; j < i; ++j) rows.row(i) += T(i, j) * rows.row(j);
@@ -289,9 +288,9 @@ bool Calibrator::rewhiten(const std::vector<Placement>& placements,
       const Factor T =
           target.triangularView<Eigen::Lower>().solve(Factor(held.triangularView<Eigen::Lower>()));
       const int row = per * static_cast<int>(i);
-      transformRows(T, block.A_p.middleRows(row, per));
-      transformRows(T, block.A_r.middleRows(row, per));
-      transformRows(T, block.A_c.middleRows(row, per));
+      // A block without columns (no systematic error) has no data to take rows of.
+      for (Eigen::MatrixXd* columns : {&block.A_p, &block.A_r, &block.A_c})
+        if (columns->cols() > 0) transformRows(T, columns->middleRows(row, per));
       transformRows(T, block.e.segment(row, per));
       factors[i] = own;
     }
