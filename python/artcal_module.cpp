@@ -336,6 +336,7 @@ json verify(const PyPlan& p, const py::object& machine, const std::string& machi
     const auto [document, source] = machineDocument(machine, machine_source);
     parameters = parseTruth(document, source, plan);
     uncertainty = parseMachineCovariance(document, source, plan);
+    useEstimatedProbeNoise(plan, uncertainty);
     checkPlausibility(plan, parameters, "the machine of " + source);
   }
   return withoutGil(

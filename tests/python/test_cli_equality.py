@@ -69,6 +69,22 @@ def test_verify_equals_cli():
     assert artcal.Plan(plan).verify() == cli_json("verify", plan, "--json")
 
 
+def test_verify_of_an_estimated_noise_plan_equals_cli(tmp_path):
+    # The machine file carries the probe noise the calibration estimated; verify predicts with it.
+    truth, simulated = tmp_path / "truth.json", tmp_path / "simulated.json"
+    truth.write_text(json.dumps({"parameters": {"l1": 150.02}}))
+    cli_json("simulate", "plans/paper-2r-5bars.json", "--truth", str(truth), "--seed", "7", "-o",
+             str(simulated), "--json")
+    plan = json.loads(simulated.read_text())
+    plan["noise"]["probe"] = "estimate"
+    estimated, machine = tmp_path / "estimated.json", tmp_path / "machine.json"
+    estimated.write_text(json.dumps(plan))
+    cli_json("calibrate", str(estimated), "--json", "--write-machine", str(machine))
+    assert "probe_noise" in json.loads(machine.read_text())["covariance"]
+    assert artcal.Plan(str(estimated)).verify(str(machine)) == cli_json(
+        "verify", str(estimated), "--machine", str(machine), "--json")
+
+
 def test_simulate_equals_cli(tmp_path):
     plan = "plans/paper-2r-5bars.json"
     truth = tmp_path / "truth.json"
