@@ -89,8 +89,9 @@ Plan trackerPlan(int stations, int readings, bool identifiable = false) {
   return parsePlan(document, test_support::planFile("panda-8positions.json"));
 }
 
-void BM_CalibrateTracker40Stations50Readings(benchmark::State& state) {
-  const Plan plan = trackerPlan(40, 50);
+/// The readings of `plan` simulated (seed 1) from a truth 0.05 mm / 0.01 deg off nominal in every
+/// calibrated parameter.
+std::vector<Placement> simulatedReadings(const Plan& plan) {
   const Machine& machine = plan.machine;
   Eigen::VectorXd truth = machine.nominal;
   for (int k = 0; k < machine.calibratedCount(); ++k) {
@@ -98,7 +99,13 @@ void BM_CalibrateTracker40Stations50Readings(benchmark::State& state) {
     truth[i] += machine.calibratedInfo(k).quantity == Quantity::Angle ? degToRad(0.01) : 0.05;
   }
   NormalSource normal(1);
-  const std::vector<Placement> readings = Simulator(plan).simulate(truth, normal).placements;
+  return Simulator(plan).simulate(truth, normal).placements;
+}
+
+void BM_CalibrateTracker40Stations50Readings(benchmark::State& state) {
+  const Plan plan = trackerPlan(40, 50);
+  const Machine& machine = plan.machine;
+  const std::vector<Placement> readings = simulatedReadings(plan);
   CalibrationOptions options;
   options.details = false;  // estimate and convergence only, as confirm runs it
   Calibrator calibrator(plan, options);
@@ -118,14 +125,7 @@ BENCHMARK(BM_CalibrateTracker40Stations50Readings)->Unit(benchmark::kMillisecond
 // The plain plan's way: "identifiable", as import-readings writes it (header).
 void BM_CalibrateTrackerIdentifiable(benchmark::State& state) {
   Plan plan = trackerPlan(40, 50, true);
-  const Machine& machine = plan.machine;
-  Eigen::VectorXd truth = machine.nominal;
-  for (int k = 0; k < machine.calibratedCount(); ++k) {
-    const int i = machine.calibrated[static_cast<std::size_t>(k)];
-    truth[i] += machine.calibratedInfo(k).quantity == Quantity::Angle ? degToRad(0.01) : 0.05;
-  }
-  NormalSource normal(1);
-  plan.placements = Simulator(plan).simulate(truth, normal).placements;
+  plan.placements = simulatedReadings(plan);
   CalibrationOptions options;
   options.details = false;
   int iterations = 0, kept = 0;
