@@ -339,8 +339,13 @@ json verify(const PyPlan& p, const py::object& machine, const std::string& machi
     useEstimatedProbeNoise(plan, uncertainty);
     checkPlausibility(plan, parameters, "the machine of " + source);
   }
-  return withoutGil(
-      [&] { return verificationToJson(plan, verifyMachine(plan, parameters, uncertainty)); });
+  // As the command: a plan of instrument stations alone gets the stations' figures only.
+  return withoutGil([&] {
+    const StationsVerification stations = verifyStations(plan, parameters, uncertainty);
+    if (onlyStations(plan, stations)) return verifyDocument(plan, stations, nullptr);
+    const Verification verification = verifyMachine(plan, parameters, uncertainty);
+    return verifyDocument(plan, stations, &verification);
+  });
 }
 
 json simulate(const PyPlan& p, const py::object& truth, std::uint64_t seed, double noise_scale,

@@ -38,11 +38,9 @@ int runVerify(const VerifyArguments& args) {
   }
   // An instrument's stations (instruments.md): held-out readings against a fitted station.
   const StationsVerification stations = verifyStations(plan, p, uncertainty);
-  // Each instrument reading is a feature of its own: the artifact figures (a feature's spread over
-  // its postures, the lengths between features) say nothing of a plan of stations alone.
-  if (!stations.stations.empty() && stations.stations.size() == plan.placements.size()) {
+  if (onlyStations(plan, stations)) {
     if (args.json) {
-      printJson({{"plan", plan.name}, {"instrument", stationsVerificationToJson(plan, stations)}});
+      printJson(verifyDocument(plan, stations, nullptr));
     } else {
       std::cout << "Plan " << plan.name << ": " << stations.stations.size()
                 << " stations verified, parameters held fixed (mm)\n  predicted RMS from "
@@ -55,9 +53,7 @@ int runVerify(const VerifyArguments& args) {
   }
   const Verification verification = verifyMachine(plan, p, uncertainty);
   if (args.json) {
-    nlohmann::json out = verificationToJson(plan, verification);
-    if (!stations.stations.empty()) out["instrument"] = stationsVerificationToJson(plan, stations);
-    printJson(out);
+    printJson(verifyDocument(plan, stations, &verification));
   } else {
     std::cout << verificationTable(plan, verification, args.outliers);
     if (!stations.stations.empty()) std::cout << stationsVerificationTable(plan, stations);

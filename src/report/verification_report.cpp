@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "artcal/report/report.hpp"
+#include "artcal/report/station_report.hpp"
 
 namespace artcal {
 
@@ -209,6 +210,17 @@ std::string verificationTable(const Plan& plan, const Verification& verification
     }
   }
   return out.str();
+}
+
+bool onlyStations(const Plan& plan, const StationsVerification& stations) {
+  return !stations.stations.empty() && stations.stations.size() == plan.placements.size();
+}
+
+json verifyDocument(const Plan& plan, const StationsVerification& stations,
+                    const Verification* artifacts) {
+  json out = artifacts ? verificationToJson(plan, *artifacts) : json{{"plan", plan.name}};
+  if (!stations.stations.empty()) out["instrument"] = stationsVerificationToJson(plan, stations);
+  return out;
 }
 
 }  // namespace artcal

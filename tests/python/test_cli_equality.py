@@ -69,6 +69,19 @@ def test_verify_equals_cli():
     assert artcal.Plan(plan).verify() == cli_json("verify", plan, "--json")
 
 
+def test_verify_of_instrument_stations_equals_cli(tmp_path):
+    # A plan of stations alone gets the stations' figures only, as the command prints them.
+    plan = "plans/tracker-arm6-2stations.simulated.json"
+    machine = tmp_path / "machine.json"
+    cli_json("calibrate", plan, "--json", "--write-machine", str(machine))
+    for args in ([], [str(machine)]):
+        result = artcal.Plan(plan).verify(*args)
+        cli = cli_json("verify", plan, *(["--machine", str(machine)] if args else []), "--json")
+        assert result == cli
+        assert set(result) == {"plan", "instrument"}
+        assert len(result["instrument"]["stations"]) == 2
+
+
 def test_verify_of_an_estimated_noise_plan_equals_cli(tmp_path):
     # The machine file carries the probe noise the calibration estimated; verify predicts with it.
     truth, simulated = tmp_path / "truth.json", tmp_path / "simulated.json"

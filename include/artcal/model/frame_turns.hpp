@@ -10,6 +10,7 @@ namespace artcal {
 
 // R <- R Rz(angle): the x and y columns turn.
 inline void turnAboutZ(Eigen::Matrix3d& R, double angle) {
+  if (angle == 0.0) return;  // exactly R R(0) = R: most origins' angles are zero
   const double c = std::cos(angle), s = std::sin(angle);
   const Eigen::Vector3d x = R.col(0), y = R.col(1);
   R.col(0) = c * x + s * y;
@@ -18,6 +19,7 @@ inline void turnAboutZ(Eigen::Matrix3d& R, double angle) {
 
 // R <- R Ry(angle): the z and x columns turn.
 inline void turnAboutY(Eigen::Matrix3d& R, double angle) {
+  if (angle == 0.0) return;  // as above
   const double c = std::cos(angle), s = std::sin(angle);
   const Eigen::Vector3d x = R.col(0), z = R.col(2);
   R.col(0) = c * x - s * z;
@@ -26,6 +28,7 @@ inline void turnAboutY(Eigen::Matrix3d& R, double angle) {
 
 // R <- R Rx(angle): the y and z columns turn.
 inline void turnAboutX(Eigen::Matrix3d& R, double angle) {
+  if (angle == 0.0) return;  // as above
   const double c = std::cos(angle), s = std::sin(angle);
   const Eigen::Vector3d y = R.col(1), z = R.col(2);
   R.col(1) = c * y + s * z;

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "artcal/calibration/station_verification.hpp"
 #include "artcal/calibration/verification.hpp"
 #include "artcal/plan/plan.hpp"
 
@@ -15,5 +16,15 @@ namespace artcal {
 nlohmann::json verificationToJson(const Plan& plan, const Verification& verification);
 /// `outliers`: how many of the largest deviations from their feature's mean to list.
 std::string verificationTable(const Plan& plan, const Verification& verification, int outliers = 5);
+
+/// True when every placement of `plan` is an instrument station `stations` verified: each reading
+/// is then a feature of its own, and the artifact figures (a feature's spread over its postures,
+/// the lengths between features) say nothing; verify reports the stations alone.
+bool onlyStations(const Plan& plan, const StationsVerification& stations);
+/// `artcal verify --json`'s document (and Python's Plan.verify): the artifact figures of
+/// `artifacts` with the stations' under "instrument", or, for a plan of stations alone
+/// (`artifacts` null), the plan's name and the stations' figures.
+nlohmann::json verifyDocument(const Plan& plan, const StationsVerification& stations,
+                              const Verification* artifacts);
 
 }  // namespace artcal
