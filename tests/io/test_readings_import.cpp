@@ -9,6 +9,7 @@
 #include <fstream>
 #include <numbers>
 #include <set>
+#include <tuple>
 
 #include "artcal/artcal.hpp"
 #include "artcal/io/readings_import.hpp"
@@ -389,6 +390,21 @@ TEST_F(ImportFolder, PoseStationsRoundTripToTheSameCalibration) {
             std::string::npos)
       << points.out;
   EXPECT_FALSE(fs::exists(path("bad.json")));
+  // The plan's orientation_unit: only a pose instrument's, deg or rad; exit 2 at its pointer.
+  for (const auto& [measures, unit, message] :
+       {std::tuple{"point", "rad", "only a \"pose\" instrument's readings have an orientation"},
+        std::tuple{"pose", "grad", "unknown orientation_unit \"grad\" (expected deg or rad)"}}) {
+    json bad = plan;
+    bad["artifacts"]["instrument"]["measures"] = measures;
+    bad["placements"][0]["measurements"][0]["orientation_unit"] = unit;
+    std::ofstream(path("bad.json")) << bad.dump(1);
+    const auto refused = runCli("check " + path("bad.json"), Stderr::Only);
+    EXPECT_EQ(refused.status, 2) << measures;
+    EXPECT_NE(refused.out.find("bad.json: /placements/0/measurements/0/orientation_unit: " +
+                               std::string(message)),
+              std::string::npos)
+        << refused.out;
+  }
 
   // Without a header the units are stated: --orientation-unit rad reads the first station's rad.
   write("bare/s1.csv", stationCsv(original["placements"][0], 1.0, 1.0, "", rad));
