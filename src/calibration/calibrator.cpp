@@ -348,7 +348,7 @@ std::vector<ReadingMisfit> Calibrator::misfits(const std::vector<Placement>& pla
                                                              artifact.noise, artifact.noise_angle);
     const int kept = angle_share > 0.0 ? per : k;
     Eigen::VectorXd unscale = Eigen::VectorXd::Ones(kept);
-    unscale.tail(kept - k).setConstant(1.0 / std::sqrt(angle_share));
+    if (kept > k) unscale.tail(kept - k).setConstant(1.0 / std::sqrt(angle_share));
     const ObservationBlock& block = current_lin_.blocks[j];
     const auto& factors = current_lin_.weights[j].factors;
     for (std::size_t i = 0; i < placements[j].measurements.size(); ++i) {
