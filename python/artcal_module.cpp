@@ -546,6 +546,14 @@ std::shared_ptr<PyPlan> importReadingsPlan(ReadingsImport import, const py::obje
     throw std::invalid_argument("import-readings: --instrument: expected a noise > 0 (mm)");
   if (!import.point_unit.empty() && import.point_unit != "mm" && import.point_unit != "m")
     throw std::invalid_argument("import-readings: --point-unit: expected mm or m");
+  if (import.instrument_angle && !import.instrument)
+    throw std::invalid_argument("import-readings: --instrument-angle requires --instrument");
+  if (import.instrument_angle &&
+      !(*import.instrument_angle > 0.0 && std::isfinite(*import.instrument_angle)))
+    throw std::invalid_argument("import-readings: --instrument-angle: expected a noise > 0 (deg)");
+  if (!import.orientation_unit.empty() && import.orientation_unit != "deg" &&
+      import.orientation_unit != "rad")
+    throw std::invalid_argument("import-readings: --orientation-unit: expected deg or rad");
   if (import.ball_bar && !import.artifact_file.empty())
     throw std::invalid_argument("import-readings: --ball-bar excludes --artifact");
   if (import.ball_bar && !(*import.ball_bar > 0.0 && std::isfinite(*import.ball_bar)))
@@ -735,7 +743,8 @@ PYBIND11_MODULE(_native, m) {
          const std::string& base, const std::string& tip, std::optional<double> ball_bar,
          double u_length, const std::string& artifact, const py::object& probe, double encoder,
          const std::string& unit, bool keep_calibrate, bool keep_limits, const std::string& output,
-         std::optional<double> instrument, const std::string& point_unit) {
+         std::optional<double> instrument, const std::string& point_unit,
+         std::optional<double> instrument_angle, const std::string& orientation_unit) {
         artcal::ReadingsImport import;
         import.folder = folder;
         import.machine_file = machine;
@@ -752,12 +761,15 @@ PYBIND11_MODULE(_native, m) {
         import.output = output;
         import.instrument = instrument;
         import.point_unit = point_unit;
+        import.instrument_angle = instrument_angle;
+        import.orientation_unit = orientation_unit;
         return importReadingsPlan(std::move(import), probe);
       },
       py::arg("folder"), py::arg("machine"), py::arg("urdf"), py::arg("base"), py::arg("tip"),
       py::arg("ball_bar"), py::arg("u_length"), py::arg("artifact"), py::arg("probe"),
       py::arg("encoder"), py::arg("unit"), py::arg("keep_calibrate"), py::arg("keep_limits"),
-      py::arg("output"), py::arg("instrument"), py::arg("point_unit"));
+      py::arg("output"), py::arg("instrument"), py::arg("point_unit"), py::arg("instrument_angle"),
+      py::arg("orientation_unit"));
   m.def("export_urdf", &exportCalibratedUrdf, py::arg("machine"), py::arg("urdf"),
         py::arg("output"));
   py::class_<PyEvaluator>(m, "_Evaluator")

@@ -61,9 +61,18 @@ void addImportReadingsCommand(CLI::App& app, Action& action) {
           ->check(positiveNumber());
   instrument->excludes(bar);
   instrument->excludes(artifact);
+  cmd->add_option("--instrument-angle", in.instrument_angle,
+                  "the instrument measures poses (a 6-DOF tracker) of this orientation noise, deg "
+                  "per rotation-vector coordinate; each row the joints, then x, y, z, rx, ry, rz")
+      ->check(positiveNumber())
+      ->needs(instrument);
   cmd->add_option("--point-unit", in.point_unit,
                   "unit of the measured points of an instrument (mm or m), instead of the header's")
       ->check(CLI::IsMember({"mm", "m"}));
+  cmd->add_option("--orientation-unit", in.orientation_unit,
+                  "unit of a pose instrument's measured orientations (deg or rad), instead of the "
+                  "header's")
+      ->check(CLI::IsMember({"deg", "rad"}));
   auto* probe = cmd->add_option("--probe", args->probe,
                                 "noise.probe: mm per coordinate, or \"estimate\" (the default with "
                                 "--instrument: the robot's own scatter, estimated by calibrate)")

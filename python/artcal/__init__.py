@@ -420,12 +420,16 @@ def import_readings(folder: PathLike, *, urdf: Optional[PathLike] = None,
                     unit: Optional[str] = None, keep_calibrate: bool = False,
                     keep_limits: bool = False, output: Optional[PathLike] = None,
                     instrument: Optional[float] = None,
-                    point_unit: Optional[str] = None) -> Plan:
+                    point_unit: Optional[str] = None,
+                    instrument_angle: Optional[float] = None,
+                    orientation_unit: Optional[str] = None) -> Plan:
     """``artcal import-readings FOLDER (--urdf U --base B --tip T | --machine M) (--ball-bar L |
     --artifact A | --instrument NOISE) [-o OUTPUT]``: the plan of a folder of CSV readings (one
     sub-folder per placement, one file per feature; with ``instrument``, one CSV file per
-    station: joints then x, y, z; docs/plan-format.md). ``probe`` in mm (or "estimate"; default
-    0.1, "estimate" beside an instrument), ``encoder`` in deg, ``point_unit`` "mm" or "m". With ``output`` the plan is also written there (CSV paths relative to
+    station: joints then x, y, z; with ``instrument_angle`` too, a pose instrument of this
+    orientation noise in deg, each row the joints then x, y, z, rx, ry, rz; docs/instruments.md).
+    ``probe`` in mm (or "estimate"; default 0.1, "estimate" beside an instrument), ``encoder`` in
+    deg, ``point_unit`` "mm" or "m", ``orientation_unit`` "deg" or "rad". With ``output`` the plan is also written there (CSV paths relative to
     its folder; without it, to the current folder). The import's warnings (joint limits widened
     to the readings) are in ``plan.warnings``."""
     def text(value: Any) -> str:
@@ -436,7 +440,8 @@ def import_readings(folder: PathLike, *, urdf: Optional[PathLike] = None,
     native = _native.import_readings(text(folder), text(machine), text(urdf), base or "",
                                      tip or "", ball_bar, u_length, text(artifact), probe,
                                      encoder, unit or "", keep_calibrate, keep_limits,
-                                     text(output), instrument, point_unit or "")
+                                     text(output), instrument, point_unit or "",
+                                     instrument_angle, orientation_unit or "")
     plan = Plan.__new__(Plan)
     plan._require_placements = True
     plan._set_native(native)

@@ -57,11 +57,11 @@ struct SpectralMisfits {
 
 SpectralMisfits spectralMisfits(const std::vector<ReadingMisfit>& misfits) {
   SpectralMisfits out;
-  out.lambda.reserve(3 * misfits.size());
-  out.projected.reserve(3 * misfits.size());
-  // At most 3 x 3: on the stack. Not finite (Eigen's iteration leaves its results unspecified
-  // there): NaN, which no bisection step accepts.
-  using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, 3, 3>;
+  out.lambda.reserve(6 * misfits.size());
+  out.projected.reserve(6 * misfits.size());
+  // At most 6 x 6 (a pose whose orientation rows share s_p^2): on the stack. Not finite (Eigen's
+  // iteration leaves its results unspecified there): NaN, which no bisection step accepts.
+  using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, 6, 6>;
   for (const ReadingMisfit& m : misfits) {
     const auto k = m.residual.size();
     if (!m.encoder_covariance.allFinite() || !m.residual.allFinite()) {

@@ -6,6 +6,8 @@
 #include <sstream>
 #include <utility>
 
+#include "artcal/estimation/reading_noise.hpp"
+
 namespace artcal {
 
 std::string terminationName(TerminationType type) {
@@ -255,16 +257,20 @@ void transformRows(const Factor& T, Rows&& rows) {
 
 bool Calibrator::reweightToProbe(const std::vector<Placement>& placements) {
   // Sigma = L L^T holds s_p^2 I over the point's rows once: with s_p changed,
-  // Sigma' = L L^T + (s'^2 - s^2) I_point = L' L'^T (a pose's orientation rows keep theirs).
+  // Sigma' = L L^T + (s'^2 - s^2) I_point = L' L'^T (a pose's orientation rows: their share of
+  // s_p^2, reading_noise.hpp, 0 unless the probe noise is estimated).
   const double shift = plan_->noise.probe * plan_->noise.probe - prepared_probe_ * prepared_probe_;
   std::vector<ReadingWeights> targets = current_lin_.weights;
   for (std::size_t j = 0; j < placements.size(); ++j) {
     const Artifact& artifact = artifactOf(*plan_, placements[j]);
     const int per = artifact.rowsPerReading(), k = artifact.valuedPerFeature();
+    const double angle_share = angleVariancePerProbeVariance(plan_->noise.estimate_probe,
+                                                             artifact.noise, artifact.noise_angle);
     for (auto& factor : targets[j].factors) {
       const Factor held = factor.topLeftCorner(per, per);
       Factor sigma = held * held.transpose();
       sigma.diagonal().head(k).array() += shift;
+      sigma.diagonal().tail(per - k).array() += shift * angle_share;
       factor.topLeftCorner(per, per) = Eigen::LLT<Factor>(sigma).matrixL();
     }
   }
@@ -329,23 +335,33 @@ PlanInformation Calibrator::information(const std::vector<Placement>& placements
 }
 
 std::vector<ReadingMisfit> Calibrator::misfits(const std::vector<Placement>& placements) const {
-  // As DesignMatrixBuilder::misfits: the point's residual and the known part of its covariance
-  // (a pose's orientation rows do not enter the probe-noise estimate).
+  // As DesignMatrixBuilder::misfits: the point's residual and the known part of its covariance.
+  // A pose's orientation rows enter when they carry a share c of s_p^2 (the probe noise
+  // estimated, reading_noise.hpp): Sigma = E + s_p^2 D, D = diag(I, c I), and with the orientation
+  // rows of the residual and of E scaled by 1/sqrt(c), Sigma becomes E' + s_p^2 I as for a point.
   const double probe2 = plan_->noise.probe * plan_->noise.probe;
   std::vector<ReadingMisfit> out;
   for (std::size_t j = 0; j < placements.size(); ++j) {
     const Artifact& artifact = artifactOf(*plan_, placements[j]);
     const int per = artifact.rowsPerReading(), k = artifact.valuedPerFeature();
+    const double angle_share = angleVariancePerProbeVariance(plan_->noise.estimate_probe,
+                                                             artifact.noise, artifact.noise_angle);
+    const int kept = angle_share > 0.0 ? per : k;
+    Eigen::VectorXd unscale = Eigen::VectorXd::Ones(kept);
+    if (kept > k) unscale.tail(kept - k).setConstant(1.0 / std::sqrt(angle_share));
     const ObservationBlock& block = current_lin_.blocks[j];
     const auto& factors = current_lin_.weights[j].factors;
     for (std::size_t i = 0; i < placements[j].measurements.size(); ++i) {
       const Factor L = factors[i].topLeftCorner(per, per).triangularView<Eigen::Lower>();
-      // Sigma = s_p^2 I + (encoders and the instrument's own noise) = L L^T.
+      // Sigma = s_p^2 D + (encoders and the instrument's own noise) = L L^T.
       Factor sigma = L * L.transpose();
       sigma.diagonal().head(k).array() -= probe2;
+      sigma.diagonal().tail(per - k).array() -= probe2 * angle_share;
       ReadingMisfit misfit;
-      misfit.residual = (L * block.e.segment(per * static_cast<int>(i), per)).head(k);
-      misfit.encoder_covariance = sigma.topLeftCorner(k, k);
+      misfit.residual =
+          (L * block.e.segment(per * static_cast<int>(i), per)).head(kept).cwiseProduct(unscale);
+      misfit.encoder_covariance =
+          unscale.asDiagonal() * sigma.topLeftCorner(kept, kept) * unscale.asDiagonal();
       out.push_back(std::move(misfit));
     }
   }

@@ -11,6 +11,7 @@
 #include "artcal/core/error.hpp"
 #include "artcal/core/random.hpp"
 #include "artcal/estimation/design_matrix.hpp"
+#include "artcal/estimation/reading_noise.hpp"
 #include "artcal/model/rotation_vector.hpp"
 
 namespace artcal {
@@ -155,7 +156,9 @@ void simulateStation(const Plan& plan, const Eigen::VectorXd& p_true, const Rigi
                      const Artifact& instrument, double scale, Placement& placement,
                      NormalSource& normal) {
   const double point_sigma = scale * std::hypot(plan.noise.probe, instrument.noise);
-  const double angle_sigma = scale * instrument.noise_angle;
+  const double angle_sigma =
+      scale * std::sqrt(readingAngleVariance(plan.noise.probe, plan.noise.estimate_probe,
+                                             instrument.noise, instrument.noise_angle));
   Eigen::VectorXd x;
   Eigen::Matrix3d R;
   for (Measurement& m : placement.measurements) {

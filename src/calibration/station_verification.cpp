@@ -58,7 +58,9 @@ ReadingLinearization linearize(const Plan& plan, const Artifact& instrument, con
     out.J.col(static_cast<int>(k)) = rows_p.col(indices[k]);
   readingCovariance(plan.noise.encoder, rows_q,
                     readingPointVariance(plan.noise.probe, instrument.noise), d,
-                    instrument.noise_angle * instrument.noise_angle, out.Sigma);
+                    readingAngleVariance(plan.noise.probe, plan.noise.estimate_probe,
+                                         instrument.noise, instrument.noise_angle),
+                    out.Sigma);
   return out;
 }
 

@@ -1,6 +1,7 @@
 #include "artcal/estimation/design_matrix.hpp"
 
 #include <Eigen/Cholesky>
+#include <cmath>
 #include <set>
 #include <stdexcept>
 
@@ -65,7 +66,8 @@ void DesignMatrixBuilder::build(const Artifact& artifact,
   if (with_residuals) block.e.resize(rows);
   // An instrument's own noise adds in quadrature to the probe's (instruments.md).
   const double sigma_p2 = readingPointVariance(noise_->probe, artifact.noise);
-  const double sigma_angle2 = artifact.noise_angle * artifact.noise_angle;
+  const double sigma_angle2 = readingAngleVariance(noise_->probe, noise_->estimate_probe,
+                                                   artifact.noise, artifact.noise_angle);
   J_r_.resize(k, n_r);
   for (std::size_t i = 0; i < measurements.size(); ++i) {
     const Measurement& m = measurements[i];
@@ -170,16 +172,42 @@ void DesignMatrixBuilder::misfits(const Artifact& artifact,
                                   const Eigen::VectorXd& p, const RigidTransform& r,
                                   const Eigen::VectorXd& c, std::vector<ReadingMisfit>& out) const {
   const int k = artifact.valuedPerFeature();
+  // A pose's orientation rows enter when they carry a share of s_p^2 (reading_noise.hpp), scaled
+  // by 1/sqrt(share) so that s_p^2 adds to every row alike (Calibrator::misfits).
+  const double angle_share =
+      angleVariancePerProbeVariance(noise_->estimate_probe, artifact.noise, artifact.noise_angle);
+  const bool pose_rows = artifact.measures_pose && angle_share > 0.0;
   Eigen::VectorXd x;
-  Eigen::MatrixXd J_x_q;
+  Eigen::Matrix3d R;
+  Eigen::MatrixXd J_x_q, J_w_q;
   for (const Measurement& m : measurements) {
-    forwardOrThrow(*machine_->mechanism, p, m.joints, x, nullptr, &J_x_q, m.stylus);
+    if (pose_rows)
+      forwardPoseOrThrow(*machine_->mechanism, p, m.joints, x, R, nullptr, &J_x_q, nullptr, &J_w_q);
+    else
+      forwardOrThrow(*machine_->mechanism, p, m.joints, x, nullptr, &J_x_q, m.stylus);
     const Eigen::MatrixXd J_valued_q = r.R.topRows(k) * J_x_q;
     ReadingMisfit misfit;
-    misfit.residual = (r.apply(x) - readingTarget(artifact, m, c)).head(k);
+    const Eigen::VectorXd point_residual = (r.apply(x) - readingTarget(artifact, m, c)).head(k);
     // An instrument's stated noise is known: it joins the part the probe-noise estimate keeps.
-    readingCovariance(noise_->encoder, J_valued_q, readingPointVariance(0.0, artifact.noise),
-                      misfit.encoder_covariance);
+    if (!pose_rows) {
+      misfit.residual = point_residual;
+      readingCovariance(noise_->encoder, J_valued_q, readingPointVariance(0.0, artifact.noise),
+                        misfit.encoder_covariance);
+      out.push_back(std::move(misfit));
+      continue;
+    }
+    Eigen::Matrix3d J_e_w;
+    const Eigen::Vector3d e = orientationResidual(Eigen::Matrix3d(r.R * R), m.orientation, &J_e_w);
+    Eigen::MatrixXd J_q(k + 3, J_x_q.cols());
+    J_q.topRows(k) = J_valued_q;
+    J_q.bottomRows(3) = J_e_w * r.R * J_w_q;
+    readingCovariance(noise_->encoder, J_q, readingPointVariance(0.0, artifact.noise), k,
+                      artifact.noise_angle * artifact.noise_angle, misfit.encoder_covariance);
+    const double unscale = 1.0 / std::sqrt(angle_share);
+    misfit.residual.resize(k + 3);
+    misfit.residual << point_residual, unscale * e;
+    misfit.encoder_covariance.bottomRows(3) *= unscale;
+    misfit.encoder_covariance.rightCols(3) *= unscale;
     out.push_back(std::move(misfit));
   }
 }

@@ -23,6 +23,19 @@ double pointUnitToMm(const Node& entry) {
   unit->fail("unknown point_unit \"" + name + "\" (expected mm or m)");
 }
 
+/// deg per unit of a pose's `orientation_unit` ("deg" or "rad"); only a pose instrument's
+/// readings have an orientation.
+double orientationUnitToDeg(const Node& entry, const Artifact& instrument) {
+  const auto unit = entry.find("orientation_unit");
+  if (!unit) return 1.0;
+  if (!instrument.measures_pose)
+    unit->fail("only a \"pose\" instrument's readings have an orientation (its measures is point)");
+  const std::string name = unit->string();
+  if (name == "deg") return 1.0;
+  if (name == "rad") return radToDeg(1.0);
+  unit->fail("unknown orientation_unit \"" + name + "\" (expected deg or rad)");
+}
+
 /// Measured coordinates per reading: the point's, then a pose's 3 orientation coordinates.
 int measuredCoordinates(const Artifact& instrument) {
   return instrument.dimension + (instrument.measures_pose ? 3 : 0);
@@ -70,7 +83,7 @@ std::vector<Eigen::VectorXd> readStationCsv(const std::string& file,
 void appendCsvReadings(const Node& entry, const std::string& plan_source, const Machine& machine,
                        Artifact& instrument, Placement& placement, int entry_index,
                        const CheckCsvJoints& check_csv_joints, std::vector<std::string>& warnings) {
-  entry.warnUnknown({"csv", "unit", "point_unit", "stationing"}, warnings);
+  entry.warnUnknown({"csv", "unit", "point_unit", "orientation_unit", "stationing"}, warnings);
   const Node csv = entry.at("csv");
   const std::filesystem::path relative(csv.string());
   if (relative.empty()) csv.fail("expected a file name");
@@ -86,6 +99,7 @@ void appendCsvReadings(const Node& entry, const std::string& plan_source, const 
     units = *named;
   }
   const double point_scale = pointUnitToMm(entry);
+  const double orientation_scale = orientationUnitToDeg(entry, instrument);
   const bool stationing = entry.find("stationing") && entry.at("stationing").value().is_boolean() &&
                           entry.at("stationing").value().get<bool>();
   const Mechanism& mech = *machine.mechanism;
@@ -93,7 +107,8 @@ void appendCsvReadings(const Node& entry, const std::string& plan_source, const 
   const int d = instrument.dimension;
   const int measured = measuredCoordinates(instrument);
   // The measured coordinates read as lengths (the file's length unit), rescaled to point_unit
-  // for the point; a pose's orientation is in deg whatever the units.
+  // for the point; a pose's orientation is in orientation_unit (deg by default) whatever `unit`
+  // says.
   std::vector<JointKind> kinds;
   for (int i = 0; i < joints; ++i) kinds.push_back(mech.jointKind(i));
   for (int k = 0; k < measured; ++k) kinds.push_back(JointKind::Prismatic);
@@ -115,6 +130,7 @@ void appendCsvReadings(const Node& entry, const std::string& plan_source, const 
     measurement.stationing = stationing;
     Eigen::VectorXd coordinates = rows[r].tail(measured) / units.length_to_mm;
     coordinates.head(d) *= point_scale;
+    if (instrument.measures_pose) coordinates.tail(3) *= orientation_scale;
     appendReading(std::move(measurement), coordinates, instrument, placement);
   }
 }
@@ -162,7 +178,7 @@ void parseStationReadings(const Node& measurements, const std::string& plan_sour
                         check_csv_joints, warnings);
       continue;
     }
-    m.warnUnknown({"joints", "point", "point_unit", "stationing"}, warnings);
+    m.warnUnknown({"joints", "point", "point_unit", "orientation_unit", "stationing"}, warnings);
     if (m.has("feature")) m.at("feature").fail("an instrument's reading has no feature");
     Measurement measurement;
     measurement.entry = static_cast<int>(i);
@@ -174,6 +190,8 @@ void parseStationReadings(const Node& measurements, const std::string& plan_sour
     if (const auto given = m.find("point")) {
       Eigen::VectorXd coordinates = given->finiteNumbers(measured);
       coordinates.head(instrument.dimension) *= pointUnitToMm(m);
+      const double orientation_scale = orientationUnitToDeg(m, instrument);
+      if (instrument.measures_pose) coordinates.tail(3) *= orientation_scale;
       appendReading(std::move(measurement), coordinates, instrument, placement);
     } else {
       setNominalReading(machine, instrument, measurement);

@@ -140,8 +140,10 @@ std::vector<FeatureFile> featureFiles(const fs::path& folder, const std::string&
 
 // ------------------------------------------------------------------ an instrument's stations
 
-/// The coordinates an instrument reports per reading (a point: x, y, z).
+/// The coordinates an instrument reports per reading: a point's x, y, z; a pose's x, y, z, then
+/// its orientation as a rotation vector rx, ry, rz.
 constexpr std::size_t kPointColumns = 3;
+constexpr std::size_t kPoseColumns = 6;
 
 /// The CSV files of a folder, in name order.
 std::vector<fs::path> csvFiles(const fs::path& folder) {
@@ -177,46 +179,102 @@ std::vector<std::pair<std::string, std::vector<fs::path>>> stations(const fs::pa
   return out;
 }
 
-/// A station file's measurement entry: its joints' unit and its point's, from --unit and
-/// --point-unit where given, otherwise from its header (the last 3 columns are the point's:
-/// `q1_deg, ..., x_m, y_m, z_m`); a point without a stated unit is in mm.
-json stationEntry(const fs::path& file, const ReadingsImport& import, const fs::path& plan_folder) {
-  std::string unit = import.unit, point_unit = import.point_unit;
+/// The one unit the header fields [first, first + 3) name, one of `allowed`; "" when it names
+/// none of them or several.
+std::string unitOfThree(const std::vector<std::string>& fields, std::size_t first,
+                        std::initializer_list<const char*> allowed) {
+  std::set<std::string> units;
+  for (std::size_t i = first; i < first + 3; ++i) units.insert(*headerUnit(fields[i]));
+  if (units.size() != 1) return {};
+  for (const char* unit : allowed)
+    if (*units.begin() == unit) return unit;
+  return {};
+}
+
+/// What a station file's rows hold: `joints` joint readings, then a point's 3 coordinates or,
+/// for a pose instrument (`pose`), a pose's 6. A file of the other width is refused here, where
+/// it can say which option is missing; any other width is the plan parser's to name.
+void checkStationWidth(const fs::path& file, std::size_t columns, int joints, bool pose) {
+  const auto joint_count = static_cast<std::size_t>(joints);
+  const std::string head = std::to_string(joints) + " joint readings then ";
+  if (!pose && columns == joint_count + kPoseColumns) {
+    throw InputError(file.string(), "line 1",
+                     head +
+                         "6 coordinates: a pose (x, y, z, then the orientation as a rotation "
+                         "vector): give --instrument-angle, the orientation's noise (deg)");
+  }
+  if (pose && columns == joint_count + kPointColumns) {
+    throw InputError(file.string(), "line 1",
+                     head +
+                         "3 coordinates: a point, where a pose instrument (--instrument-angle) "
+                         "reads x, y, z, then the orientation rx, ry, rz");
+  }
+}
+
+/// A station file's measurement entry: its joints' unit and its point's (and a pose's
+/// orientation's), from --unit, --point-unit and --orientation-unit where given, otherwise from
+/// its header (the last 3 columns are the point's: `q1_deg, ..., x_m, y_m, z_m`; of a pose, the
+/// last 6: `..., x_m, y_m, z_m, rx_rad, ry_rad, rz_rad`); a point without a stated unit is in mm,
+/// an orientation in deg.
+json stationEntry(const fs::path& file, const ReadingsImport& import, const fs::path& plan_folder,
+                  int joints, bool pose) {
+  std::string unit = import.unit, point_unit = import.point_unit,
+              orientation_unit = import.orientation_unit;
   const std::vector<std::string> fields = headerFields(file);
+  checkStationWidth(file, fields.size(), joints, pose);
+  const std::size_t measured = pose ? kPoseColumns : kPointColumns;
   const bool units_in_header = std::all_of(
       fields.begin(), fields.end(), [](const std::string& f) { return headerUnit(f).has_value(); });
   if (unit.empty()) {
-    if (fields.size() <= kPointColumns || !units_in_header) {
+    if (fields.size() <= measured || !units_in_header) {
       throw InputError(file.string(), "line 1",
-                       "expected a header naming each column's unit (q1_deg, ..., x_m, y_m, z_m), "
-                       "or state the joints' unit with --unit and the point's with --point-unit");
+                       pose
+                           ? "expected a header naming each column's unit (q1_deg, ..., x_m, y_m, "
+                             "z_m, rx_deg, ry_deg, rz_deg), or state the joints' unit with --unit, "
+                             "the point's with --point-unit and the orientation's with "
+                             "--orientation-unit"
+                           : "expected a header naming each column's unit (q1_deg, ..., x_m, y_m, "
+                             "z_m), or state the joints' unit with --unit and the point's with "
+                             "--point-unit");
     }
-    unit = unitOfColumns(file, fields, 0, fields.size() - kPointColumns);
+    unit = unitOfColumns(file, fields, 0, fields.size() - measured);
   }
-  if (point_unit.empty() && units_in_header && fields.size() > kPointColumns) {
-    std::set<std::string> units;
-    for (std::size_t i = fields.size() - kPointColumns; i < fields.size(); ++i)
-      units.insert(*headerUnit(fields[i]));
-    if (units.size() != 1 || (*units.begin() != "mm" && *units.begin() != "m")) {
+  const bool header = units_in_header && fields.size() > measured;
+  const std::size_t first = fields.size() - measured;
+  if (point_unit.empty() && header) {
+    point_unit = unitOfThree(fields, first, {"mm", "m"});
+    if (point_unit.empty()) {
       throw InputError(file.string(), "line 1",
-                       "the last 3 columns are the measured point: one length unit (x_mm, y_mm, "
-                       "z_mm or x_m, y_m, z_m)");
+                       std::string("the ") +
+                           (pose ? "3 columns after the joints" : "last 3 columns") +
+                           " are the measured point: one length unit (x_mm, y_mm, z_mm or x_m, "
+                           "y_m, z_m)");
     }
-    point_unit = *units.begin();
+  }
+  if (pose && orientation_unit.empty() && header) {
+    orientation_unit = unitOfThree(fields, first + kPointColumns, {"deg", "rad"});
+    if (orientation_unit.empty()) {
+      throw InputError(file.string(), "line 1",
+                       "the last 3 columns are the measured orientation (a rotation vector): one "
+                       "angle unit (rx_deg, ry_deg, rz_deg or rx_rad, ry_rad, rz_rad)");
+    }
   }
   const fs::path relative = fs::absolute(file).lexically_normal().lexically_relative(plan_folder);
-  return {{"csv", relative.generic_string()},
-          {"unit", unit},
-          {"point_unit", point_unit.empty() ? "mm" : point_unit}};
+  json entry = {{"csv", relative.generic_string()},
+                {"unit", unit},
+                {"point_unit", point_unit.empty() ? "mm" : point_unit}};
+  if (pose) entry["orientation_unit"] = orientation_unit.empty() ? "deg" : orientation_unit;
+  return entry;
 }
 
 json stationPlacements(const fs::path& dir, const ReadingsImport& import,
-                       const fs::path& plan_folder, const std::string& instrument_id) {
+                       const fs::path& plan_folder, const std::string& instrument_id, int joints,
+                       bool pose) {
   json placements = json::array();
   for (const auto& [name, files] : stations(dir)) {
     json measurements = json::array();
     for (const fs::path& file : files)
-      measurements.push_back(stationEntry(file, import, plan_folder));
+      measurements.push_back(stationEntry(file, import, plan_folder, joints, pose));
     placements.push_back(
         {{"name", name}, {"artifact", instrument_id}, {"measurements", measurements}});
   }
@@ -240,9 +298,13 @@ json machineBlock(const ReadingsImport& import) {
 /// The artifacts block and the id of the artifact placed.
 std::pair<json, std::string> artifactBlock(const ReadingsImport& import) {
   if (import.instrument) {
-    return {json{{"instrument",
-                  {{"type", "instrument"}, {"measures", "point"}, {"noise", *import.instrument}}}},
-            "instrument"};
+    json instrument = {
+        {"type", "instrument"}, {"measures", "point"}, {"noise", *import.instrument}};
+    if (import.instrument_angle) {  // a 6-DOF tracker: each reading a pose
+      instrument["measures"] = "pose";
+      instrument["noise_angle"] = *import.instrument_angle;
+    }
+    return {json{{"instrument", instrument}}, "instrument"};
   }
   if (import.ball_bar) {
     json bar = {{"type", "ball_bar"}, {"length", *import.ball_bar}};
@@ -299,10 +361,14 @@ std::vector<std::string> widenJointLimits(json& document, const std::string& sou
       const std::string file =
           (folder / entry.at("csv").get<std::string>()).lexically_normal().string();
       const auto units = readingUnitsFromName(entry.at("unit").get<std::string>());
-      // An instrument's rows end with the measured point, read here as lengths and not kept.
+      // An instrument's rows end with the measured point (or pose), read here as lengths and not
+      // kept.
       std::vector<JointKind> columns = kinds;
-      if (entry.contains("point_unit"))
-        columns.resize(kinds.size() + kPointColumns, JointKind::Prismatic);
+      if (entry.contains("point_unit")) {
+        const std::size_t measured =
+            entry.contains("orientation_unit") ? kPoseColumns : kPointColumns;
+        columns.resize(kinds.size() + measured, JointKind::Prismatic);
+      }
       for (const Eigen::VectorXd& row : readJointCsv(file, columns, *units)) {
         const Eigen::VectorXd q = row.head(mech.jointCount());
         lo = lo.cwiseMin(q);
@@ -333,6 +399,17 @@ std::vector<std::string> widenJointLimits(json& document, const std::string& sou
   return warnings;
 }
 
+/// The joint readings per row of the machine block `machine` (its driving joints), read beside
+/// the plan's `artifacts`.
+int jointCountOf(const json& machine, const json& artifacts, const std::string& source) {
+  const json document = {{"format", "artcal-plan/1"},
+                         {"machine", machine},
+                         {"noise", {{"probe", 0.1}, {"encoder", 0.0}}},
+                         {"artifacts", artifacts}};
+  const Plan plan = parsePlan(document, source, /*require_placements=*/false, false);
+  return plan.machine.mechanism->jointCount();
+}
+
 }  // namespace
 
 ImportedPlan importReadings(const ReadingsImport& import) {
@@ -346,9 +423,17 @@ ImportedPlan importReadings(const ReadingsImport& import) {
   const fs::path output_folder = to_stdout ? fs::path() : fs::path(import.output).parent_path();
   const fs::path plan_folder = fs::absolute(output_folder.empty() ? fs::path(".") : output_folder);
   const auto [artifacts, artifact_id] = artifactBlock(import);
-  const bool instrument = artifacts.at(artifact_id).value("type", "") == "instrument";
-  json placements =
-      instrument ? stationPlacements(dir, import, plan_folder, artifact_id) : json::array();
+  const json& artifact = artifacts.at(artifact_id);
+  const bool instrument = artifact.is_object() && artifact.value("type", "") == "instrument";
+  const std::string source = to_stdout ? std::string("import-readings") : import.output;
+  const json machine = machineBlock(import);
+  json placements = json::array();
+  if (instrument) {
+    const auto measures = artifact.find("measures");
+    const bool pose = measures != artifact.end() && *measures == "pose";
+    placements = stationPlacements(dir, import, plan_folder, artifact_id,
+                                   jointCountOf(machine, artifacts, source), pose);
+  }
   for (const fs::path& folder :
        instrument ? std::vector<fs::path>{} : placementFolders(dir, import.unit)) {
     json measurements = json::array();
@@ -373,11 +458,11 @@ ImportedPlan importReadings(const ReadingsImport& import) {
   out.plan = {{"format", "artcal-plan/1"},
               {"name", plan_name},
               {"description", "readings of " + dir.generic_string() + " (artcal import-readings)"},
-              {"machine", machineBlock(import)},
+              {"machine", machine},
               {"noise", {{"probe", import.probe}, {"encoder", import.encoder}}},
               {"artifacts", artifacts},
               {"placements", placements}};
-  out.source = to_stdout ? std::string("import-readings") : import.output;
+  out.source = source;
   if (!out.plan["machine"].contains("joint_limits")) return out;
   if (!import.keep_limits) out.warnings = widenJointLimits(out.plan, out.source, plan_folder);
   return out;

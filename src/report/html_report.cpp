@@ -840,6 +840,38 @@ void writeCalibrationWarnings(std::ostream& out, const json& cal) {
   }
 }
 
+/// The angular deviations of a pose instrument's held-out readings (verify's `angular`, deg): one
+/// row per station and one for all of them, with each machine; nothing for a point instrument.
+void writeHeldOutAngles(std::ostream& out, const json& held) {
+  if (!held.contains(json::json_pointer("/calibrated/angular_all"))) return;
+  out << "<p>Angular deviations of the held-out poses: the orientation residual "
+      << "|log(R<sub>predicted</sub> R<sub>measured</sub><sup>T</sup>)| (deg).</p>\n<table>\n"
+      << "<tr><th>machine</th><th>station</th><th>readings</th><th>mean</th><th>RMS</th>"
+      << "<th>max</th><th>predicted RMS</th></tr>\n";
+  for (const char* machine : {"nominal", "calibrated"}) {
+    const bool calibrated = std::string(machine) == "calibrated";
+    const auto row = [&](const std::string& label, const std::string& at) {
+      out << "<tr><td>" << machine << "</td><td>" << svg::escape(label) << "</td>"
+          << numberCell(held, at + "readings", 1, "%.0f", "/held_out")
+          << numberCell(held, at + "mean", 1, "%.5f", "/held_out")
+          << numberCell(held, at + "rms", 1, "%.5f", "/held_out")
+          << numberCell(held, at + "max", 1, "%.5f", "/held_out")
+          << (calibrated ? numberCell(held, at + "predicted_rms", 1, "%.5f", "/held_out")
+                         : std::string("<td></td>"))
+          << "</tr>\n";
+    };
+    const json& stations = held.at(machine).at("stations");
+    for (std::size_t s = 0; s < stations.size(); ++s) {
+      if (!stations[s].contains("angular")) continue;
+      row(stations[s].value("placement", std::to_string(s)),
+          format("/%s/stations/%zu/angular/", machine, s));
+    }
+    if (held.at(machine).contains("angular_all"))
+      row("all", std::string("/") + machine + "/angular_all/");
+  }
+  out << "</table>\n";
+}
+
 /// Held-out stations (report --held-out): deviations with the nominal and the calibrated machine.
 void writeHeldOut(std::ostream& out, const ReportInput& in,
                   const std::vector<ReportFigure>& figures) {
@@ -862,6 +894,7 @@ void writeHeldOut(std::ostream& out, const ReportInput& in,
         << "</tr>\n";
   }
   out << "</table>\n";
+  writeHeldOutAngles(out, held);
   writeFigures(out, figures, "held-out");
 }
 

@@ -62,7 +62,11 @@ TEST(CalibratorReuse, InformationAtTheEstimateIsPlanInformationAtTheRigidFits) {
 }
 
 TEST(CalibratorReuse, MisfitsAreTheBuildersMisfitsAtTheEstimate) {
-  for (const Plan& plan : {frontCenter(), poseTracker()}) {
+  // The pose tracker with its probe noise estimated: its orientation rows join the misfits.
+  Plan estimated = poseTracker();
+  estimated.noise.estimate_probe = true;
+  estimated.name += " (probe estimated)";
+  for (const Plan& plan : {frontCenter(), poseTracker(), estimated}) {
     SCOPED_TRACE(plan.name);
     Calibrator calibrator(plan);
     const Calibration c = calibrator.run(plan.placements);
@@ -81,6 +85,7 @@ TEST(CalibratorReuse, MisfitsAreTheBuildersMisfitsAtTheEstimate) {
     }
     ASSERT_EQ(reused.size(), built.size());
     for (std::size_t i = 0; i < built.size(); ++i) {
+      ASSERT_EQ(reused[i].residual.size(), built[i].residual.size()) << i;
       EXPECT_LT((reused[i].residual - built[i].residual).cwiseAbs().maxCoeff(), 1e-12) << i;
       EXPECT_LT(relativeDifference(reused[i].encoder_covariance, built[i].encoder_covariance), 1e-9)
           << i;
@@ -91,7 +96,10 @@ TEST(CalibratorReuse, MisfitsAreTheBuildersMisfitsAtTheEstimate) {
 // A run from where another converged, the probe noise changed in between (the noise estimate's
 // refit): the re-whitened linearisation must give what a calibrator building everything gives.
 TEST(CalibratorReuse, RunAfterANewProbeNoiseEqualsAFreshCalibrator) {
-  for (const Plan& original : {frontCenter(), poseTracker()}) {
+  Plan estimated = poseTracker();  // the orientation rows carry their share of s_p^2 too
+  estimated.noise.estimate_probe = true;
+  estimated.name += " (probe estimated)";
+  for (const Plan& original : {frontCenter(), poseTracker(), estimated}) {
     SCOPED_TRACE(original.name);
     Plan reusing = original;
     Calibrator calibrator(reusing);

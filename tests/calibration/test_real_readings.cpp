@@ -16,6 +16,8 @@
 #include "artcal/artcal.hpp"
 #include "artcal/calibration/calibrate_readings.hpp"
 #include "artcal/calibration/corrections.hpp"
+#include "artcal/core/units.hpp"
+#include "artcal/estimation/reading_noise.hpp"
 #include "artcal/io/plan_io.hpp"
 #include "cli_runner.hpp"
 #include "temp_folder.hpp"
@@ -216,6 +218,44 @@ TEST(RealReadingsNoise, TheEstimateRecoversTheSimulatedProbeNoise) {
   const double mean = sum / kRuns;
   const double standard_error = std::sqrt((sum_square / kRuns - mean * mean) / (kRuns - 1));
   EXPECT_NEAR(mean, 1.0, 3.0 * standard_error);
+}
+
+// A 6-DOF tracker's readings (plans/tracker-arm6-pose.json: 2 stations x 25 poses, the tracker
+// 0.02 mm and 0.005 deg, encoders 0.0005 deg): with "probe": "estimate" the robot's scatter is
+// one variance factor on the instrument's rows (reading_noise.hpp), its point rows s_i^2 + s_p^2
+// and its orientation rows s_a^2 (1 + s_p^2 / s_i^2). Over 40 runs simulated so (s_p 0.03 mm: the
+// orientation rows' sigma 0.009 deg), the estimated s_p^2 averages the true one within three
+// standard errors, from a start of 0.1 mm; chi2 = dof over all 6 rows of each reading.
+TEST(RealReadingsNoise, ThePoseEstimateRecoversTheSimulatedScatterFromAllRows) {
+  const json document = readJsonFile(test_support::planFile("tracker-arm6-pose.json"));
+  Plan planned = parsePlan(document, "p.json");
+  const double truth = 0.03;
+  planned.noise.probe = truth;
+  planned.noise.estimate_probe = true;
+  const Artifact& tracker = planned.artifacts.at(0);
+  ASSERT_TRUE(tracker.measures_pose);
+  // The orientation rows' standard deviation the simulation draws, by the model's definition.
+  EXPECT_NEAR(std::sqrt(readingAngleVariance(truth, true, tracker.noise, tracker.noise_angle)),
+              degToRad(0.005) * std::sqrt(1.0 + 0.03 * 0.03 / (0.02 * 0.02)), 1e-15);
+  constexpr int kRuns = 40;
+  double sum = 0.0, sum_square = 0.0;
+  for (int run = 0; run < kRuns; ++run) {
+    NormalSource normal(2000 + static_cast<std::uint64_t>(run));
+    Plan plan = planned;
+    plan.placements = Simulator(planned, {}).simulate(planned.machine.nominal, normal).placements;
+    plan.noise.probe = 0.1;
+    const Calibration c = calibrateReadings(plan);
+    ASSERT_TRUE(c.summary.converged()) << run;
+    ASSERT_TRUE(c.noise_estimate) << run;
+    EXPECT_EQ(c.dof, 2 * 25 * 6 - 2 * 6 - static_cast<int>(plan.machine.calibrated.size()));
+    EXPECT_NEAR(c.chi2_per_dof, 1.0, 2e-3) << run;  // the estimate makes chi2 = dof
+    const double ratio = std::pow(c.noise_estimate->probe / truth, 2);
+    sum += ratio;
+    sum_square += ratio * ratio;
+  }
+  const double mean = sum / kRuns;
+  const double standard_error = std::sqrt((sum_square / kRuns - mean * mean) / (kRuns - 1));
+  EXPECT_NEAR(mean, 1.0, 3.0 * standard_error);  // measured: 1.0012, standard error 0.0200
 }
 
 // --------------------------------------------------------------------------- the MUKCa robots

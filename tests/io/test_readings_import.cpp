@@ -9,6 +9,7 @@
 #include <fstream>
 #include <numbers>
 #include <set>
+#include <tuple>
 
 #include "artcal/artcal.hpp"
 #include "artcal/io/readings_import.hpp"
@@ -236,9 +237,10 @@ TEST_F(ImportFolder, GeneralLayoutTakesTheUnitsFromTheHeader) {
 }
 
 /// A station's readings of the instrument reference plan as CSV text: the joints times
-/// `joint_scale`, the point times `point_scale`, under `header`.
+/// `joint_scale`, the point times `point_scale` (a pose's orientation, its last 3 of 6
+/// coordinates, times `orientation_scale`), under `header`.
 std::string stationCsv(const json& station, double joint_scale, double point_scale,
-                       const std::string& header) {
+                       const std::string& header, double orientation_scale = 1.0) {
   std::string text = header.empty() ? "" : header + "\n";
   char number[40];
   for (const json& m : station["measurements"]) {
@@ -247,8 +249,10 @@ std::string stationCsv(const json& station, double joint_scale, double point_sca
       std::snprintf(number, sizeof number, "%.17g,", q.get<double>() * joint_scale);
       row += number;
     }
-    for (const json& x : m["point"]) {
-      std::snprintf(number, sizeof number, "%.17g,", x.get<double>() * point_scale);
+    const json& point = m["point"];
+    for (std::size_t k = 0; k < point.size(); ++k) {
+      const double scale = k < 3 ? point_scale : orientation_scale;
+      std::snprintf(number, sizeof number, "%.17g,", point[k].get<double>() * scale);
       row += number;
     }
     row.back() = '\n';
@@ -312,6 +316,116 @@ TEST_F(ImportFolder, InstrumentStationsFromOneCsvFileEach) {
           .cwiseAbs()
           .maxCoeff(),
       1e-9);
+}
+
+// A 6-DOF tracker's export (--instrument-angle): each row the joints, then x, y, z and the
+// orientation as a rotation vector, in the units the header names (rx_rad) or --orientation-unit
+// states. The simulated pose plan's readings, exported per station and imported, calibrate as
+// the plan itself does.
+TEST_F(ImportFolder, PoseStationsRoundTripToTheSameCalibration) {
+  const auto simulated = runCli("simulate " + test_support::planFile("tracker-arm6-pose.json") +
+                                " --truth " + test_support::planFile("tracker-arm6/truth.json") +
+                                " --seed 5 -o " + path("sim.json"));
+  ASSERT_EQ(simulated.status, 0) << simulated.out;
+  json original = readJsonFile(path("sim.json"));
+  original["noise"]["probe"] = "estimate";  // as import-readings writes it beside an instrument
+  std::ofstream(path("sim.json")) << original.dump(1);
+  write("machine.json", original["machine"].dump());
+  const double rad = std::numbers::pi / 180.0;
+  const std::string angles = "j1_deg,j2_deg,j3_deg,j4_deg,j5_deg,j6_deg";
+  write("poses/station_a.csv", stationCsv(original["placements"][0], 1.0, 1e-3,
+                                          angles + ",x_m,y_m,z_m,rx_rad,ry_rad,rz_rad", rad));
+  write("poses/station_b.csv", stationCsv(original["placements"][1], rad, 1.0,
+                                          "j1 [rad],j2 [rad],j3 [rad],j4 [rad],j5 [rad],j6 [rad],"
+                                          "x (mm),y (mm),z (mm),rx (deg),ry (deg),rz (deg)"));
+  const std::string noise =
+      " --encoder " + std::to_string(original["noise"]["encoder"].get<double>());
+  const std::string import = "import-readings " + path("poses") + " --machine " +
+                             path("machine.json") + " --instrument 0.02 --keep-calibrate" + noise;
+  const auto imported = runCli(import + " --instrument-angle 0.005 -o " + path("plan.json"));
+  ASSERT_EQ(imported.status, 0) << imported.out;
+  const json plan = readJsonFile(path("plan.json"));
+  EXPECT_EQ(
+      plan["artifacts"]["instrument"],
+      json(
+          {{"type", "instrument"}, {"measures", "pose"}, {"noise", 0.02}, {"noise_angle", 0.005}}));
+  EXPECT_EQ(plan["placements"][0]["measurements"][0]["orientation_unit"], "rad");
+  EXPECT_EQ(plan["placements"][1]["measurements"][0]["orientation_unit"], "deg");
+  EXPECT_EQ(plan["noise"]["probe"], "estimate");
+
+  const auto mine = runCli("calibrate --json " + path("plan.json"));
+  const auto theirs = runCli("calibrate --json " + path("sim.json"));
+  ASSERT_EQ(mine.status, 0) << mine.out;
+  ASSERT_EQ(theirs.status, 0) << theirs.out;
+  const json a = json::parse(mine.out), b = json::parse(theirs.out);
+  EXPECT_EQ(a["dof"], b["dof"]);
+  EXPECT_EQ(a["dof"].get<int>(), 2 * 25 * 6 - 6 * 2 - static_cast<int>(b["parameters"].size()));
+  EXPECT_NEAR(a["chi2"].get<double>(), b["chi2"].get<double>(), 1e-9 * b["chi2"].get<double>());
+  EXPECT_NEAR(a["noise_estimate"]["probe"].get<double>(),
+              b["noise_estimate"]["probe"].get<double>(), 1e-12);
+  ASSERT_EQ(a["parameters"].size(), b["parameters"].size());
+  for (std::size_t k = 0; k < a["parameters"].size(); ++k) {
+    const json &p = a["parameters"][k], &q = b["parameters"][k];
+    EXPECT_EQ(p["name"], q["name"]);
+    EXPECT_NEAR(p["estimate"].get<double>(), q["estimate"].get<double>(), 1e-9) << p["name"];
+    EXPECT_NEAR(p["u"].get<double>(), q["u"].get<double>(), 1e-12) << p["name"];
+  }
+
+  // Pose rows without --instrument-angle, and point rows with it: refused, naming the file.
+  const auto no_angle = runCli(import + " -o " + path("bad.json"), Stderr::Only);
+  EXPECT_EQ(no_angle.status, 2);
+  EXPECT_EQ(no_angle.out.find("station_a.csv: line 1: 6 joint readings then 6 coordinates: a pose"),
+            no_angle.out.find("station_a.csv"))
+      << no_angle.out;
+  EXPECT_NE(no_angle.out.find("give --instrument-angle"), std::string::npos) << no_angle.out;
+  EXPECT_EQ(std::count(no_angle.out.begin(), no_angle.out.end(), '\n'), 1);
+  const json reference = readJsonFile(testDataFile("ref-instrument-arm6-2stations.json"));
+  write("points/s1.csv", stationCsv(reference["placements"][0], 1.0, 1.0, ""));
+  const auto points =
+      runCli("import-readings " + path("points") + " --machine " + path("machine.json") +
+                 " --instrument 0.02 --instrument-angle 0.005 --unit deg -o " + path("bad.json"),
+             Stderr::Only);
+  EXPECT_EQ(points.status, 2);
+  EXPECT_NE(points.out.find("s1.csv: line 1: 6 joint readings then 3 coordinates: a point"),
+            std::string::npos)
+      << points.out;
+  EXPECT_FALSE(fs::exists(path("bad.json")));
+  // The plan's orientation_unit: only a pose instrument's, deg or rad; exit 2 at its pointer.
+  for (const auto& [measures, unit, message] :
+       {std::tuple{"point", "rad", "only a \"pose\" instrument's readings have an orientation"},
+        std::tuple{"pose", "grad", "unknown orientation_unit \"grad\" (expected deg or rad)"}}) {
+    json bad = plan;
+    bad["artifacts"]["instrument"]["measures"] = measures;
+    bad["placements"][0]["measurements"][0]["orientation_unit"] = unit;
+    std::ofstream(path("bad.json")) << bad.dump(1);
+    const auto refused = runCli("check " + path("bad.json"), Stderr::Only);
+    EXPECT_EQ(refused.status, 2) << measures;
+    EXPECT_NE(refused.out.find("bad.json: /placements/0/measurements/0/orientation_unit: " +
+                               std::string(message)),
+              std::string::npos)
+        << refused.out;
+  }
+
+  // Without a header the units are stated: --orientation-unit rad reads the first station's rad.
+  write("bare/s1.csv", stationCsv(original["placements"][0], 1.0, 1.0, "", rad));
+  const std::string bare =
+      "import-readings " + path("bare") + " --machine " + path("machine.json") +
+      " --instrument 0.02 --instrument-angle 0.005 --unit deg -o " + path("bare.json");
+  const auto unstated = runCli(bare);  // the orientation then in deg, as in a plan
+  ASSERT_EQ(unstated.status, 0) << unstated.out;
+  EXPECT_EQ(readJsonFile(path("bare.json"))["placements"][0]["measurements"][0]["orientation_unit"],
+            "deg");
+  const auto stated = runCli(bare + " --orientation-unit rad");
+  ASSERT_EQ(stated.status, 0) << stated.out;
+  const Plan bare_plan = loadPlan(path("bare.json"));
+  const Plan expected = loadPlan(path("sim.json"));
+  ASSERT_EQ(bare_plan.placements.size(), 1u);
+  for (std::size_t i : {0u, 7u, 24u}) {
+    const Measurement& m = bare_plan.placements[0].measurements[i];
+    const Measurement& e = expected.placements[0].measurements[i];
+    EXPECT_LT((m.point - e.point).cwiseAbs().maxCoeff(), 1e-9);
+    EXPECT_LT((m.orientation - e.orientation).cwiseAbs().maxCoeff(), 1e-12);
+  }
 }
 
 TEST_F(ImportFolder, CsvReadingOutsideTheJointLimitsNamesFileAndRow) {

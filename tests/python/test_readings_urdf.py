@@ -2,6 +2,7 @@
 input raises the command line's message."""
 
 import json
+import math
 import warnings
 
 import pytest
@@ -36,6 +37,39 @@ def test_import_readings_of_instrument_stations_equals_cli():
     assert plan.to_dict() == expected
     assert expected["noise"]["probe"] == "estimate"
     assert [p["name"] for p in expected["placements"]] == ["station1", "station2"]
+
+
+def test_import_readings_of_pose_stations_equals_cli(tmp_path):
+    # A 6-DOF tracker's export: per station the joints, then x, y, z and the rotation vector.
+    simulated = tmp_path / "sim.json"
+    run_cli("simulate", "plans/tracker-arm6-pose.json", "--truth", "plans/tracker-arm6/truth.json",
+            "--seed", "5", "-o", str(simulated))
+    plan = json.loads(simulated.read_text())
+    (tmp_path / "machine.json").write_text(json.dumps(plan["machine"]))
+    folder = tmp_path / "poses"
+    folder.mkdir()
+    for j, station in enumerate(plan["placements"]):
+        rows = ["j1_deg,j2_deg,j3_deg,j4_deg,j5_deg,j6_deg,x_mm,y_mm,z_mm,rx_rad,ry_rad,rz_rad"]
+        for m in station["measurements"]:
+            x = m["point"]
+            values = m["joints"] + x[:3] + [math.radians(w) for w in x[3:]]
+            rows.append(",".join(repr(v) for v in values))
+        (folder / f"station{j + 1}.csv").write_text("\n".join(rows) + "\n")
+    machine = str(tmp_path / "machine.json")
+    expected = cli_json("import-readings", str(folder), "--machine", machine, "--instrument",
+                        "0.02", "--instrument-angle", "0.005", "-o", "-")
+    imported = artcal.import_readings(folder, machine=machine, instrument=0.02,
+                                      instrument_angle=0.005)
+    assert imported.to_dict() == expected
+    assert expected["artifacts"]["instrument"]["measures"] == "pose"
+    assert expected["placements"][0]["measurements"][0]["orientation_unit"] == "rad"
+    # Without instrument_angle the pose rows are refused with the command line's message.
+    message = cli_error("import-readings", str(folder), "--machine", machine, "--instrument",
+                        "0.02", "-o", "-")
+    assert "give --instrument-angle" in message
+    with pytest.raises(artcal.InputError) as raised:
+        artcal.import_readings(folder, machine=machine, instrument=0.02)
+    assert str(raised.value) == message
 
 
 def test_import_readings_written_equals_cli_file(tmp_path):

@@ -978,6 +978,74 @@ TEST_F(ReportCli, HeldOutStationsEqualVerifyWithTheNominalAndTheCalibratedMachin
   EXPECT_FALSE(fs::exists(html_path));
 }
 
+TEST_F(ReportCli, HeldOutPoseAnglesEqualVerifyWithTheNominalAndTheCalibratedMachine) {
+  // A 6-DOF tracker (plans/tracker-arm6-pose.json: 2 stations x 25 poses, the first 8 of each
+  // marked stationing): the held-out poses' angular deviations in the report are verify's.
+  const std::string plan = test_support::planFile("tracker-arm6-pose.json");
+  const std::string truth = test_support::planFile("tracker-arm6/truth.json");
+  const fs::path trained = dir_ / "trained.json", held = dir_ / "held.json",
+                 cal = dir_ / "cal.json", html_path = dir_ / "r.html";
+  for (const auto& [seed, file] : {std::pair{3, trained}, std::pair{11, held}}) {
+    ASSERT_EQ(run("simulate \"" + plan + "\" --truth \"" + truth + "\" --seed " +
+                  std::to_string(seed) + " -o \"" + file.string() + "\"")
+                  .status,
+              0);
+  }
+  const CliRun r = run("report \"" + trained.string() + "\" --held-out \"" + held.string() +
+                       "\" --json -o \"" + html_path.string() + "\"");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const json shown = json::parse(r.out).at("held_out");
+  ASSERT_EQ(
+      run("calibrate \"" + trained.string() + "\" --write-machine \"" + cal.string() + "\"").status,
+      0);
+  const json nominal = json::parse(run("verify --json \"" + held.string() + "\"").out);
+  const json calibrated = json::parse(
+      run("verify --json \"" + held.string() + "\" --machine \"" + cal.string() + "\"").out);
+  const auto close = [](const json& a, const json& b) {
+    return std::abs(a.get<double>() - b.get<double>()) <= 1e-9 * (1.0 + std::abs(b.get<double>()));
+  };
+  const std::map<std::string, const json*> verified = {{"nominal", &nominal},
+                                                       {"calibrated", &calibrated}};
+  for (const auto& [machine, verify] : verified) {
+    SCOPED_TRACE(machine);
+    const json& expected = verify->at("instrument");
+    ASSERT_EQ(shown[machine]["stations"].size(), 2u);
+    for (std::size_t s = 0; s < 2; ++s) {
+      const json& mine = shown[machine]["stations"][s]["angular"]["deviations"];
+      const json& theirs = expected["stations"][s]["angular"]["deviations"];
+      ASSERT_EQ(mine.size(), 17u);
+      ASSERT_EQ(theirs.size(), 17u);
+      for (std::size_t i = 0; i < mine.size(); ++i) EXPECT_TRUE(close(mine[i], theirs[i])) << i;
+    }
+    EXPECT_TRUE(close(shown[machine]["angular_all"]["rms"], expected["angular_all"]["rms"]));
+  }
+  // The truth's angles are off nominal by 0.015-0.03 deg: the calibrated machine's held-out
+  // orientations fit far better than the nominal's, near their predicted RMS.
+  const json& angles = shown["calibrated"]["angular_all"];
+  EXPECT_LT(angles["rms"].get<double>(),
+            0.5 * shown["nominal"]["angular_all"]["rms"].get<double>());
+  EXPECT_LT(angles["rms"].get<double>(), 1.5 * angles["predicted_rms"].get<double>());
+  EXPECT_GT(angles["rms"].get<double>(), 0.67 * angles["predicted_rms"].get<double>());
+
+  // Every angular number of the HTML is verify's value at the same pointer.
+  const std::string html = slurp(html_path);
+  EXPECT_EQ(xmlFault(html), std::nullopt);
+  int angular_fields = 0;
+  for (const Shown& s : shownNumbers(html)) {
+    if (s.pointer.rfind("/held_out/", 0) != 0 || s.pointer.find("angular") == std::string::npos)
+      continue;
+    ++angular_fields;
+    const std::string rest = s.pointer.substr(std::string("/held_out/").size());
+    const std::string machine = rest.substr(0, rest.find('/'));
+    const json& verify = *verified.at(machine);
+    const json::json_pointer at("/instrument" + rest.substr(machine.size()));
+    ASSERT_TRUE(verify.contains(at)) << s.pointer;
+    EXPECT_TRUE(close(json(std::stod(s.value)), verify.at(at))) << s.pointer;
+  }
+  // 2 stations and all, with each machine: readings, mean, RMS, max; the calibrated predicted RMS.
+  EXPECT_EQ(angular_fields, 3 * 4 + 3 * 5);
+}
+
 json largePlan(int count) {
   json plan = json::parse(std::ifstream(test_support::testDataFile("ref-2r-5bars.json")));
   Eigen::VectorXd p(3);

@@ -37,6 +37,8 @@ Calibration calibrateReadings(Plan& plan, const CalibrationOptions& options = {}
 
 /// The probe noise s_p (mm) that makes chi2 = dof at the calibration's estimate, the encoder
 /// noise as stated; 0 when the encoders alone explain more than the scatter (see NoiseEstimate).
+/// A pose instrument's orientation rows join with their share of s_p^2 when the plan estimates
+/// the probe noise (reading_noise.hpp), as in calibrateReadings' own estimate.
 double probeNoiseForUnitBirgeRatio(const Plan& plan, const std::vector<Placement>& placements,
                                    const Calibration& calibration);
 

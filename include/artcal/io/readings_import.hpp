@@ -37,8 +37,14 @@ struct ReadingsImport {
   /// per station), each row the joint readings then the measured x, y, z; an artifacts block
   /// whose first artifact is an instrument reads DIR the same way.
   std::optional<double> instrument;
+  /// With `instrument`: the instrument measures poses (a 6-DOF tracker), of this orientation noise
+  /// (deg per rotation-vector coordinate, the plan's `noise_angle`); each row is then the joint
+  /// readings, x, y, z, then the orientation as a rotation vector rx, ry, rz.
+  std::optional<double> instrument_angle;
   /// The measured points' unit ("mm" or "m") for every station file, overriding the header's.
   std::string point_unit;
+  /// A pose's orientation unit ("deg" or "rad") for every station file, overriding the header's.
+  std::string orientation_unit;
   /// noise.probe (mm, or "estimate" where the plan format allows it) and noise.encoder (deg).
   nlohmann::json probe = 0.1;
   double encoder = 0.0;
