@@ -100,23 +100,47 @@ double readingsChi2(const SpectralMisfits& misfits, double s) {
   return chi2;
 }
 
-// The s_p that makes chi2 = dof for these misfits at the calibration's estimate.
-double probeNoiseOfMisfits(const Plan& plan, const std::vector<ReadingMisfit>& readings,
-                           const Calibration& calibration) {
+// d readings(s)/ds = -2 s sum_i (Q^T e)_i^2 / (lambda_i + s^2)^2, its magnitude.
+double readingsChi2Slope(const SpectralMisfits& misfits, double s) {
+  double sum = 0.0;
+  for (std::size_t i = 0; i < misfits.lambda.size(); ++i) {
+    const double v = misfits.lambda[i] + s * s;
+    sum += misfits.projected[i] / (v * v);
+  }
+  return 2.0 * s * sum;
+}
+
+// The s_p that makes chi2 = dof for these misfits, and its standard uncertainty.
+struct ProbeNoiseSolution {
+  double s = 0.0;  // mm
+  double u = 0.0;  // mm
+};
+
+// The s_p that makes chi2 = dof for these misfits at the calibration's estimate (plan.noise.probe,
+// u = 0 where it cannot be solved). u = sqrt(2 target) / |d chi2/ds|: chi2 at the true s_p spreads
+// by sqrt(2 dof), and the solution moves by that over the slope. Without encoder or instrument
+// noise this is s_p / sqrt(2 dof); with the instrument's own noise s_i it is
+// (s_i^2 + s_p^2) / (s_p sqrt(2 dof)): an s_p small against s_i is poorly determined.
+ProbeNoiseSolution probeNoiseOfMisfits(const Plan& plan, const std::vector<ReadingMisfit>& readings,
+                                       const Calibration& calibration) {
   const SpectralMisfits misfits = spectralMisfits(readings);
   // The priors' part of the cost does not depend on s_p: chi2(s) = readings(s) + priors = dof.
   const double priors = std::max(0.0, calibration.chi2 - readingsChi2(misfits, plan.noise.probe));
   const double target = calibration.dof - priors;
-  if (!(target > 0.0)) return plan.noise.probe;
+  if (!(target > 0.0)) return {plan.noise.probe, 0.0};
   // readings(s) decreases with s: bisection on log s (a closed form only without encoders).
   double low = kProbeNoiseFloor * 1e-3, high = 1e6;
-  if (readingsChi2(misfits, low) <= target) return 0.0;  // the encoders explain it all
-  if (readingsChi2(misfits, high) >= target) return high;
+  if (readingsChi2(misfits, low) <= target) return {0.0, 0.0};  // the encoders explain it all
+  if (readingsChi2(misfits, high) >= target) return {high, 0.0};
   for (int i = 0; i < 80 && high / low > 1.0 + 1e-12; ++i) {
     const double mid = std::sqrt(low * high);
     (readingsChi2(misfits, mid) > target ? low : high) = mid;
   }
-  return std::sqrt(low * high);
+  ProbeNoiseSolution out;
+  out.s = std::sqrt(low * high);
+  const double slope = readingsChi2Slope(misfits, out.s);
+  out.u = slope > 0.0 && std::isfinite(slope) ? std::sqrt(2.0 * target) / slope : 0.0;
+  return out;
 }
 
 // Calibrates at the plan's noise (`calibrator` is the plan's, its calibrated set as now); with
@@ -127,12 +151,12 @@ Calibration calibrateWithNoise(Plan& plan, Calibrator& calibrator, const Calibra
   if (!plan.noise.estimate_probe) return calibration;
   NoiseEstimate estimate;
   estimate.stated = plan.noise.probe;
+  std::optional<ProbeNoiseSolution> solved;  // at the last calibration's estimate
   for (estimate.fits = 1; estimate.fits < kMaxNoiseFits; ++estimate.fits) {
     if (calibration.dof <= 0 || !std::isfinite(calibration.chi2)) break;
     // The misfits at the estimate from the calibrator's last linearisation, built there.
-    const double s =
-        std::max(probeNoiseOfMisfits(plan, calibrator.misfits(plan.placements), calibration),
-                 kProbeNoiseFloor);
+    solved = probeNoiseOfMisfits(plan, calibrator.misfits(plan.placements), calibration);
+    const double s = std::max(solved->s, kProbeNoiseFloor);
     if (std::abs(s - plan.noise.probe) <= kNoiseSettled * plan.noise.probe) break;
     plan.noise.probe = s;  // the calibrator whitens with plan.noise: the new s from here on
     // From where the last fit converged: the poses and c too, so that only the reweighting moves.
@@ -141,9 +165,16 @@ Calibration calibrateWithNoise(Plan& plan, Calibrator& calibrator, const Calibra
     state.c = calibration.systematic;
     state.poses = calibration.poses;
     calibration = calibrator.run(plan.placements, state);
+    solved.reset();
   }
   estimate.probe = plan.noise.probe;
-  estimate.u = calibration.dof > 0 ? estimate.probe / std::sqrt(2.0 * calibration.dof) : 0.0;
+  // Its u from the solution at the final estimate (settled: within 1e-3 of the s_p used); where
+  // the fits ran out first, the chi-square's relative spread alone.
+  if (solved && solved->u > 0.0) {
+    estimate.u = solved->u;
+  } else {
+    estimate.u = calibration.dof > 0 ? estimate.probe / std::sqrt(2.0 * calibration.dof) : 0.0;
+  }
   calibration.noise_estimate = estimate;
   return calibration;
 }
@@ -210,7 +241,7 @@ double probeNoiseForUnitBirgeRatio(const Plan& plan, const std::vector<Placement
     builder.misfits(artifact, placements[j].measurements, calibration.parameters,
                     calibration.poses[j], c, readings);
   }
-  return probeNoiseOfMisfits(plan, readings, calibration);
+  return probeNoiseOfMisfits(plan, readings, calibration).s;
 }
 
 // An instrument's reading without its measured point is for planning only (instruments.md):

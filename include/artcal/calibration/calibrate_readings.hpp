@@ -14,7 +14,8 @@
 // - Noise that the data state. `"noise": {"probe": "estimate"}`: the probing noise s_p is the
 //   variance component that makes chi2 = dof at the estimate (encoder noise as stated), the fit
 //   repeated with it until s_p settles (the weights depend on s_p when encoders add noise).
-//   u(s_p) = s_p / sqrt(2 dof) (the chi-square's relative spread). u, gross errors and the
+//   u(s_p) = sqrt(2 dof) / |d chi2/d s_p| (the chi-square's spread over its slope; s_p / sqrt(2
+//   dof) without encoder or instrument noise). u, gross errors and the
 //   machine file's covariance then use the estimated s_p.
 // - Warnings a metrologist would want: corrections no one would believe (corrections.hpp) and
 //   readings that fit to rounding (planned readings calibrated as if measured).

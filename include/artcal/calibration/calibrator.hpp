@@ -107,7 +107,7 @@ struct ResidualEntry {
 struct NoiseEstimate {
   double stated = 0.0;  ///< the starting s_p, mm
   double probe = 0.0;   ///< the estimate: chi2 = dof at the calibration's estimate, mm
-  double u = 0.0;       ///< its standard uncertainty, probe / sqrt(2 dof), mm
+  double u = 0.0;       ///< its standard uncertainty, sqrt(2 dof) / |d chi2/d probe|, mm
   int fits = 0;         ///< calibrations run until it settled
 };
 
