@@ -81,6 +81,8 @@ class DesignMatrixBuilder {
   /// the point's `k` valued rows (rotated by R_valued) then a pose's orientation rows.
   Small readingFactor(const Eigen::Ref<const Eigen::MatrixXd>& R_valued, int per, int k,
                       double sigma_p2, double sigma_angle2, const Artifact& artifact);
+  /// readingFactor of a point reading (`k` rows).
+  Small pointFactor(const Eigen::Ref<const Eigen::MatrixXd>& R_valued, int k, double sigma_p2);
   /// weights.factors[i] (of `readings`) = L, zero-padded.
   static void storeFactor(ReadingWeights& weights, std::size_t readings, std::size_t i,
                           const Small& L);
