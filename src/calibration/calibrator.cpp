@@ -128,6 +128,7 @@ bool Calibrator::linearizeCapped(const std::vector<Placement>& placements,
   out.eliminations.resize(placements.size());
   out.weights.resize(placements.size());
   out.blocks.resize(placements.size());
+  out.products.resize(placements.size());
   out.own_weights.resize(weights ? placements.size() : 0);
   out.fresh = weights == nullptr;
   for (std::size_t j = 0; j < placements.size(); ++j) {
@@ -139,7 +140,8 @@ bool Calibrator::linearizeCapped(const std::vector<Placement>& placements,
                    weights ? &out.own_weights[j] : nullptr);
     // Rank policy (docs/method.md section 5): only the rigid directions the measured features can
     // see are eliminated and stepped; noise must not make an unseen one look observed.
-    reducer_.add(block, placements[j].artifact, &out.eliminations[j], rigid_caps_[j]);
+    reducer_.add(block, placements[j].artifact, &out.eliminations[j], rigid_caps_[j],
+                 &out.products[j]);
   }
   return finishLinearization(state, out);
 }
@@ -294,7 +296,8 @@ bool Calibrator::rewhiten(const std::vector<Placement>& placements,
       transformRows(T, block.e.segment(row, per));
       factors[i] = own;
     }
-    reducer_.add(block, placements[j].artifact, &current_lin_.eliminations[j], rigid_caps_[j]);
+    reducer_.add(block, placements[j].artifact, &current_lin_.eliminations[j], rigid_caps_[j],
+                 &current_lin_.products[j]);
   }
   current_lin_.fresh = true;
   return finishLinearization(current_, current_lin_);
@@ -315,10 +318,11 @@ bool Calibrator::isPrepared(const std::vector<Placement>& placements,
 
 PlanInformation Calibrator::information(const std::vector<Placement>& placements) {
   // As planInformation (evaluator.cpp): every block reduced with its full rigid motion, the
-  // readings' own information of p (no parameter prior).
+  // readings' own information of p (no parameter prior); from the blocks' products, kept when
+  // they were reduced.
   reducer_.reset();
   for (std::size_t j = 0; j < placements.size(); ++j) {
-    reducer_.add(current_lin_.blocks[j], placements[j].artifact, nullptr, -1);
+    reducer_.add(current_lin_.products[j], placements[j].artifact, -1);
   }
   PlanInformation out;
   out.reduced = reducer_.parameterInformation(ParameterPrior::Excluded);

@@ -169,6 +169,9 @@ struct Linearization {
   /// what the rank rule at the estimate and the probe-noise estimate read back
   /// (Calibrator::information, Calibrator::misfits) instead of building them again.
   std::vector<ObservationBlock> blocks;
+  /// Per placement, its block's products (NormalMatrixReducer::add): what the rank rule reduces
+  /// again with each placement's full rigid motion (Calibrator::information).
+  std::vector<BlockProducts> products;
   double predictedReduction(const Eigen::VectorXd& dg) const;
 };
 
