@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <type_traits>
 #include <utility>
 
 namespace artcal {
@@ -243,13 +244,52 @@ namespace {
 // One reading's whitening factor: at most 6 x 6 (a pose; a point's 3 x 3 or fewer), on the stack.
 using Factor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, 6, 6>;
 
-// rows <- T rows for a lower-triangular T of order 1 to 6, in place (the last row first: the
-// rows above it are still unchanged).
-template <typename Rows>
-void transformRows(const Factor& T, Rows&& rows) {
-  for (int i = static_cast<int>(T.rows()) - 1; i >= 0; --i) {
-    rows.row(i) *= T(i, i);
-    for (int j = 0; j < i; ++j) rows.row(i) += T(i, j) * rows.row(j);
+// Rows row..row + n of a column-major matrix <- T those rows, for a lower-triangular T of order
+// n (1 to 6; K: n known at compile time, or Eigen::Dynamic), in place, column by column (each
+// column's n entries contiguous): the last row first, the rows above it still unchanged.
+template <int K, typename Triangle>
+void transformRows(const Triangle& T, int n_rows, double* first, Eigen::Index stride,
+                   Eigen::Index cols) {
+  const int n = K == Eigen::Dynamic ? n_rows : K;
+  for (Eigen::Index c = 0; c < cols; ++c) {
+    double* x = first + c * stride;
+    for (int i = n - 1; i >= 0; --i) {
+      double v = x[i] * T(i, i);
+      for (int j = 0; j < i; ++j) v += T(i, j) * x[j];
+      x[i] = v;
+    }
+  }
+}
+
+// One placement's readings re-whitened (Calibrator::rewhiten): each reading's rows times
+// T = L'^-1 L (`factors` the held L, replaced by the targets L'), K as in transformRows.
+template <int K>
+void rewhitenReadings(int per, std::vector<Eigen::Matrix<double, 6, 6>>& factors,
+                      const std::vector<Eigen::Matrix<double, 6, 6>>& targets,
+                      ObservationBlock& block) {
+  using Triangle = std::conditional_t<K == Eigen::Dynamic, Factor, Eigen::Matrix<double, K, K>>;
+  const int n = K == Eigen::Dynamic ? per : K;
+  for (std::size_t i = 0; i < factors.size(); ++i) {
+    const auto& held = factors[i];
+    const auto& target = targets[i];
+    // T = L'^-1 L, both lower-triangular: forward substitution, column by column.
+    Triangle T(n, n);
+    for (int c = 0; c < n; ++c) {
+      for (int r = 0; r < c; ++r) T(r, c) = 0.0;
+      for (int r = c; r < n; ++r) {
+        double v = held(r, c);
+        for (int j = c; j < r; ++j) v -= target(r, j) * T(j, c);
+        T(r, c) = v / target(r, r);
+      }
+    }
+    const int row = n * static_cast<int>(i);
+    // A part without columns (no systematic error) has no data to take rows of.
+    for (Eigen::MatrixXd* part : {&block.A_p, &block.A_r, &block.A_c}) {
+      if (part->cols() > 0)
+        transformRows<K>(T, n, part->data() + row, part->outerStride(), part->cols());
+    }
+    transformRows<K>(T, n, block.e.data() + row, block.e.size(), 1);
+    factors[i] = target;
   }
 }
 
@@ -264,6 +304,13 @@ bool Calibrator::reweightToProbe(const std::vector<Placement>& placements) {
     const Artifact& artifact = artifactOf(*plan_, placements[j]);
     const int per = artifact.rowsPerReading(), k = artifact.valuedPerFeature();
     for (auto& factor : targets[j].factors) {
+      if (per == 3 && k == 3) {  // a point's 3 x 3: fixed-size, on the stack
+        const Eigen::Matrix3d held = factor.topLeftCorner<3, 3>();
+        Eigen::Matrix3d sigma = held * held.transpose();
+        sigma.diagonal().array() += shift;
+        factor.topLeftCorner<3, 3>() = Eigen::LLT<Eigen::Matrix3d>(sigma).matrixL();
+        continue;
+      }
       const Factor held = factor.topLeftCorner(per, per);
       Factor sigma = held * held.transpose();
       sigma.diagonal().head(k).array() += shift;
@@ -283,18 +330,20 @@ bool Calibrator::rewhiten(const std::vector<Placement>& placements,
     const int per = artifactOf(*plan_, placements[j]).rowsPerReading();
     ObservationBlock& block = current_lin_.blocks[j];
     auto& factors = current_lin_.weights[j].factors;
-    for (std::size_t i = 0; i < factors.size(); ++i) {
-      const auto& own = targets[j].factors[i];
-      const Factor held = factors[i].topLeftCorner(per, per);
-      const Factor target = own.topLeftCorner(per, per);
-      const Factor T =
-          target.triangularView<Eigen::Lower>().solve(Factor(held.triangularView<Eigen::Lower>()));
-      const int row = per * static_cast<int>(i);
-      // A block without columns (no systematic error) has no data to take rows of.
-      for (Eigen::MatrixXd* columns : {&block.A_p, &block.A_r, &block.A_c})
-        if (columns->cols() > 0) transformRows(T, columns->middleRows(row, per));
-      transformRows(T, block.e.segment(row, per));
-      factors[i] = own;
+    const auto& own = targets[j].factors;
+    switch (per) {
+      case 1:
+        rewhitenReadings<1>(per, factors, own, block);
+        break;
+      case 2:
+        rewhitenReadings<2>(per, factors, own, block);
+        break;
+      case 3:
+        rewhitenReadings<3>(per, factors, own, block);
+        break;
+      default:
+        rewhitenReadings<Eigen::Dynamic>(per, factors, own, block);
+        break;
     }
     reducer_.add(block, placements[j].artifact, &current_lin_.eliminations[j], rigid_caps_[j],
                  &current_lin_.products[j]);
