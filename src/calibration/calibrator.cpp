@@ -386,12 +386,24 @@ std::vector<ReadingMisfit> Calibrator::misfits(const std::vector<Placement>& pla
   // (a pose's orientation rows do not enter the probe-noise estimate).
   const double probe2 = plan_->noise.probe * plan_->noise.probe;
   std::vector<ReadingMisfit> out;
+  std::size_t readings = 0;
+  for (const Placement& placement : placements) readings += placement.measurements.size();
+  out.reserve(readings);
   for (std::size_t j = 0; j < placements.size(); ++j) {
     const Artifact& artifact = artifactOf(*plan_, placements[j]);
     const int per = artifact.rowsPerReading(), k = artifact.valuedPerFeature();
     const ObservationBlock& block = current_lin_.blocks[j];
     const auto& factors = current_lin_.weights[j].factors;
     for (std::size_t i = 0; i < placements[j].measurements.size(); ++i) {
+      if (per == 3 && k == 3) {  // a point's 3 x 3: fixed-size
+        const Eigen::Matrix3d L = factors[i].topLeftCorner<3, 3>().triangularView<Eigen::Lower>();
+        Eigen::Matrix3d sigma = L * L.transpose();
+        sigma.diagonal().array() -= probe2;
+        ReadingMisfit& misfit = out.emplace_back();
+        misfit.residual = L * block.e.segment<3>(3 * static_cast<int>(i));
+        misfit.encoder_covariance = sigma;
+        continue;
+      }
       const Factor L = factors[i].topLeftCorner(per, per).triangularView<Eigen::Lower>();
       // Sigma = s_p^2 I + (encoders and the instrument's own noise) = L L^T.
       Factor sigma = L * L.transpose();

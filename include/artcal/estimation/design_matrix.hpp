@@ -31,9 +31,10 @@ struct ObservationBlock {
 /// One reading's misfit in its valued artifact coordinates, before whitening: the residual
 /// F - W* and the encoders' part of its covariance, J_q Sigma_q J_q^T (the probe adds s_p^2 I).
 /// The probe-noise estimate (calibration/calibrate_readings.hpp) solves for s_p from these.
+/// At most 3 valued coordinates: on the stack.
 struct ReadingMisfit {
-  Eigen::VectorXd residual;
-  Eigen::MatrixXd encoder_covariance;
+  Eigen::Matrix<double, Eigen::Dynamic, 1, Eigen::ColMajor, 3, 1> residual;
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, 3, 3> encoder_covariance;
 };
 
 /// The whitening factors L of a placement's readings (Sigma_ij = L L^T, section 2), in reading
