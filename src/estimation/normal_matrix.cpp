@@ -228,6 +228,79 @@ namespace {
 // Parameters up to which the normal matrix is updated by coefficient-wise products.
 constexpr int kSmallProblem = 8;
 
+// X^T Y (X with A columns, Y with as many rows) into `out`, each entry the dot product of two
+// columns summed exactly as Eigen's lazy product sums it (its vectorised reduction over 2-lane
+// packets: two accumulating packets over 4 rows at a time, added, a last packet, the two lanes,
+// then the odd row), but the A dot products against one column of Y at once: independent chains
+// instead of one latency-bound chain per entry, each column of Y loaded once.
+template <int A, typename Out>
+void transposeProductColumns(const Eigen::MatrixXd& X, const Eigen::MatrixXd& Y, Out& out) {
+  using Packet = Eigen::internal::packet_traits<double>::type;
+  using Eigen::internal::padd;
+  using Eigen::internal::ploadu;
+  using Eigen::internal::pmul;
+  const Eigen::Index n = X.rows();
+  const Eigen::Index n4 = (n / 4) * 4, n2 = (n / 2) * 2;
+  const double* x0 = X.data();
+  for (Eigen::Index j = 0; j < Y.cols(); ++j) {
+    const double* y = Y.data() + j * n;
+    Packet acc0[A], acc1[A];
+    for (int i = 0; i < A; ++i) {
+      acc0[i] = pmul(ploadu<Packet>(x0 + i * n), ploadu<Packet>(y));
+      acc1[i] = pmul(ploadu<Packet>(x0 + i * n + 2), ploadu<Packet>(y + 2));
+    }
+    for (Eigen::Index r = 4; r < n4; r += 4) {
+      const Packet y0 = ploadu<Packet>(y + r), y1 = ploadu<Packet>(y + r + 2);
+      for (int i = 0; i < A; ++i) {
+        acc0[i] = padd(acc0[i], pmul(ploadu<Packet>(x0 + i * n + r), y0));
+        acc1[i] = padd(acc1[i], pmul(ploadu<Packet>(x0 + i * n + r + 2), y1));
+      }
+    }
+    for (int i = 0; i < A; ++i) {
+      const double* x = x0 + i * n;
+      Packet acc = padd(acc0[i], acc1[i]);
+      if (n2 > n4) acc = padd(acc, pmul(ploadu<Packet>(x + n4), ploadu<Packet>(y + n4)));
+      double sum = Eigen::internal::predux(acc);
+      for (Eigen::Index r = n2; r < n; ++r) sum += x[r] * y[r];
+      out(i, j) = sum;
+    }
+  }
+}
+
+// out = X^T Y, the numbers of X.transpose().lazyProduct(Y): by transposeProductColumns where its
+// summation order is Eigen's (2-lane packets, at least 4 rows, X of at most 8 columns), otherwise
+// by the lazy product itself.
+template <typename Out>
+void transposeProduct(const Eigen::MatrixXd& X, const Eigen::MatrixXd& Y, Out&& out) {
+  constexpr bool two_lanes = Eigen::internal::packet_traits<double>::Vectorizable &&
+                             Eigen::internal::packet_traits<double>::size == 2;
+  if constexpr (two_lanes) {
+    if (X.rows() >= 4 && X.rows() == Y.rows()) {
+      switch (X.cols()) {
+        case 1:
+          return transposeProductColumns<1>(X, Y, out);
+        case 2:
+          return transposeProductColumns<2>(X, Y, out);
+        case 3:
+          return transposeProductColumns<3>(X, Y, out);
+        case 4:
+          return transposeProductColumns<4>(X, Y, out);
+        case 5:
+          return transposeProductColumns<5>(X, Y, out);
+        case 6:
+          return transposeProductColumns<6>(X, Y, out);
+        case 7:
+          return transposeProductColumns<7>(X, Y, out);
+        case 8:
+          return transposeProductColumns<8>(X, Y, out);
+        default:
+          break;
+      }
+    }
+  }
+  out.noalias() = X.transpose().lazyProduct(Y);
+}
+
 // The lower triangle of a symmetric block copied into its upper triangle.
 template <typename Block>
 void mirrorLower(Block&& N) {
@@ -267,7 +340,8 @@ void NormalMatrixReducer::add(const ObservationBlock& block, int artifact_index,
   const auto& A_r = block.A_r;
 
   P.rigid_primary = block.rigid_primary;
-  P.M_rr.noalias() = A_r.transpose().lazyProduct(A_r);
+  P.M_rr.resize(A_r.cols(), A_r.cols());
+  transposeProduct(A_r, A_r, P.M_rr);
   P.unreduced = A_p.colwise().squaredNorm().transpose();
   // A_c has a few non-zeros per column (the readings of one feature, whitened within each
   // reading: 6 of 150 rows for a plate read with two styli): its products as a sparse matrix.
@@ -275,7 +349,7 @@ void NormalMatrixReducer::add(const ObservationBlock& block, int artifact_index,
   std::optional<Eigen::SparseMatrix<double>> sparse;
   if (n_c > 0) sparse.emplace(A_c.sparseView());
   P.M_rg.resize(A_r.cols(), n_g);
-  P.M_rg.leftCols(n_p).noalias() = A_r.transpose().lazyProduct(A_p);
+  transposeProduct(A_r, A_p, P.M_rg.leftCols(n_p));
   if (n_c > 0) P.M_rg.rightCols(n_c) = (sparse->transpose() * A_r).transpose();
   // G = A_g^T A_g: its p block (the lower triangle, or all of it for a few parameters), its c
   // block and its c x p block (the p x c block is not formed).
@@ -284,7 +358,7 @@ void NormalMatrixReducer::add(const ObservationBlock& block, int artifact_index,
   if (n_p <= kSmallProblem) {
     // A few parameters (the seed's arm: 3): coefficient-wise products; the blocked symmetric
     // rank update's set-up costs more than the arithmetic there.
-    G_pp.noalias() = A_p.transpose().lazyProduct(A_p);
+    transposeProduct(A_p, A_p, G_pp);
   } else {
     G_pp.setZero();
     G_pp.selfadjointView<Eigen::Lower>().rankUpdate(A_p.transpose());
