@@ -30,10 +30,13 @@ std::string number(double value) {
 
 // Holds at nominal the calibrated parameters whose surviving fraction in `information` is below
 // kWeakInformationTolerance (greedy in the calibrated set's order); true when it held any.
-bool holdWeaklyDetermined(Plan& plan, const PlanInformation& information) {
+// `kept_positions`: the positions in the calibrated set of the ones still calibrated.
+bool holdWeaklyDetermined(Plan& plan, const PlanInformation& information,
+                          std::vector<int>* kept_positions = nullptr) {
   const CalibratedSetChoice choice = chooseIdentifiableSet(information, kWeakInformationTolerance);
 
   if (choice.dropped.empty()) return false;
+  if (kept_positions) *kept_positions = choice.kept;
   CalibratedSetResolution& resolution = *plan.calibrate_resolution;
   std::vector<int> kept;
   for (const int k : choice.kept) kept.push_back(plan.machine.calibrated[k]);
@@ -269,8 +272,13 @@ Calibration calibrateReadings(Plan& plan, const CalibrationOptions& options) {
   // the linearisation the calibration then starts from ...
   if (resolve) {
     calibrator->prepare(plan.placements, start);
-    if (holdWeaklyDetermined(plan, calibrator->information(plan.placements))) {
-      calibrator.emplace(plan, options);  // the calibrated set changed
+    std::vector<int> kept;
+    if (holdWeaklyDetermined(plan, calibrator->information(plan.placements), &kept)) {
+      // The calibrated set changed: the calibration starts from the same linearisation without
+      // the held parameters' columns.
+      Calibrator narrowed(plan, options);
+      narrowed.prepareFrom(*calibrator, kept, plan.placements);
+      calibrator.emplace(std::move(narrowed));
     }
   }
   Calibration calibration = calibrateWithNoise(plan, *calibrator, start);

@@ -239,6 +239,40 @@ bool Calibrator::prepare(const std::vector<Placement>& placements, const Calibra
   return finite;
 }
 
+bool Calibrator::prepareFrom(const Calibrator& other, const std::vector<int>& columns,
+                             const std::vector<Placement>& placements) {
+  const bool prepared = other.prepared_of_ == &placements && other.current_lin_.fresh &&
+                        other.prepared_probe_ == plan_->noise.probe &&
+                        other.current_lin_.blocks.size() == placements.size() &&
+                        other.rigid_caps_.size() == placements.size() &&
+                        static_cast<int>(columns.size()) == layout_.parameters;
+  if (!prepared) return prepare(placements, other.current_);
+  current_ = other.current_;
+  rigid_caps_ = other.rigid_caps_;
+  Linearization& out = current_lin_;
+  out.blocks.resize(placements.size());
+  out.weights = other.current_lin_.weights;
+  out.own_weights.clear();
+  out.eliminations.resize(placements.size());
+  out.products.resize(placements.size());
+  out.fresh = true;
+  reducer_.reset();
+  for (std::size_t j = 0; j < placements.size(); ++j) {
+    const ObservationBlock& from = other.current_lin_.blocks[j];
+    ObservationBlock& block = out.blocks[j];
+    block.A_p = from.A_p(Eigen::all, columns);
+    block.A_r = from.A_r;
+    block.rigid_primary = from.rigid_primary;
+    block.A_c = from.A_c;
+    block.e = from.e;
+    reducer_.add(block, placements[j].artifact, &out.eliminations[j], rigid_caps_[j],
+                 &out.products[j]);
+  }
+  prepared_of_ = &placements;
+  prepared_probe_ = plan_->noise.probe;
+  return finishLinearization(current_, out);
+}
+
 namespace {
 
 // One reading's whitening factor: at most 6 x 6 (a pose; a point's 3 x 3 or fewer), on the stack.
