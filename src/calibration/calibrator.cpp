@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <type_traits>
 #include <utility>
 
 #include "artcal/estimation/reading_noise.hpp"
@@ -130,6 +131,7 @@ bool Calibrator::linearizeCapped(const std::vector<Placement>& placements,
   out.eliminations.resize(placements.size());
   out.weights.resize(placements.size());
   out.blocks.resize(placements.size());
+  out.products.resize(placements.size());
   out.own_weights.resize(weights ? placements.size() : 0);
   out.fresh = weights == nullptr;
   for (std::size_t j = 0; j < placements.size(); ++j) {
@@ -141,7 +143,8 @@ bool Calibrator::linearizeCapped(const std::vector<Placement>& placements,
                    weights ? &out.own_weights[j] : nullptr);
     // Rank policy (docs/method.md section 5): only the rigid directions the measured features can
     // see are eliminated and stepped; noise must not make an unseen one look observed.
-    reducer_.add(block, placements[j].artifact, &out.eliminations[j], rigid_caps_[j]);
+    reducer_.add(block, placements[j].artifact, &out.eliminations[j], rigid_caps_[j],
+                 &out.products[j]);
   }
   return finishLinearization(state, out);
 }
@@ -238,18 +241,91 @@ bool Calibrator::prepare(const std::vector<Placement>& placements, const Calibra
   return finite;
 }
 
+bool Calibrator::prepareFrom(const Calibrator& other, const std::vector<int>& columns,
+                             const std::vector<Placement>& placements) {
+  const bool prepared = other.prepared_of_ == &placements && other.current_lin_.fresh &&
+                        other.prepared_probe_ == plan_->noise.probe &&
+                        other.current_lin_.blocks.size() == placements.size() &&
+                        other.rigid_caps_.size() == placements.size() &&
+                        static_cast<int>(columns.size()) == layout_.parameters;
+  if (!prepared) return prepare(placements, other.current_);
+  current_ = other.current_;
+  rigid_caps_ = other.rigid_caps_;
+  Linearization& out = current_lin_;
+  out.blocks.resize(placements.size());
+  out.weights = other.current_lin_.weights;
+  out.own_weights.clear();
+  out.eliminations.resize(placements.size());
+  out.products.resize(placements.size());
+  out.fresh = true;
+  reducer_.reset();
+  for (std::size_t j = 0; j < placements.size(); ++j) {
+    const ObservationBlock& from = other.current_lin_.blocks[j];
+    ObservationBlock& block = out.blocks[j];
+    block.A_p = from.A_p(Eigen::all, columns);
+    block.A_r = from.A_r;
+    block.rigid_primary = from.rigid_primary;
+    block.A_c = from.A_c;
+    block.e = from.e;
+    reducer_.add(block, placements[j].artifact, &out.eliminations[j], rigid_caps_[j],
+                 &out.products[j]);
+  }
+  prepared_of_ = &placements;
+  prepared_probe_ = plan_->noise.probe;
+  return finishLinearization(current_, out);
+}
+
 namespace {
 
 // One reading's whitening factor: at most 6 x 6 (a pose; a point's 3 x 3 or fewer), on the stack.
 using Factor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, 6, 6>;
 
-// rows <- T rows for a lower-triangular T of order 1 to 6, in place (the last row first: the
-// rows above it are still unchanged).
-template <typename Rows>
-void transformRows(const Factor& T, Rows&& rows) {
-  for (int i = static_cast<int>(T.rows()) - 1; i >= 0; --i) {
-    rows.row(i) *= T(i, i);
-    for (int j = 0; j < i; ++j) rows.row(i) += T(i, j) * rows.row(j);
+// Rows row..row + n of a column-major matrix <- T those rows, for a lower-triangular T of order
+// n (1 to 6; K: n known at compile time, or Eigen::Dynamic), in place, column by column (each
+// column's n entries contiguous): the last row first, the rows above it still unchanged.
+template <int K, typename Triangle>
+void transformRows(const Triangle& T, int n_rows, double* first, Eigen::Index stride,
+                   Eigen::Index cols) {
+  const int n = K == Eigen::Dynamic ? n_rows : K;
+  for (Eigen::Index c = 0; c < cols; ++c) {
+    double* x = first + c * stride;
+    for (int i = n - 1; i >= 0; --i) {
+      double v = x[i] * T(i, i);
+      for (int j = 0; j < i; ++j) v += T(i, j) * x[j];
+      x[i] = v;
+    }
+  }
+}
+
+// One placement's readings re-whitened (Calibrator::rewhiten): each reading's rows times
+// T = L'^-1 L (`factors` the held L, replaced by the targets L'), K as in transformRows.
+template <int K>
+void rewhitenReadings(int per, std::vector<Eigen::Matrix<double, 6, 6>>& factors,
+                      const std::vector<Eigen::Matrix<double, 6, 6>>& targets,
+                      ObservationBlock& block) {
+  using Triangle = std::conditional_t<K == Eigen::Dynamic, Factor, Eigen::Matrix<double, K, K>>;
+  const int n = K == Eigen::Dynamic ? per : K;
+  for (std::size_t i = 0; i < factors.size(); ++i) {
+    const auto& held = factors[i];
+    const auto& target = targets[i];
+    // T = L'^-1 L, both lower-triangular: forward substitution, column by column.
+    Triangle T(n, n);
+    for (int c = 0; c < n; ++c) {
+      for (int r = 0; r < c; ++r) T(r, c) = 0.0;
+      for (int r = c; r < n; ++r) {
+        double v = held(r, c);
+        for (int j = c; j < r; ++j) v -= target(r, j) * T(j, c);
+        T(r, c) = v / target(r, r);
+      }
+    }
+    const int row = n * static_cast<int>(i);
+    // A part without columns (no systematic error) has no data to take rows of.
+    for (Eigen::MatrixXd* part : {&block.A_p, &block.A_r, &block.A_c}) {
+      if (part->cols() > 0)
+        transformRows<K>(T, n, part->data() + row, part->outerStride(), part->cols());
+    }
+    transformRows<K>(T, n, block.e.data() + row, block.e.size(), 1);
+    factors[i] = target;
   }
 }
 
@@ -267,6 +343,13 @@ bool Calibrator::reweightToProbe(const std::vector<Placement>& placements) {
     const double angle_share = angleVariancePerProbeVariance(plan_->noise.estimate_probe,
                                                              artifact.noise, artifact.noise_angle);
     for (auto& factor : targets[j].factors) {
+      if (per == 3 && k == 3) {  // a point's 3 x 3: fixed-size, on the stack
+        const Eigen::Matrix3d held = factor.topLeftCorner<3, 3>();
+        Eigen::Matrix3d sigma = held * held.transpose();
+        sigma.diagonal().array() += shift;
+        factor.topLeftCorner<3, 3>() = Eigen::LLT<Eigen::Matrix3d>(sigma).matrixL();
+        continue;
+      }
       const Factor held = factor.topLeftCorner(per, per);
       Factor sigma = held * held.transpose();
       sigma.diagonal().head(k).array() += shift;
@@ -287,20 +370,23 @@ bool Calibrator::rewhiten(const std::vector<Placement>& placements,
     const int per = artifactOf(*plan_, placements[j]).rowsPerReading();
     ObservationBlock& block = current_lin_.blocks[j];
     auto& factors = current_lin_.weights[j].factors;
-    for (std::size_t i = 0; i < factors.size(); ++i) {
-      const auto& own = targets[j].factors[i];
-      const Factor held = factors[i].topLeftCorner(per, per);
-      const Factor target = own.topLeftCorner(per, per);
-      const Factor T =
-          target.triangularView<Eigen::Lower>().solve(Factor(held.triangularView<Eigen::Lower>()));
-      const int row = per * static_cast<int>(i);
-      // A block without columns (no systematic error) has no data to take rows of.
-      for (Eigen::MatrixXd* columns : {&block.A_p, &block.A_r, &block.A_c})
-        if (columns->cols() > 0) transformRows(T, columns->middleRows(row, per));
-      transformRows(T, block.e.segment(row, per));
-      factors[i] = own;
+    const auto& own = targets[j].factors;
+    switch (per) {
+      case 1:
+        rewhitenReadings<1>(per, factors, own, block);
+        break;
+      case 2:
+        rewhitenReadings<2>(per, factors, own, block);
+        break;
+      case 3:
+        rewhitenReadings<3>(per, factors, own, block);
+        break;
+      default:
+        rewhitenReadings<Eigen::Dynamic>(per, factors, own, block);
+        break;
     }
-    reducer_.add(block, placements[j].artifact, &current_lin_.eliminations[j], rigid_caps_[j]);
+    reducer_.add(block, placements[j].artifact, &current_lin_.eliminations[j], rigid_caps_[j],
+                 &current_lin_.products[j]);
   }
   current_lin_.fresh = true;
   return finishLinearization(current_, current_lin_);
@@ -321,10 +407,11 @@ bool Calibrator::isPrepared(const std::vector<Placement>& placements,
 
 PlanInformation Calibrator::information(const std::vector<Placement>& placements) {
   // As planInformation (evaluator.cpp): every block reduced with its full rigid motion, the
-  // readings' own information of p (no parameter prior).
+  // readings' own information of p (no parameter prior); from the blocks' products, kept when
+  // they were reduced.
   reducer_.reset();
   for (std::size_t j = 0; j < placements.size(); ++j) {
-    reducer_.add(current_lin_.blocks[j], placements[j].artifact, nullptr, -1);
+    reducer_.add(current_lin_.products[j], placements[j].artifact, -1);
   }
   PlanInformation out;
   out.reduced = reducer_.parameterInformation(ParameterPrior::Excluded);
@@ -341,6 +428,9 @@ std::vector<ReadingMisfit> Calibrator::misfits(const std::vector<Placement>& pla
   // rows of the residual and of E scaled by 1/sqrt(c), Sigma becomes E' + s_p^2 I as for a point.
   const double probe2 = plan_->noise.probe * plan_->noise.probe;
   std::vector<ReadingMisfit> out;
+  std::size_t readings = 0;
+  for (const Placement& placement : placements) readings += placement.measurements.size();
+  out.reserve(readings);
   for (std::size_t j = 0; j < placements.size(); ++j) {
     const Artifact& artifact = artifactOf(*plan_, placements[j]);
     const int per = artifact.rowsPerReading(), k = artifact.valuedPerFeature();
@@ -352,6 +442,15 @@ std::vector<ReadingMisfit> Calibrator::misfits(const std::vector<Placement>& pla
     const ObservationBlock& block = current_lin_.blocks[j];
     const auto& factors = current_lin_.weights[j].factors;
     for (std::size_t i = 0; i < placements[j].measurements.size(); ++i) {
+      if (per == 3 && k == 3) {  // a point's 3 x 3: fixed-size
+        const Eigen::Matrix3d L = factors[i].topLeftCorner<3, 3>().triangularView<Eigen::Lower>();
+        Eigen::Matrix3d sigma = L * L.transpose();
+        sigma.diagonal().array() -= probe2;
+        ReadingMisfit& misfit = out.emplace_back();
+        misfit.residual = L * block.e.segment<3>(3 * static_cast<int>(i));
+        misfit.encoder_covariance = sigma;
+        continue;
+      }
       const Factor L = factors[i].topLeftCorner(per, per).triangularView<Eigen::Lower>();
       // Sigma = s_p^2 D + (encoders and the instrument's own noise) = L L^T.
       Factor sigma = L * L.transpose();

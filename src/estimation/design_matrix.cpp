@@ -33,14 +33,44 @@ namespace {
 // small matrices live on the stack.
 using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, 6, 6>;
 
-// rows <- L^-1 rows for a lower-triangular L of order 1 to 6 (forward substitution).
-template <typename Rows>
-void whiten(const Small& L, Rows&& rows) {
+// Rows row..row + k of a column-major matrix <- L^-1 those rows, for a lower-triangular L of
+// order k (1 to 6; K: k known at compile time, or Eigen::Dynamic): forward substitution, column by
+// column, each column's k entries contiguous. The same operations in the same order as row by row.
+template <int K>
+void whitenRows(const Small& L, int k, double* first, Eigen::Index stride, Eigen::Index cols) {
+  const int n = K == Eigen::Dynamic ? k : K;
+  for (Eigen::Index c = 0; c < cols; ++c) {
+    double* x = first + c * stride;
+    for (int i = 0; i < n; ++i) {
+      double v = x[i];
+      for (int j = 0; j < i; ++j) v -= L(i, j) * x[j];
+      x[i] = v / L(i, i);
+    }
+  }
+}
+
+// One reading's rows (`row`, L's order) of every part of the block whitened.
+template <int K>
+void whitenReading(const Small& L, int row, bool with_residuals, ObservationBlock& block) {
   const int k = static_cast<int>(L.rows());
-  if (rows.cols() == 0) return;  // no parameter (or no systematic error) to whiten
-  for (int i = 0; i < k; ++i) {
-    for (int j = 0; j < i; ++j) rows.row(i) -= L(i, j) * rows.row(j);
-    rows.row(i) /= L(i, i);
+  for (Eigen::MatrixXd* part : {&block.A_p, &block.A_r, &block.A_c}) {
+    // A part without columns (no systematic error) may have no data to point into.
+    if (part->cols() > 0)
+      whitenRows<K>(L, k, part->data() + row, part->outerStride(), part->cols());
+  }
+  if (with_residuals) whitenRows<K>(L, k, block.e.data() + row, block.e.size(), 1);
+}
+
+void whitenReading(const Small& L, int row, bool with_residuals, ObservationBlock& block) {
+  switch (L.rows()) {
+    case 1:
+      return whitenReading<1>(L, row, with_residuals, block);
+    case 2:
+      return whitenReading<2>(L, row, with_residuals, block);
+    case 3:
+      return whitenReading<3>(L, row, with_residuals, block);
+    default:
+      return whitenReading<Eigen::Dynamic>(L, row, with_residuals, block);
   }
 }
 
@@ -110,10 +140,7 @@ void DesignMatrixBuilder::build(const Artifact& artifact,
       L = readingFactor(R_valued, per, k, sigma_p2, sigma_angle2, artifact);
     }
     if (record) storeFactor(*record, measurements.size(), i, L);
-    whiten(L, block.A_p.middleRows(row, per));
-    whiten(L, block.A_r.middleRows(row, per));
-    if (n_c > 0) whiten(L, block.A_c.middleRows(row, per));
-    if (with_residuals) whiten(L, block.e.segment(row, per));
+    whitenReading(L, row, with_residuals, block);
   }
 }
 
@@ -152,11 +179,44 @@ void DesignMatrixBuilder::orientationRows(const Artifact& artifact, const Measur
 DesignMatrixBuilder::Small DesignMatrixBuilder::readingFactor(
     const Eigen::Ref<const Eigen::MatrixXd>& R_valued, int per, int k, double sigma_p2,
     double sigma_angle2, const Artifact& artifact) {
+  if (!artifact.measures_pose) return pointFactor(R_valued, k, sigma_p2);
   J_valued_q_.resize(per, J_x_q_.cols());
   J_valued_q_.topRows(k).noalias() = R_valued.lazyProduct(J_x_q_);
-  if (artifact.measures_pose) J_valued_q_.bottomRows(3).noalias() = orientation_factor_ * J_w_q_;
+  J_valued_q_.bottomRows(3).noalias() = orientation_factor_ * J_w_q_;
   Small sigma;
   readingCovariance(noise_->encoder, J_valued_q_, sigma_p2, k, sigma_angle2, sigma);
+  return Eigen::LLT<Small>(sigma).matrixL();
+}
+
+// A point's factor (k rows) by loops over at most 3 x 3: the numbers readingCovariance and
+// Eigen's products give (each sum in the same order, the lower triangle that LLT reads).
+DesignMatrixBuilder::Small DesignMatrixBuilder::pointFactor(
+    const Eigen::Ref<const Eigen::MatrixXd>& R_valued, int k, double sigma_p2) {
+  const int d = static_cast<int>(J_x_q_.rows());
+  const int n_q = static_cast<int>(J_x_q_.cols());
+  const Eigen::VectorXd& encoder = noise_->encoder;
+  // J_valued_q = R_valued J_x_q, then (J_valued_q Sigma_q) J_valued_q^T.
+  J_valued_q_.resize(k, n_q);
+  for (int l = 0; l < n_q; ++l) {
+    for (int a = 0; a < k; ++a) {
+      double sum = R_valued(a, 0) * J_x_q_(0, l);
+      for (int m = 1; m < d; ++m) sum += R_valued(a, m) * J_x_q_(m, l);
+      J_valued_q_(a, l) = sum;
+    }
+  }
+  Small sigma(k, k);
+  for (int b = 0; b < k; ++b) {
+    for (int a = b; a < k; ++a) {
+      double sum = 0.0;
+      for (int l = 0; l < n_q; ++l) {
+        const double term = (J_valued_q_(a, l) * (encoder[l] * encoder[l])) * J_valued_q_(b, l);
+        sum = l == 0 ? term : sum + term;
+      }
+      sigma(a, b) = sum;
+      sigma(b, a) = sum;
+    }
+    sigma(b, b) += sigma_p2;
+  }
   return Eigen::LLT<Small>(sigma).matrixL();
 }
 

@@ -147,7 +147,9 @@ bool inverseCholeskyFactor(const Block& M, RigidMatrix& L_inverse) {
 // machine is absorbed entirely. Otherwise the eigen-decomposition of the whole block decides.
 // `max_rank` (>= 0) keeps at most that many directions (the calibrator: the number of observed
 // directions is a property of the design, decided at the calibrated features).
-class RigidBlockRoot {
+}  // namespace
+
+class NormalMatrixReducer::RigidBlockRoot {
  public:
   RigidBlockRoot(const Eigen::MatrixXd& M, int primary, int max_rank) {
     const int n = static_cast<int>(M.rows());
@@ -221,8 +223,83 @@ class RigidBlockRoot {
   RigidMatrix root_;
 };
 
+namespace {
+
 // Parameters up to which the normal matrix is updated by coefficient-wise products.
 constexpr int kSmallProblem = 8;
+
+// X^T Y (X with A columns, Y with as many rows) into `out`, each entry the dot product of two
+// columns summed exactly as Eigen's lazy product sums it (its vectorised reduction over 2-lane
+// packets: two accumulating packets over 4 rows at a time, added, a last packet, the two lanes,
+// then the odd row), but the A dot products against one column of Y at once: independent chains
+// instead of one latency-bound chain per entry, each column of Y loaded once.
+template <int A, typename Out>
+void transposeProductColumns(const Eigen::MatrixXd& X, const Eigen::MatrixXd& Y, Out& out) {
+  using Packet = Eigen::internal::packet_traits<double>::type;
+  using Eigen::internal::padd;
+  using Eigen::internal::ploadu;
+  using Eigen::internal::pmul;
+  const Eigen::Index n = X.rows();
+  const Eigen::Index n4 = (n / 4) * 4, n2 = (n / 2) * 2;
+  const double* x0 = X.data();
+  for (Eigen::Index j = 0; j < Y.cols(); ++j) {
+    const double* y = Y.data() + j * n;
+    Packet acc0[A], acc1[A];
+    for (int i = 0; i < A; ++i) {
+      acc0[i] = pmul(ploadu<Packet>(x0 + i * n), ploadu<Packet>(y));
+      acc1[i] = pmul(ploadu<Packet>(x0 + i * n + 2), ploadu<Packet>(y + 2));
+    }
+    for (Eigen::Index r = 4; r < n4; r += 4) {
+      const Packet y0 = ploadu<Packet>(y + r), y1 = ploadu<Packet>(y + r + 2);
+      for (int i = 0; i < A; ++i) {
+        acc0[i] = padd(acc0[i], pmul(ploadu<Packet>(x0 + i * n + r), y0));
+        acc1[i] = padd(acc1[i], pmul(ploadu<Packet>(x0 + i * n + r + 2), y1));
+      }
+    }
+    for (int i = 0; i < A; ++i) {
+      const double* x = x0 + i * n;
+      Packet acc = padd(acc0[i], acc1[i]);
+      if (n2 > n4) acc = padd(acc, pmul(ploadu<Packet>(x + n4), ploadu<Packet>(y + n4)));
+      double sum = Eigen::internal::predux(acc);
+      for (Eigen::Index r = n2; r < n; ++r) sum += x[r] * y[r];
+      out(i, j) = sum;
+    }
+  }
+}
+
+// out = X^T Y, the numbers of X.transpose().lazyProduct(Y): by transposeProductColumns where its
+// summation order is Eigen's (2-lane packets, at least 4 rows, X of at most 8 columns), otherwise
+// by the lazy product itself.
+template <typename Out>
+void transposeProduct(const Eigen::MatrixXd& X, const Eigen::MatrixXd& Y, Out&& out) {
+  constexpr bool two_lanes = Eigen::internal::packet_traits<double>::Vectorizable &&
+                             Eigen::internal::packet_traits<double>::size == 2;
+  if constexpr (two_lanes) {
+    if (X.rows() >= 4 && X.rows() == Y.rows()) {
+      switch (X.cols()) {
+        case 1:
+          return transposeProductColumns<1>(X, Y, out);
+        case 2:
+          return transposeProductColumns<2>(X, Y, out);
+        case 3:
+          return transposeProductColumns<3>(X, Y, out);
+        case 4:
+          return transposeProductColumns<4>(X, Y, out);
+        case 5:
+          return transposeProductColumns<5>(X, Y, out);
+        case 6:
+          return transposeProductColumns<6>(X, Y, out);
+        case 7:
+          return transposeProductColumns<7>(X, Y, out);
+        case 8:
+          return transposeProductColumns<8>(X, Y, out);
+        default:
+          break;
+      }
+    }
+  }
+  out.noalias() = X.transpose().lazyProduct(Y);
+}
 
 // The lower triangle of a symmetric block copied into its upper triangle.
 template <typename Block>
@@ -249,57 +326,51 @@ void NormalMatrixReducer::reset() {
 // Schur complement of r_j (docs/method.md section 3), as symmetric rank updates without forming it:
 //   N_red += A_g^T A_g - Y^T Y,   Y = S A_r^T A_g,   S^T S = (A_r^T A_r)^+.
 // The global columns are p (0..n_p) and the artifact's c (c_offset..): the c rows lie below p.
+// The block's products (A_r^T A_r, A_r^T A_g, A_g^T A_g) are formed first (BlockProducts), then
+// reduced: N_red += G - Y^T Y adds the same numbers as the rank updates into N_red did.
 void NormalMatrixReducer::add(const ObservationBlock& block, int artifact_index,
-                              PlacementElimination* elimination, int max_rigid_rank) {
+                              PlacementElimination* elimination, int max_rigid_rank,
+                              BlockProducts* products) {
+  BlockProducts& P = products ? *products : products_;
   const int n_p = layout_.parameters;
   const int n_c = static_cast<int>(block.A_c.cols());
   const int n_g = n_p + n_c;
-  const int c_offset = layout_.artifact_offset[static_cast<std::size_t>(artifact_index)];
   const auto& A_p = block.A_p;
   const auto& A_c = block.A_c;
   const auto& A_r = block.A_r;
 
-  M_rr_.noalias() = A_r.transpose().lazyProduct(A_r);
-  const RigidBlockRoot S(M_rr_, block.rigid_primary, max_rigid_rank);
-  rigid_ranks_.push_back(S.rank());
-  unreduced_diagonal_ += A_p.colwise().squaredNorm().transpose();
+  P.rigid_primary = block.rigid_primary;
+  P.M_rr.resize(A_r.cols(), A_r.cols());
+  transposeProduct(A_r, A_r, P.M_rr);
+  P.unreduced = A_p.colwise().squaredNorm().transpose();
   // A_c has a few non-zeros per column (the readings of one feature, whitened within each
   // reading: 6 of 150 rows for a plate read with two styli): its products as a sparse matrix.
   // Without systematic errors none is made (even an empty one allocates).
   std::optional<Eigen::SparseMatrix<double>> sparse;
   if (n_c > 0) sparse.emplace(A_c.sparseView());
-  M_rg_.resize(A_r.cols(), n_g);
-  M_rg_.leftCols(n_p).noalias() = A_r.transpose().lazyProduct(A_p);
-  if (n_c > 0) M_rg_.rightCols(n_c) = (sparse->transpose() * A_r).transpose();
-  S.apply(M_rg_, X_);  // Y
-  const auto Y_p = X_.leftCols(n_p);
-  auto N_pp = N_.topLeftCorner(n_p, n_p);
+  P.M_rg.resize(A_r.cols(), n_g);
+  transposeProduct(A_r, A_p, P.M_rg.leftCols(n_p));
+  if (n_c > 0) P.M_rg.rightCols(n_c) = (sparse->transpose() * A_r).transpose();
+  // G = A_g^T A_g: its p block (the lower triangle, or all of it for a few parameters), its c
+  // block and its c x p block (the p x c block is not formed).
+  P.G.resize(n_g, n_g);
+  auto G_pp = P.G.topLeftCorner(n_p, n_p);
   if (n_p <= kSmallProblem) {
     // A few parameters (the seed's arm: 3): coefficient-wise products; the blocked symmetric
     // rank update's set-up costs more than the arithmetic there.
-    N_pp.noalias() += A_p.transpose().lazyProduct(A_p);
-    N_pp.noalias() -= Y_p.transpose().lazyProduct(Y_p);
+    transposeProduct(A_p, A_p, G_pp);
   } else {
-    N_pp.selfadjointView<Eigen::Lower>().rankUpdate(A_p.transpose());
-    N_pp.selfadjointView<Eigen::Lower>().rankUpdate(Y_p.transpose(), -1.0);
-    mirrorLower(N_pp);
+    G_pp.setZero();
+    G_pp.selfadjointView<Eigen::Lower>().rankUpdate(A_p.transpose());
   }
   if (n_c > 0) {
-    const auto Y_c = X_.rightCols(n_c);
-    auto N_cc = N_.block(c_offset, c_offset, n_c, n_c);
     const Eigen::SparseMatrix<double>& A_c_sparse = *sparse;
-    N_cc += Eigen::MatrixXd(A_c_sparse.transpose() * A_c_sparse);
-    N_cc.selfadjointView<Eigen::Lower>().rankUpdate(Y_c.transpose(), -1.0);
-    mirrorLower(N_cc);
-    auto N_cp = N_.block(c_offset, 0, n_c, n_p);
-    N_cp.noalias() += A_c_sparse.transpose() * A_p;
-    N_cp.noalias() -= Y_c.transpose() * Y_p;
-    N_.block(0, c_offset, n_p, n_c) = N_cp.transpose();
+    P.G.bottomRightCorner(n_c, n_c) = Eigen::MatrixXd(A_c_sparse.transpose() * A_c_sparse);
+    P.G.bottomLeftCorner(n_c, n_p).noalias() = A_c_sparse.transpose() * A_p;
   }
+  const RigidBlockRoot S(P.M_rr, P.rigid_primary, max_rigid_rank);
+  reduce(P, S, artifact_index);
 
-  columns_.resize(static_cast<std::size_t>(n_g));
-  for (int i = 0; i < n_p; ++i) columns_[static_cast<std::size_t>(i)] = i;
-  for (int i = 0; i < n_c; ++i) columns_[static_cast<std::size_t>(n_p + i)] = c_offset + i;
   const bool with_residuals = block.e.size() == block.rows();
   if (with_residuals) {
     // b -= A_g^T e - Y^T S A_r^T e
@@ -314,10 +385,52 @@ void NormalMatrixReducer::add(const ObservationBlock& block, int artifact_index,
   }
   if (elimination) {
     elimination->M_rr_pinv = S.pseudoInverse();
-    elimination->M_rg = M_rg_;
-    elimination->g_r = with_residuals ? g_r_ : Eigen::VectorXd::Zero(M_rr_.rows());
+    elimination->M_rg = P.M_rg;
+    elimination->g_r = with_residuals ? g_r_ : Eigen::VectorXd::Zero(P.M_rr.rows());
     elimination->columns = columns_;
   }
+}
+
+void NormalMatrixReducer::add(const BlockProducts& products, int artifact_index,
+                              int max_rigid_rank) {
+  const RigidBlockRoot S(products.M_rr, products.rigid_primary, max_rigid_rank);
+  reduce(products, S, artifact_index);
+}
+
+void NormalMatrixReducer::reduce(const BlockProducts& products, const RigidBlockRoot& S,
+                                 int artifact_index) {
+  const int n_p = layout_.parameters;
+  const int n_g = static_cast<int>(products.M_rg.cols());
+  const int n_c = n_g - n_p;
+  const int c_offset = layout_.artifact_offset[static_cast<std::size_t>(artifact_index)];
+  rigid_ranks_.push_back(S.rank());
+  unreduced_diagonal_ += products.unreduced;
+  S.apply(products.M_rg, X_);  // Y
+  const auto Y_p = X_.leftCols(n_p);
+  auto N_pp = N_.topLeftCorner(n_p, n_p);
+  const auto G_pp = products.G.topLeftCorner(n_p, n_p);
+  if (n_p <= kSmallProblem) {
+    N_pp += G_pp;
+    N_pp.noalias() -= Y_p.transpose().lazyProduct(Y_p);
+  } else {
+    N_pp.triangularView<Eigen::Lower>() += G_pp;
+    N_pp.selfadjointView<Eigen::Lower>().rankUpdate(Y_p.transpose(), -1.0);
+    mirrorLower(N_pp);
+  }
+  if (n_c > 0) {
+    const auto Y_c = X_.rightCols(n_c);
+    auto N_cc = N_.block(c_offset, c_offset, n_c, n_c);
+    N_cc += products.G.bottomRightCorner(n_c, n_c);
+    N_cc.selfadjointView<Eigen::Lower>().rankUpdate(Y_c.transpose(), -1.0);
+    mirrorLower(N_cc);
+    auto N_cp = N_.block(c_offset, 0, n_c, n_p);
+    N_cp += products.G.bottomLeftCorner(n_c, n_p);
+    N_cp.noalias() -= Y_c.transpose() * Y_p;
+    N_.block(0, c_offset, n_p, n_c) = N_cp.transpose();
+  }
+  columns_.resize(static_cast<std::size_t>(n_g));
+  for (int i = 0; i < n_p; ++i) columns_[static_cast<std::size_t>(i)] = i;
+  for (int i = 0; i < n_c; ++i) columns_[static_cast<std::size_t>(n_p + i)] = c_offset + i;
 }
 
 Eigen::MatrixXd NormalMatrixReducer::normalWithPrior() const {

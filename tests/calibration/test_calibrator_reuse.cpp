@@ -128,5 +128,42 @@ TEST(CalibratorReuse, RunAfterANewProbeNoiseEqualsAFreshCalibrator) {
   }
 }
 
+// The weak rule held parameters after prepare() (calibrate_readings.cpp): the narrowed
+// calibrator's linearisation from the prepared one's blocks must be the one a calibrator builds
+// for the narrowed set at the same state, and so must the calibration that starts from it.
+TEST(CalibratorReuse, PreparedWithoutHeldParametersEqualsAFreshPrepare) {
+  for (const Plan& original : {frontCenter(), poseTracker()}) {
+    SCOPED_TRACE(original.name);
+    Plan plan = original;
+    Calibrator wide(plan);
+    const CalibrationState start = wide.initialState(plan.placements, plan.machine.nominal);
+    ASSERT_TRUE(wide.prepare(plan.placements, start));
+    std::vector<int> columns, kept;  // every third parameter held
+    for (int k = 0; k < static_cast<int>(plan.machine.calibrated.size()); ++k) {
+      if (k % 3 == 1) continue;
+      columns.push_back(k);
+      kept.push_back(plan.machine.calibrated[static_cast<std::size_t>(k)]);
+    }
+    plan.machine.calibrated = kept;
+    Calibrator narrowed(plan);
+    ASSERT_TRUE(narrowed.prepareFrom(wide, columns, plan.placements));
+    Calibrator fresh(plan);
+    ASSERT_TRUE(fresh.prepare(plan.placements, start));
+    const Linearization& a = narrowed.linearization();
+    const Linearization& b = fresh.linearization();
+    ASSERT_EQ(a.N.rows(), static_cast<int>(kept.size()));
+    EXPECT_EQ(a.cost, b.cost);
+    EXPECT_TRUE(a.N == b.N);
+    EXPECT_TRUE(a.b == b.b);
+    EXPECT_EQ(a.rigid_reduction, b.rigid_reduction);
+    const Calibration from_narrowed = narrowed.run(plan.placements, start);
+    const Calibration from_fresh = fresh.run(plan.placements, start);
+    ASSERT_TRUE(from_fresh.summary.converged());
+    EXPECT_EQ(from_narrowed.summary.iterations, from_fresh.summary.iterations);
+    EXPECT_TRUE(from_narrowed.parameters == from_fresh.parameters);
+    EXPECT_EQ(from_narrowed.chi2, from_fresh.chi2);
+  }
+}
+
 }  // namespace calibrator_reuse_test
 }  // namespace artcal

@@ -218,6 +218,48 @@ TEST(Evaluator, SchurReductionEqualsTheDenseFullInverse) {
             1e-12 * info.cwiseAbs().maxCoeff());
 }
 
+// A placement's products reduced again (what Calibrator::information does with a linearisation's
+// blocks) give exactly what reducing its block gives, under either rank policy: the 6-axis arm
+// (21 parameters: the blocked rank updates) with bars that carry a systematic length error, read
+// at parameters off nominal so that the bars' roll looks observed without the features' cap.
+TEST(Evaluator, BlockProductsReduceAsTheirBlock) {
+  Plan plan = aacmmPlan();
+  const Artifact& bar = plan.artifacts[0];
+  plan.artifacts[0] =
+      Artifact::ballBar(bar.id, 3, (bar.features.col(1) - bar.features.col(0)).norm(), 0.002);
+  const std::vector<Placement> placements = randomSpatialBars(plan, 4, 3, 5);
+  const auto poses = fitPlacements(plan, placements, plan.machine.nominal);
+  Eigen::VectorXd p = plan.machine.nominal;
+  p[plan.machine.calibrated[0]] += 0.5;
+  p[plan.machine.calibrated[5]] += 0.3;
+  const GlobalLayout layout = GlobalLayout::of(plan);
+  ASSERT_GT(layout.parameters, 8);
+  ASSERT_EQ(layout.systematicCount(), 1);
+
+  DesignMatrixBuilder builder(plan.machine, plan.noise);
+  NormalMatrixReducer capped(layout), full(layout), capped_again(layout), full_again(layout);
+  std::vector<BlockProducts> products(placements.size());
+  std::vector<int> caps;
+  ObservationBlock block;
+  for (std::size_t j = 0; j < placements.size(); ++j) {
+    builder.build(plan.artifacts[0], placements[j].measurements, p, poses[j],
+                  Eigen::VectorXd::Constant(1, 0.01), true, block);
+    caps.push_back(rigidRankOfFeatures(plan.artifacts[0], placements[j].measurements));
+    capped.add(block, 0, nullptr, caps.back(), &products[j]);
+    full.add(block, 0);
+  }
+  for (std::size_t j = 0; j < placements.size(); ++j) {
+    capped_again.add(products[j], 0, caps[j]);
+    full_again.add(products[j], 0);
+  }
+  ASSERT_NE(full.rigidRanks(), capped.rigidRanks());  // the two policies differ here
+  EXPECT_EQ(full_again.rigidRanks(), full.rigidRanks());
+  EXPECT_TRUE(full_again.normal() == full.normal());
+  EXPECT_TRUE(full_again.unreducedDiagonal() == full.unreducedDiagonal());
+  EXPECT_EQ(capped_again.rigidRanks(), capped.rigidRanks());
+  EXPECT_TRUE(capped_again.normal() == capped.normal());
+}
+
 // The back-substitution of the calibrator: r_j steps recovered from the reduced solution equal
 // the r_j part of the dense solution of the full normal equations.
 TEST(Evaluator, RigidStepBackSubstitutionMatchesTheDenseSolve) {

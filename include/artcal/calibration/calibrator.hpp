@@ -169,6 +169,9 @@ struct Linearization {
   /// what the rank rule at the estimate and the probe-noise estimate read back
   /// (Calibrator::information, Calibrator::misfits) instead of building them again.
   std::vector<ObservationBlock> blocks;
+  /// Per placement, its block's products (NormalMatrixReducer::add): what the rank rule reduces
+  /// again with each placement's full rigid motion (Calibrator::information).
+  std::vector<BlockProducts> products;
   double predictedReduction(const Eigen::VectorXd& dg) const;
 };
 
@@ -199,6 +202,14 @@ class Calibrator {
   /// the same state over the same placements, noise unchanged, starts from it instead of
   /// linearising again. What the rank rule at the starting values reads (information()).
   bool prepare(const std::vector<Placement>& placements, const CalibrationState& state);
+  /// prepare() at `other`'s prepared state, for this calibrator's plan calibrating the parameters
+  /// at positions `columns` of the set `other` was prepared with (the weak rule held the rest):
+  /// `other`'s blocks without the other columns of A_p, reduced again. The same blocks a build
+  /// would give (the columns of A_p are independent; r, c, the residuals and the weights do not
+  /// depend on the calibrated set) without evaluating the readings again. Falls back to
+  /// prepare() when `other` holds no prepared linearisation of `placements`.
+  bool prepareFrom(const Calibrator& other, const std::vector<int>& columns,
+                   const std::vector<Placement>& placements);
   /// The last linearisation with its own weights: prepare()'s, or the estimate's after run().
   const Linearization& linearization() const { return current_lin_; }
   /// The information of p at linearization()'s state, each placement's *full* rigid motion

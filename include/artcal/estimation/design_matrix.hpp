@@ -31,9 +31,11 @@ struct ObservationBlock {
 /// One reading's misfit in its valued artifact coordinates, before whitening: the residual
 /// F - W* and the encoders' part of its covariance, J_q Sigma_q J_q^T (the probe adds s_p^2 I).
 /// The probe-noise estimate (calibration/calibrate_readings.hpp) solves for s_p from these.
+/// A point's 3 valued coordinates or fewer, a pose's 6.
 struct ReadingMisfit {
-  Eigen::VectorXd residual;
-  Eigen::MatrixXd encoder_covariance;
+  // At most 6 rows (a pose: the point's, then the orientation's), on the stack.
+  Eigen::Matrix<double, Eigen::Dynamic, 1, Eigen::ColMajor, 6, 1> residual;
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, 6, 6> encoder_covariance;
 };
 
 /// The whitening factors L of a placement's readings (Sigma_ij = L L^T, section 2), in reading
@@ -81,6 +83,8 @@ class DesignMatrixBuilder {
   /// the point's `k` valued rows (rotated by R_valued) then a pose's orientation rows.
   Small readingFactor(const Eigen::Ref<const Eigen::MatrixXd>& R_valued, int per, int k,
                       double sigma_p2, double sigma_angle2, const Artifact& artifact);
+  /// readingFactor of a point reading (`k` rows).
+  Small pointFactor(const Eigen::Ref<const Eigen::MatrixXd>& R_valued, int k, double sigma_p2);
   /// weights.factors[i] (of `readings`) = L, zero-padded.
   static void storeFactor(ReadingWeights& weights, std::size_t readings, std::size_t i,
                           const Small& L);

@@ -72,6 +72,16 @@ struct PlacementElimination {
   Eigen::VectorXd rigidStep(const Eigen::VectorXd& dg) const;
 };
 
+/// A placement's whitened products before its rigid motion is eliminated: what reducing it
+/// again under another rank policy needs, without its block (Calibrator::information).
+struct BlockProducts {
+  Eigen::MatrixXd M_rr;       ///< A_r^T A_r
+  Eigen::MatrixXd M_rg;       ///< A_r^T A_g over the placement's global columns (p, then its c)
+  Eigen::MatrixXd G;          ///< A_g^T A_g: its p block's lower triangle, its c rows (see .cpp)
+  Eigen::VectorXd unreduced;  ///< diag(A_p^T A_p)
+  int rigid_primary = 0;      ///< ObservationBlock::rigid_primary
+};
+
 /// Accumulates N_red (and, with residuals, the reduced right-hand side b = -A^T e reduced).
 class NormalMatrixReducer {
  public:
@@ -80,9 +90,14 @@ class NormalMatrixReducer {
   /// Adds one placement of artifact `artifact_index`. When `elimination` is given it receives
   /// what back-substitution needs. `max_rigid_rank` (>= 0) caps the observed rigid directions
   /// at that many, the best observed ones (the calibrator passes the rank at the nominal
-  /// readings, so that noise cannot make an unseen direction look observed).
+  /// readings, so that noise cannot make an unseen direction look observed). `products`, when
+  /// given, receives the block's products (add(products, ...) reduces them again).
   void add(const ObservationBlock& block, int artifact_index,
-           PlacementElimination* elimination = nullptr, int max_rigid_rank = -1);
+           PlacementElimination* elimination = nullptr, int max_rigid_rank = -1,
+           BlockProducts* products = nullptr);
+  /// Adds a placement from the products of its block (no residuals): the same N_red, unreduced
+  /// diagonal and rigid rank as add() of that block, without multiplying its rows again.
+  void add(const BlockProducts& products, int artifact_index, int max_rigid_rank = -1);
 
   const Eigen::MatrixXd& normal() const { return N_; }  ///< N_red over g, no prior yet
   const Eigen::VectorXd& rhs() const { return b_; }     ///< -reduced A^T e
@@ -108,8 +123,14 @@ class NormalMatrixReducer {
   Eigen::VectorXd unreduced_diagonal_;
   std::vector<int> rigid_ranks_;
   std::vector<int> columns_;
-  Eigen::MatrixXd A_g_, M_rr_, M_rr_pinv_, M_rg_, X_;
+  BlockProducts products_;  ///< scratch of add(block) without `products`
+  Eigen::MatrixXd X_;
   Eigen::VectorXd g_r_;
+
+  class RigidBlockRoot;
+  /// N_red += the placement's Schur complement from its products under the factor S; leaves
+  /// Y = S M_rg in X_ and the global columns in columns_.
+  void reduce(const BlockProducts& products, const RigidBlockRoot& S, int artifact_index);
 };
 
 /// The rigid directions the measured features of a placement can see, from the artifact's
