@@ -5,6 +5,7 @@
 #include <Eigen/SparseCore>
 #include <cmath>
 #include <optional>
+#include <utility>
 
 #include "artcal/core/linear_algebra.hpp"
 
@@ -276,26 +277,11 @@ void transposeProduct(const Eigen::MatrixXd& X, const Eigen::MatrixXd& Y, Out&& 
                              Eigen::internal::packet_traits<double>::size == 2;
   if constexpr (two_lanes) {
     if (X.rows() >= 4 && X.rows() == Y.rows()) {
-      switch (X.cols()) {
-        case 1:
-          return transposeProductColumns<1>(X, Y, out);
-        case 2:
-          return transposeProductColumns<2>(X, Y, out);
-        case 3:
-          return transposeProductColumns<3>(X, Y, out);
-        case 4:
-          return transposeProductColumns<4>(X, Y, out);
-        case 5:
-          return transposeProductColumns<5>(X, Y, out);
-        case 6:
-          return transposeProductColumns<6>(X, Y, out);
-        case 7:
-          return transposeProductColumns<7>(X, Y, out);
-        case 8:
-          return transposeProductColumns<8>(X, Y, out);
-        default:
-          break;
-      }
+      // X.cols() in 1..8: the kernel of that width (a fold over the widths).
+      const auto kernel = [&]<int... W>(std::integer_sequence<int, W...>) {
+        return ((X.cols() == W + 1 && (transposeProductColumns<W + 1>(X, Y, out), true)) || ...);
+      };
+      if (kernel(std::make_integer_sequence<int, 8>{})) return;
     }
   }
   out.noalias() = X.transpose().lazyProduct(Y);

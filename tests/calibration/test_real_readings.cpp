@@ -190,19 +190,28 @@ TEST(RealReadingsRankPolicy, OffNominalReadingsKeepTheNominalSet) {
 // 0.001 deg, the encoders' part held as stated), the estimated s_p^2 averages the true one within
 // three standard errors, and each run's estimate lies within 4 of its own u of the truth; the
 // start (0.1 mm, twenty times the truth) does not matter.
-/// The spread of the estimated s_p over seeded runs against the u each run reports (the mean u):
-/// their ratio is 1 within three of the sample standard deviation's relative standard errors,
-/// 1 / sqrt(2 (runs - 1)).
-class SpreadAgainstU {
+/// The estimated s_p of seeded runs against the truth they were simulated with: the mean of
+/// s_p^2 / truth^2 is 1 within three standard errors (unbiased variance), and the spread of s_p
+/// agrees with the u each run reports (the mean u) within three of the sample standard
+/// deviation's relative standard errors, 1 / sqrt(2 (runs - 1)).
+class NoiseEstimateRuns {
  public:
-  void add(double estimate, double u) {
-    estimates_.push_back(estimate);
-    u_sum_ += u;
+  explicit NoiseEstimateRuns(double truth) : truth_(truth) {}
+  void add(const NoiseEstimate& e) {
+    estimates_.push_back(e.probe);
+    u_sum_ += e.u;
   }
   void expectAgreement() const {
     const auto n = static_cast<double>(estimates_.size());
-    double mean = 0.0;
-    for (double e : estimates_) mean += e / n;
+    double ratio = 0.0, ratio_square = 0.0, mean = 0.0;
+    for (double e : estimates_) {
+      const double r = e * e / (truth_ * truth_);
+      ratio += r / n;
+      ratio_square += r * r / n;
+      mean += e / n;
+    }
+    const double standard_error = std::sqrt((ratio_square - ratio * ratio) / (n - 1.0));
+    EXPECT_NEAR(ratio, 1.0, 3.0 * standard_error);
     double square = 0.0;
     for (double e : estimates_) square += (e - mean) * (e - mean);
     const double spread = std::sqrt(square / (n - 1.0));
@@ -212,40 +221,41 @@ class SpreadAgainstU {
   }
 
  private:
+  double truth_;
   std::vector<double> estimates_;
   double u_sum_ = 0.0;
 };
+
+/// `plan` (a copy of `planned`) with readings simulated at the nominal machine (`seed`), calibrated
+/// with the probe noise estimated from a start of 0.1 mm.
+Calibration calibratedWithEstimatedNoise(const Plan& planned, std::uint64_t seed, Plan& plan) {
+  NormalSource normal(seed);
+  plan = planned;
+  plan.placements = Simulator(planned, {}).simulate(planned.machine.nominal, normal).placements;
+  plan.noise.probe = 0.1;
+  plan.noise.estimate_probe = true;
+  return calibrateReadings(plan);
+}
 
 TEST(RealReadingsNoise, TheEstimateRecoversTheSimulatedProbeNoise) {
   const json document = readJsonFile(test_support::planFile("paper-2r-20bars.json"));
   const Plan planned = parsePlan(document, "p.json");
   const double truth = planned.noise.probe;
   constexpr int kRuns = 40;
-  double sum = 0.0;
-  double sum_square = 0.0;
-  SpreadAgainstU spread;
+  NoiseEstimateRuns runs(truth);
   for (int run = 0; run < kRuns; ++run) {
-    NormalSource normal(1000 + static_cast<std::uint64_t>(run));
-    Plan plan = planned;
-    plan.placements = Simulator(planned, {}).simulate(planned.machine.nominal, normal).placements;
-    plan.noise.probe = 0.1;
-    plan.noise.estimate_probe = true;
-    const Calibration c = calibrateReadings(plan);
+    Plan plan;
+    const Calibration c =
+        calibratedWithEstimatedNoise(planned, 1000 + static_cast<std::uint64_t>(run), plan);
     ASSERT_TRUE(c.summary.converged()) << run;
     ASSERT_TRUE(c.noise_estimate) << run;
     const NoiseEstimate& e = *c.noise_estimate;
     EXPECT_DOUBLE_EQ(e.probe, plan.noise.probe);
     EXPECT_LT(std::abs(e.probe - truth), 4.0 * e.u) << run;
-    spread.add(e.probe, e.u);
+    runs.add(e);
     EXPECT_NEAR(c.chi2_per_dof, 1.0, 2e-3) << run;  // the estimate makes chi2 = dof
-    const double ratio = e.probe * e.probe / (truth * truth);
-    sum += ratio;
-    sum_square += ratio * ratio;
   }
-  const double mean = sum / kRuns;
-  const double standard_error = std::sqrt((sum_square / kRuns - mean * mean) / (kRuns - 1));
-  EXPECT_NEAR(mean, 1.0, 3.0 * standard_error);
-  spread.expectAgreement();
+  runs.expectAgreement();
 }
 
 // A 6-DOF tracker's readings (plans/tracker-arm6-pose.json: 2 stations x 25 poses, the tracker
@@ -266,29 +276,21 @@ TEST(RealReadingsNoise, ThePoseEstimateRecoversTheSimulatedScatterFromAllRows) {
   EXPECT_NEAR(std::sqrt(readingAngleVariance(truth, true, tracker.noise, tracker.noise_angle)),
               degToRad(0.005) * std::sqrt(1.0 + 0.03 * 0.03 / (0.02 * 0.02)), 1e-15);
   constexpr int kRuns = 40;
-  double sum = 0.0, sum_square = 0.0;
-  SpreadAgainstU spread;
+  NoiseEstimateRuns runs(truth);
   for (int run = 0; run < kRuns; ++run) {
-    NormalSource normal(2000 + static_cast<std::uint64_t>(run));
-    Plan plan = planned;
-    plan.placements = Simulator(planned, {}).simulate(planned.machine.nominal, normal).placements;
-    plan.noise.probe = 0.1;
-    const Calibration c = calibrateReadings(plan);
+    Plan plan;
+    const Calibration c =
+        calibratedWithEstimatedNoise(planned, 2000 + static_cast<std::uint64_t>(run), plan);
     ASSERT_TRUE(c.summary.converged()) << run;
     ASSERT_TRUE(c.noise_estimate) << run;
     EXPECT_EQ(c.dof, 2 * 25 * 6 - 2 * 6 - static_cast<int>(plan.machine.calibrated.size()));
     EXPECT_NEAR(c.chi2_per_dof, 1.0, 2e-3) << run;  // the estimate makes chi2 = dof
-    const double ratio = std::pow(c.noise_estimate->probe / truth, 2);
-    spread.add(c.noise_estimate->probe, c.noise_estimate->u);
-    sum += ratio;
-    sum_square += ratio * ratio;
+    runs.add(*c.noise_estimate);
   }
-  const double mean = sum / kRuns;
-  const double standard_error = std::sqrt((sum_square / kRuns - mean * mean) / (kRuns - 1));
-  EXPECT_NEAR(mean, 1.0, 3.0 * standard_error);  // measured: 1.0012, standard error 0.0200
-  // u(s_p) counts the tracker's own 0.02 mm: (s_i^2 + s_p^2) / (s_p sqrt(2 dof)), 1.44 times
-  // s_p / sqrt(2 dof) here, and the runs' spread says so.
-  spread.expectAgreement();
+  // Measured: mean s_p^2/truth^2 1.0012, standard error 0.0200. u(s_p) counts the tracker's own
+  // 0.02 mm, (s_i^2 + s_p^2) / (s_p sqrt(2 dof)), 1.44 times s_p / sqrt(2 dof) here, and the
+  // runs' spread says so.
+  runs.expectAgreement();
 }
 
 // --------------------------------------------------------------------------- the MUKCa robots

@@ -350,6 +350,19 @@ class ReportCli : public ::testing::Test {
 
   static std::string data(const std::string& name) { return test_support::testDataFile(name); }
 
+  /// verify --json of `held` with the nominal machine and with the machine calibrate
+  /// --write-machine writes to `cal` from `trained`.
+  std::pair<json, json> verifiedNominalAndCalibrated(const fs::path& trained, const fs::path& held,
+                                                     const fs::path& cal) const {
+    EXPECT_EQ(run("calibrate \"" + trained.string() + "\" --write-machine \"" + cal.string() + "\"")
+                  .status,
+              0);
+    return {
+        json::parse(run("verify --json \"" + held.string() + "\"").out),
+        json::parse(
+            run("verify --json \"" + held.string() + "\" --machine \"" + cal.string() + "\"").out)};
+  }
+
   fs::path dir_;
 };
 
@@ -917,12 +930,7 @@ TEST_F(ReportCli, HeldOutStationsEqualVerifyWithTheNominalAndTheCalibratedMachin
                        "\" --json -o \"" + html_path.string() + "\"");
   ASSERT_EQ(r.status, 0) << r.err;
   const json summary = json::parse(r.out);
-  ASSERT_EQ(
-      run("calibrate \"" + trained.string() + "\" --write-machine \"" + cal.string() + "\"").status,
-      0);
-  const json nominal = json::parse(run("verify --json \"" + held.string() + "\"").out);
-  const json calibrated = json::parse(
-      run("verify --json \"" + held.string() + "\" --machine \"" + cal.string() + "\"").out);
+  const auto [nominal, calibrated] = verifiedNominalAndCalibrated(trained, held, cal);
   const json& shown = summary.at("held_out");
   for (const auto& [machine, verified] :
        {std::pair{"nominal", &nominal}, std::pair{"calibrated", &calibrated}}) {
@@ -995,12 +1003,7 @@ TEST_F(ReportCli, HeldOutPoseAnglesEqualVerifyWithTheNominalAndTheCalibratedMach
                        "\" --json -o \"" + html_path.string() + "\"");
   ASSERT_EQ(r.status, 0) << r.err;
   const json shown = json::parse(r.out).at("held_out");
-  ASSERT_EQ(
-      run("calibrate \"" + trained.string() + "\" --write-machine \"" + cal.string() + "\"").status,
-      0);
-  const json nominal = json::parse(run("verify --json \"" + held.string() + "\"").out);
-  const json calibrated = json::parse(
-      run("verify --json \"" + held.string() + "\" --machine \"" + cal.string() + "\"").out);
+  const auto [nominal, calibrated] = verifiedNominalAndCalibrated(trained, held, cal);
   const auto close = [](const json& a, const json& b) {
     return std::abs(a.get<double>() - b.get<double>()) <= 1e-9 * (1.0 + std::abs(b.get<double>()));
   };
