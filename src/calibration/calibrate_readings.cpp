@@ -94,23 +94,27 @@ SpectralMisfits spectralMisfits(const std::vector<ReadingMisfit>& misfits) {
   return out;
 }
 
-// Whitened chi2 of the readings' misfits at probe noise s (encoders as stated).
-double readingsChi2(const SpectralMisfits& misfits, double s) {
+// readings(s) at u = s^2, and its derivative in u, -sum_i (Q^T e)_i^2 / (lambda_i + u)^2: one pass
+// for Newton's steps and for the estimate's u.
+struct ReadingsChi2InVariance {
   double chi2 = 0.0;
-  for (std::size_t i = 0; i < misfits.lambda.size(); ++i) {
-    chi2 += misfits.projected[i] / (misfits.lambda[i] + s * s);
+  double slope = 0.0;  // d chi2 / du, negative
+};
+
+ReadingsChi2InVariance readingsChi2InVariance(const SpectralMisfits& misfits, double u) {
+  ReadingsChi2InVariance out;
+  for (std::size_t r = 0; r < misfits.lambda.size(); ++r) {
+    const double q = 1.0 / (misfits.lambda[r] + u);
+    const double term = misfits.projected[r] * q;
+    out.chi2 += term;
+    out.slope -= term * q;
   }
-  return chi2;
+  return out;
 }
 
-// d readings(s)/ds = -2 s sum_i (Q^T e)_i^2 / (lambda_i + s^2)^2, its magnitude.
-double readingsChi2Slope(const SpectralMisfits& misfits, double s) {
-  double sum = 0.0;
-  for (std::size_t i = 0; i < misfits.lambda.size(); ++i) {
-    const double v = misfits.lambda[i] + s * s;
-    sum += misfits.projected[i] / (v * v);
-  }
-  return 2.0 * s * sum;
+// Whitened chi2 of the readings' misfits at probe noise s (encoders as stated).
+double readingsChi2(const SpectralMisfits& misfits, double s) {
+  return readingsChi2InVariance(misfits, s * s).chi2;
 }
 
 // Bisection on log s within [low, high] until they agree to 1e-12: readings(s) = target.
@@ -134,13 +138,7 @@ double solveProbeNoise(const SpectralMisfits& misfits, double target, double low
   if (!(s > low && s < high)) s = std::sqrt(low * high);
   for (int i = 0; i < 100; ++i) {
     const double u = s * s;
-    double chi2 = 0.0, slope = 0.0;  // readings(s) and its derivative in u
-    for (std::size_t r = 0; r < misfits.lambda.size(); ++r) {
-      const double q = 1.0 / (misfits.lambda[r] + u);
-      const double term = misfits.projected[r] * q;
-      chi2 += term;
-      slope -= term * q;
-    }
+    const auto [chi2, slope] = readingsChi2InVariance(misfits, u);
     // Not finite (a misfit's NaN): what the bisection makes of it.
     if (!std::isfinite(chi2) || !std::isfinite(slope)) break;
     if (chi2 == target) return s;
@@ -178,7 +176,8 @@ ProbeNoiseSolution probeNoiseOfMisfits(const Plan& plan, const std::vector<Readi
   if (readingsChi2(misfits, high) >= target) return {high, 0.0};
   ProbeNoiseSolution out;
   out.s = solveProbeNoise(misfits, target, low, high, plan.noise.probe);
-  const double slope = readingsChi2Slope(misfits, out.s);
+  // |d chi2/ds| = 2 s |d chi2/du|.
+  const double slope = 2.0 * out.s * -readingsChi2InVariance(misfits, out.s * out.s).slope;
   out.u = slope > 0.0 && std::isfinite(slope) ? std::sqrt(2.0 * target) / slope : 0.0;
   return out;
 }
