@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "artcal/estimation/reading_noise.hpp"
+#include "artcal/estimation/reading_rows.hpp"
 
 namespace artcal {
 
@@ -318,13 +319,10 @@ void rewhitenReadings(int per, std::vector<Eigen::Matrix<double, 6, 6>>& factors
         T(r, c) = v / target(r, r);
       }
     }
-    const int row = n * static_cast<int>(i);
-    // A part without columns (no systematic error) has no data to take rows of.
-    for (Eigen::MatrixXd* part : {&block.A_p, &block.A_r, &block.A_c}) {
-      if (part->cols() > 0)
-        transformRows<K>(T, n, part->data() + row, part->outerStride(), part->cols());
-    }
-    transformRows<K>(T, n, block.e.data() + row, block.e.size(), 1);
+    forEachPartAtRow(block, n * static_cast<int>(i), true,
+                     [&](double* first, Eigen::Index stride, Eigen::Index cols) {
+                       transformRows<K>(T, n, first, stride, cols);
+                     });
     factors[i] = target;
   }
 }
@@ -371,20 +369,7 @@ bool Calibrator::rewhiten(const std::vector<Placement>& placements,
     ObservationBlock& block = current_lin_.blocks[j];
     auto& factors = current_lin_.weights[j].factors;
     const auto& own = targets[j].factors;
-    switch (per) {
-      case 1:
-        rewhitenReadings<1>(per, factors, own, block);
-        break;
-      case 2:
-        rewhitenReadings<2>(per, factors, own, block);
-        break;
-      case 3:
-        rewhitenReadings<3>(per, factors, own, block);
-        break;
-      default:
-        rewhitenReadings<Eigen::Dynamic>(per, factors, own, block);
-        break;
-    }
+    withReadingRows(per, [&]<int K>() { rewhitenReadings<K>(per, factors, own, block); });
     reducer_.add(block, placements[j].artifact, &current_lin_.eliminations[j], rigid_caps_[j],
                  &current_lin_.products[j]);
   }

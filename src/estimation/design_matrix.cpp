@@ -8,6 +8,7 @@
 #include "artcal/model/rotation_vector.hpp"
 
 #include "artcal/estimation/reading_noise.hpp"
+#include "artcal/estimation/reading_rows.hpp"
 
 namespace artcal {
 
@@ -50,28 +51,14 @@ void whitenRows(const Small& L, int k, double* first, Eigen::Index stride, Eigen
 }
 
 // One reading's rows (`row`, L's order) of every part of the block whitened.
-template <int K>
 void whitenReading(const Small& L, int row, bool with_residuals, ObservationBlock& block) {
   const int k = static_cast<int>(L.rows());
-  for (Eigen::MatrixXd* part : {&block.A_p, &block.A_r, &block.A_c}) {
-    // A part without columns (no systematic error) may have no data to point into.
-    if (part->cols() > 0)
-      whitenRows<K>(L, k, part->data() + row, part->outerStride(), part->cols());
-  }
-  if (with_residuals) whitenRows<K>(L, k, block.e.data() + row, block.e.size(), 1);
-}
-
-void whitenReading(const Small& L, int row, bool with_residuals, ObservationBlock& block) {
-  switch (L.rows()) {
-    case 1:
-      return whitenReading<1>(L, row, with_residuals, block);
-    case 2:
-      return whitenReading<2>(L, row, with_residuals, block);
-    case 3:
-      return whitenReading<3>(L, row, with_residuals, block);
-    default:
-      return whitenReading<Eigen::Dynamic>(L, row, with_residuals, block);
-  }
+  withReadingRows(k, [&]<int K>() {
+    forEachPartAtRow(block, row, with_residuals,
+                     [&](double* first, Eigen::Index stride, Eigen::Index cols) {
+                       whitenRows<K>(L, k, first, stride, cols);
+                     });
+  });
 }
 
 }  // namespace
