@@ -344,7 +344,9 @@ json verify(const PyPlan& p, const py::object& machine, const std::string& machi
     const StationsVerification stations = verifyStations(plan, parameters, uncertainty);
     if (onlyStations(plan, stations)) return verifyDocument(plan, stations, nullptr);
     const Verification verification = verifyMachine(plan, parameters, uncertainty);
-    return verifyDocument(plan, stations, &verification);
+    const std::optional<Verification> nominal =
+        calibrated ? verifyNominal(plan) : std::optional<Verification>();
+    return verifyDocument(plan, stations, &verification, nominal ? &*nominal : nullptr);
   });
 }
 

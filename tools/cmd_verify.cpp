@@ -52,10 +52,17 @@ int runVerify(const VerifyArguments& args) {
     return 0;
   }
   const Verification verification = verifyMachine(plan, p, uncertainty);
+  // A calibrated machine is shown beside the plan's nominal one on the same readings.
+  const std::optional<Verification> nominal = calibrated ? verifyNominal(plan) : std::nullopt;
+  const Verification* beside = nominal ? &*nominal : nullptr;
+  if (nominal) {
+    if (const std::string w = worseThanNominalWarning(verification, *nominal); !w.empty())
+      std::cerr << "warning: " << w << "\n";
+  }
   if (args.json) {
-    printJson(verifyDocument(plan, stations, &verification));
+    printJson(verifyDocument(plan, stations, &verification, beside));
   } else {
-    std::cout << verificationTable(plan, verification, args.outliers);
+    std::cout << verificationTable(plan, verification, args.outliers, beside);
     if (!stations.stations.empty()) std::cout << stationsVerificationTable(plan, stations);
   }
   return 0;

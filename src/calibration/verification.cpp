@@ -241,4 +241,22 @@ Verification verifyMachine(const Plan& plan, const Eigen::VectorXd& p,
   return out;
 }
 
+std::optional<Verification> verifyNominal(const Plan& plan, const VerifyOptions& options) {
+  try {
+    return verifyMachine(plan, plan.machine.nominal, std::nullopt, options);
+  } catch (const KinematicsError&) {
+    return std::nullopt;  // no nominal figures to compare with; the calibrated ones stand alone
+  }
+}
+
+std::vector<std::string> worseThanNominal(const Verification& calibrated,
+                                          const Verification& nominal) {
+  std::vector<std::string> worse;
+  if (calibrated.spread_mean > nominal.spread_mean) worse.emplace_back("spread_mean");
+  if (calibrated.spread_rms > nominal.spread_rms) worse.emplace_back("spread_rms");
+  if (calibrated.length_error_mean_abs > nominal.length_error_mean_abs)
+    worse.emplace_back("length_error_mean_abs");
+  return worse;
+}
+
 }  // namespace artcal

@@ -103,9 +103,45 @@ std::vector<ReadingPlace> largestDeviations(const Plan& plan, const Verification
   return all;
 }
 
+json overallFiguresToJson(const Verification& v) {
+  return {{"spread_mean", finiteOrNull(v.spread_mean)},
+          {"spread_rms", finiteOrNull(v.spread_rms)},
+          {"length_error_mean_abs", finiteOrNull(v.length_error_mean_abs)},
+          {"length_error_rms", finiteOrNull(v.length_error_rms)},
+          {"residual_rms", finiteOrNull(v.residual_rms)}};
+}
+
 }  // namespace
 
-json verificationToJson(const Plan& plan, const Verification& verification) {
+std::string worseThanNominalWarning(const Verification& calibrated, const Verification& nominal) {
+  const std::vector<std::string> worse = worseThanNominal(calibrated, nominal);
+  if (worse.empty()) return {};
+  std::ostringstream out;
+  out << "on these readings the calibrated machine does worse than the plan's nominal one (";
+  const char* separator = "";
+  for (const std::string& figure : worse) {
+    const bool spread_mean = figure == "spread_mean", spread_rms = figure == "spread_rms";
+    const double c = spread_mean  ? calibrated.spread_mean
+                     : spread_rms ? calibrated.spread_rms
+                                  : calibrated.length_error_mean_abs;
+    const double n = spread_mean  ? nominal.spread_mean
+                     : spread_rms ? nominal.spread_rms
+                                  : nominal.length_error_mean_abs;
+    out << separator
+        << (spread_mean  ? "spread mean "
+            : spread_rms ? "spread rms "
+                         : "length error mean |e| ")
+        << fixed(c, 3) << " mm > " << fixed(n, 3) << " mm";
+    separator = ", ";
+  }
+  out << "): the calibration does not hold here; calibrate with readings from more artifact "
+         "positions spread over the workspace (one position determines the machine only near "
+         "it), and compare the posterior prediction above with what is observed";
+  return out.str();
+}
+
+json verificationToJson(const Plan& plan, const Verification& verification,
+                        const Verification* nominal) {
   json placements = json::array();
   for (const PlacementVerification& v : verification.placements)
     placements.push_back(placementToJson(plan, v));
@@ -137,10 +173,19 @@ json verificationToJson(const Plan& plan, const Verification& verification) {
     largest.push_back(entry);
   }
   verify["largest_deviations"] = largest;
+  if (nominal) {
+    verify["nominal"] = overallFiguresToJson(*nominal);
+    verify["worse_than_nominal"] = worseThanNominal(verification, *nominal);
+    json warnings = json::array();
+    if (std::string w = worseThanNominalWarning(verification, *nominal); !w.empty())
+      warnings.push_back(std::move(w));
+    verify["warnings"] = warnings;
+  }
   return {{"plan", plan.name}, {"verify", verify}};
 }
 
-std::string verificationTable(const Plan& plan, const Verification& verification, int outliers) {
+std::string verificationTable(const Plan& plan, const Verification& verification, int outliers,
+                              const Verification* nominal) {
   std::ostringstream out;
   out << "Plan " << plan.name << ": " << verification.placements.size()
       << " placements verified, parameters held fixed (mm)\n";
@@ -191,6 +236,14 @@ std::string verificationTable(const Plan& plan, const Verification& verification
       << "  length error mean |e| " << fixed(verification.length_error_mean_abs, 4) << "   rms "
       << fixed(verification.length_error_rms, 4) << "\n"
       << "  residual rms " << fixed(verification.residual_rms, 4) << "\n";
+  if (nominal) {
+    out << "\nthe plan's nominal machine on the same readings\n"
+        << "  spread mean " << fixed(nominal->spread_mean, 4) << "   spread rms "
+        << fixed(nominal->spread_rms, 4) << "\n"
+        << "  length error mean |e| " << fixed(nominal->length_error_mean_abs, 4) << "   rms "
+        << fixed(nominal->length_error_rms, 4) << "\n"
+        << "  residual rms " << fixed(nominal->residual_rms, 4) << "\n";
+  }
   const std::vector<ReadingPlace> largest = largestDeviations(plan, verification, outliers);
   if (!largest.empty()) {
     out << "\nlargest deviations from their feature's mean (posture k: reading k of the "
@@ -217,8 +270,8 @@ bool onlyStations(const Plan& plan, const StationsVerification& stations) {
 }
 
 json verifyDocument(const Plan& plan, const StationsVerification& stations,
-                    const Verification* artifacts) {
-  json out = artifacts ? verificationToJson(plan, *artifacts) : json{{"plan", plan.name}};
+                    const Verification* artifacts, const Verification* nominal) {
+  json out = artifacts ? verificationToJson(plan, *artifacts, nominal) : json{{"plan", plan.name}};
   if (!stations.stations.empty()) out["instrument"] = stationsVerificationToJson(plan, stations);
   return out;
 }

@@ -367,6 +367,12 @@ TEST_F(MukcaReadings, Gen3LiteLeaveOneOutBeatsNominal) {
     EXPECT_LT(calibrated.mae, nominal.mae) << held;
     EXPECT_LT(calibrated.rms, nominal.rms) << held;
     EXPECT_LT(calibrated.distance, 2.0 * nominal.distance) << held;
+    const std::optional<Verification> beside = verifyNominal(position);
+    ASSERT_TRUE(beside);
+    EXPECT_EQ(beside->spread_mean, nominal.mae) << held;
+    const std::vector<std::string> worse =
+        worseThanNominal(verifyMachine(position, c.parameters, std::nullopt), *beside);
+    EXPECT_EQ(std::find(worse.begin(), worse.end(), "spread_mean"), worse.end()) << held;
     nominal_mean.mae += nominal.mae / 4;
     calibrated_mean.mae += calibrated.mae / 4;
     calibrated_mean.rms += calibrated.rms / 4;
@@ -391,6 +397,16 @@ TEST_F(MukcaReadings, Gen3LiteOnePositionConvergesAndWarnsWhereFooled) {
     expectUsableUncertainties(training, c, train);
     if (train == "front") {
       EXPECT_FALSE(c.warnings.empty());
+      // and verify says so where it does worse than nominal: lower_left spreads 10.2 mm about
+      // its sockets against nominal's 5.6 mm (the README: trained on front, a plain fit does
+      // worse than nominal).
+      const Plan lower_left = subset(document, "held-lower_left",
+                                     [](const std::string& n) { return n == "lower_left"; });
+      const std::optional<Verification> nominal = verifyNominal(lower_left);
+      ASSERT_TRUE(nominal);
+      const std::vector<std::string> worse =
+          worseThanNominal(verifyMachine(lower_left, c.parameters, std::nullopt), *nominal);
+      EXPECT_NE(std::find(worse.begin(), worse.end(), "spread_mean"), worse.end());
     }
   }
 }
@@ -514,6 +530,53 @@ TEST_F(RealReadingsCli, VerifyOfAnEstimatedNoisePlanPredictsWithTheEstimate) {
   const double with_estimate = verify(estimated, "");
   EXPECT_NEAR(with_estimate, verify(stated, ""), 1e-12 * with_estimate);
   EXPECT_NEAR(verify(estimated, "0.5"), with_estimate, 1e-12 * with_estimate);  // any start
+}
+
+// verify --machine shows the plan's nominal machine on the same readings beside the one verified
+// (the figures `verify` without --machine gives), and warns exactly when the machine verified does
+// worse: the machine that took the readings does better than nominal, one 0.3 deg off in the
+// other direction does worse.
+TEST_F(RealReadingsCli, VerifyShowsTheNominalMachineBesideAndWarnsWhenWorse) {
+  const std::string readings = simulate({{"l1", 150.02}, {"dt2", 0.2}});
+  const auto alone = test_support::runCli("verify --json " + readings);
+  ASSERT_EQ(alone.status, 0);
+  const json nominal = json::parse(alone.out)["verify"];
+  EXPECT_FALSE(nominal.contains("nominal"));  // nothing to compare the nominal machine with
+  const auto verify = [&](const json& parameters, const std::string& name) {
+    const std::string machine = write(name, json{{"parameters", parameters}}.dump());
+    return test_support::runCli("verify --json " + readings + " --machine " + machine);
+  };
+  const auto warnings = [&](const std::string& name) {
+    return test_support::runCli("verify " + readings + " --machine " + path(name),
+                                test_support::Stderr::Only)
+        .out;
+  };
+  const auto truth = verify({{"l1", 150.02}, {"dt2", 0.2}}, "truth.json");
+  const auto wrong = verify({{"l1", 150.02}, {"dt2", -0.3}}, "wrong.json");
+  ASSERT_EQ(truth.status, 0);
+  ASSERT_EQ(wrong.status, 0);
+  for (const auto* run : {&truth, &wrong}) {
+    const json beside = json::parse(run->out)["verify"]["nominal"];
+    for (const char* figure :
+         {"spread_mean", "spread_rms", "length_error_mean_abs", "length_error_rms", "residual_rms"})
+      EXPECT_EQ(beside[figure].get<double>(), nominal[figure].get<double>()) << figure;
+  }
+  const json good = json::parse(truth.out)["verify"];
+  // The seed's bars: one posture per ball, so the length errors are the figure compared.
+  EXPECT_LT(good["length_error_mean_abs"].get<double>(),
+            nominal["length_error_mean_abs"].get<double>());
+  EXPECT_TRUE(good["worse_than_nominal"].empty()) << good["worse_than_nominal"].dump();
+  EXPECT_TRUE(good["warnings"].empty());
+  EXPECT_EQ(warnings("truth.json").find("does worse"), std::string::npos);
+  const json bad = json::parse(wrong.out)["verify"];
+  EXPECT_GT(bad["length_error_mean_abs"].get<double>(),
+            nominal["length_error_mean_abs"].get<double>());
+  EXPECT_EQ(bad["worse_than_nominal"], json::array({"length_error_mean_abs"}));
+  ASSERT_EQ(bad["warnings"].size(), 1u);
+  EXPECT_NE(warnings("wrong.json")
+                .find("warning: on these readings the calibrated machine does worse than the "
+                      "plan's nominal one (length error mean |e| "),
+            std::string::npos);
 }
 
 // A correction beyond 5 % of the machine's mean link length (planar2r: (150 + 100) / 2 mm) or of

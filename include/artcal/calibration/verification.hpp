@@ -31,6 +31,7 @@
 
 #include <Eigen/Core>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "artcal/artifact/rigid_transform.hpp"
@@ -107,5 +108,16 @@ struct VerifyOptions {
 Verification verifyMachine(const Plan& plan, const Eigen::VectorXd& p,
                            const std::optional<ParameterUncertainty>& uncertainty,
                            const VerifyOptions& options = {});
+
+/// The plan's own nominal machine on the same readings, which `verify --machine` shows beside the
+/// calibrated one: a calibration that does worse than nominal on readings it never saw does not
+/// hold there (trained too far from them, or fooled by its own readings). nullopt when the
+/// nominal machine's forward kinematics fails on a reading.
+std::optional<Verification> verifyNominal(const Plan& plan, const VerifyOptions& options = {});
+
+/// The overall figures in which `calibrated` does worse than `nominal` on the same readings, by
+/// their JSON names: "spread_mean", "spread_rms", "length_error_mean_abs" (the MUKCa figures).
+std::vector<std::string> worseThanNominal(const Verification& calibrated,
+                                          const Verification& nominal);
 
 }  // namespace artcal

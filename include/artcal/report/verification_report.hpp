@@ -13,9 +13,16 @@
 
 namespace artcal {
 
-nlohmann::json verificationToJson(const Plan& plan, const Verification& verification);
+/// `nominal` (verify --machine): the plan's nominal machine on the same readings, shown beside
+/// (JSON "nominal", "worse_than_nominal" and "warnings"; the table's last block).
+nlohmann::json verificationToJson(const Plan& plan, const Verification& verification,
+                                  const Verification* nominal = nullptr);
 /// `outliers`: how many of the largest deviations from their feature's mean to list.
-std::string verificationTable(const Plan& plan, const Verification& verification, int outliers = 5);
+std::string verificationTable(const Plan& plan, const Verification& verification, int outliers = 5,
+                              const Verification* nominal = nullptr);
+/// The warning, empty when none, that the calibrated machine does worse than the nominal one on
+/// these readings, with the figures and what to do.
+std::string worseThanNominalWarning(const Verification& calibrated, const Verification& nominal);
 
 /// True when every placement of `plan` is an instrument station `stations` verified: each reading
 /// is then a feature of its own, and the artifact figures (a feature's spread over its postures,
@@ -25,6 +32,6 @@ bool onlyStations(const Plan& plan, const StationsVerification& stations);
 /// `artifacts` with the stations' under "instrument", or, for a plan of stations alone
 /// (`artifacts` null), the plan's name and the stations' figures.
 nlohmann::json verifyDocument(const Plan& plan, const StationsVerification& stations,
-                              const Verification* artifacts);
+                              const Verification* artifacts, const Verification* nominal = nullptr);
 
 }  // namespace artcal
