@@ -1,0 +1,136 @@
+#!/usr/bin/env python3
+"""Held-out figures of a plain calibration of the MUKCa robots, as a new user measures them.
+
+For every fold: `artcal import-readings` of the training positions (the URDF as it is,
+"identifiable", probe noise 0.1 mm, no prior), `artcal calibrate --write-machine`, and
+`artcal verify --machine` of each held-out position on its own (the nominal machine's figures
+come from the same run). Figures in mm, MUKCa's definitions (tests/data/mukca/mukca/README.md):
+MAE = spread_mean, RMS = spread_rms, distance = length_error_mean_abs; each fold's figure is the
+mean over its held-out positions, the last line the mean over the folds.
+
+usage: tools/mukca_figures.py ARTCAL {panda_2,dinova_1} {one,loo,POSITION} [--json]
+  one: trained on each position alone, the others held out; loo: each position held out,
+  trained on the others; POSITION: trained on that position alone. The Panda's `high` position
+  (its socket moved, see the README) is left out as the authors do.
+"""
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import tempfile
+
+DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests", "data", "mukca",
+                    "mukca")
+ROBOTS = {"panda_2": ("panda.urdf", "panda_link0"), "dinova_1": ("gen3lite.urdf",
+                                                                 "kinova_base_link")}
+FIGURES = ("spread_mean", "spread_rms", "length_error_mean_abs")
+
+
+def refuse(message, status=2):
+    """One line on stderr, as artcal's own errors: exit status 2 for bad input."""
+    print(f"error: {message}", file=sys.stderr)
+    sys.exit(status)
+
+
+def run(artcal, *args):
+    done = subprocess.run([artcal, *args], capture_output=True, text=True)
+    if done.returncode not in (0, 1):
+        refuse(f"artcal {' '.join(args)} failed ({done.returncode}): {done.stderr.strip()}",
+               done.returncode)
+    return done
+
+
+class Plans:
+    """Imported plans of sets of positions, made once each in a temporary folder."""
+
+    def __init__(self, artcal, robot, folder):
+        self.artcal, self.robot, self.folder, self.made = artcal, robot, folder, {}
+
+    def of(self, positions):
+        key = tuple(sorted(positions))
+        if key not in self.made:
+            name = f"plan{len(self.made)}"
+            readings = os.path.join(self.folder, name)
+            os.makedirs(readings)
+            for position in key:
+                os.symlink(os.path.join(DATA, self.robot, position),
+                           os.path.join(readings, position))
+            urdf, base = ROBOTS[self.robot]
+            out = os.path.join(self.folder, name + ".json")
+            run(self.artcal, "import-readings", readings, "--urdf", os.path.join(DATA, "urdf", urdf),
+                "--base", base, "--tip", "ball_link", "--ball-bar", "50", "-o", out)
+            self.made[key] = out
+        return self.made[key]
+
+
+def folds(robot, mode):
+    positions = sorted(p for p in os.listdir(os.path.join(DATA, robot))
+                       if os.path.isdir(os.path.join(DATA, robot, p)) and p != "high")
+    if mode == "loo":
+        return [([p for p in positions if p != held], [held]) for held in positions]
+    if mode == "one":
+        return [([t], [p for p in positions if p != t]) for t in positions]
+    if mode not in positions:
+        refuse(f"{mode}: not a position of {robot} ({', '.join(positions)}); use one, loo or one "
+               "of them")
+    return [([mode], [p for p in positions if p != mode])]
+
+
+def measure(artcal, robot, mode, folder):
+    plans = Plans(artcal, robot, folder)
+    out = []
+    for k, (training, held_out) in enumerate(folds(robot, mode)):
+        machine = os.path.join(folder, f"machine{k}.json")
+        calibration = json.loads(run(artcal, "calibrate", plans.of(training), "--json",
+                                     "--write-machine", machine).stdout)
+        fold = {"training": training, "held_out": held_out,
+                "termination": calibration["termination"],
+                "iterations": calibration["iterations"],
+                "kept": len(calibration["parameters"]),
+                "calibrated": dict.fromkeys(FIGURES, 0.0), "nominal": dict.fromkeys(FIGURES, 0.0)}
+        for position in held_out:
+            verify = json.loads(run(artcal, "verify", plans.of([position]), "--json",
+                                    "--machine", machine).stdout)["verify"]
+            for figure in FIGURES:
+                fold["calibrated"][figure] += verify[figure] / len(held_out)
+                fold["nominal"][figure] += verify["nominal"][figure] / len(held_out)
+        out.append(fold)
+    return out
+
+
+def triple(figures):
+    return "/".join(f"{figures[f]:.3f}" for f in FIGURES)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("artcal", help="the artcal executable (build/tools/artcal)")
+    parser.add_argument("robot", choices=sorted(ROBOTS))
+    parser.add_argument("mode", help="one, loo or a position's name")
+    parser.add_argument("--json", action="store_true", help="one JSON document instead of a table")
+    args = parser.parse_args()
+    with tempfile.TemporaryDirectory() as folder:
+        result = measure(os.path.abspath(args.artcal), args.robot, args.mode, folder)
+    mean = {side: {f: sum(r[side][f] for r in result) / len(result) for f in FIGURES}
+            for side in ("calibrated", "nominal")}
+    if args.json:
+        json.dump({"robot": args.robot, "mode": args.mode, "folds": result, "mean": mean},
+                  sys.stdout, indent=1)
+        print()
+        return
+    print(f"{args.robot}, {args.mode}: held-out MAE / RMS / distance error, mm")
+    print(f"{'trained on':40s} {'termination':12s} {'its':>4s} {'kept':>4s}  "
+          f"{'nominal':>19s}  {'calibrated':>19s}")
+    for r in result:
+        label = r["training"][0] if len(r["training"]) == 1 else "all but " + "+".join(
+            r["held_out"])
+        print(f"{label[:40]:40s} {r['termination']:12s} {r['iterations']:4d} "
+              f"{r['kept']:4d}  {triple(r['nominal']):>19s}  {triple(r['calibrated']):>19s}")
+    print(f"{'mean':40s} {'':12s} {'':4s} {'':4s}  {triple(mean['nominal']):>19s}  "
+          f"{triple(mean['calibrated']):>19s}")
+
+
+if __name__ == "__main__":
+    main()
