@@ -238,6 +238,24 @@ Verification verifyMachine(const Plan& plan, const Eigen::VectorXd& p,
     out.length_error_rms = std::sqrt(length_sum2 / lengths);
     out.length_error_mean_abs = length_sum_abs / lengths;
   }
+  // The calibration estimated its probe noise and this plan states another (see the header):
+  // the posterior is the prediction at that estimate, for readings that scatter as it says.
+  if (uncertainty && uncertainty->probe_noise > 0.0 && !plan.noise.estimate_probe &&
+      uncertainty->birge_ratio > 0.0 && uncertainty->probe_noise != plan.noise.probe) {
+    Plan scattered = plan;
+    scattered.noise.probe = uncertainty->probe_noise;
+    const Verification at_estimate = verifyMachine(scattered, p, uncertainty, options);
+    const double s = uncertainty->birge_ratio;
+    out.posterior_probe_noise = uncertainty->probe_noise;
+    out.predicted_spread_rms_posterior = at_estimate.predicted_spread_rms * s;
+    for (std::size_t j = 0; j < out.placements.size(); ++j) {
+      std::vector<FeatureSpread>& features = out.placements[j].features;
+      for (std::size_t f = 0; f < features.size(); ++f) {
+        features[f].predicted_spread_rms_posterior =
+            at_estimate.placements[j].features[f].predicted_spread_rms * s;
+      }
+    }
+  }
   return out;
 }
 

@@ -152,6 +152,7 @@ json verificationToJson(const Plan& plan, const Verification& verification,
                  {"predicted_spread_rms_posterior",
                   posteriorOrNull(verification.predicted_spread_rms_posterior)},
                  {"birge_ratio", posteriorOrNull(verification.birge_ratio)},
+                 {"posterior_probe_noise", posteriorOrNull(verification.posterior_probe_noise)},
                  {"predicted_from_calibration", verification.predicted},
                  {"length_error_rms", finiteOrNull(verification.length_error_rms)},
                  {"length_error_mean_abs", finiteOrNull(verification.length_error_mean_abs)},
@@ -195,8 +196,17 @@ std::string verificationTable(const Plan& plan, const Verification& verification
       << "\n";
   const bool posterior = verification.birge_ratio > 0.0;
   if (posterior) {
-    out << "  posterior: times the calibration's Birge ratio " << fixed(verification.birge_ratio, 3)
-        << " (for readings that scatter as the calibration's did)\n";
+    if (verification.posterior_probe_noise > 0.0) {
+      out << "  posterior: with the probe noise the calibration estimated, "
+          << fixed(verification.posterior_probe_noise, 4) << " mm (this plan states "
+          << fixed(plan.noise.probe, 4) << " mm), times its Birge ratio "
+          << fixed(verification.birge_ratio, 3)
+          << " (for readings that scatter as the calibration's did)\n";
+    } else {
+      out << "  posterior: times the calibration's Birge ratio "
+          << fixed(verification.birge_ratio, 3)
+          << " (for readings that scatter as the calibration's did)\n";
+    }
   }
   const int width = labelWidth(plan);
   const std::string heading = std::string(static_cast<std::size_t>(width - 9), ' ') + "placement";

@@ -151,6 +151,68 @@ TEST(Verification, PosteriorSpreadMatchesMonteCarloWhenTheNoiseIsUnderstated) {
   EXPECT_NEAR(observed2 / predicted2, 4.0, 0.4);
 }
 
+// The same readings (twice the stated scatter) calibrated with `"probe": "estimate"`: the
+// calibration's Birge ratio is then 1 by construction, and the held-out plan states the noise
+// (import-readings' first guess, here half the true scatter). The posterior prediction is made
+// with the calibration's estimated noise and is the spread observed on held-out readings; the
+// stated-noise prediction falls well short of it (before, the posterior was that one times 1).
+TEST(Verification, PosteriorSpreadUsesTheEstimatedProbeNoiseWhenThePlanStatesOne) {
+  const Plan plan = serialPlan();
+  const Eigen::VectorXd truth = perturbedTruth(plan);
+  SimulationOptions twice;
+  twice.noise_scale = 2.0;
+  const Simulator simulator(plan, twice);
+  Plan estimating = plan;
+  estimating.noise.estimate_probe = true;
+  Plan held_out = plan;
+  ASSERT_FALSE(held_out.noise.estimate_probe);
+  double observed2 = 0.0, predicted2 = 0.0, posterior2 = 0.0, estimate2 = 0.0;
+  constexpr int kTrials = 200;
+  for (int t = 0; t < kTrials; ++t) {
+    NormalSource normal(trialSeed(29, static_cast<std::uint64_t>(t)));
+    Plan training = estimating;
+    training.placements = simulator.simulate(truth, normal).placements;
+    const Calibration calibration = calibrateReadings(training);
+    ASSERT_TRUE(calibration.summary.converged());
+    const auto u = calibration.uncertainty(training.machine);
+    ASSERT_TRUE(u);
+    ASSERT_TRUE(calibration.noise_estimate);
+    EXPECT_NEAR(u->birge_ratio, 1.0, 1e-2);
+    estimate2 += u->probe_noise * u->probe_noise / kTrials;
+    held_out.placements = simulator.simulate(truth, normal).placements;
+    const Verification v = verifyMachine(held_out, calibration.parameters, u);
+    EXPECT_DOUBLE_EQ(v.posterior_probe_noise, u->probe_noise);
+    observed2 += v.spread_rms * v.spread_rms / kTrials;
+    predicted2 += v.predicted_spread_rms * v.predicted_spread_rms / kTrials;
+    posterior2 += v.predicted_spread_rms_posterior * v.predicted_spread_rms_posterior / kTrials;
+  }
+  // The probe's share of the scatter is twice the stated one (the encoders' too, which the
+  // estimate, encoders as stated, takes into the probe's).
+  EXPECT_GT(std::sqrt(estimate2), 1.8 * plan.noise.probe);
+  EXPECT_NEAR(observed2 / posterior2, 1.0, 0.1);
+  EXPECT_GT(observed2 / predicted2, 2.0);
+}
+
+// A machine of a calibration at a stated noise carries no estimate: the posterior stays the
+// prediction times the Birge ratio, and no estimated noise is named.
+TEST(Verification, StatedNoiseCalibrationKeepsTheBirgeScaledPosterior) {
+  Plan plan = serialPlan();
+  SimulationOptions twice;
+  twice.noise_scale = 2.0;
+  NormalSource normal(31);
+  const Simulator simulator(plan, twice);
+  const Eigen::VectorXd truth = perturbedTruth(plan);
+  const Calibration calibration =
+      Calibrator(plan).run(simulator.simulate(truth, normal).placements);
+  const auto u = calibration.uncertainty(plan.machine);
+  ASSERT_TRUE(u);
+  EXPECT_EQ(u->probe_noise, 0.0);
+  plan.placements = simulator.simulate(truth, normal).placements;
+  const Verification v = verifyMachine(plan, calibration.parameters, u);
+  EXPECT_EQ(v.posterior_probe_noise, 0.0);
+  EXPECT_NEAR(v.predicted_spread_rms_posterior, v.predicted_spread_rms * u->birge_ratio, 1e-14);
+}
+
 /// 200 trials (seeds trialSeed(seed, t)): calibrate on readings simulated from the perturbed
 /// truth, simulate held-out readings with `held_out_simulator` and hand each held-out plan and
 /// the calibration (with its uncertainty) to `verify`.

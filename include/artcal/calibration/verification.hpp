@@ -28,6 +28,10 @@
 // Sigma_i and, with them, V_p; E|d_i|^2 is linear in both, so the prediction scales by s. It is
 // the prediction for readings that scatter as the calibration's did (the same factor as the
 // calibration's u_posterior); unmodelled errors that differ between placements it cannot know.
+// A calibration that estimated its probe noise (`"probe": "estimate"`) has a Birge ratio of 1 by
+// construction: its readings scattered as the estimate s_e says. When the plan verified states a
+// probe noise of its own (import-readings' first guess), the posterior prediction is then the one
+// with s_e in place of the stated noise (V_p is already in the units of s_e), times that ratio.
 
 #include <Eigen/Core>
 #include <optional>
@@ -92,7 +96,10 @@ struct Verification {
   double predicted_spread_rms = 0.0;            ///< sqrt of the mean predicted |d_i|^2
   double birge_ratio = 0.0;                     ///< the calibration's, 0 when not known
   double predicted_spread_rms_posterior = 0.0;  ///< predicted_spread_rms * birge_ratio
-  double length_error_rms = 0.0;                ///< over every pair of every placement
+  /// The calibration's estimated probe noise (mm) the posterior prediction was made with when
+  /// the plan states another (see the header); 0 when the posterior is the Birge ratio's scaling.
+  double posterior_probe_noise = 0.0;
+  double length_error_rms = 0.0;  ///< over every pair of every placement
   double length_error_mean_abs = 0.0;
   double residual_rms = 0.0;
 };
