@@ -108,6 +108,25 @@ void checkTreeShape(const UrdfDocument& doc) {
   checkNoCycle(doc, parent_link_of);
 }
 
+// A xacro file (the macro language most robots' descriptions are written in) is no URDF until
+// xacro expands it; urdfdom would only say that it found no links, or a number it cannot parse.
+// An element named xacro:* anywhere in the tree (a URDF written by xacro keeps only the
+// xmlns:xacro attribute) is named, with what to do.
+void checkNotXacro(const UrdfDocument& doc) {
+  std::vector<const tinyxml2::XMLElement*> stack = {doc.xml.RootElement()};
+  while (!stack.empty()) {
+    const tinyxml2::XMLElement* e = stack.back();
+    stack.pop_back();
+    if (std::string(e->Name()).rfind("xacro:", 0) == 0) {
+      doc.fail(e, "<" + std::string(e->Name()) +
+                      ">: a xacro file, not a URDF: expand it first (xacro " + doc.path +
+                      " > robot.urdf) and give the URDF it writes");
+    }
+    for (const tinyxml2::XMLElement* c = e->FirstChildElement(); c; c = c->NextSiblingElement())
+      stack.push_back(c);
+  }
+}
+
 void loadUrdf(const std::string& path, UrdfDocument& doc) {
   doc.path = path;
   std::string text;
@@ -118,6 +137,8 @@ void loadUrdf(const std::string& path, UrdfDocument& doc) {
     throw InputError(path, "", "cannot read the URDF file");
   }
   if (doc.xml.Parse(text.c_str(), text.size()) != tinyxml2::XML_SUCCESS) {
+    if (doc.xml.ErrorID() == tinyxml2::XML_ERROR_EMPTY_DOCUMENT)
+      throw InputError(path, "", "empty: not a URDF file (expected a <robot> root element)");
     throw InputError(path, "line " + std::to_string(doc.xml.ErrorLineNum()),
                      std::string("not well-formed XML: ") + doc.xml.ErrorName());
   }
@@ -125,6 +146,7 @@ void loadUrdf(const std::string& path, UrdfDocument& doc) {
   if (!robot || std::string(robot->Name()) != "robot") {
     throw InputError(path, "", "not a URDF file (expected a <robot> root element)");
   }
+  checkNotXacro(doc);
   checkTreeShape(doc);
   FirstError errors;
   console_bridge::useOutputHandler(&errors);

@@ -233,6 +233,23 @@ TEST(UrdfCli, BadUrdfIsOneLineAndExitStatus2) {
   expectOneLineError("import-urdf " + broken + " --base a --tip b", broken, "not a valid URDF");
   writeText(broken, "<model/>\n");
   expectOneLineError("import-urdf " + broken + " --base a --tip b", broken, "<robot>");
+  // An empty file is named as such (tinyxml2 said "line 0: ... XML_ERROR_EMPTY_DOCUMENT").
+  writeText(broken, "");
+  expectOneLineError("import-urdf " + broken + " --base a --tip b", broken,
+                     "empty: not a URDF file (expected a <robot> root element)");
+  // A xacro file (before: "not a valid URDF (No link elements found in urdf file)").
+  writeText(broken,
+            "<?xml version=\"1.0\"?>\n<robot xmlns:xacro=\"http://www.ros.org/wiki/xacro\">\n"
+            "  <xacro:macro name=\"arm\" params=\"prefix\">\n    <link name=\"${prefix}a\"/>\n"
+            "  </xacro:macro>\n</robot>\n");
+  expectOneLineError("import-urdf " + broken + " --base a --tip b", broken,
+                     "line 3: <xacro:macro>: a xacro file, not a URDF: expand it first");
+  // A URDF xacro wrote keeps the namespace attribute alone: it imports.
+  writeText(broken,
+            "<robot name=\"x\" xmlns:xacro=\"http://www.ros.org/wiki/xacro\"><link name=\"a\"/>"
+            "<link name=\"b\"/><joint name=\"j\" type=\"continuous\"><parent link=\"a\"/>"
+            "<child link=\"b\"/><origin xyz=\"0.1 0 0\"/></joint></robot>\n");
+  EXPECT_EQ(runCli("import-urdf " + broken + " --base a --tip b -o -", Stderr::Only).status, 0);
   std::filesystem::remove(broken);
   expectOneLineError("import-urdf " + kSmallUrdf + " --base world --tip nowhere", kSmallUrdf,
                      "no link named \"nowhere\"");
