@@ -136,7 +136,7 @@ std::string worseThanNominalWarning(const Verification& calibrated, const Verifi
   }
   out << "): the calibration does not hold here; calibrate with readings from more artifact "
          "positions spread over the workspace (one position determines the machine only near "
-         "it), and compare the posterior prediction above with what is observed";
+         "it), and compare the posterior prediction with the spread observed";
   return out.str();
 }
 

@@ -581,6 +581,9 @@ TEST_F(RealReadingsCli, VerifyShowsTheNominalMachineBesideAndWarnsWhenWorse) {
                 .find("warning: on these readings the calibrated machine does worse than the "
                       "plan's nominal one (length error mean |e| "),
             std::string::npos);
+  // The warning goes to stderr, which a terminal shows before the tables: it points at nothing
+  // "above" (it said "compare the posterior prediction above").
+  EXPECT_EQ(warnings("wrong.json").find("above"), std::string::npos);
 }
 
 // A correction beyond 5 % of the machine's mean link length (planar2r: (150 + 100) / 2 mm) or of
