@@ -268,7 +268,13 @@ std::string calibrationTable(const Plan& plan, const std::vector<Placement>& pla
   }
   out << calibrationNotes(plan, calibration);
   out << "\n";
-  out << "parameter      nominal        estimate             u    u_posterior  unit\n";
+  // The name column is as wide as the longest name (a URDF's "wrist_3_link-tool0_fixed_joint.x"
+  // shifted every number of its row), at least 10.
+  std::size_t name_width = 10;
+  for (int k = 0; k < machine.calibratedCount(); ++k)
+    name_width = std::max(name_width, machine.calibratedInfo(k).name.size());
+  out << std::string("parameter").append(name_width - 9, ' ')
+      << "     nominal        estimate             u    u_posterior  unit\n";
   const Eigen::VectorXd posterior = calibration.posteriorU();
   for (int k = 0; k < machine.calibratedCount(); ++k) {
     const ParameterInfo& info = machine.calibratedInfo(k);
@@ -277,7 +283,7 @@ std::string calibrationTable(const Plan& plan, const std::vector<Placement>& pla
         calibration.covariance ? toFileUnit(info.quantity, calibration.covariance->u[k]) : NAN;
     const double up = posterior.size() > 0 ? toFileUnit(info.quantity, posterior[k]) : NAN;
     std::string name = info.name;
-    name.resize(std::max<std::size_t>(name.size(), 10), ' ');
+    name.resize(name_width, ' ');
     out << name
         << padded(numberOrDash("%.6f", toFileUnit(info.quantity, machine.nominal[index])), 13)
         << padded(numberOrDash("%.6f", toFileUnit(info.quantity, calibration.parameters[index])),
@@ -372,12 +378,16 @@ std::string confirmationTable(const Plan& plan, const ConfirmationOptions& optio
       << numberOrDash("%.3f", band.high) << "] = 1 +- ("
       << numberOrDash("%.2f", band.coverage_factor) << " x " << numberOrDash("%.4f", band.sampling)
       << " sampling + " << numberOrDash("%.3f", band.allowance) << " non-linearity allowance)\n\n";
-  out << "parameter     predicted_u    empirical_u          bias   ratio  unit\n";
+  std::size_t name_width = 10;  // the longest name, as calibrate's table
+  for (int k = 0; k < plan.machine.calibratedCount(); ++k)
+    name_width = std::max(name_width, plan.machine.calibratedInfo(k).name.size());
+  out << std::string("parameter").append(name_width - 9, ' ')
+      << "    predicted_u    empirical_u          bias   ratio  unit\n";
   for (int k = 0; k < plan.machine.calibratedCount(); ++k) {
     const ParameterInfo& info = plan.machine.calibratedInfo(k);
     const ConfirmedParameter& p = confirmation.parameters[static_cast<std::size_t>(k)];
     std::string name = p.name;
-    name.resize(std::max<std::size_t>(name.size(), 10), ' ');
+    name.resize(name_width, ' ');
     out << name << padded(numberOrDash("%.4g", toFileUnit(info.quantity, p.predicted_u)), 14)
         << padded(numberOrDash("%.4g", toFileUnit(info.quantity, p.empirical_u)), 15)
         << padded(numberOrDash("%+.3g", toFileUnit(info.quantity, p.bias)), 14)

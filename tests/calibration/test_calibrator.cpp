@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <fstream>
 #include <memory>
+#include <set>
 #include <sstream>
 
 #include "artcal/artcal.hpp"
@@ -542,6 +543,32 @@ TEST(CalibrateCommand, PrintedTableIsTheJsonInItsUnits) {
     EXPECT_NEAR(json_u, toFileUnit(info.quantity, at_estimate.covariance->u[k]), 1e-6 * json_u);
     EXPECT_NEAR(parameter["u_posterior"].get<double>(), json_u * birge, 1e-9 * json_u);
   }
+}
+
+// A URDF's parameter names differ in length (the Panda's panda_joint2.x and panda_joint2.pitch;
+// a UR5e's wrist_3_link-tool0_fixed_joint.x): the name column is as wide as the longest, so each
+// number column ends at the same place in every row (it shifted by each name's excess over 10).
+TEST(CalibrateCommand, TableColumnsLineUpWithNamesOfAnyLength) {
+  const CliRun table =
+      runCli("calibrate " + test_support::testDataFile("ref-chain-panda-2placements.json"));
+  ASSERT_EQ(table.status, 0);
+  std::istringstream lines(table.out);
+  std::string line;
+  while (std::getline(lines, line) && line.rfind("parameter ", 0) != 0) {
+  }
+  ASSERT_FALSE(lines.eof()) << "no parameter table";
+  std::set<std::size_t> name_lengths, column_ends;
+  while (std::getline(lines, line) && !line.empty()) {
+    name_lengths.insert(line.find(' '));
+    // the end of each of the four numbers: a non-blank followed by a blank
+    std::vector<std::size_t> ends;
+    for (std::size_t i = line.find(' '); i + 1 < line.size(); ++i)
+      if (line[i] != ' ' && line[i + 1] == ' ') ends.push_back(i);
+    ASSERT_GE(ends.size(), 4u) << line;
+    for (std::size_t k = 0; k < 4; ++k) column_ends.insert(ends[k] * 10 + k);
+  }
+  EXPECT_GT(name_lengths.size(), 1u);  // names of several lengths
+  EXPECT_EQ(column_ends.size(), 4u);   // each of the 4 columns ends at one place in every row
 }
 
 TEST(CalibrateCommand, NonConvergenceExitsOneWithoutNaN) {
