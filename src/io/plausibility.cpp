@@ -208,6 +208,15 @@ void checkArtifactFitsTheMachine(const Plan& plan, const Placement& placement,
                        " across: check the units (lengths in mm, not metres)");
 }
 
+// An arm whose model ends at the flange while the readings are of a ball beyond it (a tool its
+// URDF does not have) misses by about the tool's length: the other cause a robot user meets.
+// The arms are the models with a tip frame (chain, serial-dh: Mechanism::hasOrientation).
+std::string tipHint(const Plan& plan) {
+  if (!plan.machine.mechanism->hasOrientation()) return "";
+  return "; and that the machine's tip is the ball's centre (a URDF chain's --tip link: a tool "
+         "beyond the flange needs a fixed joint of its own in the URDF; serial-dh: its probe)";
+}
+
 // Wrong units collapse the probed points (readings in radians read as degrees turn each joint a
 // 57th of the way; a machine in metres is a thousand times too small): the mean probed positions
 // of the measured features then lie much closer together than the features themselves, however
@@ -274,7 +283,8 @@ void checkPlausibility(const Plan& plan, const Eigen::VectorXd& p, const std::st
               "error (5 % of the machine's reach) or noise explains (" +
               millimetres(threshold) +
               "): check the units (joint readings in degrees, not radians; lengths in mm, not "
-              "metres) and that each reading's feature index is right");
+              "metres) and that each reading's feature index is right" +
+              tipHint(plan));
     }
     checkArtifactFitsTheMachine(plan, placement, where, reach);
     checkOrientations(plan, p, placement, points, where, machine);

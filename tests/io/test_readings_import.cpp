@@ -106,6 +106,41 @@ TEST_F(ImportFolder, PandaFolderBecomesAPlanNamedAfterItsPositions) {
   EXPECT_NEAR(m.joints[0], std::stod(line.substr(0, line.find(','))), 1e-15);
 }
 
+// The readings are of the ball, 30 mm below panda_hand_tcp and some 130 mm beyond the flange:
+// imported to the flange (--tip panda_link8) the nominal machine misses the bar by the tool.
+// check names the cause a URDF user meets besides units: the tip link is not the ball's centre.
+// A planar arm's plan in the wrong units gets no such hint (it has no URDF tip).
+TEST_F(ImportFolder, ATipAtTheFlangeIsNamedAsAPossibleCauseWhenTheReadingsMissTheBar) {
+  const std::string plan = path("panda-flange.json");
+  ASSERT_EQ(runCli("import-readings " + mukca("panda_2") + " --urdf " + mukca("urdf/panda.urdf") +
+                   " --base panda_link0 --tip panda_link8 --ball-bar 50 -o " + plan)
+                .status,
+            0);
+  const auto check = runCli("check " + plan, Stderr::Only);
+  EXPECT_EQ(check.status, 2);
+  EXPECT_NE(check.out.find("off the artifact's features after the best rigid fit"),
+            std::string::npos)
+      << check.out;
+  EXPECT_NE(check.out.find("and that the machine's tip is the ball's centre (a URDF chain's --tip "
+                           "link: a tool beyond the flange needs a fixed joint of its own in the "
+                           "URDF; serial-dh: its probe)"),
+            std::string::npos)
+      << check.out;
+  // The same readings to the ball pass check.
+  ASSERT_EQ(importRobot(*this, "panda_2", "panda.urdf", "panda_link0"), 0);
+  EXPECT_EQ(runCli("check " + path("panda_2.json"), Stderr::Only).status, 0);
+  // Degrees read as radians on the planar arm: the units, and no word of a tip link.
+  json twor = readJsonFile(testDataFile("ref-2r-5bars.json"));
+  for (json& placement : twor["placements"])
+    for (json& m : placement["measurements"])
+      for (json& q : m["joints"]) q = q.get<double>() * 3.0;
+  std::ofstream(path("2r-scaled.json")) << twor.dump();
+  const auto scaled = runCli("check " + path("2r-scaled.json"), Stderr::Only);
+  EXPECT_EQ(scaled.status, 2);
+  EXPECT_NE(scaled.out.find("check the units"), std::string::npos) << scaled.out;
+  EXPECT_EQ(scaled.out.find("tip"), std::string::npos) << scaled.out;
+}
+
 TEST_F(ImportFolder, CalibrateRunsOnTheImportedPandaPlan) {
   ASSERT_EQ(importRobot(*this, "panda_2", "panda.urdf", "panda_link0"), 0);
   const std::string plan =
