@@ -328,14 +328,33 @@ std::string tripleText(const Eigen::Vector3d& v) {
   return shortest(v[0]) + " " + shortest(v[1]) + " " + shortest(v[2]);
 }
 
-void writeOrigin(UrdfDocument& doc, tinyxml2::XMLElement* joint, const Eigen::Isometry3d& T) {
+// Every rotation has two roll-pitch-yaw triples: rpyFromMatrix's, |pitch| <= 90 deg, and
+// (roll + 180, 180 - pitch, yaw + 180) deg (Rz(180) Ry(180 - p) Rx(180) = Ry(p)). The one nearer
+// `near` (the machine's own values, angles compared modulo a turn): a UR's shoulder origin, rpy
+// (0, 90, 0) deg in its URDF, calibrated to a pitch of 90.7 deg is written as (0, 90.7, 0), not
+// flipped to (-180, 89.3, -180).
+Eigen::Vector3d rpyNear(const Eigen::Matrix3d& R, const Eigen::Vector3d& near) {
+  constexpr double kPi = 3.14159265358979323846;
+  const auto turn = [](double a) { return std::remainder(a, 2.0 * kPi); };
+  const Eigen::Vector3d a = rpyFromMatrix(R);
+  const Eigen::Vector3d b(turn(a[0] + kPi), turn(kPi - a[1]), turn(a[2] + kPi));
+  const auto distance = [&](const Eigen::Vector3d& v) {
+    double sum = 0.0;
+    for (int i = 0; i < 3; ++i) sum += turn(v[i] - near[i]) * turn(v[i] - near[i]);
+    return sum;
+  };
+  return distance(b) < distance(a) ? b : a;
+}
+
+void writeOrigin(UrdfDocument& doc, tinyxml2::XMLElement* joint, const Eigen::Isometry3d& T,
+                 const Eigen::Vector3d& near_rpy) {
   tinyxml2::XMLElement* origin = joint->FirstChildElement("origin");
   if (!origin) {
     origin = doc.xml.NewElement("origin");
     joint->InsertFirstChild(origin);
   }
   const Eigen::Vector3d xyz_m = T.translation() / 1000.0;
-  origin->SetAttribute("rpy", tripleText(rpyFromMatrix(T.linear())).c_str());
+  origin->SetAttribute("rpy", tripleText(rpyNear(T.linear(), near_rpy)).c_str());
   origin->SetAttribute("xyz", tripleText(xyz_m).c_str());
 }
 
@@ -516,7 +535,7 @@ std::string exportUrdf(const Chain& chain, const Eigen::VectorXd& p, const std::
     const int k = chain.parameterOffset(i);
     Eigen::Isometry3d T = originTransform(p.segment<3>(k), p.segment<3>(k + 3));
     if (const auto fold = folds.find(joint.name); fold != folds.end()) T = fold->second * T;
-    writeOrigin(doc, element, T);
+    writeOrigin(doc, element, T, p.segment<3>(k + 3));
     if (!Chain::isMovable(joint.type) || p[k + 6] == 0.0) continue;
     // M(q + d) = M(q) M(d): M(d) moves to the front of every origin below this joint.
     Eigen::Isometry3d M = Eigen::Isometry3d::Identity();
@@ -550,7 +569,7 @@ std::string exportUrdf(const Chain& chain, const Eigen::VectorXd& p, const std::
     tinyxml2::XMLElement* element = jointElement(doc, name);
     if (!element) doc.fail(nullptr, "joint \"" + name + "\" not found in the XML");
     const OriginValues origin = readOrigin(doc, element);
-    writeOrigin(doc, element, M * originTransform(origin.xyz_mm, origin.rpy));
+    writeOrigin(doc, element, M * originTransform(origin.xyz_mm, origin.rpy), origin.rpy);
   }
   tinyxml2::XMLPrinter printer;
   doc.xml.Print(&printer);

@@ -7,6 +7,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <numbers>
 #include <random>
 
 #include "artcal/io/chain_codec.hpp"
@@ -145,6 +146,38 @@ TEST(UrdfExport, PandaRoundTripKeepsTheCalibratedForwardKinematics) {
 TEST(UrdfExport, SmallArmRoundTripWithPrismaticAndGimbalLockOrigins) {
   expectRoundTrip(kSmallUrdf, "world", "probe", 0.05, 30);
   expectRoundTrip(kSmallUrdf, "world", "probe", 1.0, 40);
+}
+
+// j3's origin has rpy (0, 90, 0) deg, as a UR's shoulder and wrist do. Calibrated to a pitch past
+// 90 deg it is written with that pitch and the small roll and yaw (the machine's own values), not
+// as the other triple of the same rotation, (roll - 180, 180 - pitch, yaw - 180), which
+// rpyFromMatrix gives (|pitch| <= 90) and a diff of the URDFs would show as two half turns.
+// Below 90 deg likewise; the forward kinematics round-trips either way.
+TEST(UrdfExport, AnOriginCalibratedPastPitch90KeepsItsOwnRollPitchYaw) {
+  const MachineBlock block = readMachine(importUrdf(kSmallUrdf, "world", "probe"));
+  const Chain& chain = chainOf(block);
+  int j3 = -1;
+  for (int i = 0; i < static_cast<int>(chain.joints().size()); ++i)
+    if (chain.joints()[static_cast<std::size_t>(i)].name == "j3") j3 = i;
+  ASSERT_GE(j3, 0);
+  const int k = chain.parameterOffset(j3) + 3;
+  ASSERT_DOUBLE_EQ(block.nominal[k + 1], std::numbers::pi / 2);
+  for (const double pitch_deg : {90.7, 89.3, 135.0, -95.0}) {
+    SCOPED_TRACE(pitch_deg);
+    Eigen::VectorXd p = block.nominal;
+    const Eigen::Vector3d rpy(degToRad(0.05), degToRad(pitch_deg), degToRad(-0.08));
+    p.segment<3>(k) = rpy;
+    const std::string out = temporaryPath("pitch");
+    writeText(out, exportUrdf(chain, p, kSmallUrdf, "machine"));
+    const nlohmann::json again = importUrdf(out, "world", "probe");
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_NEAR(degToRad(again["joints"][j3]["origin"]["rpy"][c].get<double>()), rpy[c], 1e-12)
+          << c;
+    }
+    const MachineBlock exported = readMachine(again);
+    std::filesystem::remove(out);
+    EXPECT_LT(largestTipDifference(chain, p, chainOf(exported), exported.nominal, 80), 1e-9);
+  }
 }
 
 // The wrist's offset is folded into the origin of every joint hanging from its link, the
