@@ -56,8 +56,8 @@ int runVerify(const VerifyArguments& args) {
   const std::optional<Verification> nominal = calibrated ? verifyNominal(plan) : std::nullopt;
   const Verification* beside = nominal ? &*nominal : nullptr;
   if (nominal) {
-    if (const std::string w = worseThanNominalWarning(verification, *nominal); !w.empty())
-      std::cerr << "warning: " << w << "\n";
+    for (const std::string& warning : besideNominalWarnings(verification, *nominal))
+      std::cerr << "warning: " << warning << "\n";
   }
   if (args.json) {
     printJson(verifyDocument(plan, stations, &verification, beside));

@@ -40,7 +40,8 @@ json placementToJson(const Plan& plan, const PlacementVerification& v) {
     lengths.push_back({{"from", e.from},
                        {"to", e.to},
                        {"error", finiteOrNull(e.error)},
-                       {"predicted_u", finiteOrNull(e.predicted_u)}});
+                       {"predicted_u", finiteOrNull(e.predicted_u)},
+                       {"predicted_u_posterior", posteriorOrNull(e.predicted_u_posterior)}});
   }
   json out = {{"index", v.index},
               {"features", features},
@@ -113,31 +114,35 @@ json overallFiguresToJson(const Verification& v) {
 
 }  // namespace
 
-std::string worseThanNominalWarning(const Verification& calibrated, const Verification& nominal) {
-  const std::vector<std::string> worse = worseThanNominal(calibrated, nominal);
-  if (worse.empty()) return {};
-  std::ostringstream out;
-  out << "on these readings the calibrated machine does worse than the plan's nominal one (";
-  const char* separator = "";
-  for (const std::string& figure : worse) {
-    const bool spread_mean = figure == "spread_mean", spread_rms = figure == "spread_rms";
-    const double c = spread_mean  ? calibrated.spread_mean
-                     : spread_rms ? calibrated.spread_rms
-                                  : calibrated.length_error_mean_abs;
-    const double n = spread_mean  ? nominal.spread_mean
-                     : spread_rms ? nominal.spread_rms
-                                  : nominal.length_error_mean_abs;
-    out << separator
-        << (spread_mean  ? "spread mean "
-            : spread_rms ? "spread rms "
-                         : "length error mean |e| ")
-        << fixed(c, 3) << " mm > " << fixed(n, 3) << " mm";
-    separator = ", ";
+std::vector<std::string> besideNominalWarnings(const Verification& calibrated,
+                                               const Verification& nominal) {
+  std::vector<std::string> warnings;
+  if (const std::vector<std::string> worse = worseThanNominal(calibrated, nominal);
+      !worse.empty()) {
+    std::ostringstream out;
+    out << "on these readings the calibrated machine does worse than the plan's nominal one (";
+    const char* separator = "";
+    for (const std::string& figure : worse) {
+      const bool spread_mean = figure == "spread_mean", spread_rms = figure == "spread_rms";
+      const double c = spread_mean  ? calibrated.spread_mean
+                       : spread_rms ? calibrated.spread_rms
+                                    : calibrated.length_error_mean_abs;
+      const double n = spread_mean  ? nominal.spread_mean
+                       : spread_rms ? nominal.spread_rms
+                                    : nominal.length_error_mean_abs;
+      out << separator
+          << (spread_mean  ? "spread mean "
+              : spread_rms ? "spread rms "
+                           : "length error mean |e| ")
+          << fixed(c, 3) << " mm > " << fixed(n, 3) << " mm";
+      separator = ", ";
+    }
+    out << "): the calibration does not hold here; calibrate with readings from more artifact "
+           "positions spread over the workspace (one position determines the machine only near "
+           "it), and compare the posterior prediction with the spread observed";
+    warnings.push_back(out.str());
   }
-  out << "): the calibration does not hold here; calibrate with readings from more artifact "
-         "positions spread over the workspace (one position determines the machine only near "
-         "it), and compare the posterior prediction with the spread observed";
-  return out.str();
+  return warnings;
 }
 
 json verificationToJson(const Plan& plan, const Verification& verification,
@@ -177,10 +182,7 @@ json verificationToJson(const Plan& plan, const Verification& verification,
   if (nominal) {
     verify["nominal"] = overallFiguresToJson(*nominal);
     verify["worse_than_nominal"] = worseThanNominal(verification, *nominal);
-    json warnings = json::array();
-    if (std::string w = worseThanNominalWarning(verification, *nominal); !w.empty())
-      warnings.push_back(std::move(w));
-    verify["warnings"] = warnings;
+    verify["warnings"] = besideNominalWarnings(verification, *nominal);
   }
   return {{"plan", plan.name}, {"verify", verify}};
 }
@@ -227,13 +229,20 @@ std::string verificationTable(const Plan& plan, const Verification& verification
     }
   }
   out << "\n"
-      << heading << "  from  to   length error   predicted u   residual rms   residual max\n";
+      << heading << "  from  to   length error   predicted u" << (posterior ? "   posterior u" : "")
+      << "   residual rms   residual max\n";
   for (const PlacementVerification& v : verification.placements) {
     for (const LengthError& e : v.length_errors) {
       char line[160];
-      std::snprintf(line, sizeof line, " %5d %3d %14.4f %13.4f %14.4f %14.4f\n", e.from, e.to,
-                    e.error, e.predicted_u, v.residual_rms, v.residual_max);
+      std::snprintf(line, sizeof line, " %5d %3d %14.4f %13.4f", e.from, e.to, e.error,
+                    e.predicted_u);
       out << label(plan, v.index, width) << line;
+      if (posterior) {
+        std::snprintf(line, sizeof line, " %13.4f", e.predicted_u_posterior);
+        out << line;
+      }
+      std::snprintf(line, sizeof line, " %14.4f %14.4f\n", v.residual_rms, v.residual_max);
+      out << line;
     }
   }
   out << "\nall placements\n"

@@ -121,6 +121,17 @@ TEST(Verification, PredictedSpreadMatchesMonteCarlo) {
 // Readings that scatter twice as much as the plan states: the calibration's Birge ratio says so
 // (about 2), and the posterior prediction (predicted times that ratio) is the spread then
 // observed on held-out readings of the same kind, where the stated-noise prediction is half.
+/// Sums over every length pair of `v`: observed error^2 and posterior predicted u^2.
+void addLengths(const Verification& v, double& observed2, double& posterior2, int& pairs) {
+  for (const PlacementVerification& placement : v.placements) {
+    for (const LengthError& e : placement.length_errors) {
+      observed2 += e.error * e.error;
+      posterior2 += e.predicted_u_posterior * e.predicted_u_posterior;
+      ++pairs;
+    }
+  }
+}
+
 TEST(Verification, PosteriorSpreadMatchesMonteCarloWhenTheNoiseIsUnderstated) {
   const Plan plan = serialPlan();
   const Eigen::VectorXd truth = perturbedTruth(plan);
@@ -130,6 +141,8 @@ TEST(Verification, PosteriorSpreadMatchesMonteCarloWhenTheNoiseIsUnderstated) {
   Calibrator calibrator(plan);
   Plan held_out = plan;
   double observed2 = 0.0, predicted2 = 0.0, posterior2 = 0.0;
+  double length_observed2 = 0.0, length_posterior2 = 0.0;
+  int pairs = 0;
   constexpr int kTrials = 200;
   for (int t = 0; t < kTrials; ++t) {
     NormalSource normal(trialSeed(23, static_cast<std::uint64_t>(t)));
@@ -143,12 +156,16 @@ TEST(Verification, PosteriorSpreadMatchesMonteCarloWhenTheNoiseIsUnderstated) {
     const Verification v = verifyMachine(held_out, calibration.parameters, u);
     EXPECT_DOUBLE_EQ(v.birge_ratio, u->birge_ratio);
     EXPECT_NEAR(v.predicted_spread_rms_posterior, v.predicted_spread_rms * birge, 1e-14);
+    addLengths(v, length_observed2, length_posterior2, pairs);
     observed2 += v.spread_rms * v.spread_rms / kTrials;
     predicted2 += v.predicted_spread_rms * v.predicted_spread_rms / kTrials;
     posterior2 += v.predicted_spread_rms_posterior * v.predicted_spread_rms_posterior / kTrials;
   }
   EXPECT_NEAR(observed2 / posterior2, 1.0, 0.1);
   EXPECT_NEAR(observed2 / predicted2, 4.0, 0.4);
+  // The length errors' posterior u likewise (600 pairs, as PredictedLengthErrorUMatchesMonteCarlo).
+  ASSERT_EQ(pairs, 600);
+  EXPECT_NEAR(length_observed2 / length_posterior2, 1.0, 0.2);
 }
 
 // The same readings (twice the stated scatter) calibrated with `"probe": "estimate"`: the
@@ -167,6 +184,8 @@ TEST(Verification, PosteriorSpreadUsesTheEstimatedProbeNoiseWhenThePlanStatesOne
   Plan held_out = plan;
   ASSERT_FALSE(held_out.noise.estimate_probe);
   double observed2 = 0.0, predicted2 = 0.0, posterior2 = 0.0, estimate2 = 0.0;
+  double length_observed2 = 0.0, length_posterior2 = 0.0;
+  int pairs = 0;
   constexpr int kTrials = 200;
   for (int t = 0; t < kTrials; ++t) {
     NormalSource normal(trialSeed(29, static_cast<std::uint64_t>(t)));
@@ -182,6 +201,7 @@ TEST(Verification, PosteriorSpreadUsesTheEstimatedProbeNoiseWhenThePlanStatesOne
     held_out.placements = simulator.simulate(truth, normal).placements;
     const Verification v = verifyMachine(held_out, calibration.parameters, u);
     EXPECT_DOUBLE_EQ(v.posterior_probe_noise, u->probe_noise);
+    addLengths(v, length_observed2, length_posterior2, pairs);
     observed2 += v.spread_rms * v.spread_rms / kTrials;
     predicted2 += v.predicted_spread_rms * v.predicted_spread_rms / kTrials;
     posterior2 += v.predicted_spread_rms_posterior * v.predicted_spread_rms_posterior / kTrials;
@@ -191,6 +211,40 @@ TEST(Verification, PosteriorSpreadUsesTheEstimatedProbeNoiseWhenThePlanStatesOne
   EXPECT_GT(std::sqrt(estimate2), 1.8 * plan.noise.probe);
   EXPECT_NEAR(observed2 / posterior2, 1.0, 0.1);
   EXPECT_GT(observed2 / predicted2, 2.0);
+  ASSERT_EQ(pairs, 600);
+  EXPECT_NEAR(length_observed2 / length_posterior2, 1.0, 0.2);
+}
+
+// The rule of "worse than nominal" on hand-made figures: a larger spread is worse; a length
+// error's mean |e| is worse only beyond twice the RMS of the calibrated pairs' posterior u (the
+// prediction of the readings' noise alone when no posterior is known), since the nominal one can
+// be small by chance (a UR5e trial: 0.343 mm calibrated, 0.215 mm nominal, posterior u 0.163 mm).
+TEST(Verification, WorseThanNominalCountsALengthErrorBeyondTwiceItsPosteriorU) {
+  const auto figures = [](double spread, double error, double u, double u_posterior) {
+    Verification v;
+    v.spread_mean = spread;
+    v.spread_rms = 1.1 * spread;
+    v.length_error_mean_abs = error;
+    PlacementVerification placement;
+    for (const double sign : {1.0, -1.0}) {
+      LengthError e;
+      e.error = sign * error;
+      e.predicted_u = u;
+      e.predicted_u_posterior = u_posterior;
+      placement.length_errors.push_back(e);
+    }
+    v.placements.push_back(placement);
+    return v;
+  };
+  const Verification nominal = figures(5.0, 0.215, 0.0, 0.0);
+  EXPECT_TRUE(worseThanNominal(figures(0.3, 0.343, 0.08, 0.163), nominal).empty());
+  EXPECT_EQ(worseThanNominal(figures(0.3, 0.343, 0.03, 0.05), nominal),
+            std::vector<std::string>{"length_error_mean_abs"});  // 0.128 > 2 x 0.05
+  EXPECT_EQ(worseThanNominal(figures(0.3, 0.343, 0.05, 0.0), nominal),
+            std::vector<std::string>{"length_error_mean_abs"});  // no posterior: 2 x 0.05
+  EXPECT_TRUE(worseThanNominal(figures(0.3, 0.343, 0.07, 0.0), nominal).empty());
+  EXPECT_EQ(worseThanNominal(figures(5.2, 0.2, 0.0, 0.0), nominal),
+            (std::vector<std::string>{"spread_mean", "spread_rms"}));
 }
 
 // A machine of a calibration at a stated noise carries no estimate: the posterior stays the

@@ -75,6 +75,9 @@ struct LengthError {
   int to = 0;
   double error = 0.0;        ///< |m_to - m_from| - calibrated distance, mm
   double predicted_u = 0.0;  ///< mm
+  /// predicted_u for readings that scatter as the calibration's did (as the spread's posterior);
+  /// 0 when the calibration's Birge ratio is not known.
+  double predicted_u_posterior = 0.0;
 };
 
 struct PlacementVerification {
@@ -124,6 +127,11 @@ std::optional<Verification> verifyNominal(const Plan& plan, const VerifyOptions&
 
 /// The overall figures in which `calibrated` does worse than `nominal` on the same readings, by
 /// their JSON names: "spread_mean", "spread_rms", "length_error_mean_abs" (the MUKCa figures).
+/// A spread averages every posture's deviation, and the two machines see the same readings, so a
+/// larger one is worse. A length error is one number per pair, the nominal one can be small by
+/// chance: its mean |e| counts as worse only beyond twice the RMS of the calibrated machine's
+/// predicted u of the pairs (posterior when known), what the calibration itself says it can do.
+
 std::vector<std::string> worseThanNominal(const Verification& calibrated,
                                           const Verification& nominal);
 

@@ -20,9 +20,10 @@ nlohmann::json verificationToJson(const Plan& plan, const Verification& verifica
 /// `outliers`: how many of the largest deviations from their feature's mean to list.
 std::string verificationTable(const Plan& plan, const Verification& verification, int outliers = 5,
                               const Verification* nominal = nullptr);
-/// The warning, empty when none, that the calibrated machine does worse than the nominal one on
-/// these readings, with the figures and what to do.
-std::string worseThanNominalWarning(const Verification& calibrated, const Verification& nominal);
+/// The warnings of a machine verified beside the plan's nominal one, each with its figures and
+/// what to do: none, or that it does worse than nominal on these readings (worseThanNominal).
+std::vector<std::string> besideNominalWarnings(const Verification& calibrated,
+                                               const Verification& nominal);
 
 /// True when every placement of `plan` is an instrument station `stations` verified: each reading
 /// is then a feature of its own, and the artifact figures (a feature's spread over its postures,
