@@ -182,6 +182,14 @@ ProbeNoiseSolution probeNoiseOfMisfits(const Plan& plan, const std::vector<Readi
   return out;
 }
 
+// `next`, the result of a fit that followed `earlier`, with the work of both counted.
+Calibration followedBy(const Calibration& earlier, Calibration next) {
+  next.summary.iterations += earlier.summary.iterations;
+  next.summary.accepted_steps += earlier.summary.accepted_steps;
+  next.summary.fits += earlier.summary.fits;
+  return next;
+}
+
 // Calibrates at the plan's noise (`calibrator` is the plan's, its calibrated set as now); with
 // `"probe": "estimate"`, sets noise.probe to the variance component that gives chi2 = dof and
 // calibrates again until it settles.
@@ -203,7 +211,7 @@ Calibration calibrateWithNoise(Plan& plan, Calibrator& calibrator, const Calibra
     state.p = calibration.parameters;
     state.c = calibration.systematic;
     state.poses = calibration.poses;
-    calibration = calibrator.run(plan.placements, state);
+    calibration = followedBy(calibration, calibrator.run(plan.placements, state));
     solved.reset();
   }
   estimate.probe = plan.noise.probe;
@@ -326,7 +334,7 @@ Calibration calibrateReadings(Plan& plan, const CalibrationOptions& options) {
     start = calibrator->initialState(
         plan.placements, plan.machine.withCalibrated(
                              nominal, plan.machine.calibratedValues(calibration.parameters)));
-    calibration = calibrateWithNoise(plan, *calibrator, start);
+    calibration = followedBy(calibration, calibrateWithNoise(plan, *calibrator, start));
   }
   nearestTurn(plan, calibration);
   addWarnings(plan, calibration);

@@ -150,6 +150,7 @@ json calibrationToJson(const Plan& plan, const std::vector<Placement>& placement
   out["termination"] = terminationName(calibration.summary.termination);
   out["message"] = calibration.summary.message;
   out["iterations"] = calibration.summary.iterations;
+  out["fits"] = calibration.summary.fits;
   out["chi2"] = finiteOrNull(calibration.chi2);
   out["dof"] = calibration.dof;
   // Without redundancy (dof <= 0) there is no chi2/dof at all: null, not 0.
@@ -254,7 +255,8 @@ std::string calibrationTable(const Plan& plan, const std::vector<Placement>& pla
   const CalibrationSummary& s = calibration.summary;
   out << "calibration of " << (plan.name.empty() ? plan.source : plan.name) << ": "
       << (s.converged() ? "converged" : "NOT CONVERGED") << " (" << s.message << ") after "
-      << s.iterations << " iterations\n";
+      << s.iterations << " iterations"
+      << (s.fits > 1 ? " in " + std::to_string(s.fits) + " fits" : std::string()) << "\n";
   out << "chi2 = " << numberOrDash("%.4g", calibration.chi2) << " on " << calibration.dof
       << " degrees of freedom, chi2/dof = ";
   if (calibration.dof > 0) {

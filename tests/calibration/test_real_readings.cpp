@@ -19,6 +19,7 @@
 #include "artcal/core/units.hpp"
 #include "artcal/estimation/reading_noise.hpp"
 #include "artcal/io/plan_io.hpp"
+#include "artcal/report/calibration_report.hpp"
 #include "cli_runner.hpp"
 #include "temp_folder.hpp"
 #include "test_paths.hpp"
@@ -465,6 +466,30 @@ TEST_F(MukcaReadings, ConvergenceDoesNotDependOnTheStatedNoise) {
     const Calibration noisy = calibrateReadings(plan);
     EXPECT_TRUE(noisy.summary.converged()) << noise.dump() << ": " << noisy.summary.message;
   }
+}
+
+// The work of every fit is counted: with `"probe": "estimate"` (starting from the plain plan's
+// 0.1 mm) the result reports the fits the estimate took, and its iterations include the first
+// fit's, which is the plain plan's calibration at 0.1 mm (before, only the last fit's: "1
+// iterations").
+TEST_F(MukcaReadings, AnEstimatedNoiseCalibrationCountsTheIterationsOfEveryFit) {
+  json document = imported("dinova_1", "gen3lite.urdf", "kinova_base_link");
+  const auto all = [](const std::string&) { return true; };
+  Plan stated = subset(document, "stated", all);
+  const Calibration first = calibrateReadings(stated);
+  ASSERT_TRUE(first.summary.converged());
+  EXPECT_EQ(first.summary.fits, 1);
+  document["noise"]["probe"] = "estimate";
+  Plan estimating = subset(document, "estimating", all);
+  const Calibration c = calibrateReadings(estimating);
+  ASSERT_TRUE(c.summary.converged()) << c.summary.message;
+  ASSERT_TRUE(c.noise_estimate);
+  EXPECT_GE(c.summary.fits, 2);
+  EXPECT_EQ(c.summary.fits, c.noise_estimate->fits);
+  EXPECT_GE(c.summary.iterations, first.summary.iterations + c.summary.fits - 1);
+  const json out = calibrationToJson(estimating, estimating.placements, c);
+  EXPECT_EQ(out["fits"], c.summary.fits);
+  EXPECT_EQ(out["iterations"], c.summary.iterations);
 }
 
 // Plausibility scales with the machine: the Gen3 lite at raised_back is 10.4 mm (RMS) off its

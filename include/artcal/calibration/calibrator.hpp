@@ -79,8 +79,11 @@ struct CalibrationOptions {
 struct CalibrationSummary {
   TerminationType termination = TerminationType::Failure;
   std::string message;
-  int iterations = 0;  ///< linearisations whose step was tried
+  int iterations = 0;  ///< linearisations whose step was tried, summed over the fits
   int accepted_steps = 0;
+  /// Levenberg-Marquardt runs behind the result: 1, more when calibrateReadings refits (each
+  /// reweighting of `"probe": "estimate"`, a repeat after the rank rule at the estimate).
+  int fits = 1;
   double initial_cost = 0.0;
   double final_cost = 0.0;
   bool converged() const { return termination == TerminationType::Converged; }
