@@ -118,54 +118,68 @@ TEST(Verification, PredictedSpreadMatchesMonteCarlo) {
   EXPECT_GT(predicted2, noise_only2 * 1.05);  // the calibration's V_p is a visible part
 }
 
-// Readings that scatter twice as much as the plan states: the calibration's Birge ratio says so
-// (about 2), and the posterior prediction (predicted times that ratio) is the spread then
-// observed on held-out readings of the same kind, where the stated-noise prediction is half.
-/// Sums over every length pair of `v`: observed error^2 and posterior predicted u^2.
-void addLengths(const Verification& v, double& observed2, double& posterior2, int& pairs) {
-  for (const PlacementVerification& placement : v.placements) {
-    for (const LengthError& e : placement.length_errors) {
-      observed2 += e.error * e.error;
-      posterior2 += e.predicted_u_posterior * e.predicted_u_posterior;
-      ++pairs;
-    }
-  }
-}
-
-TEST(Verification, PosteriorSpreadMatchesMonteCarloWhenTheNoiseIsUnderstated) {
-  const Plan plan = serialPlan();
-  const Eigen::VectorXd truth = perturbedTruth(plan);
+SimulationOptions twiceTheStatedNoise() {
   SimulationOptions twice;
   twice.noise_scale = 2.0;
-  const Simulator simulator(plan, twice);
-  Calibrator calibrator(plan);
+  return twice;
+}
+
+/// Calibrations on readings that scatter twice as much as the serial plan states, each verified on
+/// held-out readings of the same kind: mean squares over the trials of the observed spread and
+/// of its predictions, and sums over the length pairs of the observed error^2 and posterior u^2.
+struct TwiceTheStatedScatter {
+  static constexpr int kTrials = 200;
+  Plan plan = serialPlan();
+  Eigen::VectorXd truth = perturbedTruth(plan);
+  Simulator simulator{plan, twiceTheStatedNoise()};
   Plan held_out = plan;
   double observed2 = 0.0, predicted2 = 0.0, posterior2 = 0.0;
   double length_observed2 = 0.0, length_posterior2 = 0.0;
   int pairs = 0;
-  constexpr int kTrials = 200;
-  for (int t = 0; t < kTrials; ++t) {
-    NormalSource normal(trialSeed(23, static_cast<std::uint64_t>(t)));
-    const Calibration calibration = calibrator.run(simulator.simulate(truth, normal).placements);
-    ASSERT_TRUE(calibration.summary.converged());
-    const auto u = calibration.uncertainty(plan.machine);
-    ASSERT_TRUE(u);
-    const double birge = std::sqrt(calibration.chi2 / calibration.dof);
-    EXPECT_NEAR(u->birge_ratio, birge, 1e-15 * birge);
+
+  /// Verifies the machine of `calibration` on fresh held-out readings drawn from `normal`.
+  Verification verify(const Eigen::VectorXd& p, const ParameterUncertainty& u,
+                      NormalSource& normal) {
     held_out.placements = simulator.simulate(truth, normal).placements;
-    const Verification v = verifyMachine(held_out, calibration.parameters, u);
-    EXPECT_DOUBLE_EQ(v.birge_ratio, u->birge_ratio);
-    EXPECT_NEAR(v.predicted_spread_rms_posterior, v.predicted_spread_rms * birge, 1e-14);
-    addLengths(v, length_observed2, length_posterior2, pairs);
+    const Verification v = verifyMachine(held_out, p, u);
     observed2 += v.spread_rms * v.spread_rms / kTrials;
     predicted2 += v.predicted_spread_rms * v.predicted_spread_rms / kTrials;
     posterior2 += v.predicted_spread_rms_posterior * v.predicted_spread_rms_posterior / kTrials;
+    for (const PlacementVerification& placement : v.placements) {
+      for (const LengthError& e : placement.length_errors) {
+        length_observed2 += e.error * e.error;
+        length_posterior2 += e.predicted_u_posterior * e.predicted_u_posterior;
+        ++pairs;
+      }
+    }
+    return v;
   }
-  EXPECT_NEAR(observed2 / posterior2, 1.0, 0.1);
-  EXPECT_NEAR(observed2 / predicted2, 4.0, 0.4);
-  // The length errors' posterior u likewise (600 pairs, as PredictedLengthErrorUMatchesMonteCarlo).
-  ASSERT_EQ(pairs, 600);
-  EXPECT_NEAR(length_observed2 / length_posterior2, 1.0, 0.2);
+};
+
+// Readings that scatter twice as much as the plan states: the calibration's Birge ratio says so
+// (about 2), and the posterior prediction (predicted times that ratio) is the spread then
+// observed on held-out readings of the same kind, where the stated-noise prediction is half; the
+// length errors' posterior u likewise (600 pairs, as PredictedLengthErrorUMatchesMonteCarlo).
+TEST(Verification, PosteriorSpreadMatchesMonteCarloWhenTheNoiseIsUnderstated) {
+  TwiceTheStatedScatter runs;
+  Calibrator calibrator(runs.plan);
+  for (int t = 0; t < TwiceTheStatedScatter::kTrials; ++t) {
+    NormalSource normal(trialSeed(23, static_cast<std::uint64_t>(t)));
+    const Calibration calibration =
+        calibrator.run(runs.simulator.simulate(runs.truth, normal).placements);
+    ASSERT_TRUE(calibration.summary.converged());
+    const auto u = calibration.uncertainty(runs.plan.machine);
+    ASSERT_TRUE(u);
+    const double birge = std::sqrt(calibration.chi2 / calibration.dof);
+    EXPECT_NEAR(u->birge_ratio, birge, 1e-15 * birge);
+    const Verification v = runs.verify(calibration.parameters, *u, normal);
+    EXPECT_DOUBLE_EQ(v.birge_ratio, u->birge_ratio);
+    EXPECT_NEAR(v.predicted_spread_rms_posterior, v.predicted_spread_rms * birge, 1e-14);
+  }
+  EXPECT_NEAR(runs.observed2 / runs.posterior2, 1.0, 0.1);
+  EXPECT_NEAR(runs.observed2 / runs.predicted2, 4.0, 0.4);
+  ASSERT_EQ(runs.pairs, 600);
+  EXPECT_NEAR(runs.length_observed2 / runs.length_posterior2, 1.0, 0.2);
 }
 
 // The same readings (twice the stated scatter) calibrated with `"probe": "estimate"`: the
@@ -174,45 +188,32 @@ TEST(Verification, PosteriorSpreadMatchesMonteCarloWhenTheNoiseIsUnderstated) {
 // with the calibration's estimated noise and is the spread observed on held-out readings; the
 // stated-noise prediction falls well short of it (before, the posterior was that one times 1).
 TEST(Verification, PosteriorSpreadUsesTheEstimatedProbeNoiseWhenThePlanStatesOne) {
-  const Plan plan = serialPlan();
-  const Eigen::VectorXd truth = perturbedTruth(plan);
-  SimulationOptions twice;
-  twice.noise_scale = 2.0;
-  const Simulator simulator(plan, twice);
-  Plan estimating = plan;
+  TwiceTheStatedScatter runs;
+  Plan estimating = runs.plan;
   estimating.noise.estimate_probe = true;
-  Plan held_out = plan;
-  ASSERT_FALSE(held_out.noise.estimate_probe);
-  double observed2 = 0.0, predicted2 = 0.0, posterior2 = 0.0, estimate2 = 0.0;
-  double length_observed2 = 0.0, length_posterior2 = 0.0;
-  int pairs = 0;
-  constexpr int kTrials = 200;
-  for (int t = 0; t < kTrials; ++t) {
+  ASSERT_FALSE(runs.held_out.noise.estimate_probe);
+  double estimate2 = 0.0;
+  for (int t = 0; t < TwiceTheStatedScatter::kTrials; ++t) {
     NormalSource normal(trialSeed(29, static_cast<std::uint64_t>(t)));
     Plan training = estimating;
-    training.placements = simulator.simulate(truth, normal).placements;
+    training.placements = runs.simulator.simulate(runs.truth, normal).placements;
     const Calibration calibration = calibrateReadings(training);
     ASSERT_TRUE(calibration.summary.converged());
     const auto u = calibration.uncertainty(training.machine);
     ASSERT_TRUE(u);
     ASSERT_TRUE(calibration.noise_estimate);
     EXPECT_NEAR(u->birge_ratio, 1.0, 1e-2);
-    estimate2 += u->probe_noise * u->probe_noise / kTrials;
-    held_out.placements = simulator.simulate(truth, normal).placements;
-    const Verification v = verifyMachine(held_out, calibration.parameters, u);
+    estimate2 += u->probe_noise * u->probe_noise / TwiceTheStatedScatter::kTrials;
+    const Verification v = runs.verify(calibration.parameters, *u, normal);
     EXPECT_DOUBLE_EQ(v.posterior_probe_noise, u->probe_noise);
-    addLengths(v, length_observed2, length_posterior2, pairs);
-    observed2 += v.spread_rms * v.spread_rms / kTrials;
-    predicted2 += v.predicted_spread_rms * v.predicted_spread_rms / kTrials;
-    posterior2 += v.predicted_spread_rms_posterior * v.predicted_spread_rms_posterior / kTrials;
   }
   // The probe's share of the scatter is twice the stated one (the encoders' too, which the
   // estimate, encoders as stated, takes into the probe's).
-  EXPECT_GT(std::sqrt(estimate2), 1.8 * plan.noise.probe);
-  EXPECT_NEAR(observed2 / posterior2, 1.0, 0.1);
-  EXPECT_GT(observed2 / predicted2, 2.0);
-  ASSERT_EQ(pairs, 600);
-  EXPECT_NEAR(length_observed2 / length_posterior2, 1.0, 0.2);
+  EXPECT_GT(std::sqrt(estimate2), 1.8 * runs.plan.noise.probe);
+  EXPECT_NEAR(runs.observed2 / runs.posterior2, 1.0, 0.1);
+  EXPECT_GT(runs.observed2 / runs.predicted2, 2.0);
+  ASSERT_EQ(runs.pairs, 600);
+  EXPECT_NEAR(runs.length_observed2 / runs.length_posterior2, 1.0, 0.2);
 }
 
 // The rule of "worse than nominal" on hand-made figures: a larger spread is worse; a length
@@ -251,10 +252,8 @@ TEST(Verification, WorseThanNominalCountsALengthErrorBeyondTwiceItsPosteriorU) {
 // prediction times the Birge ratio, and no estimated noise is named.
 TEST(Verification, StatedNoiseCalibrationKeepsTheBirgeScaledPosterior) {
   Plan plan = serialPlan();
-  SimulationOptions twice;
-  twice.noise_scale = 2.0;
   NormalSource normal(31);
-  const Simulator simulator(plan, twice);
+  const Simulator simulator(plan, twiceTheStatedNoise());
   const Eigen::VectorXd truth = perturbedTruth(plan);
   const Calibration calibration =
       Calibrator(plan).run(simulator.simulate(truth, normal).placements);
