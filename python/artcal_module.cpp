@@ -337,7 +337,7 @@ json verify(const PyPlan& p, const py::object& machine, const std::string& machi
     parameters = parseTruth(document, source, plan);
     uncertainty = parseMachineCovariance(document, source, plan);
     useEstimatedProbeNoise(plan, uncertainty);
-    checkPlausibility(plan, parameters, "the machine of " + source);
+    checkPlausibilityOfVerified(plan, parameters, "the machine of " + source);
   }
   // As the command: a plan of instrument stations alone gets the stations' figures only.
   return withoutGil([&] {

@@ -8,10 +8,13 @@ come from the same run). Figures in mm, MUKCa's definitions (tests/data/mukca/mu
 MAE = spread_mean, RMS = spread_rms, distance = length_error_mean_abs; each fold's figure is the
 mean over its held-out positions, the last line the mean over the folds.
 
-usage: tools/mukca_figures.py ARTCAL {panda_2,dinova_1} {one,loo,POSITION} [--json]
+usage: tools/mukca_figures.py ARTCAL ROBOT {one,loo,POSITION} [--json]
+         [--data DIR --urdf URDF --base LINK [--tip LINK] [--ball-bar MM] [--leave-out P ...]]
   one: trained on each position alone, the others held out; loo: each position held out,
-  trained on the others; POSITION: trained on that position alone. The Panda's `high` position
-  (its socket moved, see the README) is left out as the authors do.
+  trained on the others; POSITION: trained on that position alone. ROBOT is a folder of DIR
+  (default: the copied MUKCa data, where panda_2 and dinova_1 need no more options; the Panda's
+  `high` position, whose socket moved, see the README, is left out as the authors do). With
+  --data, --urdf and --base, any folder of positions in MUKCa's layout is measured the same way.
 """
 
 import argparse
@@ -23,8 +26,8 @@ import tempfile
 
 DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests", "data", "mukca",
                     "mukca")
-ROBOTS = {"panda_2": ("panda.urdf", "panda_link0"), "dinova_1": ("gen3lite.urdf",
-                                                                 "kinova_base_link")}
+ROBOTS = {"panda_2": ("panda.urdf", "panda_link0", ["high"]),
+          "dinova_1": ("gen3lite.urdf", "kinova_base_link", [])}
 FIGURES = ("spread_mean", "spread_rms", "length_error_mean_abs")
 
 
@@ -45,8 +48,8 @@ def run(artcal, *args):
 class Plans:
     """Imported plans of sets of positions, made once each in a temporary folder."""
 
-    def __init__(self, artcal, robot, folder):
-        self.artcal, self.robot, self.folder, self.made = artcal, robot, folder, {}
+    def __init__(self, artcal, setup, folder):
+        self.artcal, self.setup, self.folder, self.made = artcal, setup, folder, {}
 
     def of(self, positions):
         key = tuple(sorted(positions))
@@ -55,19 +58,21 @@ class Plans:
             readings = os.path.join(self.folder, name)
             os.makedirs(readings)
             for position in key:
-                os.symlink(os.path.join(DATA, self.robot, position),
+                os.symlink(os.path.join(self.setup.positions, position),
                            os.path.join(readings, position))
-            urdf, base = ROBOTS[self.robot]
             out = os.path.join(self.folder, name + ".json")
-            run(self.artcal, "import-readings", readings, "--urdf", os.path.join(DATA, "urdf", urdf),
-                "--base", base, "--tip", "ball_link", "--ball-bar", "50", "-o", out)
+            run(self.artcal, "import-readings", readings, "--urdf", self.setup.urdf, "--base",
+                self.setup.base, "--tip", self.setup.tip, "--ball-bar", str(self.setup.ball_bar),
+                "-o", out)
             self.made[key] = out
         return self.made[key]
 
 
-def folds(robot, mode):
-    positions = sorted(p for p in os.listdir(os.path.join(DATA, robot))
-                       if os.path.isdir(os.path.join(DATA, robot, p)) and p != "high")
+def folds(setup, mode):
+    robot = os.path.basename(setup.positions)
+    positions = sorted(p for p in os.listdir(setup.positions)
+                       if os.path.isdir(os.path.join(setup.positions, p))
+                       and p not in setup.leave_out)
     if mode == "loo":
         return [([p for p in positions if p != held], [held]) for held in positions]
     if mode == "one":
@@ -78,10 +83,10 @@ def folds(robot, mode):
     return [([mode], [p for p in positions if p != mode])]
 
 
-def measure(artcal, robot, mode, folder):
-    plans = Plans(artcal, robot, folder)
+def measure(artcal, setup, mode, folder):
+    plans = Plans(artcal, setup, folder)
     out = []
-    for k, (training, held_out) in enumerate(folds(robot, mode)):
+    for k, (training, held_out) in enumerate(folds(setup, mode)):
         machine = os.path.join(folder, f"machine{k}.json")
         calibration = json.loads(run(artcal, "calibrate", plans.of(training), "--json",
                                      "--write-machine", machine).stdout)
@@ -107,12 +112,31 @@ def triple(figures):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("artcal", help="the artcal executable (build/tools/artcal)")
-    parser.add_argument("robot", choices=sorted(ROBOTS))
+    parser.add_argument("robot", help="the robot's folder of positions in DIR")
     parser.add_argument("mode", help="one, loo or a position's name")
     parser.add_argument("--json", action="store_true", help="one JSON document instead of a table")
+    parser.add_argument("--data", help="DIR: the folder of robots (default: the copied MUKCa data)")
+    parser.add_argument("--urdf", help="the robot's URDF (default for panda_2, dinova_1)")
+    parser.add_argument("--base", help="the URDF's base link (default for panda_2, dinova_1)")
+    parser.add_argument("--tip", default="ball_link", help="the ball's link (ball_link)")
+    parser.add_argument("--ball-bar", type=float, default=50.0, help="socket distance, mm (50)")
+    parser.add_argument("--leave-out", nargs="*", default=None,
+                        help="positions never used (panda_2: high)")
     args = parser.parse_args()
+    data = os.path.abspath(args.data) if args.data else DATA
+    known = ROBOTS.get(args.robot) if not args.data else None
+    if not known and not (args.urdf and args.base):
+        refuse(f"{args.robot}: give --urdf and --base (defaults exist for "
+               f"{', '.join(sorted(ROBOTS))} of the copied data)")
+    setup = argparse.Namespace(
+        positions=os.path.join(data, args.robot),
+        urdf=os.path.abspath(args.urdf) if args.urdf else os.path.join(DATA, "urdf", known[0]),
+        base=args.base or known[1], tip=args.tip, ball_bar=args.ball_bar,
+        leave_out=args.leave_out if args.leave_out is not None else (known[2] if known else []))
+    if not os.path.isdir(setup.positions):
+        refuse(f"{setup.positions}: no such folder of positions")
     with tempfile.TemporaryDirectory() as folder:
-        result = measure(os.path.abspath(args.artcal), args.robot, args.mode, folder)
+        result = measure(os.path.abspath(args.artcal), setup, args.mode, folder)
     mean = {side: {f: sum(r[side][f] for r in result) / len(result) for f in FIGURES}
             for side in ("calibrated", "nominal")}
     if args.json:

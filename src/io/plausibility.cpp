@@ -301,4 +301,19 @@ void checkPlausibility(const Plan& plan, const Eigen::VectorXd& p, const std::st
   }
 }
 
+void checkPlausibilityOfVerified(const Plan& plan, const Eigen::VectorXd& p,
+                                 const std::string& machine) {
+  try {
+    checkPlausibility(plan, p, machine);
+  } catch (const InputError&) {
+    bool nominal_fits = true;
+    try {
+      checkPlausibility(plan);
+    } catch (const InputError&) {
+      nominal_fits = false;
+    }
+    if (!nominal_fits) throw;  // the machine verified's error
+  }
+}
+
 }  // namespace artcal

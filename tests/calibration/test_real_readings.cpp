@@ -530,6 +530,27 @@ TEST_F(RealReadingsCli, VerifyChecksPlausibilityAgainstTheMachineVerified) {
   EXPECT_EQ(calibrated.status, 0);
 }
 
+// A machine that misses readings by more than any machine error is verify's finding when the
+// nominal machine fits them (the MUKCa dinova_2 trained on one position put another 20 mm off and
+// verify refused it as bad input): verified, with the worse-than-nominal warning. Readings that
+// neither fits are still refused.
+TEST_F(RealReadingsCli, VerifyOfAMachineFarOffReadingsTheNominalFitsIsAFinding) {
+  const std::string near_nominal = simulate({{"l1", 150.02}});
+  const std::string far = write("far.json", json{{"parameters", {{"dt2", 20.0}}}}.dump());
+  const auto verified = test_support::runCli("verify --json " + near_nominal + " --machine " + far);
+  ASSERT_EQ(verified.status, 0);
+  const json out = json::parse(verified.out)["verify"];
+  EXPECT_GT(out["residual_rms"].get<double>(), 10.0);  // beyond a machine error of this arm
+  EXPECT_EQ(out["warnings"].size(), 1u);
+  const std::string off_nominal = simulate({{"dt2", 15.0}});
+  const std::string other = write("other.json", json{{"parameters", {{"dt2", -15.0}}}}.dump());
+  const auto refused = test_support::runCli("verify " + off_nominal + " --machine " + other,
+                                            test_support::Stderr::Only);
+  EXPECT_EQ(refused.status, 2);
+  EXPECT_NE(refused.out.find("simulated.json: /placements/0: the machine of"), std::string::npos)
+      << refused.out;
+}
+
 // A plan saying `"probe": "estimate"` verifies with the noise the calibration estimated (the
 // machine file carries it as covariance.probe_noise): verify's predicted figures equal those of
 // the same plan stating that noise, not those of the estimate's starting value.

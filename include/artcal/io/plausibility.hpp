@@ -41,5 +41,12 @@ void checkPlausibility(const Plan& plan);
 /// --machine` checks the readings against the machine it verifies.
 /// `machine` names it in messages ("the calibrated machine").
 void checkPlausibility(const Plan& plan, const Eigen::VectorXd& p, const std::string& machine);
+/// `verify --machine`: the readings pass when the machine verified or the plan's nominal machine
+/// passes the checks. Either one fitting them rules out what the checks are for (units, feature
+/// indices, a tip that is not the ball); a calibration that fits them worse than any machine error
+/// (one tool position extrapolated across the workspace) is verify's finding, not bad input. When
+/// both fail, the error is the machine verified's.
+void checkPlausibilityOfVerified(const Plan& plan, const Eigen::VectorXd& p,
+                                 const std::string& machine);
 
 }  // namespace artcal
