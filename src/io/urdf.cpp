@@ -9,6 +9,7 @@
 #include <cmath>
 #include <fstream>
 #include <map>
+#include <numbers>
 #include <set>
 #include <sstream>
 
@@ -334,7 +335,7 @@ std::string tripleText(const Eigen::Vector3d& v) {
 // (0, 90, 0) deg in its URDF, calibrated to a pitch of 90.7 deg is written as (0, 90.7, 0), not
 // flipped to (-180, 89.3, -180).
 Eigen::Vector3d rpyNear(const Eigen::Matrix3d& R, const Eigen::Vector3d& near) {
-  constexpr double kPi = 3.14159265358979323846;
+  constexpr double kPi = std::numbers::pi;
   const auto turn = [](double a) { return std::remainder(a, 2.0 * kPi); };
   const Eigen::Vector3d a = rpyFromMatrix(R);
   const Eigen::Vector3d b(turn(a[0] + kPi), turn(kPi - a[1]), turn(a[2] + kPi));

@@ -1,6 +1,7 @@
 #include "artcal/report/calibration_report.hpp"
 #include "artcal/report/text_format.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -16,6 +17,19 @@ namespace {
 /// printf-style text of one number; "-" when it is not finite.
 std::string numberOrDash(const char* pattern, double value) {
   return std::isfinite(value) ? report_text::format(pattern, value) : "-";
+}
+
+/// The width of a parameter table's name column: the longest calibrated name, at least 10 (a
+/// URDF's "wrist_3_link-tool0_fixed_joint.x" shifted every number of its row), and its heading.
+std::size_t nameWidth(const Machine& machine) {
+  std::size_t width = 10;
+  for (int k = 0; k < machine.calibratedCount(); ++k)
+    width = std::max(width, machine.calibratedInfo(k).name.size());
+  return width;
+}
+
+std::string nameHeading(std::size_t width) {
+  return std::string("parameter").append(width - 9, ' ');
 }
 
 std::string padded(const std::string& text, int width) {
@@ -270,12 +284,8 @@ std::string calibrationTable(const Plan& plan, const std::vector<Placement>& pla
   }
   out << calibrationNotes(plan, calibration);
   out << "\n";
-  // The name column is as wide as the longest name (a URDF's "wrist_3_link-tool0_fixed_joint.x"
-  // shifted every number of its row), at least 10.
-  std::size_t name_width = 10;
-  for (int k = 0; k < machine.calibratedCount(); ++k)
-    name_width = std::max(name_width, machine.calibratedInfo(k).name.size());
-  out << std::string("parameter").append(name_width - 9, ' ')
+  const std::size_t name_width = nameWidth(machine);
+  out << nameHeading(name_width)
       << "     nominal        estimate             u    u_posterior  unit\n";
   const Eigen::VectorXd posterior = calibration.posteriorU();
   for (int k = 0; k < machine.calibratedCount(); ++k) {
@@ -380,11 +390,8 @@ std::string confirmationTable(const Plan& plan, const ConfirmationOptions& optio
       << numberOrDash("%.3f", band.high) << "] = 1 +- ("
       << numberOrDash("%.2f", band.coverage_factor) << " x " << numberOrDash("%.4f", band.sampling)
       << " sampling + " << numberOrDash("%.3f", band.allowance) << " non-linearity allowance)\n\n";
-  std::size_t name_width = 10;  // the longest name, as calibrate's table
-  for (int k = 0; k < plan.machine.calibratedCount(); ++k)
-    name_width = std::max(name_width, plan.machine.calibratedInfo(k).name.size());
-  out << std::string("parameter").append(name_width - 9, ' ')
-      << "    predicted_u    empirical_u          bias   ratio  unit\n";
+  const std::size_t name_width = nameWidth(plan.machine);
+  out << nameHeading(name_width) << "    predicted_u    empirical_u          bias   ratio  unit\n";
   for (int k = 0; k < plan.machine.calibratedCount(); ++k) {
     const ParameterInfo& info = plan.machine.calibratedInfo(k);
     const ConfirmedParameter& p = confirmation.parameters[static_cast<std::size_t>(k)];
