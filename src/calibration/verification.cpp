@@ -289,11 +289,13 @@ double lengthErrorUncertainty(const Verification& v) {
 std::vector<std::string> worseThanNominal(const Verification& calibrated,
                                           const Verification& nominal) {
   std::vector<std::string> worse;
-  if (calibrated.spread_mean > nominal.spread_mean) worse.emplace_back("spread_mean");
-  if (calibrated.spread_rms > nominal.spread_rms) worse.emplace_back("spread_rms");
-  if (calibrated.length_error_mean_abs - nominal.length_error_mean_abs >
-      2.0 * lengthErrorUncertainty(calibrated))
-    worse.emplace_back("length_error_mean_abs");
+  for (const ComparedFigure& figure : kComparedFigures) {
+    const double tolerance = figure.value == &Verification::length_error_mean_abs
+                                 ? 2.0 * lengthErrorUncertainty(calibrated)
+                                 : 0.0;
+    if (calibrated.*figure.value - nominal.*figure.value > tolerance)
+      worse.emplace_back(figure.name);
+  }
   return worse;
 }
 

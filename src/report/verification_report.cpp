@@ -122,19 +122,10 @@ std::vector<std::string> besideNominalWarnings(const Verification& calibrated,
     std::ostringstream out;
     out << "on these readings the calibrated machine does worse than the plan's nominal one (";
     const char* separator = "";
-    for (const std::string& figure : worse) {
-      const bool spread_mean = figure == "spread_mean", spread_rms = figure == "spread_rms";
-      const double c = spread_mean  ? calibrated.spread_mean
-                       : spread_rms ? calibrated.spread_rms
-                                    : calibrated.length_error_mean_abs;
-      const double n = spread_mean  ? nominal.spread_mean
-                       : spread_rms ? nominal.spread_rms
-                                    : nominal.length_error_mean_abs;
-      out << separator
-          << (spread_mean  ? "spread mean "
-              : spread_rms ? "spread rms "
-                           : "length error mean |e| ")
-          << fixed(c, 3) << " mm > " << fixed(n, 3) << " mm";
+    for (const ComparedFigure& figure : kComparedFigures) {
+      if (std::find(worse.begin(), worse.end(), figure.name) == worse.end()) continue;
+      out << separator << figure.words << " " << fixed(calibrated.*figure.value, 3) << " mm > "
+          << fixed(nominal.*figure.value, 3) << " mm";
       separator = ", ";
     }
     out << "): the calibration does not hold here; calibrate with readings from more artifact "

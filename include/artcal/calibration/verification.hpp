@@ -125,13 +125,25 @@ Verification verifyMachine(const Plan& plan, const Eigen::VectorXd& p,
 /// nominal machine's forward kinematics fails on a reading.
 std::optional<Verification> verifyNominal(const Plan& plan, const VerifyOptions& options = {});
 
-/// The overall figures in which `calibrated` does worse than `nominal` on the same readings, by
-/// their JSON names: "spread_mean", "spread_rms", "length_error_mean_abs" (the MUKCa figures).
+/// A figure `verify --machine` compares with the nominal machine's: its JSON name, the words a
+/// sentence gives it, and where a Verification holds it.
+struct ComparedFigure {
+  const char* name;
+  const char* words;
+  double Verification::*value;
+};
+/// The MUKCa figures, in the order they are reported.
+inline constexpr ComparedFigure kComparedFigures[] = {
+    {"spread_mean", "spread mean", &Verification::spread_mean},
+    {"spread_rms", "spread rms", &Verification::spread_rms},
+    {"length_error_mean_abs", "length error mean |e|", &Verification::length_error_mean_abs}};
+
+/// The overall figures (kComparedFigures) in which `calibrated` does worse than `nominal` on the
+/// same readings, by their JSON names.
 /// A spread averages every posture's deviation, and the two machines see the same readings, so a
 /// larger one is worse. A length error is one number per pair, the nominal one can be small by
 /// chance: its mean |e| counts as worse only beyond twice the RMS of the calibrated machine's
 /// predicted u of the pairs (posterior when known), what the calibration itself says it can do.
-
 std::vector<std::string> worseThanNominal(const Verification& calibrated,
                                           const Verification& nominal);
 
