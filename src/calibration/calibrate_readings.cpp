@@ -306,8 +306,10 @@ void requireMeasuredPoints(const Plan& plan) {
   }
 }
 
-Calibration calibrateReadings(Plan& plan, const CalibrationOptions& options) {
-  requireMeasuredPoints(plan);
+namespace {
+
+// The plain path: the rank rule, the weak directions and the noise, as the plan lists them.
+Calibration calibrateAsListed(Plan& plan, const CalibrationOptions& options) {
   const bool resolve = plan.machine.calibrate_identifiable && plan.calibrate_resolution.has_value();
   const Eigen::VectorXd& nominal = plan.machine.nominal;
   std::optional<Calibrator> calibrator(std::in_place, plan, options);
@@ -339,6 +341,20 @@ Calibration calibrateReadings(Plan& plan, const CalibrationOptions& options) {
   nearestTurn(plan, calibration);
   addWarnings(plan, calibration);
   return calibration;
+}
+
+}  // namespace
+
+Calibration calibrateReadings(Plan& plan, const CalibrationOptions& options) {
+  requireMeasuredPoints(plan);
+  // A fit whose corrections are flagged is searched for a plausible minimum from the plan as
+  // loaded (plausible_minimum.hpp).
+  std::optional<Plan> before;
+  if (plan.machine.calibrate_identifiable && plan.calibrate_resolution) before = plan;
+  Calibration calibration = calibrateAsListed(plan, options);
+  if (!before) return calibration;
+  return choosePlausibleMinimum(*before, plan, std::move(calibration),
+                                [&](Plan& trial) { return calibrateAsListed(trial, options); });
 }
 
 }  // namespace artcal

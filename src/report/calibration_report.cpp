@@ -133,7 +133,93 @@ json weaklyDeterminedToJson(const Plan& plan) {
   return out;
 }
 
-// The noise estimate, the parameters held at nominal and the warnings, for the table.
+std::string parameterName(const Machine& machine, int index) {
+  return machine.mechanism->parameters()[static_cast<std::size_t>(index)].name;
+}
+
+/// A fit of the plausible-minimum search (plausible_minimum.hpp): its cost, kept set, estimates
+/// and flagged corrections, file units.
+json minimumFitToJson(const Machine& machine, const MinimumFit& fit) {
+  const auto& info = machine.mechanism->parameters();
+  json kept = json::array();
+  for (const int i : fit.calibrated) {
+    const Quantity& q = info[static_cast<std::size_t>(i)].quantity;
+    kept.push_back({{"name", parameterName(machine, i)},
+                    {"estimate", finiteOrNull(toFileUnit(q, fit.parameters[i]))},
+                    {"unit", std::string(unitName(q))}});
+  }
+  json flagged = json::array();
+  for (const ImplausibleCorrection& c : fit.flagged) {
+    const Quantity& q = info[static_cast<std::size_t>(c.parameter)].quantity;
+    flagged.push_back({{"name", parameterName(machine, c.parameter)},
+                       {"correction", finiteOrNull(toFileUnit(q, c.correction))},
+                       {"limit", finiteOrNull(toFileUnit(q, c.limit))},
+                       {"unit", std::string(unitName(q))}});
+  }
+  return {{"chi2", finiteOrNull(fit.chi2)},
+          {"chi2_increase", finiteOrNull(fit.chi2_increase)},
+          {"chi2_allowance", finiteOrNull(fit.chi2_allowance)},
+          {"dof", fit.dof},
+          {"chi2_per_dof", fit.dof > 0 ? finiteOrNull(fit.chi2_per_dof) : json(nullptr)},
+          {"probe", {{"value", finiteOrNull(fit.probe)}, {"unit", "mm"}}},
+          {"flagged", flagged},
+          {"parameters", kept}};
+}
+
+json minimumToJson(const Machine& machine, const Calibration& calibration) {
+  if (!calibration.minimum) return nullptr;
+  const MinimumChoice& m = *calibration.minimum;
+  json demoted = json::array();
+  for (const int i : m.demoted) demoted.push_back(parameterName(machine, i));
+  return {{"chosen", m.alternative_chosen ? "alternative" : "plain"},
+          {"plausible", m.alternative_chosen && m.alternative->flagged.empty()},
+          {"reason", m.reason},
+          {"flagged", minimumFitToJson(machine, m.flagged)},
+          {"alternative",
+           m.alternative ? minimumFitToJson(machine, *m.alternative) : json(nullptr)},
+          {"demoted", demoted},
+          {"fits", m.fits}};
+}
+
+/// One line per fit of the search: chi2 and the flagged corrections.
+std::string minimumFitText(const Machine& machine, const MinimumFit& fit) {
+  const auto& info = machine.mechanism->parameters();
+  std::string out = "chi2 = " + numberOrDash("%.4g", fit.chi2) + " on " +
+                    std::to_string(fit.dof) + " dof, " + std::to_string(fit.calibrated.size()) +
+                    " kept";
+  if (fit.flagged.empty()) return out + ", no implausible correction";
+  out += ", corrects";
+  for (std::size_t k = 0; k < fit.flagged.size(); ++k) {
+    const ImplausibleCorrection& c = fit.flagged[k];
+    const Quantity& q = info[static_cast<std::size_t>(c.parameter)].quantity;
+    out += (k ? ", " : " ") + parameterName(machine, c.parameter) + " by " +
+           numberOrDash("%.4g", toFileUnit(q, c.correction)) + " " + std::string(unitName(q)) +
+           " (limit " + numberOrDash("%.3g", toFileUnit(q, c.limit)) + " " +
+           std::string(unitName(q)) + ")";
+  }
+  return out;
+}
+
+std::string minimumText(const Machine& machine, const Calibration& calibration) {
+  if (!calibration.minimum) return "";
+  const MinimumChoice& m = *calibration.minimum;
+  std::string out = std::string("minimum: ") +
+                    (!m.alternative_chosen                 ? "the plain fit's"
+                     : m.alternative->flagged.empty() ? "a plausible one"
+                                                      : "one less implausible") + " (" +
+                    m.reason + ")\n  plain fit:         " + minimumFitText(machine, m.flagged) +
+                    "\n";
+  if (m.alternative) {
+    out += std::string(m.alternative_chosen ? "  chosen minimum:    " : "  last alternative:  ") +
+           minimumFitText(machine, *m.alternative) + "; chi2 increase " +
+           numberOrDash("%+.3g", m.alternative->chi2_increase) + " x max(1, chi2/dof), allowed " +
+           numberOrDash("%.3g", m.alternative->chi2_allowance) + "\n";
+  }
+  return out;
+}
+
+// The noise estimate, the parameters held at nominal, the minimum taken and the warnings, for
+// the table.
 std::string calibrationNotes(const Plan& plan, const Calibration& calibration) {
   std::ostringstream out;
   if (calibration.noise_estimate) {
@@ -149,6 +235,7 @@ std::string calibrationNotes(const Plan& plan, const Calibration& calibration) {
     for (const json& w : weak) out << " " << w["name"].get<std::string>();
     out << "\n";
   }
+  out << minimumText(plan.machine, calibration);
   for (const std::string& warning : calibration.warnings) out << "warning: " << warning << "\n";
   return out.str();
 }
@@ -175,6 +262,7 @@ json calibrationToJson(const Plan& plan, const std::vector<Placement>& placement
   if (calibration.noise_estimate) out["noise_estimate"] = noiseEstimateToJson(calibration);
   out["weakly_determined"] = weaklyDeterminedToJson(plan);
   out["warnings"] = calibration.warnings;
+  out["minimum"] = minimumToJson(machine, calibration);
   const Eigen::VectorXd posterior = calibration.posteriorU();
   json parameters = json::array();
   for (int k = 0; k < machine.calibratedCount(); ++k) {

@@ -5,14 +5,22 @@
 //   BM_EvaluatePanda10000Samples: V_p -> tip uncertainty over 10 000 workspace configurations
 //     of the Panda, the workspace's Jacobians prepared once (PlanEvaluator). Target: <= 5 ms.
 //   BM_EvaluatePanda10000TaskSpace: the same over 10 000 task-space samples (models.md 5).
+//   BM_CalibratePlainPanda497Readings: the plain documented path (import-readings with its
+//     defaults: the URDF as it is, "identifiable", probe 0.1 mm) of panda_2's 8 clean positions
+//     (497 readings), calibrateReadings with its plausible-minimum search (the plain fit turns
+//     panda_joint7 by -120 deg: two more fits). Target: <= 3 x the plain calibrate before the
+//     search (about 10 ms).
 // Run: build/tests/bench/bench_panda
 
 #include <benchmark/benchmark.h>
+
+#include <filesystem>
 
 #include "artcal/calibration/calibrate_readings.hpp"
 #include "artcal/calibration/calibrator.hpp"
 #include "artcal/internal.hpp"
 #include "artcal/io/plan_io.hpp"
+#include "artcal/io/readings_import.hpp"
 #include "test_paths.hpp"
 
 namespace artcal {
@@ -57,6 +65,44 @@ void BM_CalibrateReadingsPanda8Positions(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_CalibrateReadingsPanda8Positions)->Unit(benchmark::kMillisecond);
+
+void BM_CalibratePlainPanda497Readings(benchmark::State& state) {
+  // import-readings of a folder of the 8 clean positions (the `high` one left out, its socket
+  // moved: tests/data/mukca/mukca/README.md).
+  namespace fs = std::filesystem;
+  const fs::path folder = fs::temp_directory_path() / "artcal-bench-panda-497";
+  fs::remove_all(folder);
+  fs::create_directories(folder);
+  const fs::path data = test_support::testDataFile("mukca/mukca/panda_2");
+  for (const auto& entry : fs::directory_iterator(data)) {
+    if (entry.is_directory() && entry.path().filename() != "high")
+      fs::create_directory_symlink(entry.path(), folder / entry.path().filename());
+  }
+  ReadingsImport import;
+  import.folder = folder.string();
+  import.urdf = test_support::testDataFile("mukca/mukca/urdf/panda.urdf");
+  import.base = "panda_link0";
+  import.tip = "ball_link";
+  import.ball_bar = 50.0;
+  const ImportedPlan imported = importReadings(import);
+  const Plan plan = parsePlan(imported.plan, imported.source);
+  fs::remove_all(folder);
+  int readings = 0;
+  for (const Placement& p : plan.placements) readings += static_cast<int>(p.measurements.size());
+  CalibrationOptions options;
+  options.details = false;
+  int fits = 0;
+  for (auto _ : state) {
+    Plan calibrated = plan;
+    const Calibration calibration = calibrateReadings(calibrated, options);
+    if (!calibration.summary.converged()) state.SkipWithError("not converged");
+    fits = 1 + (calibration.minimum ? calibration.minimum->fits : 0);
+    benchmark::DoNotOptimize(calibration.parameters.data());
+  }
+  state.counters["readings"] = readings;
+  state.counters["calibrations"] = fits;
+}
+BENCHMARK(BM_CalibratePlainPanda497Readings)->Unit(benchmark::kMillisecond);
 
 void BM_EvaluatePanda10000Samples(benchmark::State& state) {
   Plan plan = pandaPlan();

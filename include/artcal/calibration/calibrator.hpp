@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "artcal/calibration/levenberg_marquardt.hpp"
+#include "artcal/calibration/plausible_minimum.hpp"
 #include "artcal/calibration/verification.hpp"
 #include "artcal/core/enum_names.hpp"
 #include "artcal/estimation/design_matrix.hpp"
@@ -120,6 +121,9 @@ struct Calibration {
   /// What a metrologist should look at before trusting the result (implausible corrections,
   /// readings that fit to rounding): one sentence each, naming the parameter.
   std::vector<std::string> warnings;
+  /// When the plain fit's corrections were flagged: the minimum taken, the other, and why
+  /// (calibrateReadings, plausible_minimum.hpp).
+  std::optional<MinimumChoice> minimum;
   Eigen::VectorXd parameters;  ///< full parameter vector, internal units
   Eigen::VectorXd systematic;  ///< c over the GlobalLayout order, mm
   std::vector<RigidTransform> poses;
