@@ -171,22 +171,21 @@ json minimumToJson(const Machine& machine, const Calibration& calibration) {
   const MinimumChoice& m = *calibration.minimum;
   json demoted = json::array();
   for (const int i : m.demoted) demoted.push_back(parameterName(machine, i));
-  return {{"chosen", m.alternative_chosen ? "alternative" : "plain"},
-          {"plausible", m.alternative_chosen && m.alternative->flagged.empty()},
-          {"reason", m.reason},
-          {"flagged", minimumFitToJson(machine, m.flagged)},
-          {"alternative",
-           m.alternative ? minimumFitToJson(machine, *m.alternative) : json(nullptr)},
-          {"demoted", demoted},
-          {"fits", m.fits}};
+  return {
+      {"chosen", m.alternative_chosen ? "alternative" : "plain"},
+      {"plausible", m.alternative_chosen && m.alternative->flagged.empty()},
+      {"reason", m.reason},
+      {"flagged", minimumFitToJson(machine, m.flagged)},
+      {"alternative", m.alternative ? minimumFitToJson(machine, *m.alternative) : json(nullptr)},
+      {"demoted", demoted},
+      {"fits", m.fits}};
 }
 
 /// One line per fit of the search: chi2 and the flagged corrections.
 std::string minimumFitText(const Machine& machine, const MinimumFit& fit) {
   const auto& info = machine.mechanism->parameters();
-  std::string out = "chi2 = " + numberOrDash("%.4g", fit.chi2) + " on " +
-                    std::to_string(fit.dof) + " dof, " + std::to_string(fit.calibrated.size()) +
-                    " kept";
+  std::string out = "chi2 = " + numberOrDash("%.4g", fit.chi2) + " on " + std::to_string(fit.dof) +
+                    " dof, " + std::to_string(fit.calibrated.size()) + " kept";
   if (fit.flagged.empty()) return out + ", no implausible correction";
   out += ", corrects";
   for (std::size_t k = 0; k < fit.flagged.size(); ++k) {
@@ -204,11 +203,11 @@ std::string minimumText(const Machine& machine, const Calibration& calibration) 
   if (!calibration.minimum) return "";
   const MinimumChoice& m = *calibration.minimum;
   std::string out = std::string("minimum: ") +
-                    (!m.alternative_chosen                 ? "the plain fit's"
+                    (!m.alternative_chosen            ? "the plain fit's"
                      : m.alternative->flagged.empty() ? "a plausible one"
-                                                      : "one less implausible") + " (" +
-                    m.reason + ")\n  plain fit:         " + minimumFitText(machine, m.flagged) +
-                    "\n";
+                                                      : "one less implausible") +
+                    " (" + m.reason +
+                    ")\n  plain fit:         " + minimumFitText(machine, m.flagged) + "\n";
   if (m.alternative) {
     out += std::string(m.alternative_chosen ? "  chosen minimum:    " : "  last alternative:  ") +
            minimumFitText(machine, *m.alternative) + "; chi2 increase " +
