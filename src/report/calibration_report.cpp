@@ -261,7 +261,7 @@ json calibrationToJson(const Plan& plan, const std::vector<Placement>& placement
   if (calibration.noise_estimate) out["noise_estimate"] = noiseEstimateToJson(calibration);
   out["weakly_determined"] = weaklyDeterminedToJson(plan);
   out["warnings"] = calibration.warnings;
-  out["minimum"] = minimumToJson(machine, calibration);
+  if (calibration.minimum) out["minimum"] = minimumToJson(machine, calibration);
   const Eigen::VectorXd posterior = calibration.posteriorU();
   json parameters = json::array();
   for (int k = 0; k < machine.calibratedCount(); ++k) {
