@@ -73,9 +73,8 @@ Calibration choosePlausibleMinimum(const Plan& before, Plan& plan, Calibration f
   const double birge = std::max(1.0, choice.flagged.chi2_per_dof);
   std::vector<int> previous_kept = before.machine.calibrated;  // the plain path's set
   std::vector<ImplausibleCorrection> to_demote = choice.flagged.flagged;
-  // The chosen alternative so far: fewer flagged corrections than the plain fit, same cost.
+  // The chosen alternative: no flagged correction, the same cost.
   std::optional<std::pair<Plan, Calibration>> best;
-  std::size_t best_flagged = choice.flagged.flagged.size();
   std::string stop;
   for (int round = 0; round < kMaxDemotionRounds; ++round) {
     bool demoted_more = false;
@@ -111,8 +110,7 @@ Calibration choosePlausibleMinimum(const Plan& before, Plan& plan, Calibration f
     tried.chi2_allowance = held_more + 3.0 * std::sqrt(2.0 * std::max(1, held_more));
     const bool same_cost = tried.chi2_increase <= tried.chi2_allowance;
     to_demote = tried.flagged;
-    const bool better = same_cost && tried.flagged.size() < best_flagged;
-    if (better) best_flagged = tried.flagged.size();
+    const bool better = same_cost && tried.flagged.empty();
     if (!best || better) choice.alternative = tried;
     if (better) best.emplace(std::move(trial), std::move(alternative));
     if (!same_cost) {
@@ -126,16 +124,13 @@ Calibration choosePlausibleMinimum(const Plan& before, Plan& plan, Calibration f
   if (best) {
     const MinimumFit& chosen = *choice.alternative;
     choice.alternative_chosen = true;
-    choice.reason =
-        "the plain fit corrects " + names(plan.machine, parametersOf(choice.flagged.flagged)) +
-        " implausibly; with " + names(plan.machine, choice.demoted) +
-        " last in the rank rule's order the readings fit as well (chi2 " +
-        number("%+.3g", chosen.chi2_increase) + " in units of max(1, chi2/dof), " + "within " +
-        number("%.3g", chosen.chi2_allowance) + ") " +
-        (chosen.flagged.empty() ? std::string("with no implausible correction")
-                                : "with fewer implausible corrections (" +
-                                      names(plan.machine, parametersOf(chosen.flagged)) + ")") +
-        ": that minimum is taken";
+    choice.reason = "the plain fit corrects " +
+                    names(plan.machine, parametersOf(choice.flagged.flagged)) +
+                    " implausibly; with " + names(plan.machine, choice.demoted) +
+                    " last in the rank rule's order the readings fit as well (chi2 " +
+                    number("%+.3g", chosen.chi2_increase) + " in units of max(1, chi2/dof), " +
+                    "within " + number("%.3g", chosen.chi2_allowance) +
+                    ") with no implausible correction: that minimum is taken";
     Calibration& calibration = best->second;
     calibration.minimum = std::move(choice);
     plan = std::move(best->first);

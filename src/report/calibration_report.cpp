@@ -202,12 +202,9 @@ std::string minimumFitText(const Machine& machine, const MinimumFit& fit) {
 std::string minimumText(const Machine& machine, const Calibration& calibration) {
   if (!calibration.minimum) return "";
   const MinimumChoice& m = *calibration.minimum;
-  std::string out = std::string("minimum: ") +
-                    (!m.alternative_chosen            ? "the plain fit's"
-                     : m.alternative->flagged.empty() ? "a plausible one"
-                                                      : "one less implausible") +
-                    " (" + m.reason +
-                    ")\n  plain fit:         " + minimumFitText(machine, m.flagged) + "\n";
+  std::string out =
+      std::string("minimum: ") + (m.alternative_chosen ? "a plausible one" : "the plain fit's") +
+      " (" + m.reason + ")\n  plain fit:         " + minimumFitText(machine, m.flagged) + "\n";
   if (m.alternative) {
     out += std::string(m.alternative_chosen ? "  chosen minimum:    " : "  last alternative:  ") +
            minimumFitText(machine, *m.alternative) + "; chi2 increase " +

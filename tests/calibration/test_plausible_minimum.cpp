@@ -151,13 +151,14 @@ TEST_F(PlausibleMinimum, AnOffAxisBallIsFittedInTheChartThatHasIt) {
 }
 
 // A correction the readings need stays flagged: a link 24 mm longer than nominal (panda_joint3.y
-// -340 mm against -316 mm, beyond the rule's 15.8 mm) is no chart's artefact. The search may
-// remove the polar angle beside it but keeps the link's correction and its warning.
+// -340 mm against -316 mm, beyond the rule's 15.8 mm) is no chart's artefact: no alternative is
+// free of flagged corrections, so the plain fit stands with the link's correction and its warning.
 TEST_F(PlausibleMinimum, ACorrectionTheReadingsNeedStaysFlagged) {
   Plan plan = simulated(imported({"front"}, "front"), json{{"panda_joint3.y", -340.0}});
   const Calibration c = calibrateReadings(plan);
   ASSERT_TRUE(c.summary.converged()) << c.summary.message;
   ASSERT_TRUE(c.minimum);
+  EXPECT_FALSE(c.minimum->alternative_chosen);
   const int link = parameterIndex(plan, "panda_joint3.y");
   EXPECT_NEAR(c.parameters[link], -340.0, 1.0);
   bool warned = false;
