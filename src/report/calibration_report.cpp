@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <sstream>
 
+#include "artcal/report/model_choice_report.hpp"
 #include "artcal/report/report.hpp"
 
 namespace artcal {
@@ -149,6 +150,7 @@ std::string calibrationNotes(const Plan& plan, const Calibration& calibration) {
     for (const json& w : weak) out << " " << w["name"].get<std::string>();
     out << "\n";
   }
+  if (calibration.model_choice) out << modelChoiceTable(plan, *calibration.model_choice) << "\n";
   for (const std::string& warning : calibration.warnings) out << "warning: " << warning << "\n";
   return out.str();
 }
@@ -174,6 +176,8 @@ json calibrationToJson(const Plan& plan, const std::vector<Placement>& placement
   out["u_posterior_caveat"] = posteriorCaveat(calibration.dof);
   if (calibration.noise_estimate) out["noise_estimate"] = noiseEstimateToJson(calibration);
   out["weakly_determined"] = weaklyDeterminedToJson(plan);
+  if (calibration.model_choice)
+    out["model_choice"] = modelChoiceToJson(plan, *calibration.model_choice);
   out["warnings"] = calibration.warnings;
   const Eigen::VectorXd posterior = calibration.posteriorU();
   json parameters = json::array();
