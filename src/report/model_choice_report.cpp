@@ -59,7 +59,8 @@ json modelChoiceToJson(const Plan& plan, const ModelChoice& choice) {
 std::string modelChoiceTable(const Plan& plan, const ModelChoice& choice) {
   std::ostringstream out;
   const json document = modelChoiceToJson(plan, choice);
-  out << "\nkept set chosen by the " << choice.decided_by << ": " << choice.reason << "\n";
+  out << "\nkept set chosen by " << (choice.chosen == 0 ? "the " : "") << choice.decided_by << ": "
+      << choice.reason << "\n";
   const bool cv = choice.rule == ModelChoiceRule::CrossValidation;
   out << (cv ? "held out: each of the " + std::to_string(choice.folds) +
                    " placements left out in turn (observed: its readings, not fitted)"
