@@ -103,11 +103,13 @@ struct CalibrateArguments {
   std::string plan, write_machine;
   bool json = false;
   CalibrationOptions options;
+  std::string model_choice = "held-out";
 };
 
-int runCalibrate(const CalibrateArguments& args) {
+int runCalibrate(CalibrateArguments args) {
   std::string error;
   checkOptions(args.options.isValid(&error), "calibrate", error);
+  args.options.model_choice = *fromName(kModelChoiceModeNames, args.model_choice);
   if (!args.write_machine.empty()) checkOutputPath(args.write_machine);
   Plan plan = loadPlanReporting(args.plan);
   // Weakly determined parameters held at nominal and the noise estimated, in `plan` too.
@@ -146,6 +148,12 @@ void addCalibrateCommand(CLI::App& app, Action& action) {
                   "write the machine block with the estimated parameters (the next plan's "
                   "machine) to this file, when converged ('-': stdout, the tables then on "
                   "stderr)");
+  cmd->add_option("--model-choice", args->model_choice,
+                  "how \"calibrate\": \"identifiable\" settles the kept set: held-out (the rank "
+                  "rule's set, or a smaller one of its order when the readings left out in turn "
+                  "hold clearly better with it) or rank (information alone)")
+      ->check(CLI::IsMember({"held-out", "rank"}))
+      ->capture_default_str();
   cmd->add_option("--max-iterations", args->options.max_iterations, "iteration limit")
       ->check(positiveNumber())
       ->capture_default_str();

@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "artcal/calibration/corrections.hpp"
+#include "artcal/calibration/model_choice.hpp"
 #include "artcal/core/error.hpp"
 #include "artcal/estimation/evaluator.hpp"
 #include "artcal/estimation/identifiability.hpp"
@@ -329,14 +330,34 @@ Calibration calibrateAsListed(Plan& plan, const CalibrationOptions& options) {
   }
   Calibration calibration = calibrateWithNoise(plan, *calibrator, start);
   // ... and again at the estimate, the newly held parameters back at nominal.
+  std::optional<PlanInformation> at_estimate;  // the last information read there
   for (int round = 0; resolve && round < kMaxWeakRounds && calibration.summary.converged();
        ++round) {
-    if (!holdWeaklyDetermined(plan, informationAtEstimate(plan, *calibrator, calibration))) break;
+    at_estimate = informationAtEstimate(plan, *calibrator, calibration);
+    if (!holdWeaklyDetermined(plan, *at_estimate)) break;
+    at_estimate.reset();
     calibrator.emplace(plan, options);
     start = calibrator->initialState(
         plan.placements, plan.machine.withCalibrated(
                              nominal, plan.machine.calibratedValues(calibration.parameters)));
     calibration = followedBy(calibration, calibrateWithNoise(plan, *calibrator, start));
+  }
+  // The held-out model choice: a smaller set of the rank rule's order where the readings the
+  // fit leaves out say it holds clearly better (model_choice.hpp).
+  if (resolve && options.model_choice == ModelChoiceMode::HeldOut &&
+      calibration.summary.converged()) {
+    if (!at_estimate) at_estimate = informationAtEstimate(plan, *calibrator, calibration);
+    if (auto outcome = chooseKeptSet(plan, options, *calibrator, calibration, *at_estimate)) {
+      const ModelChoice& choice = outcome->choice;
+      if (choice.chosen != 0) {
+        plan.machine.calibrated = choice.candidates[static_cast<std::size_t>(choice.chosen)].kept;
+        plan.calibrate_resolution->kept = plan.machine.calibrated;
+        calibrator.emplace(plan, options);
+        calibration =
+            followedBy(calibration, calibrateWithNoise(plan, *calibrator, outcome->chosen_state));
+      }
+      calibration.model_choice = std::move(outcome->choice);
+    }
   }
   nearestTurn(plan, calibration);
   addWarnings(plan, calibration);

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <sstream>
 
+#include "artcal/report/model_choice_report.hpp"
 #include "artcal/report/report.hpp"
 
 namespace artcal {
@@ -232,6 +233,7 @@ std::string calibrationNotes(const Plan& plan, const Calibration& calibration) {
     out << "\n";
   }
   out << minimumText(plan.machine, calibration);
+  if (calibration.model_choice) out << modelChoiceTable(plan, *calibration.model_choice) << "\n";
   for (const std::string& warning : calibration.warnings) out << "warning: " << warning << "\n";
   return out.str();
 }
@@ -257,6 +259,8 @@ json calibrationToJson(const Plan& plan, const std::vector<Placement>& placement
   out["u_posterior_caveat"] = posteriorCaveat(calibration.dof);
   if (calibration.noise_estimate) out["noise_estimate"] = noiseEstimateToJson(calibration);
   out["weakly_determined"] = weaklyDeterminedToJson(plan);
+  if (calibration.model_choice)
+    out["model_choice"] = modelChoiceToJson(plan, *calibration.model_choice);
   out["warnings"] = calibration.warnings;
   if (calibration.minimum) out["minimum"] = minimumToJson(machine, calibration);
   const Eigen::VectorXd posterior = calibration.posteriorU();

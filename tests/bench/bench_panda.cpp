@@ -2,6 +2,9 @@
 //   BM_CalibratePanda8Positions: plans/panda-8positions.json, the MUKCa readings of the 8 clean
 //     tool positions (488 readings, 2 sockets each), 25 chain parameters, from the nominal URDF.
 //     Target: <= 50 ms.
+//   BM_CalibratePandaRankRule / BM_CalibratePandaHeldOutChoice: the same readings with
+//     "identifiable" as `calibrate` runs it, rank rule alone and with the held-out model choice
+//     (issue 29). Target: the choice adds at most 3 x BM_CalibrateReadingsPanda8Positions.
 //   BM_EvaluatePanda10000Samples: V_p -> tip uncertainty over 10 000 workspace configurations
 //     of the Panda, the workspace's Jacobians prepared once (PlanEvaluator). Target: <= 5 ms.
 //   BM_EvaluatePanda10000TaskSpace: the same over 10 000 task-space samples (models.md 5).
@@ -103,6 +106,36 @@ void BM_CalibratePlainPanda497Readings(benchmark::State& state) {
   state.counters["calibrations"] = fits;
 }
 BENCHMARK(BM_CalibratePlainPanda497Readings)->Unit(benchmark::kMillisecond);
+
+// Issue 29: `calibrate` of the same readings as the command line runs it ("identifiable", the
+// stated noise, residuals and V_p), with the rank rule alone and with the held-out model choice
+// (nested candidates fitted from the rank rule's estimate, leave-one-placement-out by one
+// Gauss-Newton step per fold). Target: HeldOut <= 3 x CalibrateReadingsPanda8Positions.
+void calibrateWithChoice(benchmark::State& state, ModelChoiceMode mode) {
+  nlohmann::json document = readJsonFile(test_support::planFile("panda-8positions.json"));
+  document["machine"]["calibrate"] = "identifiable";
+  const Plan plan = parsePlan(document, test_support::planFile("panda-8positions.json"));
+  CalibrationOptions options;
+  options.model_choice = mode;
+  int candidates = 0;
+  for (auto _ : state) {
+    Plan calibrated = plan;
+    const Calibration calibration = calibrateReadings(calibrated, options);
+    if (!calibration.summary.converged()) state.SkipWithError("not converged");
+    if (calibration.model_choice)
+      candidates = static_cast<int>(calibration.model_choice->candidates.size());
+    benchmark::DoNotOptimize(calibration.parameters.data());
+  }
+  state.counters["candidates"] = candidates;
+}
+void BM_CalibratePandaRankRule(benchmark::State& state) {
+  calibrateWithChoice(state, ModelChoiceMode::Rank);
+}
+BENCHMARK(BM_CalibratePandaRankRule)->Unit(benchmark::kMillisecond);
+void BM_CalibratePandaHeldOutChoice(benchmark::State& state) {
+  calibrateWithChoice(state, ModelChoiceMode::HeldOut);
+}
+BENCHMARK(BM_CalibratePandaHeldOutChoice)->Unit(benchmark::kMillisecond);
 
 void BM_EvaluatePanda10000Samples(benchmark::State& state) {
   Plan plan = pandaPlan();

@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "artcal/calibration/levenberg_marquardt.hpp"
+#include "artcal/calibration/model_choice_result.hpp"
 #include "artcal/calibration/plausible_minimum.hpp"
 #include "artcal/calibration/verification.hpp"
 #include "artcal/core/enum_names.hpp"
@@ -74,6 +75,8 @@ struct CalibrationOptions {
   double gross_threshold = 5.0;
   /// Residual table and V_p at the estimate (the Monte-Carlo confirmation skips them).
   bool details = true;
+  /// How calibrateReadings settles `"calibrate": "identifiable"` (model_choice.hpp).
+  ModelChoiceMode model_choice = ModelChoiceMode::HeldOut;
   bool isValid(std::string* error) const;
 };
 
@@ -118,6 +121,8 @@ struct NoiseEstimate {
 struct Calibration {
   CalibrationSummary summary;
   std::optional<NoiseEstimate> noise_estimate;  ///< when the plan asked for it
+  /// The held-out model choice (calibrateReadings, model_choice.hpp), when it ran.
+  std::optional<ModelChoice> model_choice;
   /// What a metrologist should look at before trusting the result (implausible corrections,
   /// readings that fit to rounding): one sentence each, naming the parameter.
   std::vector<std::string> warnings;

@@ -1,0 +1,259 @@
+#include "artcal/calibration/model_choice.hpp"
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <numeric>
+
+#include "artcal/estimation/normal_matrix.hpp"
+
+namespace artcal {
+
+namespace {
+
+// Solves N x = rhs for a symmetric positive semi-definite N: Cholesky, or the pseudo-inverse
+// where N is singular (a direction only the left-out placement observed stays where it was).
+Eigen::MatrixXd solveSymmetric(const Eigen::MatrixXd& N, const Eigen::MatrixXd& rhs) {
+  const Eigen::LLT<Eigen::MatrixXd> llt(N);
+  if (llt.info() == Eigen::Success) {
+    Eigen::MatrixXd x = llt.solve(rhs);
+    if (x.allFinite()) return x;
+  }
+  return symmetricPseudoInverse(N) * rhs;
+}
+
+// The order in which the rank rule's kept set loses its parameters: repeatedly the one whose
+// surviving fraction 1 / (S_K^-1)_ii in the current set K is the smallest. Returns (position in
+// the set, fraction) for the first `count` removals whose fraction is below kCandidateFraction.
+std::vector<std::pair<int, double>> removalOrder(const PlanInformation& information, int count) {
+  const Eigen::MatrixXd S = scaledInformation(information);
+  std::vector<int> set(static_cast<std::size_t>(S.rows()));
+  std::iota(set.begin(), set.end(), 0);
+  std::vector<std::pair<int, double>> out;
+  while (static_cast<int>(out.size()) < count && set.size() > 1) {
+    const auto n = static_cast<Eigen::Index>(set.size());
+    Eigen::MatrixXd sub(n, n);
+    for (Eigen::Index a = 0; a < n; ++a)
+      for (Eigen::Index b = 0; b < n; ++b)
+        sub(a, b) = S(set[static_cast<std::size_t>(a)], set[static_cast<std::size_t>(b)]);
+    const Eigen::MatrixXd inverse = solveSymmetric(sub, Eigen::MatrixXd::Identity(n, n));
+    Eigen::Index weakest = 0;
+    double fraction = 0.0;
+    for (Eigen::Index a = 0; a < n; ++a) {
+      const double f = inverse(a, a) > 0.0 ? 1.0 / inverse(a, a) : 0.0;
+      if (a == 0 || f < fraction) {
+        fraction = f;
+        weakest = a;
+      }
+    }
+    if (!(fraction < kCandidateFraction)) break;
+    out.emplace_back(set[static_cast<std::size_t>(weakest)], fraction);
+    set.erase(set.begin() + weakest);
+  }
+  return out;
+}
+
+// The held-out figures of one fitted candidate.
+void crossValidate(const Linearization& linearization, const std::vector<PlacementTerms>& terms,
+                   ModelChoiceCandidate& candidate) {
+  const LeaveOneOut folds = leaveOnePlacementOut(linearization, terms);
+  double chi2 = 0.0, trace = 0.0, dof = 0.0;
+  candidate.fold_observed.clear();
+  for (std::size_t j = 0; j < terms.size(); ++j) {
+    chi2 += folds.chi2[j];
+    trace += folds.trace[j];
+    dof += folds.dof[j];
+    candidate.fold_observed.push_back(folds.dof[j] > 0 ? folds.chi2[j] / folds.dof[j] : 0.0);
+  }
+  candidate.observed = dof > 0.0 ? chi2 / dof : 0.0;
+  candidate.predicted = dof > 0.0 ? candidate.chi2_per_dof * (1.0 + trace / dof) : 0.0;
+}
+
+// The one-sided sign test over the folds: the probability that a candidate no better than the
+// reference is lower in at least `lower` of `folds` folds (each fold a fair coin).
+double signTestLevel(int lower, int folds) {
+  double tail = 0.0, choose = 1.0;  // C(folds, i)
+  for (int i = 0; i <= folds; ++i) {
+    if (i >= lower) tail += choose;
+    choose = choose * (folds - i) / (i + 1);
+  }
+  return tail / std::pow(2.0, folds);
+}
+
+// Whether `candidate` is clearly better held out than `reference` (see the header): a lower
+// pooled error, lower in so many folds that chance gives it at most kSignificance.
+bool clearlyBetter(const ModelChoiceCandidate& candidate, const ModelChoiceCandidate& reference,
+                   ModelChoiceRule rule) {
+  if (!candidate.converged || rule != ModelChoiceRule::CrossValidation) return false;
+  if (!(candidate.observed < reference.observed)) return false;
+  int lower = 0;
+  const auto folds = static_cast<int>(candidate.fold_observed.size());
+  for (int j = 0; j < folds; ++j) {
+    const auto k = static_cast<std::size_t>(j);
+    if (candidate.fold_observed[k] < reference.fold_observed[k]) ++lower;
+  }
+  return signTestLevel(lower, folds) <= kSignificance;
+}
+
+std::string percent(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.1f %%", 100.0 * value);
+  return text;
+}
+
+}  // namespace
+
+std::vector<PlacementTerms> placementTerms(const Plan& plan,
+                                           const std::vector<Placement>& placements,
+                                           const Linearization& linearization) {
+  const GlobalLayout layout = GlobalLayout::of(plan);
+  NormalMatrixReducer reducer(layout);
+  PlacementElimination elimination;
+  std::vector<PlacementTerms> out(placements.size());
+  for (std::size_t j = 0; j < placements.size(); ++j) {
+    const Placement& placement = placements[j];
+    const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
+    const ObservationBlock& block = linearization.blocks[j];
+    reducer.reset();
+    // The rigid directions the calibrator steps (its caps): the left-out placement's own fit.
+    reducer.add(block, placement.artifact, &elimination,
+                rigidRankOfFeatures(artifact, placement.measurements));
+    PlacementTerms& t = out[j];
+    t.N = reducer.normal();
+    t.b = reducer.rhs();
+    t.misfit = reducer.chi2() - elimination.g_r.dot(elimination.M_rr_pinv * elimination.g_r);
+    t.dof = block.rows() - reducer.rigidRanks().front();
+  }
+  return out;
+}
+
+LeaveOneOut leaveOnePlacementOut(const Linearization& linearization,
+                                 const std::vector<PlacementTerms>& terms) {
+  LeaveOneOut out;
+  for (const PlacementTerms& t : terms) {
+    const Eigen::MatrixXd others = linearization.N - t.N;
+    // The others' estimate: one Gauss-Newton step from the estimate of all (exact when linear).
+    Eigen::MatrixXd rhs(others.rows(), 1 + others.cols());
+    rhs.col(0) = linearization.b - t.b;
+    rhs.rightCols(others.cols()) = t.N;
+    const Eigen::MatrixXd solved = solveSymmetric(others, rhs);
+    const Eigen::VectorXd dg = solved.col(0);
+    out.chi2.push_back(std::max(0.0, t.misfit - 2.0 * t.b.dot(dg) + dg.dot(t.N * dg)));
+    out.trace.push_back(std::max(0.0, solved.rightCols(others.cols()).trace()));
+    out.dof.push_back(t.dof);
+  }
+  return out;
+}
+
+std::optional<ModelChoiceOutcome> chooseKeptSet(Plan& plan, const CalibrationOptions& options,
+                                                const Calibrator& calibrator,
+                                                const Calibration& calibration,
+                                                const PlanInformation& information) {
+  if (!calibration.summary.converged() || calibration.dof <= 0 || plan.placements.empty())
+    return std::nullopt;
+  const std::vector<int> rank_set = plan.machine.calibrated;
+  const auto order = removalOrder(information, kMaxRemoved);
+  ModelChoiceOutcome outcome;
+  ModelChoice& choice = outcome.choice;
+  choice.rule = static_cast<int>(plan.placements.size()) >= kMinFolds
+                    ? ModelChoiceRule::CrossValidation
+                    : ModelChoiceRule::InformationCriterion;
+  choice.folds = choice.rule == ModelChoiceRule::CrossValidation
+                     ? static_cast<int>(plan.placements.size())
+                     : 0;
+  choice.rank_size = static_cast<int>(rank_set.size());
+  const bool probe_only =
+      plan.noise.encoder.size() == 0 || plan.noise.encoder.isZero() ? true : false;
+  bool artifact_noise = false;
+  for (const Artifact& a : plan.artifacts) artifact_noise |= a.noise > 0.0 || a.noise_angle > 0.0;
+  choice.mm_per_unit = probe_only && !artifact_noise ? plan.noise.probe : 0.0;
+
+  const double reference_variance = calibration.chi2_per_dof;
+  auto judge = [&](const Linearization& linearization, const Calibration& fit,
+                   ModelChoiceCandidate& candidate) {
+    candidate.converged = fit.summary.converged();
+    candidate.chi2_per_dof = fit.chi2_per_dof;
+    if (choice.rule == ModelChoiceRule::CrossValidation) {
+      crossValidate(linearization, placementTerms(plan, plan.placements, linearization), candidate);
+    } else {
+      const double k = static_cast<double>(candidate.size);
+      const double n = fit.dof + k;
+      candidate.observed = (fit.chi2 + 2.0 * k * reference_variance) / n;
+      candidate.predicted = fit.chi2_per_dof * (1.0 + k / n);
+    }
+  };
+
+  ModelChoiceCandidate first;
+  first.size = choice.rank_size;
+  first.kept = rank_set;
+  judge(calibrator.linearization(), calibration, first);
+  choice.candidates.push_back(std::move(first));
+
+  std::vector<CalibrationState> states(1);
+  std::vector<bool> removed(rank_set.size(), false);
+  CalibrationOptions quick = options;
+  quick.details = false;
+  for (const auto& [position, fraction] : order) {
+    removed[static_cast<std::size_t>(position)] = true;
+    ModelChoiceCandidate candidate;
+    candidate.removed = rank_set[static_cast<std::size_t>(position)];
+    candidate.removed_fraction = fraction;
+    for (std::size_t i = 0; i < rank_set.size(); ++i)
+      if (!removed[i]) candidate.kept.push_back(rank_set[i]);
+    candidate.size = static_cast<int>(candidate.kept.size());
+    // From the rank rule's estimate, the removed parameters back at nominal.
+    CalibrationState start;
+    start.p = calibration.parameters;
+    for (std::size_t i = 0; i < rank_set.size(); ++i) {
+      if (removed[i]) start.p[rank_set[i]] = plan.machine.nominal[rank_set[i]];
+    }
+    start.c = calibration.systematic;
+    start.poses = calibration.poses;
+    plan.machine.calibrated = candidate.kept;
+    Calibrator fitter(plan, quick);
+    const Calibration fit = fitter.run(plan.placements, start);
+    if (fit.summary.converged()) {
+      judge(fitter.linearization(), fit, candidate);
+    } else {
+      candidate.chi2_per_dof = fit.chi2_per_dof;  // judged no further: never chosen
+    }
+    states.push_back({fit.parameters, fit.systematic, fit.poses});
+    choice.candidates.push_back(std::move(candidate));
+  }
+  plan.machine.calibrated = rank_set;
+  if (choice.candidates.size() == 1) return std::nullopt;
+
+  // The smallest held-out error among the candidates clearly better than the rank rule's set.
+  const ModelChoiceCandidate& reference = choice.candidates.front();
+  choice.chosen = 0;
+  for (std::size_t i = 1; i < choice.candidates.size(); ++i) {
+    const ModelChoiceCandidate& c = choice.candidates[i];
+    if (!clearlyBetter(c, reference, choice.rule)) continue;
+    if (choice.chosen == 0 || c.observed < choice.candidates[choice.chosen].observed)
+      choice.chosen = static_cast<int>(i);
+  }
+  choice.candidates[static_cast<std::size_t>(choice.chosen)].chosen = true;
+  const std::string rule = nameOf(kModelChoiceRuleNames, choice.rule);
+  if (choice.chosen == 0) {
+    choice.decided_by = "rank rule";
+    choice.reason =
+        choice.rule == ModelChoiceRule::CrossValidation
+            ? "no smaller candidate is clearly better held out (lower pooled error and lower in "
+              "so many of the " +
+                  std::to_string(choice.folds) + " folds that chance gives it at most " +
+                  percent(kSignificance) + ")"
+            : "fewer than " + std::to_string(kMinFolds) +
+                  " placements: no held-out test can show a smaller set better (Cp shown for "
+                  "information only)";
+  } else {
+    const ModelChoiceCandidate& c = choice.candidates[static_cast<std::size_t>(choice.chosen)];
+    choice.decided_by = rule;
+    choice.reason = "held-out error " + percent(1.0 - c.observed / reference.observed) +
+                    " lower than the rank rule's set";
+    outcome.chosen_state = states[static_cast<std::size_t>(choice.chosen)];
+  }
+  return outcome;
+}
+
+}  // namespace artcal
