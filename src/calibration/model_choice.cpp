@@ -163,8 +163,7 @@ std::optional<ModelChoiceOutcome> chooseKeptSet(Plan& plan, const CalibrationOpt
                      ? static_cast<int>(plan.placements.size())
                      : 0;
   choice.rank_size = static_cast<int>(rank_set.size());
-  const bool probe_only =
-      plan.noise.encoder.size() == 0 || plan.noise.encoder.isZero() ? true : false;
+  const bool probe_only = plan.noise.encoder.size() == 0 || plan.noise.encoder.isZero();
   bool artifact_noise = false;
   for (const Artifact& a : plan.artifacts) artifact_noise |= a.noise > 0.0 || a.noise_angle > 0.0;
   choice.mm_per_unit = probe_only && !artifact_noise ? plan.noise.probe : 0.0;
