@@ -13,6 +13,7 @@
 #include <array>
 #include <cmath>
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <new>
@@ -556,6 +557,14 @@ std::shared_ptr<PyPlan> importReadingsPlan(ReadingsImport import, const py::obje
   if (!import.orientation_unit.empty() && import.orientation_unit != "deg" &&
       import.orientation_unit != "rad")
     throw std::invalid_argument("import-readings: --orientation-unit: expected deg or rad");
+  if (!import.orientation.empty() && import.orientation != "rotation_vector" &&
+      import.orientation != "rpy" && import.orientation != "quaternion")
+    throw std::invalid_argument(
+        "import-readings: --orientation: expected rotation_vector, rpy or quaternion");
+  for (const auto& [joint, value] : import.holds) {
+    if (!std::isfinite(value))
+      throw std::invalid_argument("import-readings: --hold " + joint + ": expected a finite value");
+  }
   if (import.ball_bar && !import.artifact_file.empty())
     throw std::invalid_argument("import-readings: --ball-bar excludes --artifact");
   if (import.ball_bar && !(*import.ball_bar > 0.0 && std::isfinite(*import.ball_bar)))
@@ -746,7 +755,9 @@ PYBIND11_MODULE(_native, m) {
          double u_length, const std::string& artifact, const py::object& probe, double encoder,
          const std::string& unit, bool keep_calibrate, bool keep_limits, const std::string& output,
          std::optional<double> instrument, const std::string& point_unit,
-         std::optional<double> instrument_angle, const std::string& orientation_unit) {
+         std::optional<double> instrument_angle, const std::string& orientation_unit,
+         const std::string& marker, const std::string& orientation,
+         const std::map<std::string, double>& hold) {
         artcal::ReadingsImport import;
         import.folder = folder;
         import.machine_file = machine;
@@ -765,13 +776,16 @@ PYBIND11_MODULE(_native, m) {
         import.point_unit = point_unit;
         import.instrument_angle = instrument_angle;
         import.orientation_unit = orientation_unit;
+        import.marker = marker;
+        import.orientation = orientation;
+        for (const auto& [joint, value] : hold) import.holds.emplace_back(joint, value);
         return importReadingsPlan(std::move(import), probe);
       },
       py::arg("folder"), py::arg("machine"), py::arg("urdf"), py::arg("base"), py::arg("tip"),
       py::arg("ball_bar"), py::arg("u_length"), py::arg("artifact"), py::arg("probe"),
       py::arg("encoder"), py::arg("unit"), py::arg("keep_calibrate"), py::arg("keep_limits"),
       py::arg("output"), py::arg("instrument"), py::arg("point_unit"), py::arg("instrument_angle"),
-      py::arg("orientation_unit"));
+      py::arg("orientation_unit"), py::arg("marker"), py::arg("orientation"), py::arg("hold"));
   m.def("export_urdf", &exportCalibratedUrdf, py::arg("machine"), py::arg("urdf"),
         py::arg("output"));
   py::class_<PyEvaluator>(m, "_Evaluator")
