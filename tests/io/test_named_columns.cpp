@@ -337,7 +337,7 @@ TEST_F(NamedColumns, PrismaticLimitsWidenAndAHeldJointReadsItsValue) {
   const json document = readJsonFile(path("plan.json"));
   EXPECT_EQ(document["machine"]["joint_limits"][0], json({0.0, 1412.18}));
   const Plan plan = parsed(path("plan.json"));
-  ASSERT_EQ(plan.placements.at(0).measurements.size(), 4u);
+  ASSERT_EQ(plan.placements.at(0).measurements.size(), 8u);  // 4 rows of each feature
   for (std::size_t k = 0; k < 4; ++k) {
     const Eigen::VectorXd& q = plan.placements[0].measurements[k].joints;
     EXPECT_DOUBLE_EQ(q[0], k == 2 ? 1412.18 : 300.0 + 100.0 * static_cast<double>(k));
