@@ -33,6 +33,7 @@
 #include "artcal/io/acceptance_spec.hpp"
 #include "artcal/io/calibrated_urdf.hpp"
 #include "artcal/io/machine_covariance.hpp"
+#include "artcal/io/machine_frames.hpp"
 #include "artcal/io/output_file.hpp"
 #include "artcal/io/plan_io.hpp"
 #include "artcal/io/plausibility.hpp"
@@ -308,6 +309,7 @@ py::tuple calibrate(const PyPlan& p, int max_iterations, double step_tolerance,
       machine_block = machineToJson(plan.machine, calibration.parameters);
       if (const auto uncertainty = calibration.uncertainty(plan.machine))
         machine_block["covariance"] = covarianceToJson(plan.machine, *uncertainty);
+      machine_block["frames"] = framesToJson(plan, calibration.poses);  // as --write-machine
     }
     return std::make_pair(std::move(result), std::move(machine_block));
   });
@@ -333,18 +335,23 @@ json verify(const PyPlan& p, const py::object& machine, const std::string& machi
   Plan plan = parsePlan(p.document, p.source, true, !calibrated);
   Eigen::VectorXd parameters = plan.machine.nominal;
   std::optional<ParameterUncertainty> uncertainty;
+  VerifyOptions options;
   if (calibrated) {
     const auto [document, source] = machineDocument(machine, machine_source);
     parameters = parseTruth(document, source, plan);
     uncertainty = parseMachineCovariance(document, source, plan);
     useEstimatedProbeNoise(plan, uncertainty);
     checkPlausibilityOfVerified(plan, parameters, "the machine of " + source);
+    // As the command: placements named as the calibration's are also scored in its frames.
+    options.calibration_frames = framesForPlacements(
+        plan, parseMachineFrames(document, source, plan.machine.dimension()), "", source);
   }
   // As the command: a plan of instrument stations alone gets the stations' figures only.
   return withoutGil([&] {
-    const StationsVerification stations = verifyStations(plan, parameters, uncertainty);
+    const StationsVerification stations =
+        verifyStations(plan, parameters, uncertainty, options.calibration_frames);
     if (onlyStations(plan, stations)) return verifyDocument(plan, stations, nullptr);
-    const Verification verification = verifyMachine(plan, parameters, uncertainty);
+    const Verification verification = verifyMachine(plan, parameters, uncertainty, options);
     const std::optional<Verification> nominal =
         calibrated ? verifyNominal(plan) : std::optional<Verification>();
     return verifyDocument(plan, stations, &verification, nominal ? &*nominal : nullptr);
