@@ -13,6 +13,7 @@
 #include <array>
 #include <cmath>
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <new>
@@ -32,6 +33,7 @@
 #include "artcal/io/acceptance_spec.hpp"
 #include "artcal/io/calibrated_urdf.hpp"
 #include "artcal/io/machine_covariance.hpp"
+#include "artcal/io/machine_frames.hpp"
 #include "artcal/io/output_file.hpp"
 #include "artcal/io/plan_io.hpp"
 #include "artcal/io/plausibility.hpp"
@@ -307,6 +309,7 @@ py::tuple calibrate(const PyPlan& p, int max_iterations, double step_tolerance,
       machine_block = machineToJson(plan.machine, calibration.parameters);
       if (const auto uncertainty = calibration.uncertainty(plan.machine))
         machine_block["covariance"] = covarianceToJson(plan.machine, *uncertainty);
+      machine_block["frames"] = framesToJson(plan, calibration.poses);  // as --write-machine
     }
     return std::make_pair(std::move(result), std::move(machine_block));
   });
@@ -332,18 +335,23 @@ json verify(const PyPlan& p, const py::object& machine, const std::string& machi
   Plan plan = parsePlan(p.document, p.source, true, !calibrated);
   Eigen::VectorXd parameters = plan.machine.nominal;
   std::optional<ParameterUncertainty> uncertainty;
+  VerifyOptions options;
   if (calibrated) {
     const auto [document, source] = machineDocument(machine, machine_source);
     parameters = parseTruth(document, source, plan);
     uncertainty = parseMachineCovariance(document, source, plan);
     useEstimatedProbeNoise(plan, uncertainty);
     checkPlausibilityOfVerified(plan, parameters, "the machine of " + source);
+    // As the command: placements named as the calibration's are also scored in its frames.
+    options.calibration_frames = framesForPlacements(
+        plan, parseMachineFrames(document, source, plan.machine.dimension()), "", source);
   }
   // As the command: a plan of instrument stations alone gets the stations' figures only.
   return withoutGil([&] {
-    const StationsVerification stations = verifyStations(plan, parameters, uncertainty);
+    const StationsVerification stations =
+        verifyStations(plan, parameters, uncertainty, options.calibration_frames);
     if (onlyStations(plan, stations)) return verifyDocument(plan, stations, nullptr);
-    const Verification verification = verifyMachine(plan, parameters, uncertainty);
+    const Verification verification = verifyMachine(plan, parameters, uncertainty, options);
     const std::optional<Verification> nominal =
         calibrated ? verifyNominal(plan) : std::optional<Verification>();
     return verifyDocument(plan, stations, &verification, nominal ? &*nominal : nullptr);
@@ -556,6 +564,14 @@ std::shared_ptr<PyPlan> importReadingsPlan(ReadingsImport import, const py::obje
   if (!import.orientation_unit.empty() && import.orientation_unit != "deg" &&
       import.orientation_unit != "rad")
     throw std::invalid_argument("import-readings: --orientation-unit: expected deg or rad");
+  if (!import.orientation.empty() && import.orientation != "rotation_vector" &&
+      import.orientation != "rpy" && import.orientation != "quaternion")
+    throw std::invalid_argument(
+        "import-readings: --orientation: expected rotation_vector, rpy or quaternion");
+  for (const auto& [joint, value] : import.holds) {
+    if (!std::isfinite(value))
+      throw std::invalid_argument("import-readings: --hold " + joint + ": expected a finite value");
+  }
   if (import.ball_bar && !import.artifact_file.empty())
     throw std::invalid_argument("import-readings: --ball-bar excludes --artifact");
   if (import.ball_bar && !(*import.ball_bar > 0.0 && std::isfinite(*import.ball_bar)))
@@ -746,7 +762,9 @@ PYBIND11_MODULE(_native, m) {
          double u_length, const std::string& artifact, const py::object& probe, double encoder,
          const std::string& unit, bool keep_calibrate, bool keep_limits, const std::string& output,
          std::optional<double> instrument, const std::string& point_unit,
-         std::optional<double> instrument_angle, const std::string& orientation_unit) {
+         std::optional<double> instrument_angle, const std::string& orientation_unit,
+         const std::string& marker, const std::string& orientation,
+         const std::map<std::string, double>& hold) {
         artcal::ReadingsImport import;
         import.folder = folder;
         import.machine_file = machine;
@@ -765,13 +783,16 @@ PYBIND11_MODULE(_native, m) {
         import.point_unit = point_unit;
         import.instrument_angle = instrument_angle;
         import.orientation_unit = orientation_unit;
+        import.marker = marker;
+        import.orientation = orientation;
+        for (const auto& [joint, value] : hold) import.holds.emplace_back(joint, value);
         return importReadingsPlan(std::move(import), probe);
       },
       py::arg("folder"), py::arg("machine"), py::arg("urdf"), py::arg("base"), py::arg("tip"),
       py::arg("ball_bar"), py::arg("u_length"), py::arg("artifact"), py::arg("probe"),
       py::arg("encoder"), py::arg("unit"), py::arg("keep_calibrate"), py::arg("keep_limits"),
       py::arg("output"), py::arg("instrument"), py::arg("point_unit"), py::arg("instrument_angle"),
-      py::arg("orientation_unit"));
+      py::arg("orientation_unit"), py::arg("marker"), py::arg("orientation"), py::arg("hold"));
   m.def("export_urdf", &exportCalibratedUrdf, py::arg("machine"), py::arg("urdf"),
         py::arg("output"));
   py::class_<PyEvaluator>(m, "_Evaluator")

@@ -11,6 +11,7 @@
 #include "artcal/calibration/simulation.hpp"
 #include "artcal/core/parallel.hpp"
 #include "artcal/io/machine_covariance.hpp"
+#include "artcal/io/machine_frames.hpp"
 #include "artcal/io/output_file.hpp"
 #include "artcal/io/plan_io.hpp"
 #include "artcal/io/truth_io.hpp"
@@ -121,6 +122,8 @@ int runCalibrate(CalibrateArguments args) {
       // V_p travels with the estimate: `verify --machine` predicts the spread from it.
       if (const auto uncertainty = calibration.uncertainty(plan.machine))
         machine["covariance"] = covarianceToJson(plan.machine, *uncertainty);
+      // The placements' (stations') estimated frames: `verify` scores held-out readings in them.
+      machine["frames"] = framesToJson(plan, calibration.poses);
       writeJsonOutput(args.write_machine, machine);
     } else {
       std::cerr << "warning: not converged: " << args.write_machine << " not written\n";

@@ -1,8 +1,10 @@
 // artcal import-readings DIR: a plan from a folder of CSV readings and a machine
 // (docs/plan-format.md, "A plan from a folder of CSV files"; docs/calibrate-your-robot.md).
 
+#include <cmath>
 #include <iostream>
 
+#include "artcal/core/error.hpp"
 #include "artcal/io/plan_io.hpp"
 #include "artcal/io/readings_import.hpp"
 #include "commands.hpp"
@@ -13,6 +15,7 @@ namespace {
 
 struct ImportReadingsArguments {
   ReadingsImport import;
+  std::vector<std::string> holds;  ///< JOINT=VALUE
   std::string probe = "0.1";
   std::string output = kStandardOutput;
 };
@@ -83,6 +86,18 @@ void addImportReadingsCommand(CLI::App& app, Action& action) {
   cmd->add_option("--unit", in.unit,
                   "unit of every file's readings (deg, rad, mm, m), instead of "
                   "the layout's (hole_<k>.csv: rad; feature_<k>.csv: header)");
+  cmd->add_option("--marker", in.marker,
+                  "files whose header names the columns: the marker whose <marker>_x, <marker>_y, "
+                  "<marker>_z are the tip's measured point (default: the header's only marker)");
+  cmd->add_option("--orientation", in.orientation,
+                  "a pose's orientation columns: rotation_vector, rpy (roll, pitch, yaw: the "
+                  "URDF's fixed-axis x-y-z, R = Rz(yaw) Ry(pitch) Rx(roll)) or quaternion (w, x, "
+                  "y, z); default: what the header names, rotation_vector without names")
+      ->check(CLI::IsMember({"rotation_vector", "rpy", "quaternion"}));
+  cmd->add_option("--hold", args->holds,
+                  "JOINT=VALUE: a joint no file reads (a tool mount), held at VALUE (deg, or mm "
+                  "for a prismatic joint) in every reading; repeat for several")
+      ->type_name("JOINT=VALUE");
   cmd->add_flag("--keep-calibrate", in.keep_calibrate,
                 "keep the machine file's \"calibrate\" (default: \"identifiable\")");
   cmd->add_flag(
@@ -104,6 +119,22 @@ void addImportReadingsCommand(CLI::App& app, Action& action) {
     action = [args] {
       ReadingsImport& import = args->import;
       checkOutputPath(args->output);
+      import.holds.clear();
+      for (const std::string& hold : args->holds) {
+        const auto equals = hold.find('=');
+        std::size_t used = 0;
+        double value = 0.0;
+        try {
+          if (equals != std::string::npos) value = std::stod(hold.substr(equals + 1), &used);
+        } catch (const std::exception&) {
+          used = 0;
+        }
+        if (equals == std::string::npos || equals == 0 || used == 0 ||
+            used != hold.size() - equals - 1 || !std::isfinite(value)) {
+          throw InputError("--hold", hold, "expected JOINT=VALUE (deg, or mm), e.g. tool_joint=0");
+        }
+        import.holds.emplace_back(hold.substr(0, equals), value);
+      }
       import.probe = probeValue(args->probe);
       import.output = args->output;
       const ImportedPlan imported = importReadings(import);

@@ -4,6 +4,7 @@
 
 #include "artcal/calibration/verification.hpp"
 #include "artcal/io/machine_covariance.hpp"
+#include "artcal/io/machine_frames.hpp"
 #include "artcal/io/plan_io.hpp"
 #include "artcal/io/plausibility.hpp"
 #include "artcal/io/truth_io.hpp"
@@ -16,7 +17,7 @@ namespace artcal::cli {
 namespace {
 
 struct VerifyArguments {
-  std::string plan, machine;
+  std::string plan, machine, frame_of;
   int outliers = 5;
   bool json = false;
 };
@@ -30,15 +31,23 @@ int runVerify(const VerifyArguments& args) {
   for (const std::string& warning : plan.warnings) std::cerr << "warning: " << warning << "\n";
   Eigen::VectorXd p = plan.machine.nominal;
   std::optional<ParameterUncertainty> uncertainty;
+  VerifyOptions options;
   if (calibrated) {
     const nlohmann::json document = readJsonFile(args.machine);
     p = parseTruth(document, args.machine, plan);
     uncertainty = parseMachineCovariance(document, args.machine, plan);
     useEstimatedProbeNoise(plan, uncertainty);
     checkPlausibilityOfVerified(plan, p, "the machine of " + args.machine);
+    // The calibration's frames: a placement of the same name (or every placement of --frame-of's
+    // artifact) is also scored in the frame the calibration estimated, not refitted.
+    const auto frames = framesForPlacements(
+        plan, parseMachineFrames(document, args.machine, plan.machine.dimension()), args.frame_of,
+        args.machine);
+    for (const auto& frame : frames) options.calibration_frames.push_back(frame);
   }
   // An instrument's stations (instruments.md): held-out readings against a fitted station.
-  const StationsVerification stations = verifyStations(plan, p, uncertainty);
+  const StationsVerification stations =
+      verifyStations(plan, p, uncertainty, options.calibration_frames);
   if (onlyStations(plan, stations)) {
     if (args.json) {
       printJson(verifyDocument(plan, stations, nullptr));
@@ -52,7 +61,7 @@ int runVerify(const VerifyArguments& args) {
     }
     return 0;
   }
-  const Verification verification = verifyMachine(plan, p, uncertainty);
+  const Verification verification = verifyMachine(plan, p, uncertainty, options);
   // A calibrated machine is shown beside the plan's nominal one on the same readings.
   const std::optional<Verification> nominal = calibrated ? verifyNominal(plan) : std::nullopt;
   const Verification* beside = nominal ? &*nominal : nullptr;
@@ -80,6 +89,11 @@ void addVerifyCommand(CLI::App& app, Action& action) {
   cmd->add_option("--machine", args->machine,
                   "machine file as `calibrate --write-machine` writes it (with its covariance); "
                   "default: the plan's own nominal machine");
+  cmd->add_option("--frame-of", args->frame_of,
+                  "also score every placement of this calibrated placement's artifact in the "
+                  "frame the calibration estimated for it (the instrument or the artifact did not "
+                  "move since); without it, a placement named as one of the calibration's is")
+      ->needs("--machine");
   cmd->add_option("--outliers", args->outliers,
                   "how many of the readings farthest from their feature's mean to list")
       ->check(nonNegativeNumber())

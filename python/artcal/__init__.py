@@ -422,14 +422,20 @@ def import_readings(folder: PathLike, *, urdf: Optional[PathLike] = None,
                     instrument: Optional[float] = None,
                     point_unit: Optional[str] = None,
                     instrument_angle: Optional[float] = None,
-                    orientation_unit: Optional[str] = None) -> Plan:
+                    orientation_unit: Optional[str] = None,
+                    marker: Optional[str] = None,
+                    orientation: Optional[str] = None,
+                    hold: Optional[Mapping[str, float]] = None) -> Plan:
     """``artcal import-readings FOLDER (--urdf U --base B --tip T | --machine M) (--ball-bar L |
     --artifact A | --instrument NOISE) [-o OUTPUT]``: the plan of a folder of CSV readings (one
     sub-folder per placement, one file per feature; with ``instrument``, one CSV file per
     station: joints then x, y, z; with ``instrument_angle`` too, a pose instrument of this
     orientation noise in deg, each row the joints then x, y, z, rx, ry, rz; docs/instruments.md).
     ``probe`` in mm (or "estimate"; default 0.1, "estimate" beside an instrument), ``encoder`` in
-    deg, ``point_unit`` "mm" or "m", ``orientation_unit`` "deg" or "rad". With ``output`` the plan is also written there (CSV paths relative to
+    deg, ``point_unit`` "mm" or "m", ``orientation_unit`` "deg" or "rad". Files whose header
+    names the columns (docs/plan-format.md): ``marker`` the marker whose <marker>_x, _y, _z are
+    the tip's point, ``orientation`` "rotation_vector", "rpy" (fixed-axis x-y-z) or "quaternion"
+    (w first), ``hold`` {joint: value} for joints no file reads (deg, or mm). With ``output`` the plan is also written there (CSV paths relative to
     its folder; without it, to the current folder). The import's warnings (joint limits widened
     to the readings) are in ``plan.warnings``."""
     def text(value: Any) -> str:
@@ -441,7 +447,8 @@ def import_readings(folder: PathLike, *, urdf: Optional[PathLike] = None,
                                      tip or "", ball_bar, u_length, text(artifact), probe,
                                      encoder, unit or "", keep_calibrate, keep_limits,
                                      text(output), instrument, point_unit or "",
-                                     instrument_angle, orientation_unit or "")
+                                     instrument_angle, orientation_unit or "", marker or "",
+                                     orientation or "", dict(hold or {}))
     plan = Plan.__new__(Plan)
     plan._require_placements = True
     plan._set_native(native)

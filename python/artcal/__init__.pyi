@@ -183,6 +183,11 @@ def import_readings(
     output: Optional[PathLike] = None,
     instrument: Optional[float] = None,
     point_unit: Optional[str] = None,
+    instrument_angle: Optional[float] = None,
+    orientation_unit: Optional[str] = None,
+    marker: Optional[str] = None,
+    orientation: Optional[str] = None,
+    hold: Optional[Mapping[str, float]] = None,
 ) -> Plan:
     """artcal import-readings FOLDER (--urdf U --base B --tip T | --machine M) (--ball-bar L |
     --artifact A | --instrument NOISE) [-o OUTPUT]."""

@@ -126,6 +126,32 @@ void addPrediction(DeviationSummary& summary, double expected, std::size_t count
 
 /// One instrument placement: the station fitted, its held-out deviations (points, and a pose's
 /// angles in `angular`) and their predictions.
+/// The held-out readings of `station` scored with the calibration's `frame` as it is.
+InFrameDeviations inFrame(const Plan& plan, const Placement& placement,
+                          const StationVerification& station, const CalibrationFrame& frame,
+                          const Eigen::VectorXd& p) {
+  const Artifact& instrument = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
+  InFrameDeviations out;
+  out.frame_of = frame.placement;
+  std::vector<double> deviations, angular;
+  for (int i : station.held_out) {
+    const Measurement& m = placement.measurements[static_cast<std::size_t>(i)];
+    const ReadingLinearization r = linearize(plan, instrument, m, p, frame.pose, {});
+    deviations.push_back((m.point - r.W).norm());
+    angular.push_back(radToDeg(r.e.norm()));
+  }
+  out.deviations =
+      Eigen::Map<Eigen::VectorXd>(deviations.data(), static_cast<Eigen::Index>(deviations.size()));
+  summarize(deviations, out.summary);
+  if (instrument.measures_pose) {
+    out.angular_deviations =
+        Eigen::Map<Eigen::VectorXd>(angular.data(), static_cast<Eigen::Index>(angular.size()));
+    out.angular.emplace();
+    summarize(angular, *out.angular);
+  }
+  return out;
+}
+
 StationVerification verifyStation(const Plan& plan, std::size_t j, const Eigen::VectorXd& p,
                                   const std::vector<int>& indices, const Eigen::MatrixXd* V,
                                   DeviationTally& points, DeviationTally& angles) {
@@ -195,18 +221,39 @@ void scalePosterior(DeviationSummary& s, double birge) {
 }  // namespace
 
 StationsVerification verifyStations(const Plan& plan, const Eigen::VectorXd& p,
-                                    const std::optional<ParameterUncertainty>& uncertainty) {
+                                    const std::optional<ParameterUncertainty>& uncertainty,
+                                    const std::vector<std::optional<CalibrationFrame>>& frames) {
   StationsVerification out;
   const std::vector<int> no_indices;
   const std::vector<int>& indices = uncertainty ? uncertainty->indices : no_indices;
   const Eigen::MatrixXd* V = uncertainty ? &uncertainty->V : nullptr;
   DeviationTally points, angles;
+  std::vector<double> in_frame, reregistered, in_frame_angular, reregistered_angular;
   for (std::size_t j = 0; j < plan.placements.size(); ++j) {
     const Artifact& instrument =
         plan.artifacts[static_cast<std::size_t>(plan.placements[j].artifact)];
     if (instrument.kind != ArtifactKind::Instrument) continue;
     out.stations.push_back(verifyStation(plan, j, p, indices, V, points, angles));
-    if (out.stations.back().angular && !out.angular_all) out.angular_all.emplace();
+    StationVerification& station = out.stations.back();
+    if (station.angular && !out.angular_all) out.angular_all.emplace();
+    if (j < frames.size() && frames[j]) {
+      station.in_frame = inFrame(plan, plan.placements[j], station, *frames[j], p);
+      const InFrameDeviations& f = *station.in_frame;
+      in_frame.insert(in_frame.end(), f.deviations.begin(), f.deviations.end());
+      reregistered.insert(reregistered.end(), station.deviations.begin(), station.deviations.end());
+      in_frame_angular.insert(in_frame_angular.end(), f.angular_deviations.begin(),
+                              f.angular_deviations.end());
+      reregistered_angular.insert(reregistered_angular.end(), station.angular_deviations.begin(),
+                                  station.angular_deviations.end());
+    }
+  }
+  if (!in_frame.empty()) {
+    summarize(in_frame, out.in_frame_all.emplace());
+    summarize(reregistered, out.reregistered_all.emplace());
+  }
+  if (!in_frame_angular.empty()) {
+    summarize(in_frame_angular, out.in_frame_angular_all.emplace());
+    summarize(reregistered_angular, out.reregistered_angular_all.emplace());
   }
   summarize(points.deviations, out.all);
   addPrediction(out.all, points.expected, points.deviations.size(), 1.0);

@@ -194,6 +194,21 @@ PlacementVerification verifyPlacement(const Plan& plan, int index, const Eigen::
   }
   out.residual_rms = count > 0 ? std::sqrt(out.residuals.squaredNorm() / count) : 0.0;
   out.residual_max = count > 0 ? out.residuals.maxCoeff() : 0.0;
+  const auto j = static_cast<std::size_t>(index);
+  if (j < options.calibration_frames.size() && options.calibration_frames[j]) {
+    const CalibrationFrame& frame = *options.calibration_frames[j];
+    InFrameResiduals in_frame;
+    in_frame.frame_of = frame.placement;
+    in_frame.residuals.resize(count);
+    for (int i = 0; i < count; ++i) {
+      const int feature = placement.measurements[static_cast<std::size_t>(i)].feature;
+      in_frame.residuals[i] =
+          (frame.pose.apply(models[i].x) - artifact.feature(feature, zero)).head(k).norm();
+    }
+    in_frame.residual_rms = count > 0 ? std::sqrt(in_frame.residuals.squaredNorm() / count) : 0.0;
+    in_frame.residual_max = count > 0 ? in_frame.residuals.maxCoeff() : 0.0;
+    out.in_frame = std::move(in_frame);
+  }
   return out;
 }
 
@@ -213,7 +228,8 @@ Verification verifyMachine(const Plan& plan, const Eigen::VectorXd& p,
   const std::vector<RigidTransform> starts = fitPlacements(plan, plan.placements, p);
   double predicted_sum = 0.0, deviation_sum = 0.0, deviation_sum2 = 0.0, residual_sum2 = 0.0;
   double length_sum2 = 0.0, length_sum_abs = 0.0;
-  int readings = 0, lengths = 0;
+  double in_frame_sum2 = 0.0, reregistered_sum2 = 0.0;
+  int readings = 0, lengths = 0, in_frame_readings = 0;
   for (int j = 0; j < static_cast<int>(plan.placements.size()); ++j) {
     out.placements.push_back(verifyPlacement(plan, j, p, starts[static_cast<std::size_t>(j)],
                                              builder, uncertainty, options, predicted_sum));
@@ -222,6 +238,12 @@ Verification verifyMachine(const Plan& plan, const Eigen::VectorXd& p,
     deviation_sum += v.deviations.sum();
     deviation_sum2 += v.deviations.squaredNorm();
     residual_sum2 += v.residuals.squaredNorm();
+    if (v.in_frame) {
+      ++out.in_frame_placements;
+      in_frame_readings += static_cast<int>(v.residuals.size());
+      in_frame_sum2 += v.in_frame->residuals.squaredNorm();
+      reregistered_sum2 += v.residuals.squaredNorm();
+    }
     for (const LengthError& e : v.length_errors) {
       length_sum2 += e.error * e.error;
       length_sum_abs += std::abs(e.error);
@@ -235,6 +257,10 @@ Verification verifyMachine(const Plan& plan, const Eigen::VectorXd& p,
     out.birge_ratio = uncertainty ? uncertainty->birge_ratio : 0.0;
     out.predicted_spread_rms_posterior = out.predicted_spread_rms * out.birge_ratio;
     out.residual_rms = std::sqrt(residual_sum2 / readings);
+  }
+  if (in_frame_readings > 0) {
+    out.in_frame_residual_rms = std::sqrt(in_frame_sum2 / in_frame_readings);
+    out.reregistered_residual_rms = std::sqrt(reregistered_sum2 / in_frame_readings);
   }
   if (lengths > 0) {
     out.length_error_rms = std::sqrt(length_sum2 / lengths);

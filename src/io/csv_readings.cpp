@@ -1,6 +1,7 @@
 #include "artcal/io/csv_readings.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <filesystem>
@@ -9,6 +10,7 @@
 #include <string_view>
 
 #include "artcal/core/error.hpp"
+#include "artcal/io/json_node.hpp"
 #include "artcal/io/plan_io.hpp"
 
 namespace artcal {
@@ -78,11 +80,94 @@ std::optional<ReadingUnits> readingUnitsFromName(const std::string& name) {
   return std::nullopt;
 }
 
+std::vector<CsvColumn> parseCsvColumns(const Node& columns, std::size_t count) {
+  const std::size_t n = columns.arraySize(count, count);
+  std::vector<CsvColumn> out(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Node c = columns[i];
+    if (c.value().is_number()) {
+      out[i].held = c.number();
+      continue;
+    }
+    const std::string name = c.string();
+    if (name.empty()) c.fail("expected a column's name, \"#k\" or a held value");
+    if (name.size() > 1 && name.size() < 8 && name[0] == '#' &&
+        std::all_of(name.begin() + 1, name.end(),
+                    [](unsigned char ch) { return std::isdigit(ch); })) {
+      const int k = std::stoi(name.substr(1));
+      if (k < 1) c.fail("column positions count from #1");
+      out[i].index = k - 1;
+    } else {
+      out[i].name = name;
+    }
+  }
+  return out;
+}
+
+namespace {
+
+/// Each selected reading's field index in a row (-1: held), from the header line `header` when a
+/// column is selected by name; InputError naming the file when a name is missing or repeated.
+std::vector<int> selectedFields(const std::string& path, const std::vector<CsvColumn>& columns,
+                                std::string_view header, std::size_t& width) {
+  const std::vector<std::string_view> fields = splitFields(header);
+  width = fields.size();
+  std::vector<int> out;
+  for (const CsvColumn& column : columns) {
+    if (column.held) {
+      out.push_back(-1);
+    } else if (column.name.empty()) {
+      if (static_cast<std::size_t>(column.index) >= fields.size()) {
+        throw InputError(path, "line 1",
+                         "column #" + std::to_string(column.index + 1) + ": the header has " +
+                             std::to_string(fields.size()) + " columns");
+      }
+      out.push_back(column.index);
+    } else {
+      const auto found = std::find(fields.begin(), fields.end(), column.name);
+      if (found == fields.end()) {
+        std::string names;
+        for (const std::string_view field : fields)
+          names += (names.empty() ? "" : ", ") + shown(field);
+        throw InputError(
+            path, "line 1",
+            "no column named \"" + shown(column.name) + "\" in the header (" + shown(names) + ")");
+      }
+      if (std::find(found + 1, fields.end(), column.name) != fields.end())
+        throw InputError(path, "line 1", "two columns named \"" + shown(column.name) + "\"");
+      out.push_back(static_cast<int>(found - fields.begin()));
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
 std::vector<Eigen::VectorXd> readJointCsv(const std::string& path,
                                           const std::vector<JointKind>& kinds,
-                                          const ReadingUnits& units, std::vector<long>* lines) {
+                                          const ReadingUnits& units, std::vector<long>* lines,
+                                          const std::vector<CsvColumn>* columns) {
   const std::string text = readInputFile(path);
   const auto joints = kinds.size();
+  const bool by_name = columns && std::any_of(columns->begin(), columns->end(),
+                                              [](const CsvColumn& c) { return !c.name.empty(); });
+  // The field each reading takes (identity without `columns`) and how many fields a row has.
+  std::vector<int> field_of(joints);
+  for (std::size_t i = 0; i < joints; ++i) field_of[i] = static_cast<int>(i);
+  std::size_t width = joints;
+  if (columns) {
+    width = 0;
+    for (std::size_t i = 0; i < joints; ++i) {
+      const CsvColumn& c = (*columns)[i];
+      field_of[i] = c.held ? -1 : c.index;
+      if (!c.held && c.name.empty()) width = std::max(width, static_cast<std::size_t>(c.index) + 1);
+    }
+  }
+  auto column_name = [&](std::size_t i) {
+    std::string out = "column " + std::to_string(field_of[i] + 1);
+    if (by_name && !(*columns)[i].name.empty()) out += " (\"" + shown((*columns)[i].name) + "\")";
+    return out;
+  };
   std::vector<Eigen::VectorXd> rows;
   std::string_view rest(text);
   bool first_content = true;
@@ -93,10 +178,21 @@ std::vector<Eigen::VectorXd> readJointCsv(const std::string& path,
     if (line.empty()) continue;
     const std::string where = "line " + std::to_string(line_number);
     auto fail = [&](const std::string& message) { throw InputError(path, where, message); };
+    if (by_name && first_content) {  // the header naming the columns
+      if (line.size() > 100'000) fail("a header line longer than 100000 characters");
+      field_of = selectedFields(path, *columns, line, width);
+      first_content = false;
+      continue;
+    }
     // Counted before splitting: a line of 200 MB would otherwise become gigabytes of fields.
     const auto count = static_cast<std::size_t>(std::count(line.begin(), line.end(), ',')) + 1;
-    if (count != joints) {
+    if (!columns && count != joints) {
       fail("expected " + std::to_string(joints) + " readings, got " + std::to_string(count));
+    }
+    if (columns && (by_name ? count != width : count < width)) {
+      fail("expected " + std::to_string(width) + " fields" +
+           (by_name ? std::string(" (as the header)") : std::string()) + ", got " +
+           std::to_string(count));
     }
     const std::vector<std::string_view> fields = splitFields(line);
     std::vector<std::optional<double>> values;
@@ -109,16 +205,19 @@ std::vector<Eigen::VectorXd> readJointCsv(const std::string& path,
     if (rows.size() >= kMaxCsvRows) fail("more than " + std::to_string(kMaxCsvRows) + " rows");
     Eigen::VectorXd q(static_cast<int>(joints));
     for (std::size_t i = 0; i < joints; ++i) {
-      if (!values[i])
-        fail("column " + std::to_string(i + 1) + ": not a number: \"" + shown(fields[i]) + "\"");
-      if (!std::isfinite(*values[i]))
-        fail("column " + std::to_string(i + 1) + ": expected a finite number");
+      const int f = field_of[i];
+      const std::optional<double> value =
+          f < 0 ? (*columns)[i].held : values[static_cast<std::size_t>(f)];
+      const std::string_view field =
+          f < 0 ? std::string_view() : fields[static_cast<std::size_t>(f)];
+      if (!value) fail(column_name(i) + ": not a number: \"" + shown(field) + "\"");
+      if (!std::isfinite(*value)) fail(column_name(i) + ": expected a finite number");
       const double scale =
           kinds[i] == JointKind::Revolute ? units.angle_to_rad : units.length_to_mm;
-      const double converted = *values[i] * scale;
+      const double converted = *value * scale;
       // A finite reading can overflow in conversion (1e306 m is inf mm): refused, not passed on.
       if (!std::isfinite(converted))
-        fail("column " + std::to_string(i + 1) + ": \"" + shown(fields[i]) +
+        fail(column_name(i) + ": \"" + shown(field) +
              "\" is too large for a joint reading; check the column's unit");
       q[static_cast<int>(i)] = converted;
     }

@@ -6,6 +6,8 @@
 #include "artcal/core/linear_algebra.hpp"
 #include "artcal/core/units.hpp"
 #include "artcal/io/csv_readings.hpp"
+#include "artcal/io/json_node.hpp"
+#include "artcal/model/rotation_vector.hpp"
 
 namespace artcal {
 
@@ -34,6 +36,39 @@ double orientationUnitToDeg(const Node& entry, const Artifact& instrument) {
   if (name == "deg") return 1.0;
   if (name == "rad") return radToDeg(1.0);
   unit->fail("unknown orientation_unit \"" + name + "\" (expected deg or rad)");
+}
+
+/// How a pose's orientation is written in a CSV row (`"orientation"` of the entry).
+enum class OrientationForm { RotationVector, RollPitchYaw, Quaternion };
+
+OrientationForm orientationForm(const Node& entry, const Artifact& instrument) {
+  const auto form = entry.find("orientation");
+  if (!form) return OrientationForm::RotationVector;
+  if (!instrument.measures_pose)
+    form->fail("only a \"pose\" instrument's readings have an orientation (its measures is point)");
+  const std::string name = form->string();
+  if (name == "rotation_vector") return OrientationForm::RotationVector;
+  if (name == "rpy") return OrientationForm::RollPitchYaw;
+  if (name == "quaternion") return OrientationForm::Quaternion;
+  form->fail("unknown orientation \"" + name + "\" (expected rotation_vector, rpy or quaternion)");
+}
+
+/// The rotation vector (deg) of an orientation read as `form`: roll, pitch, yaw in deg (the
+/// URDF's fixed-axis x-y-z: R = Rz(yaw) Ry(pitch) Rx(roll)), or a unit quaternion w, x, y, z;
+/// std::nullopt for a quaternion whose norm is not 1 within 1e-3.
+std::optional<Eigen::Vector3d> rotationVectorDeg(OrientationForm form, const Eigen::VectorXd& o) {
+  Eigen::Matrix3d R;
+  if (form == OrientationForm::RollPitchYaw) {
+    R = (Eigen::AngleAxisd(degToRad(o[2]), Eigen::Vector3d::UnitZ()) *
+         Eigen::AngleAxisd(degToRad(o[1]), Eigen::Vector3d::UnitY()) *
+         Eigen::AngleAxisd(degToRad(o[0]), Eigen::Vector3d::UnitX()))
+            .toRotationMatrix();
+  } else {
+    const Eigen::Quaterniond q(o[0], o[1], o[2], o[3]);
+    if (!(std::abs(q.norm() - 1.0) <= 1e-3)) return std::nullopt;
+    R = q.normalized().toRotationMatrix();
+  }
+  return rotationVector(R) * radToDeg(1.0);
 }
 
 /// Measured coordinates per reading: the point's, then a pose's 3 orientation coordinates.
@@ -65,9 +100,10 @@ Eigen::VectorXd nominalTip(const Machine& machine, const Eigen::VectorXd& q) {
 std::vector<Eigen::VectorXd> readStationCsv(const std::string& file,
                                             const std::vector<JointKind>& kinds,
                                             const ReadingUnits& units, int joints,
-                                            const Artifact& instrument, std::vector<long>& lines) {
+                                            const Artifact& instrument, std::vector<long>& lines,
+                                            const std::vector<CsvColumn>* columns) {
   try {
-    return readJointCsv(file, kinds, units, &lines);
+    return readJointCsv(file, kinds, units, &lines, columns);
   } catch (const InputError& e) {
     const std::string message = e.what();
     if (message.rfind("expected ", 0) != 0) throw;
@@ -83,7 +119,10 @@ std::vector<Eigen::VectorXd> readStationCsv(const std::string& file,
 void appendCsvReadings(const Node& entry, const std::string& plan_source, const Machine& machine,
                        Artifact& instrument, Placement& placement, int entry_index,
                        const CheckCsvJoints& check_csv_joints, std::vector<std::string>& warnings) {
-  entry.warnUnknown({"csv", "unit", "point_unit", "orientation_unit", "stationing"}, warnings);
+  entry.warnUnknown(
+      {"csv", "unit", "point_unit", "orientation_unit", "orientation", "columns", "stationing"},
+      warnings);
+  const OrientationForm form = orientationForm(entry, instrument);
   const Node csv = entry.at("csv");
   const std::filesystem::path relative(csv.string());
   if (relative.empty()) csv.fail("expected a file name");
@@ -106,16 +145,20 @@ void appendCsvReadings(const Node& entry, const std::string& plan_source, const 
   const int joints = mech.jointCount();
   const int d = instrument.dimension;
   const int measured = measuredCoordinates(instrument);
+  // A quaternion takes 4 columns where a rotation vector or roll-pitch-yaw takes 3.
+  const int read = measured + (form == OrientationForm::Quaternion ? 1 : 0);
   // The measured coordinates read as lengths (the file's length unit), rescaled to point_unit
   // for the point; a pose's orientation is in orientation_unit (deg by default) whatever `unit`
   // says.
   std::vector<JointKind> kinds;
   for (int i = 0; i < joints; ++i) kinds.push_back(mech.jointKind(i));
-  for (int k = 0; k < measured; ++k) kinds.push_back(JointKind::Prismatic);
+  for (int k = 0; k < read; ++k) kinds.push_back(JointKind::Prismatic);
   const std::string file = path.lexically_normal().string();
+  std::optional<std::vector<CsvColumn>> columns;
+  if (const auto given = entry.find("columns")) columns = parseCsvColumns(*given, kinds.size());
   std::vector<long> lines;
   const std::vector<Eigen::VectorXd> rows =
-      readStationCsv(file, kinds, units, joints, instrument, lines);
+      readStationCsv(file, kinds, units, joints, instrument, lines, columns ? &*columns : nullptr);
   for (std::size_t r = 0; r < rows.size(); ++r) {
     const std::string where =
         "line " + std::to_string(lines[r]) + " (row " + std::to_string(r + 1) + ")";
@@ -128,9 +171,24 @@ void appendCsvReadings(const Node& entry, const std::string& plan_source, const 
     measurement.csv_row = static_cast<int>(r + 1);
     measurement.entry = entry_index;
     measurement.stationing = stationing;
-    Eigen::VectorXd coordinates = rows[r].tail(measured) / units.length_to_mm;
-    coordinates.head(d) *= point_scale;
-    if (instrument.measures_pose) coordinates.tail(3) *= orientation_scale;
+    Eigen::VectorXd coordinates(measured);
+    coordinates.head(d) = rows[r].segment(joints, d) / units.length_to_mm * point_scale;
+    if (instrument.measures_pose) {
+      const Eigen::VectorXd o = rows[r].tail(read - d) / units.length_to_mm;
+      if (form == OrientationForm::RotationVector) {
+        coordinates.tail(3) = o * orientation_scale;
+      } else {
+        Eigen::VectorXd angles = o;
+        if (form == OrientationForm::RollPitchYaw) angles *= orientation_scale;
+        const auto w = rotationVectorDeg(form, angles);
+        if (!w) {
+          throw InputError(file, where,
+                           "the quaternion (w, x, y, z) has norm " + std::to_string(o.norm()) +
+                               ", not 1: check the columns' order");
+        }
+        coordinates.tail(3) = *w;
+      }
+    }
     appendReading(std::move(measurement), coordinates, instrument, placement);
   }
 }

@@ -37,8 +37,8 @@ std::string modelNameList() {
 
 MachineBlock readOwnMembers(const ModelCodec& codec, const Node& machine,
                             std::vector<std::string>& warnings) {
-  static constexpr std::array<const char*, 5> kShared = {"model", "calibrate", "joint_limits",
-                                                         "covariance", "prior"};
+  static constexpr std::array<const char*, 6> kShared = {"model",      "calibrate", "joint_limits",
+                                                         "covariance", "prior",     "frames"};
   nlohmann::json own = machine.object();
   for (const char* shared : kShared) own.erase(shared);
   const Node own_node = Node(own, machine.pointer(), machine.source()).withSuggestions(kShared);

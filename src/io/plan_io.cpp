@@ -387,12 +387,20 @@ const CsvFiles::Parsed& csvRowsOf(const Node& entry, const Plan& plan, CsvFiles&
   const Mechanism& mech = *plan.machine.mechanism;
   std::vector<JointKind> kinds;
   for (int i = 0; i < mech.jointCount(); ++i) kinds.push_back(mech.jointKind(i));
-  const auto key = std::make_pair(file, std::make_pair(units.angle_to_rad, units.length_to_mm));
+  // Columns selected by name (csv_readings.hpp): part of what the file's rows are.
+  std::optional<std::vector<CsvColumn>> columns;
+  std::string selection;
+  if (const auto given = entry.find("columns")) {
+    columns = parseCsvColumns(*given, kinds.size());
+    selection = "\n" + given->value().dump();
+  }
+  const auto key =
+      std::make_pair(file + selection, std::make_pair(units.angle_to_rad, units.length_to_mm));
   auto cached = files.files.find(key);
   try {
     if (cached == files.files.end()) {
       CsvFiles::Parsed parsed;
-      parsed.rows = readJointCsv(file, kinds, units, &parsed.lines);
+      parsed.rows = readJointCsv(file, kinds, units, &parsed.lines, columns ? &*columns : nullptr);
       cached = files.files.emplace(key, std::move(parsed)).first;
     }
   } catch (const std::bad_alloc&) {
@@ -438,7 +446,7 @@ void checkCsvReadingsInAll(const Node& placements, const Plan& plan, CsvFiles& f
 void appendCsvMeasurements(const Node& entry, const Plan& plan, const Artifact& artifact,
                            CsvFiles& files, bool explicit_limits, int entry_index,
                            std::vector<Measurement>& out, std::vector<std::string>& warnings) {
-  entry.warnUnknown({"feature", "csv", "unit", "exclude_rows"}, warnings);
+  entry.warnUnknown({"feature", "csv", "unit", "columns", "exclude_rows"}, warnings);
   const int feature = static_cast<int>(entry.at("feature").integer(0, artifact.featureCount() - 1));
   const Node csv = entry.at("csv");
   const std::filesystem::path relative = csvRelativePath(entry);

@@ -2,6 +2,7 @@
 
 #include <Eigen/Core>
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
@@ -14,6 +15,7 @@
 
 #include "artcal/core/error.hpp"
 #include "artcal/io/csv_readings.hpp"
+#include "artcal/io/json_node.hpp"
 #include "artcal/io/plan_io.hpp"
 #include "artcal/io/urdf.hpp"
 
@@ -104,6 +106,11 @@ std::string unitOfColumns(const fs::path& file, const std::vector<std::string>& 
   return rad && m ? "rad+m" : rad ? "rad" : m ? "m" : "deg";
 }
 
+/// The joints' unit a header-named file's joint fields name (unitOfColumns over them).
+std::string unitOfNamed(const fs::path& file, const std::vector<std::string>& joint_fields) {
+  return unitOfColumns(file, joint_fields, 0, joint_fields.size());
+}
+
 /// The unit of a general-layout file from its header.
 std::string unitFromHeader(const fs::path& file) {
   const std::vector<std::string> fields = headerFields(file);
@@ -123,7 +130,7 @@ std::vector<FeatureFile> featureFiles(const fs::path& folder, const std::string&
       file.unit = unit.empty() ? "rad" : unit;
     } else if (const auto f = featureIndex(name, "feature_")) {
       file.feature = *f;
-      file.unit = unit.empty() ? unitFromHeader(file.path) : unit;
+      file.unit = unit;  // "" : the header's (featureEntry)
     } else {
       continue;  // hole_0_pose.csv, notes, ...
     }
@@ -136,6 +143,290 @@ std::vector<FeatureFile> featureFiles(const fs::path& folder, const std::string&
   std::vector<FeatureFile> out;
   for (auto& [feature, file] : files) out.push_back(std::move(file));
   return out;
+}
+
+// ------------------------------------------------------------------ columns named by a header
+
+/// The readings a machine takes per row: their names (empty when the model names none) and
+/// kinds.
+struct MachineReadings {
+  std::vector<std::string> names;
+  std::vector<JointKind> kinds;
+};
+
+std::string trimmedField(std::string field) {
+  const auto first = field.find_first_not_of(" \t\r");
+  if (first == std::string::npos) return {};
+  const auto last = field.find_last_not_of(" \t\r");
+  return field.substr(first, last - first + 1);
+}
+
+/// A header field without its unit word: "panda_joint1 [rad]" -> "panda_joint1", "m1_x_mm" ->
+/// "m1_x"; the field itself when it names no unit.
+std::string withoutUnit(const std::string& field) {
+  std::string f = trimmedField(field);
+  if (!headerUnit(f)) return f;
+  if (!f.empty() && (f.back() == ']' || f.back() == ')')) {
+    const auto open = f.find_last_of("[(");
+    return trimmedField(f.substr(0, open));
+  }
+  const auto start = f.find_last_of(" _\t");
+  return start == std::string::npos ? f : trimmedField(f.substr(0, start));
+}
+
+/// The orientation forms a header may name for a marker, the suffixes of their columns.
+struct OrientationColumns {
+  const char* form;
+  std::array<const char*, 4> suffixes;
+  int count;
+};
+constexpr std::array<OrientationColumns, 3> kOrientationColumns = {
+    {{"rotation_vector", {"rx", "ry", "rz", ""}, 3},
+     {"rpy", {"roll", "pitch", "yaw", ""}, 3},
+     {"quaternion", {"qw", "qx", "qy", "qz"}, 4}}};
+
+/// The field of `base` + one of the separators + `suffix` (or `suffix` alone for the marker ""),
+/// case-insensitive in the suffix; -1 when the header has none.
+int markerField(const std::vector<std::string>& bases, const std::string& marker,
+                const std::string& suffix) {
+  auto lower = [](std::string t) {
+    for (char& c : t) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return t;
+  };
+  for (std::size_t i = 0; i < bases.size(); ++i) {
+    const std::string& b = bases[i];
+    if (marker.empty()) {
+      if (lower(b) == suffix) return static_cast<int>(i);
+      continue;
+    }
+    if (b.size() != marker.size() + 1 + suffix.size() || !b.starts_with(marker)) continue;
+    const char sep = b[marker.size()];
+    if ((sep == '_' || sep == '.' || sep == ' ') && lower(b.substr(marker.size() + 1)) == suffix)
+      return static_cast<int>(i);
+  }
+  return -1;
+}
+
+/// The markers a header names: every <name> with <name>_x, <name>_y and <name>_z fields (also
+/// <name>.x, <name> x; the fields' unit words aside), in the order of their x fields.
+std::vector<std::string> headerMarkers(const std::vector<std::string>& bases) {
+  std::vector<std::string> markers;
+  for (const std::string& b : bases) {
+    std::string marker;
+    if (b == "x" || b == "X") {
+      marker = "";
+    } else if (b.size() > 2 && (b.ends_with("_x") || b.ends_with(".x") || b.ends_with(" x") ||
+                                b.ends_with("_X") || b.ends_with(".X") || b.ends_with(" X"))) {
+      marker = b.substr(0, b.size() - 2);
+    } else {
+      continue;
+    }
+    if (markerField(bases, marker, "y") >= 0 && markerField(bases, marker, "z") >= 0)
+      markers.push_back(marker);
+  }
+  return markers;
+}
+
+/// What a header-named file's CSV entry says: "columns", the joints' "unit" and an instrument's
+/// "point_unit", "orientation", "orientation_unit"; the fields it does not read.
+struct NamedColumns {
+  json entry = json::object();
+  std::vector<std::string> ignored;
+};
+
+/// The one unit word of `fields` (all naming one, or none) of the allowed ones; "" when none
+/// names one; InputError naming the file when some do and some do not, or they differ.
+std::string commonUnit(const fs::path& file, const std::vector<std::string>& fields,
+                       const std::string& what) {
+  std::set<std::string> units;
+  std::size_t named = 0;
+  for (const std::string& f : fields) {
+    if (const auto unit = headerUnit(trimmedField(f))) {
+      units.insert(*unit);
+      ++named;
+    }
+  }
+  if (named == 0) return {};
+  if (named != fields.size() || units.size() != 1) {
+    throw InputError(file.string(), "line 1",
+                     "the " + what + " columns name " +
+                         (units.size() > 1 ? "different" : "not all") +
+                         " units: one unit word on each (or none, with the unit given as an "
+                         "option)");
+  }
+  return *units.begin();
+}
+
+/// The columns of `file` when its header names at least one of the machine's readings (a file
+/// whose columns are named, docs/plan-format.md "Columns by name"); std::nullopt otherwise.
+std::optional<NamedColumns> namedColumns(const fs::path& file, const MachineReadings& machine,
+                                         const ReadingsImport& import, bool instrument, bool pose) {
+  if (machine.names.empty()) return std::nullopt;
+  const std::vector<std::string> fields = headerFields(file);
+  std::vector<std::string> bases;
+  for (const std::string& f : fields) bases.push_back(withoutUnit(f));
+  std::vector<int> joint_field;
+  bool any = false;
+  for (const std::string& name : machine.names) {
+    const auto at = std::find(bases.begin(), bases.end(), name);
+    joint_field.push_back(at == bases.end() ? -1 : static_cast<int>(at - bases.begin()));
+    any = any || at != bases.end();
+  }
+  if (!any) return std::nullopt;
+  NamedColumns out;
+  std::vector<bool> used(fields.size(), false);
+  std::vector<std::string> joint_fields;
+  for (std::size_t j = 0; j < machine.names.size(); ++j) {
+    const int f = joint_field[j];
+    const bool held = std::any_of(import.holds.begin(), import.holds.end(),
+                                  [&](const auto& h) { return h.first == machine.names[j]; });
+    if (f >= 0 && held) {
+      throw InputError(file.string(), "line 1",
+                       "joint \"" + machine.names[j] + "\" is both read (column " +
+                           std::to_string(f + 1) + ") and held with --hold");
+    }
+    if (f < 0 && !held) {
+      throw InputError(file.string(), "line 1",
+                       "no column for joint \"" + machine.names[j] +
+                           "\": the header names other joints of the machine; a joint no file "
+                           "reads is held at a value with --hold " +
+                           machine.names[j] + "=VALUE");
+    }
+    if (f >= 0) {
+      used[static_cast<std::size_t>(f)] = true;
+      joint_fields.push_back(fields[static_cast<std::size_t>(f)]);
+    }
+  }
+  std::string unit = import.unit;
+  if (unit.empty()) {
+    unit = unitOfNamed(file, joint_fields);
+  }
+  out.entry["unit"] = unit;
+  const auto units = readingUnitsFromName(unit);
+  json columns = json::array();
+  for (std::size_t j = 0; j < machine.names.size(); ++j) {
+    const int f = joint_field[j];
+    if (f >= 0) {
+      columns.push_back(trimmedField(fields[static_cast<std::size_t>(f)]));
+      continue;
+    }
+    const auto held = std::find_if(import.holds.begin(), import.holds.end(),
+                                   [&](const auto& h) { return h.first == machine.names[j]; });
+    // --hold is in deg (mm): the entry's value is in the file's unit, as a column would be.
+    columns.push_back(machine.kinds[j] == JointKind::Revolute
+                          ? held->second * kDegree / units->angle_to_rad
+                          : held->second / units->length_to_mm);
+  }
+  if (instrument) {
+    const std::vector<std::string> markers = headerMarkers(bases);
+    std::string marker = import.marker;
+    std::string listed;
+    for (const std::string& m : markers) listed += (listed.empty() ? "\"" : ", \"") + m + "\"";
+    if (marker.empty()) {
+      if (markers.size() != 1) {
+        throw InputError(file.string(), "line 1",
+                         markers.empty()
+                             ? "no marker: expected the columns <marker>_x, <marker>_y, "
+                               "<marker>_z of the measured point"
+                             : "the header names several markers (" + listed +
+                                   "): select the machine's tip with --marker NAME");
+      }
+      marker = markers.front();
+    } else if (std::find(markers.begin(), markers.end(), marker) == markers.end()) {
+      throw InputError(file.string(), "line 1",
+                       "no marker \"" + marker + "\" (<name>_x, <name>_y, <name>_z) in the header" +
+                           (listed.empty() ? std::string() : " (it names " + listed + ")"));
+    }
+    std::vector<std::string> point_fields;
+    for (const char* axis : {"x", "y", "z"}) {
+      const int f = markerField(bases, marker, axis);
+      used[static_cast<std::size_t>(f)] = true;
+      point_fields.push_back(fields[static_cast<std::size_t>(f)]);
+      columns.push_back(trimmedField(fields[static_cast<std::size_t>(f)]));
+    }
+    std::string point_unit = import.point_unit;
+    if (point_unit.empty()) point_unit = commonUnit(file, point_fields, "point's");
+    if (point_unit.empty()) {
+      throw InputError(file.string(), "line 1",
+                       "the point's columns name no unit (" + marker + "_x_mm or " + marker +
+                           "_x [m]): state it with --point-unit");
+    }
+    if (point_unit != "mm" && point_unit != "m")
+      throw InputError(file.string(), "line 1", "the point's columns are in mm or m");
+    out.entry["point_unit"] = point_unit;
+    if (pose) {
+      std::vector<const OrientationColumns*> found;
+      for (const OrientationColumns& o : kOrientationColumns) {
+        bool all = true;
+        for (int k = 0; k < o.count; ++k)
+          all = all && markerField(bases, marker, o.suffixes[k]) >= 0;
+        if (all && (import.orientation.empty() || import.orientation == o.form))
+          found.push_back(&o);
+      }
+      if (found.size() != 1) {
+        throw InputError(
+            file.string(), "line 1",
+            found.empty()
+                ? "no orientation of marker \"" + marker + "\"" +
+                      (import.orientation.empty() ? std::string() : " as " + import.orientation) +
+                      ": expected its columns _rx, _ry, _rz (a rotation vector), _roll, _pitch, "
+                      "_yaw or _qw, _qx, _qy, _qz"
+                : "marker \"" + marker +
+                      "\" has several orientations: choose one with --orientation");
+      }
+      const OrientationColumns& o = *found.front();
+      std::vector<std::string> angle_fields;
+      for (int k = 0; k < o.count; ++k) {
+        const int f = markerField(bases, marker, o.suffixes[static_cast<std::size_t>(k)]);
+        used[static_cast<std::size_t>(f)] = true;
+        angle_fields.push_back(fields[static_cast<std::size_t>(f)]);
+        columns.push_back(trimmedField(fields[static_cast<std::size_t>(f)]));
+      }
+      out.entry["orientation"] = o.form;
+      if (std::string(o.form) != "quaternion") {
+        std::string angle_unit = import.orientation_unit;
+        if (angle_unit.empty()) angle_unit = commonUnit(file, angle_fields, "orientation's");
+        if (angle_unit.empty()) {
+          throw InputError(file.string(), "line 1",
+                           "the orientation's columns name no unit (deg or rad): state it with "
+                           "--orientation-unit");
+        }
+        out.entry["orientation_unit"] = angle_unit;
+      }
+    }
+  }
+  out.entry["columns"] = columns;
+  for (std::size_t f = 0; f < fields.size(); ++f)
+    if (!used[f]) out.ignored.push_back(trimmedField(fields[f]));
+  return out;
+}
+
+/// The "columns" of a file whose columns are read in order but some joints are held (--hold):
+/// the fields by position ("#k"), the held joints' values in the file's `unit`.
+json heldColumns(const MachineReadings& machine, const ReadingsImport& import,
+                 const std::string& unit, std::size_t measured) {
+  const auto units = readingUnitsFromName(unit);
+  json columns = json::array();
+  int field = 0;
+  auto position = [&field] {
+    std::string text = std::to_string(++field);
+    text.insert(text.begin(), '#');
+    return text;
+  };
+  for (std::size_t j = 0; j < machine.kinds.size(); ++j) {
+    const auto held = std::find_if(import.holds.begin(), import.holds.end(), [&](const auto& h) {
+      return j < machine.names.size() && h.first == machine.names[j];
+    });
+    if (held == import.holds.end()) {
+      columns.push_back(position());
+    } else {
+      columns.push_back(machine.kinds[j] == JointKind::Revolute
+                            ? held->second * kDegree / units->angle_to_rad
+                            : held->second / units->length_to_mm);
+    }
+  }
+  for (std::size_t k = 0; k < measured; ++k) columns.push_back(position());
+  return columns;
 }
 
 // ------------------------------------------------------------------ an instrument's stations
@@ -217,14 +508,27 @@ void checkStationWidth(const fs::path& file, std::size_t columns, int joints, bo
 /// last 6: `..., x_m, y_m, z_m, rx_rad, ry_rad, rz_rad`); a point without a stated unit is in mm,
 /// an orientation in deg.
 json stationEntry(const fs::path& file, const ReadingsImport& import, const fs::path& plan_folder,
-                  int joints, bool pose) {
+                  const MachineReadings& machine, bool pose, std::vector<std::string>& ignored) {
+  const fs::path relative = fs::absolute(file).lexically_normal().lexically_relative(plan_folder);
+  if (auto named = namedColumns(file, machine, import, true, pose)) {
+    json entry = {{"csv", relative.generic_string()}};
+    entry.update(named->entry);
+    ignored.insert(ignored.end(), named->ignored.begin(), named->ignored.end());
+    return entry;
+  }
   std::string unit = import.unit, point_unit = import.point_unit,
               orientation_unit = import.orientation_unit;
   const std::vector<std::string> fields = headerFields(file);
-  checkStationWidth(file, fields.size(), joints, pose);
-  const std::size_t measured = pose ? kPoseColumns : kPointColumns;
-  const bool units_in_header = std::all_of(
-      fields.begin(), fields.end(), [](const std::string& f) { return headerUnit(f).has_value(); });
+  // Joints held (--hold) have no column; a quaternion takes 4 columns.
+  const int joints = static_cast<int>(machine.kinds.size() - import.holds.size());
+  const bool quaternion = pose && import.orientation == "quaternion";
+  checkStationWidth(file, fields.size() - (quaternion ? 1 : 0), joints, pose);
+  const std::size_t measured = pose ? kPoseColumns + (quaternion ? 1 : 0) : kPointColumns;
+  // A quaternion's 4 columns have no unit; every other column names one in a header with units.
+  const auto with_units = static_cast<std::ptrdiff_t>(fields.size()) - (quaternion ? 4 : 0);
+  const bool units_in_header =
+      with_units > 0 && std::all_of(fields.begin(), fields.begin() + with_units,
+                                    [](const std::string& f) { return headerUnit(f).has_value(); });
   if (unit.empty()) {
     if (fields.size() <= measured || !units_in_header) {
       throw InputError(file.string(), "line 1",
@@ -251,34 +555,56 @@ json stationEntry(const fs::path& file, const ReadingsImport& import, const fs::
                            "y_m, z_m)");
     }
   }
-  if (pose && orientation_unit.empty() && header) {
+  if (pose && !quaternion && orientation_unit.empty() && header) {
     orientation_unit = unitOfThree(fields, first + kPointColumns, {"deg", "rad"});
     if (orientation_unit.empty()) {
       throw InputError(file.string(), "line 1",
-                       "the last 3 columns are the measured orientation (a rotation vector): one "
-                       "angle unit (rx_deg, ry_deg, rz_deg or rx_rad, ry_rad, rz_rad)");
+                       "the last 3 columns are the measured orientation: one angle unit (rx_deg, "
+                       "ry_deg, rz_deg or rx_rad, ry_rad, rz_rad)");
     }
   }
-  const fs::path relative = fs::absolute(file).lexically_normal().lexically_relative(plan_folder);
   json entry = {{"csv", relative.generic_string()},
                 {"unit", unit},
                 {"point_unit", point_unit.empty() ? "mm" : point_unit}};
-  if (pose) entry["orientation_unit"] = orientation_unit.empty() ? "deg" : orientation_unit;
+  if (pose && !quaternion)
+    entry["orientation_unit"] = orientation_unit.empty() ? "deg" : orientation_unit;
+  if (pose && !import.orientation.empty()) entry["orientation"] = import.orientation;
+  if (!import.holds.empty()) entry["columns"] = heldColumns(machine, import, unit, measured);
   return entry;
 }
 
 json stationPlacements(const fs::path& dir, const ReadingsImport& import,
-                       const fs::path& plan_folder, const std::string& instrument_id, int joints,
-                       bool pose) {
+                       const fs::path& plan_folder, const std::string& instrument_id,
+                       const MachineReadings& machine, bool pose,
+                       std::vector<std::string>& ignored) {
   json placements = json::array();
   for (const auto& [name, files] : stations(dir)) {
     json measurements = json::array();
     for (const fs::path& file : files)
-      measurements.push_back(stationEntry(file, import, plan_folder, joints, pose));
+      measurements.push_back(stationEntry(file, import, plan_folder, machine, pose, ignored));
     placements.push_back(
         {{"name", name}, {"artifact", instrument_id}, {"measurements", measurements}});
   }
   return placements;
+}
+
+/// A feature file's CSV entry: its unit (the layout's, --unit, or the header's) and, for a file
+/// whose header names its columns or with joints held, its "columns".
+json featureEntry(const FeatureFile& file, const ReadingsImport& import,
+                  const fs::path& plan_folder, const MachineReadings& machine,
+                  std::vector<std::string>& ignored) {
+  const fs::path relative =
+      fs::absolute(file.path).lexically_normal().lexically_relative(plan_folder);
+  json entry = {{"feature", file.feature}, {"csv", relative.generic_string()}};
+  if (auto named = namedColumns(file.path, machine, import, false, false)) {
+    entry.update(named->entry);
+    ignored.insert(ignored.end(), named->ignored.begin(), named->ignored.end());
+    return entry;
+  }
+  entry["unit"] = file.unit.empty() ? unitFromHeader(file.path) : file.unit;
+  if (!import.holds.empty())
+    entry["columns"] = heldColumns(machine, import, entry["unit"].get<std::string>(), 0);
+  return entry;
 }
 
 json machineBlock(const ReadingsImport& import) {
@@ -362,14 +688,20 @@ std::vector<std::string> widenJointLimits(json& document, const std::string& sou
           (folder / entry.at("csv").get<std::string>()).lexically_normal().string();
       const auto units = readingUnitsFromName(entry.at("unit").get<std::string>());
       // An instrument's rows end with the measured point (or pose), read here as lengths and not
-      // kept.
+      // kept; entries whose "columns" select the fields read the joints' alone.
       std::vector<JointKind> columns = kinds;
-      if (entry.contains("point_unit")) {
+      std::optional<std::vector<CsvColumn>> selected;
+      if (entry.contains("columns")) {
+        const Node node(entry.at("columns"), "/columns", file);
+        selected = parseCsvColumns(node, entry.at("columns").size());
+        selected->resize(kinds.size());
+      } else if (entry.contains("point_unit")) {
         const std::size_t measured =
             entry.contains("orientation_unit") ? kPoseColumns : kPointColumns;
         columns.resize(kinds.size() + measured, JointKind::Prismatic);
       }
-      for (const Eigen::VectorXd& row : readJointCsv(file, columns, *units)) {
+      for (const Eigen::VectorXd& row :
+           readJointCsv(file, columns, *units, nullptr, selected ? &*selected : nullptr)) {
         const Eigen::VectorXd q = row.head(mech.jointCount());
         lo = lo.cwiseMin(q);
         hi = hi.cwiseMax(q);
@@ -381,33 +713,53 @@ std::vector<std::string> widenJointLimits(json& document, const std::string& sou
     auto limits = machine.joint_limits[static_cast<std::size_t>(i)];
     if (lo[i] >= limits[0] && hi[i] <= limits[1]) continue;
     const double widest = degToRad(kWidestRevoluteDeg);
-    if (kinds[static_cast<std::size_t>(i)] != JointKind::Revolute || lo[i] < -widest ||
-        hi[i] > widest) {
-      continue;  // refused when the plan is parsed, naming the file and row
-    }
-    const double old_lo = radToDeg(limits[0]), old_hi = radToDeg(limits[1]);
+    const bool revolute = kinds[static_cast<std::size_t>(i)] == JointKind::Revolute;
+    // A prismatic joint: within a tenth of its range (at least 1 mm) of its limits; a reading in
+    // the wrong unit is 1000 times off.
+    const double reach = std::max(0.1 * (limits[1] - limits[0]), 1.0);
+    const bool widen = revolute ? lo[i] >= -widest && hi[i] <= widest
+                                : lo[i] >= limits[0] - reach && hi[i] <= limits[1] + reach;
+    if (!widen) continue;  // refused when the plan is parsed, naming the file and row
+    const double to_file = revolute ? radToDeg(1.0) : 1.0;
+    const char* unit = revolute ? "deg" : "mm";
+    const double old_lo = limits[0] * to_file, old_hi = limits[1] * to_file;
     limits = {std::min(limits[0], lo[i]), std::max(limits[1], hi[i])};
-    document["machine"]["joint_limits"][static_cast<std::size_t>(i)] = {radToDeg(limits[0]),
-                                                                        radToDeg(limits[1])};
-    char text[256];
+    document["machine"]["joint_limits"][static_cast<std::size_t>(i)] = {limits[0] * to_file,
+                                                                        limits[1] * to_file};
+    char text[320];
     std::snprintf(text, sizeof text,
-                  "joint %d: readings reach [%.3f, %.3f] deg, beyond its limits [%.3f, %.3f] "
-                  "deg: joint_limits widened to the readings",
-                  i + 1, radToDeg(lo[i]), radToDeg(hi[i]), old_lo, old_hi);
+                  "joint %d: readings reach [%.3f, %.3f] %s, beyond its limits [%.3f, %.3f] "
+                  "%s: joint_limits widened to the readings",
+                  i + 1, lo[i] * to_file, hi[i] * to_file, unit, old_lo, old_hi, unit);
     warnings.emplace_back(text);
   }
   return warnings;
 }
 
 /// The joint readings per row of the machine block `machine` (its driving joints), read beside
-/// the plan's `artifacts`.
-int jointCountOf(const json& machine, const json& artifacts, const std::string& source) {
+/// the plan's `artifacts`; InputError when --hold names a joint the machine does not read.
+MachineReadings machineReadings(const json& machine, const json& artifacts,
+                                const std::string& source, const ReadingsImport& import) {
   const json document = {{"format", "artcal-plan/1"},
                          {"machine", machine},
                          {"noise", {{"probe", 0.1}, {"encoder", 0.0}}},
                          {"artifacts", artifacts}};
   const Plan plan = parsePlan(document, source, /*require_placements=*/false, false);
-  return plan.machine.mechanism->jointCount();
+  const Mechanism& mech = *plan.machine.mechanism;
+  MachineReadings out;
+  out.names = mech.readingNames();
+  for (int i = 0; i < mech.jointCount(); ++i) out.kinds.push_back(mech.jointKind(i));
+  for (const auto& [name, value] : import.holds) {
+    if (std::find(out.names.begin(), out.names.end(), name) == out.names.end()) {
+      std::string names;
+      for (const std::string& n : out.names) names += (names.empty() ? "" : ", ") + n;
+      throw InputError("--hold", name,
+                       "not a joint the machine reads" +
+                           (names.empty() ? std::string(" (its model names no joints)")
+                                          : " (it reads " + names + ")"));
+    }
+  }
+  return out;
 }
 
 }  // namespace
@@ -428,11 +780,12 @@ ImportedPlan importReadings(const ReadingsImport& import) {
   const std::string source = to_stdout ? std::string("import-readings") : import.output;
   const json machine = machineBlock(import);
   json placements = json::array();
+  const MachineReadings readings = machineReadings(machine, artifacts, source, import);
+  std::vector<std::string> ignored;  // columns of header-named files not read
   if (instrument) {
     const auto measures = artifact.find("measures");
     const bool pose = measures != artifact.end() && *measures == "pose";
-    placements = stationPlacements(dir, import, plan_folder, artifact_id,
-                                   jointCountOf(machine, artifacts, source), pose);
+    placements = stationPlacements(dir, import, plan_folder, artifact_id, readings, pose, ignored);
   }
   for (const fs::path& folder :
        instrument ? std::vector<fs::path>{} : placementFolders(dir, import.unit)) {
@@ -444,10 +797,7 @@ ImportedPlan importReadings(const ReadingsImport& import) {
                              " of a ball bar, whose features are 0 and 1: rename the file or "
                              "move it out of the folder");
       }
-      const fs::path relative =
-          fs::absolute(file.path).lexically_normal().lexically_relative(plan_folder);
-      measurements.push_back(
-          {{"feature", file.feature}, {"csv", relative.generic_string()}, {"unit", file.unit}});
+      measurements.push_back(featureEntry(file, import, plan_folder, readings, ignored));
     }
     const std::string name = folderName(folder);
     placements.push_back(
@@ -463,8 +813,18 @@ ImportedPlan importReadings(const ReadingsImport& import) {
               {"artifacts", artifacts},
               {"placements", placements}};
   out.source = source;
+  if (!ignored.empty()) {
+    std::set<std::string> distinct(ignored.begin(), ignored.end());
+    std::string names;
+    for (const std::string& name : distinct) names += (names.empty() ? "" : ", ") + name;
+    out.warnings.push_back("columns not read (not a joint of the machine nor the marker's): " +
+                           names);
+  }
   if (!out.plan["machine"].contains("joint_limits")) return out;
-  if (!import.keep_limits) out.warnings = widenJointLimits(out.plan, out.source, plan_folder);
+  if (!import.keep_limits) {
+    for (std::string& w : widenJointLimits(out.plan, out.source, plan_folder))
+      out.warnings.push_back(std::move(w));
+  }
   return out;
 }
 

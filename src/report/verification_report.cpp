@@ -50,6 +50,11 @@ json placementToJson(const Plan& plan, const PlacementVerification& v) {
               {"residual_max", finiteOrNull(v.residual_max)}};
   const std::string& name = plan.placements[static_cast<std::size_t>(v.index)].name;
   if (!name.empty()) out["name"] = name;
+  if (v.in_frame) {  // the same residuals with the calibration's placement, not refitted
+    out["in_calibration_frame"] = {{"frame_of", v.in_frame->frame_of},
+                                   {"residual_rms", finiteOrNull(v.in_frame->residual_rms)},
+                                   {"residual_max", finiteOrNull(v.in_frame->residual_max)}};
+  }
   return out;
 }
 
@@ -170,6 +175,12 @@ json verificationToJson(const Plan& plan, const Verification& verification,
     largest.push_back(entry);
   }
   verify["largest_deviations"] = largest;
+  if (verification.in_frame_placements > 0) {
+    verify["in_calibration_frame"] = {
+        {"placements", verification.in_frame_placements},
+        {"residual_rms", finiteOrNull(verification.in_frame_residual_rms)},
+        {"reregistered_residual_rms", finiteOrNull(verification.reregistered_residual_rms)}};
+  }
   if (nominal) {
     verify["nominal"] = overallFiguresToJson(*nominal);
     verify["worse_than_nominal"] = worseThanNominal(verification, *nominal);
@@ -246,6 +257,23 @@ std::string verificationTable(const Plan& plan, const Verification& verification
       << "  length error mean |e| " << fixed(verification.length_error_mean_abs, 4) << "   rms "
       << fixed(verification.length_error_rms, 4) << "\n"
       << "  residual rms " << fixed(verification.residual_rms, 4) << "\n";
+  if (verification.in_frame_placements > 0) {
+    out << "\nresiduals in the calibration's frame (the placement calibrate estimated, not "
+           "refitted: the artifact stayed where it was)\n"
+        << heading
+        << "  frame of          residual rms   residual max   re-registered rms    max\n";
+    for (const PlacementVerification& v : verification.placements) {
+      if (!v.in_frame) continue;
+      char line[200];
+      std::snprintf(line, sizeof line, "  %-16s %13.4f %14.4f %19.4f %6.4f\n",
+                    v.in_frame->frame_of.c_str(), v.in_frame->residual_rms,
+                    v.in_frame->residual_max, v.residual_rms, v.residual_max);
+      out << label(plan, v.index, width) << line;
+    }
+    out << "  in the calibration's frame: residual rms "
+        << fixed(verification.in_frame_residual_rms, 4) << "   re-registered "
+        << fixed(verification.reregistered_residual_rms, 4) << "\n";
+  }
   if (nominal) {
     out << "\nthe plan's nominal machine on the same readings\n"
         << "  spread mean " << fixed(nominal->spread_mean, 4) << "   spread rms "

@@ -37,6 +37,16 @@ struct DeviationSummary {
   double predicted_rms_posterior = 0.0;  ///< mm, 0 without a Birge ratio
 };
 
+/// A station's held-out readings scored with the station the calibration estimated (no
+/// re-registration): the instrument stood still between the sessions.
+struct InFrameDeviations {
+  std::string frame_of;        ///< the calibration's placement whose station scored them
+  Eigen::VectorXd deviations;  ///< mm, per held-out reading, as StationVerification's
+  DeviationSummary summary;    ///< its predictions 0: the station's own uncertainty is not known
+  Eigen::VectorXd angular_deviations;       ///< deg, a pose instrument only
+  std::optional<DeviationSummary> angular;  ///< deg, a pose instrument only
+};
+
 struct StationVerification {
   int placement = 0;           ///< index into Plan::placements
   int stationing = 0;          ///< readings the station was fitted on
@@ -47,18 +57,29 @@ struct StationVerification {
   /// A pose instrument only: the angular deviations (deg) and their summary (its figures in deg).
   Eigen::VectorXd angular_deviations;
   std::optional<DeviationSummary> angular;
+  /// The same held-out readings in the calibration's frame, when one was given for this station.
+  std::optional<InFrameDeviations> in_frame;
 };
 
 struct StationsVerification {
   std::vector<StationVerification> stations;
   DeviationSummary all;
   std::optional<DeviationSummary> angular_all;  ///< deg; when a station is a pose instrument's
+  /// Over the stations scored in the calibration's frame: their held-out deviations in that
+  /// frame, and (`reregistered_all`) the same readings' deviations with the station refitted.
+  std::optional<DeviationSummary> in_frame_all, reregistered_all;
+  std::optional<DeviationSummary> in_frame_angular_all, reregistered_angular_all;  ///< deg
 };
 
 /// The instrument placements of `plan` verified at full parameters `p`; `uncertainty` (optional)
 /// gives the predicted RMS. A station with fewer than 3 stationing readings, or none held out,
-/// raises InputError naming the placement.
-StationsVerification verifyStations(const Plan& plan, const Eigen::VectorXd& p,
-                                    const std::optional<ParameterUncertainty>& uncertainty);
+/// raises InputError naming the placement. `frames` (per placement of `plan`, may be empty): the
+/// station the calibration estimated, with which the held-out readings are also scored as they
+/// are, without a fit (InFrameDeviations); with every reading held out the re-registered RMS is
+/// the least-squares minimum over stations, so the in-frame RMS is never below it.
+StationsVerification verifyStations(
+    const Plan& plan, const Eigen::VectorXd& p,
+    const std::optional<ParameterUncertainty>& uncertainty,
+    const std::vector<std::optional<CalibrationFrame>>& frames = {});
 
 }  // namespace artcal

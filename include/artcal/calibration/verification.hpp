@@ -80,6 +80,22 @@ struct LengthError {
   double predicted_u_posterior = 0.0;
 };
 
+/// A frame the calibration estimated for one of its placements (machine -> artifact, or the
+/// instrument's station), with which held-out readings are scored without re-registration when
+/// the artifact or the instrument stayed where it was (docs/models.md section 6).
+struct CalibrationFrame {
+  std::string placement;  ///< the calibration plan's placement label
+  RigidTransform pose;
+};
+
+/// A placement's residuals in the calibration's frame (`pose` of the frame, not refitted).
+struct InFrameResiduals {
+  std::string frame_of;       ///< the calibration's placement whose frame scored them
+  Eigen::VectorXd residuals;  ///< |[R x_i + t - W*_i]_valued| per reading, mm
+  double residual_rms = 0.0;
+  double residual_max = 0.0;
+};
+
 struct PlacementVerification {
   int index = 0;
   std::vector<FeatureSpread> features;
@@ -89,6 +105,8 @@ struct PlacementVerification {
   Eigen::VectorXd deviations;  ///< |x_i - m| per reading, mm, in measurement order
   double residual_rms = 0.0;
   double residual_max = 0.0;
+  /// The same residuals in the calibration's frame, when one was given for this placement.
+  std::optional<InFrameResiduals> in_frame;
 };
 
 struct Verification {
@@ -105,11 +123,19 @@ struct Verification {
   double length_error_rms = 0.0;  ///< over every pair of every placement
   double length_error_mean_abs = 0.0;
   double residual_rms = 0.0;
+  /// Over the placements scored in the calibration's frame (in_frame_placements > 0): their
+  /// residual RMS in that frame and, on the same readings, re-registered.
+  int in_frame_placements = 0;
+  double in_frame_residual_rms = 0.0;
+  double reregistered_residual_rms = 0.0;
 };
 
 struct VerifyOptions {
   int max_iterations = 30;        ///< Gauss-Newton steps of each rigid fit
   double step_tolerance = 1e-12;  ///< mm (and rad): a rigid step smaller than this stops
+  /// Per placement of the plan (empty: none), the calibration's frame to score it in as well,
+  /// beside the re-registered figures.
+  std::vector<std::optional<CalibrationFrame>> calibration_frames = {};
 };
 
 /// Verifies the full parameter vector `p` on every placement of `plan`. `uncertainty`, when

@@ -15,6 +15,8 @@
 
 namespace artcal {
 
+class Node;
+
 /// Units of the readings of one CSV file.
 struct ReadingUnits {
   double angle_to_rad = kDegree;  ///< revolute readings times this are rad
@@ -25,6 +27,21 @@ struct ReadingUnits {
 /// unit joined by "+" ("rad+m", ROS's units; "deg+mm" is "deg"); std::nullopt for anything else.
 std::optional<ReadingUnits> readingUnitsFromName(const std::string& name);
 
+/// Which field of a row gives one reading, for files whose columns are not the readings in order
+/// (a header naming its columns, docs/plan-format.md "Columns by name"): the header field `name`,
+/// or the field at `index` (from 0), or, when `held` is set, no field: every row reads `held`
+/// (in the file's unit, like the field would be).
+struct CsvColumn {
+  std::string name;
+  int index = -1;
+  std::optional<double> held;
+};
+
+/// The `"columns"` member of a plan's CSV entry, `count` entries: a header name ("panda_joint1"),
+/// a field's position as "#k" (from 1), or a number, the value every row reads (a joint no file
+/// reads). InputError naming the entry's pointer when malformed.
+std::vector<CsvColumn> parseCsvColumns(const Node& columns, std::size_t count);
+
 /// Largest number of rows read from one CSV file.
 inline constexpr std::size_t kMaxCsvRows = 100'000;
 
@@ -32,9 +49,15 @@ inline constexpr std::size_t kMaxCsvRows = 100'000;
 /// given kinds. InputError(path, "line N", ...) on any fault; an unreadable or empty file names
 /// the file alone. `lines`, when given, receives each row's line number in the file (from 1), for
 /// messages about a row that the caller finds wrong.
+///
+/// `columns`, when given (one per entry of `kinds`), selects each reading's field: a file naming
+/// columns by name must start with a header line holding every name selected (once), each row
+/// then has as many fields as the header and the fields not selected are ignored. A fault names the
+/// line and the column ("line 12: column 5 (\"panda_joint3\"): not a number").
 std::vector<Eigen::VectorXd> readJointCsv(const std::string& path,
                                           const std::vector<JointKind>& kinds,
                                           const ReadingUnits& units,
-                                          std::vector<long>* lines = nullptr);
+                                          std::vector<long>* lines = nullptr,
+                                          const std::vector<CsvColumn>* columns = nullptr);
 
 }  // namespace artcal

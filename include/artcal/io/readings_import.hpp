@@ -50,6 +50,16 @@ struct ReadingsImport {
   double encoder = 0.0;
   /// The readings' unit for every file ("deg", "rad", "mm", "m"), overriding the layout's.
   std::string unit;
+  /// Files whose header names its columns (docs/plan-format.md, "Columns by name"): the marker
+  /// whose <name>_x, <name>_y, <name>_z an instrument's readings take (empty: the header's only
+  /// one).
+  std::string marker;
+  /// A pose's orientation columns: "rotation_vector", "rpy" (roll, pitch, yaw: the URDF's
+  /// fixed-axis x-y-z, R = Rz(yaw) Ry(pitch) Rx(roll)) or "quaternion" (w, x, y, z); empty: what
+  /// the header names (rotation_vector for a file without names).
+  std::string orientation;
+  /// Joints no file reads, held at a value (deg, or mm for a prismatic joint), by reading name.
+  std::vector<std::pair<std::string, double>> holds;
   /// Keep the machine file's own "calibrate" instead of "identifiable".
   bool keep_calibrate = false;
   /// Keep the machine's joint limits even where the readings pass them (they are then refused).
@@ -64,7 +74,8 @@ struct ImportedPlan {
   /// What errors in the plan name it by: the output path, or "import-readings" for stdout. CSV
   /// paths in the plan are relative to its folder.
   std::string source;
-  std::vector<std::string> warnings;  ///< joint limits widened to the readings
+  /// Joint limits widened to the readings; columns of header-named files that were not read.
+  std::vector<std::string> warnings;
 };
 
 /// The plan of the import. Joint limits: a real robot's readings may pass the limits its URDF

@@ -72,6 +72,11 @@ class Chain final : public Mechanism {
   int dimension() const override { return 3; }
   int jointCount() const override { return static_cast<int>(readings_.size()); }
   JointKind jointKind(int joint) const override;
+  std::vector<std::string> readingNames() const override {
+    std::vector<std::string> names;
+    for (const ChainReading& reading : readings_) names.push_back(reading.name);
+    return names;
+  }
   const std::vector<ParameterInfo>& parameters() const override { return parameters_; }
   ForwardStatus forward(const Eigen::VectorXd& p, const Eigen::VectorXd& q, Eigen::VectorXd& x,
                         Eigen::MatrixXd* J_x_p = nullptr,

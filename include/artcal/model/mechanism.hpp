@@ -56,6 +56,9 @@ class Mechanism {
   virtual int dimension() const = 0;
   virtual int jointCount() const = 0;
   virtual JointKind jointKind(int joint) const = 0;
+  /// The readings' names, one per joint reading in order (a URDF chain's driving joints); empty
+  /// when the model does not name them. Files of readings may select their columns by them.
+  virtual std::vector<std::string> readingNames() const { return {}; }
   /// Every parameter of the model, in the order of p.
   virtual const std::vector<ParameterInfo>& parameters() const = 0;
 
