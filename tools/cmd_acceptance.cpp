@@ -6,8 +6,8 @@
 #include <iostream>
 #include <sstream>
 
-#include "artcal/acceptance/length_test.hpp"
-#include "artcal/acceptance/pose_test.hpp"
+#include "artcal/acceptance/length_acceptance.hpp"
+#include "artcal/acceptance/pose_acceptance.hpp"
 #include "artcal/io/acceptance_spec.hpp"
 #include "artcal/io/output_file.hpp"
 #include "artcal/io/plan_io.hpp"

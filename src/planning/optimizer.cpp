@@ -14,7 +14,7 @@
 #include <sstream>
 #include <thread>
 
-#include "artcal/acceptance/length_test.hpp"
+#include "artcal/acceptance/length_acceptance.hpp"
 #include "artcal/calibration/simulation.hpp"
 #include "artcal/core/error.hpp"
 #include "artcal/core/linear_algebra.hpp"

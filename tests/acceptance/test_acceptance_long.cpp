@@ -9,7 +9,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "artcal/acceptance/length_test.hpp"
+#include "artcal/acceptance/length_acceptance.hpp"
 #include "artcal/artcal.hpp"
 #include "test_paths.hpp"
 
