@@ -44,7 +44,7 @@ AcceptanceInput acceptanceInputFromMachine(const Plan& plan, const Eigen::Vector
 
 std::string Mpe::text() const {
   std::ostringstream out;
-  out << a / kMicrometre;
+  out << a / kMmPerMicrometre;
   if (k > 0.0) out << " + L/" << k;
   return out.str();
 }
@@ -62,7 +62,7 @@ std::optional<Mpe> parseMpe(const std::string& text, std::string* error) {
   if (!std::regex_match(text, match, pattern))
     return fail("MPE \"" + text + "\" is not of the form \"A + L/K\" (A in um, L in mm)");
   Mpe mpe;
-  mpe.a = std::stod(match[1].str()) * kMicrometre;
+  mpe.a = std::stod(match[1].str()) * kMmPerMicrometre;
   if (match[2].matched) mpe.k = std::stod(match[2].str());
   if (!(mpe.a > 0.0) || !std::isfinite(mpe.a)) return fail("MPE's A must be a number > 0 (um)");
   if (match[2].matched && (!(mpe.k > 0.0) || !std::isfinite(mpe.k)))

@@ -22,7 +22,7 @@ namespace {
 using report_text::format;
 
 using report_text::exact;
-constexpr const char* kMicro = report_text::kMicrometre;
+constexpr const char* kMicro = report_text::kMicrometreSymbol;
 
 // Line styles of the three tip-uncertainty curves, as in the seed's Fig. 6.
 svg::Style curveStyle(svg::Dash dash, const std::string& colour) {

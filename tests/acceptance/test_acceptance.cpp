@@ -186,7 +186,7 @@ TEST(LengthTest, SharedReferenceCase) {
     EXPECT_NEAR(gauge.sigma_sys, sys, 1e-6 * sys) << "item " << i;
     const double noise = item["sigma_noise"].get<double>();
     EXPECT_NEAR(gauge.sigma_noise, noise, 1e-9 * noise) << "item " << i;
-    EXPECT_NEAR(gauge.mpe / kMicrometre, item["mpe_um"].get<double>(), 1e-12);
+    EXPECT_NEAR(gauge.mpe / kMmPerMicrometre, item["mpe_um"].get<double>(), 1e-12);
   }
   const MonteCarloSummary& mc = prediction.monte_carlo;
   const double se = std::hypot(mc.p_pass_standard_error, expected["p_pass_se"].get<double>());

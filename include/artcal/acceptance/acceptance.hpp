@@ -16,7 +16,7 @@
 namespace artcal {
 
 /// One micrometre in mm (the unit of E and the MPE in outputs).
-inline constexpr double kMicrometre = 1e-3;
+inline constexpr double kMmPerMicrometre = 1e-3;
 
 struct AcceptanceInput {
   std::string source;  ///< the plan file, for messages
@@ -48,7 +48,7 @@ struct Mpe {
   double a = 0.0;  ///< mm
   double k = 0.0;  ///< dimensionless (L in mm gives L / K in um), 0: no length term
   /// MPE(L) in mm for L in mm.
-  double at(double length) const { return k > 0.0 ? a + length / k * kMicrometre : a; }
+  double at(double length) const { return k > 0.0 ? a + length / k * kMmPerMicrometre : a; }
   /// "1.5 + L/333" (A in um).
   std::string text() const;
 };
