@@ -343,7 +343,7 @@ void expectMisprobeStandsOut(int placement, int measurement) {
   const Calibration clean = calibratePlan(plan);
   ASSERT_TRUE(clean.summary.converged());
   EXPECT_LT(clean.residuals[static_cast<std::size_t>(clean.largest_residual)].score, 3.0);
-  misprobe(plan, placement, measurement, 0.2 * Eigen::Vector3d(1, -1, 1).normalized());
+  misprobe(plan, placement, measurement, 0.2 * Eigen::Vector3d(1, -1, 1).standardized());
   const Calibration corrupted = calibratePlan(plan);
   ASSERT_TRUE(corrupted.summary.converged());
   const ResidualEntry& largest =
@@ -371,8 +371,8 @@ TEST(Calibrator, StandardisedResidualsHaveUnitVariance) {
     const Calibration c =
         calibrator.run(Simulator(plan).simulate(plan.machine.nominal, normal).placements);
     for (const ResidualEntry& entry : c.residuals) {
-      sum += entry.normalized.squaredNorm();
-      count += static_cast<int>(entry.normalized.size());
+      sum += entry.standardized.squaredNorm();
+      count += static_cast<int>(entry.standardized.size());
     }
   }
   EXPECT_NEAR(sum / count, 1.0, 0.05);
@@ -388,7 +388,7 @@ TEST(Calibrator, GrossLimitIsNeverBelowTheThresholdWhenTheScatterIsSmall) {
   quiet.noise_scale = 1.0 / 3.0;
   NormalSource normal(11);
   plan.placements = Simulator(plan, quiet).simulate(plan.machine.nominal, normal).placements;
-  misprobe(plan, 0, 4, 0.08 * Eigen::Vector3d(1, -1, 1).normalized());
+  misprobe(plan, 0, 4, 0.08 * Eigen::Vector3d(1, -1, 1).standardized());
   CalibrationOptions options;
   options.gross_threshold = 2.5;
   const Calibration c = Calibrator(plan, options).run(plan.placements);

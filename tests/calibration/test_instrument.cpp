@@ -344,7 +344,7 @@ TEST(Instrument, SimulatedPoseReadingsCalibrateToTheTruthWithin3u) {
   EXPECT_GT(calibration.chi2_per_dof, 0.7);
   EXPECT_LT(calibration.chi2_per_dof, 1.3);
   // Each reading's standardised residual has the 6 rows.
-  EXPECT_EQ(calibration.residuals.front().normalized.size(), 6);
+  EXPECT_EQ(calibration.residuals.front().standardized.size(), 6);
 }
 
 Confirmation confirmPosePlan(int trials) {
