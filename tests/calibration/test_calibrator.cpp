@@ -67,7 +67,7 @@ TEST(ParameterPrior, AddsItsInverseVarianceToTheInformation) {
   Plan plan =
       testing::seedPlanar2RPlan(0.002);  // with a systematic c: the prior must sit beside it
   plan.placements = testing::randomPlanarBars(plan, 5, 21);
-  const Eigen::MatrixXd N0 = parameterInformation(plan, plan.placements, plan.machine.nominal);
+  const Eigen::MatrixXd N0 = placementsInformation(plan, plan.placements, plan.machine.nominal);
   const Eigen::Vector3d sigma(0.004, 0.0, 2e-5);  // l2 without a prior
   plan.machine.prior_sigma = sigma;
   const PlanInformation with = planInformation(plan, plan.placements, plan.machine.nominal);
