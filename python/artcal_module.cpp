@@ -476,10 +476,10 @@ AcceptanceInput acceptanceInput(const PyPlan& p, const py::object& machine, bool
   if (machine.is_none()) {
     if (posterior)
       throw InputError(p.source, "", "--posterior goes with a calibrated machine file");
-    return acceptanceInputOfPlan(p.plan, p.source);
+    return evaluatedAcceptanceInput(p.plan, p.source);
   }
   const auto [document, source] = machineDocument(machine, "machine");
-  return acceptanceInputOfMachine(document, source, p.plan, posterior);
+  return acceptanceInputFromMachineFile(document, source, p.plan, posterior);
 }
 
 json acceptanceLength(const PyPlan& p, const std::string& mpe, const MonteCarloOptions& mc,
@@ -494,7 +494,7 @@ json acceptanceLength(const PyPlan& p, const std::string& mpe, const MonteCarloO
   std::optional<AcceptanceInput> input;  // a machine's: read with the GIL (Python objects)
   if (!machine.is_none() || posterior) input = acceptanceInput(p, machine, posterior);
   return withoutGil([&] {
-    if (!input) input = acceptanceInputOfPlan(p.plan, p.source);
+    if (!input) input = evaluatedAcceptanceInput(p.plan, p.source);
     return lengthTestToJson(*input, predictLengthTest(*input, options), mc);
   });
 }
@@ -516,7 +516,7 @@ json acceptancePose(const PyPlan& p, double cube, const std::array<double, 3>& c
   std::optional<AcceptanceInput> input;  // a machine's: read with the GIL (Python objects)
   if (!machine.is_none() || posterior) input = acceptanceInput(p, machine, posterior);
   return withoutGil([&] {
-    if (!input) input = acceptanceInputOfPlan(p.plan, p.source);
+    if (!input) input = evaluatedAcceptanceInput(p.plan, p.source);
     return poseTestToJson(*input, predictPoseTest(*input, options), options);
   });
 }

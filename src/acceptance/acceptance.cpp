@@ -4,8 +4,10 @@
 #include <regex>
 #include <sstream>
 
+#include "artcal/core/error.hpp"
 #include "artcal/core/linear_algebra.hpp"
 #include "artcal/core/units.hpp"
+#include "artcal/estimation/evaluator.hpp"
 
 namespace artcal {
 
@@ -26,6 +28,15 @@ std::optional<AcceptanceInput> acceptanceInputFromPlan(const Plan& plan,
   AcceptanceInput input = acceptanceInputAtNominal(plan, evaluation.covariance->V);
   input.workspace = evaluation.workspace;
   return input;
+}
+
+AcceptanceInput evaluatedAcceptanceInput(const Plan& plan, const std::string& source) {
+  auto input = acceptanceInputFromPlan(plan, evaluatePlan(plan));
+  if (!input)
+    throw InputError(source, "/placements",
+                     "the plan does not identify its calibrated parameters (no V_p): run "
+                     "`artcal evaluate` and follow its advice");
+  return std::move(*input);
 }
 
 AcceptanceInput acceptanceInputFromMachine(const Plan& plan, const Eigen::VectorXd& parameters,

@@ -20,6 +20,7 @@
 #include "artcal/core/linear_algebra.hpp"
 #include "artcal/core/parallel.hpp"
 #include "artcal/core/random.hpp"
+#include "artcal/estimation/evaluator.hpp"
 #include "artcal/estimation/identifiability.hpp"
 #include "artcal/planning/instrument_design.hpp"
 

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "artcal/calibration/verification.hpp"
-#include "artcal/estimation/evaluator.hpp"
+#include "artcal/estimation/evaluation_result.hpp"
 #include "artcal/plan/plan.hpp"
 
 namespace artcal {
@@ -36,6 +36,11 @@ AcceptanceInput acceptanceInputAtNominal(const Plan& plan, Eigen::MatrixXd V);
 /// workspace. std::nullopt when the plan does not identify its calibrated parameters.
 std::optional<AcceptanceInput> acceptanceInputFromPlan(const Plan& plan,
                                                        const Evaluation& evaluation);
+
+/// The plan evaluated (evaluatePlan), then acceptanceInputFromPlan: what `artcal acceptance PLAN`
+/// and the Python module predict from. InputError naming `source` when the plan does not
+/// identify its calibrated parameters.
+AcceptanceInput evaluatedAcceptanceInput(const Plan& plan, const std::string& source);
 
 /// A calibrated machine: its parameters and covariance (times birge_ratio^2 when `posterior`
 /// and the ratio is known), the noise and workspace of the plan it was calibrated from.
