@@ -15,7 +15,7 @@
 
 #include "artcal/acceptance/length_acceptance.hpp"
 #include "artcal/acceptance/pose_acceptance.hpp"
-#include "artcal/artcal.hpp"
+#include "artcal/internal.hpp"
 #include "artcal/io/machine_covariance.hpp"
 #include "artcal/model/cartesian.hpp"
 #include "cli_runner.hpp"

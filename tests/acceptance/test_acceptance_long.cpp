@@ -10,7 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "artcal/acceptance/length_acceptance.hpp"
-#include "artcal/artcal.hpp"
+#include "artcal/internal.hpp"
 #include "test_paths.hpp"
 
 namespace artcal {

@@ -13,7 +13,7 @@
 #include <set>
 #include <sstream>
 
-#include "artcal/artcal.hpp"
+#include "artcal/internal.hpp"
 #include "artcal/calibration/calibrator.hpp"
 #include "artcal/calibration/levenberg_marquardt.hpp"
 #include "artcal/calibration/simulation.hpp"

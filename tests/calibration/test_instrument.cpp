@@ -7,7 +7,7 @@
 #include <fstream>
 #include <numbers>
 
-#include "artcal/artcal.hpp"
+#include "artcal/internal.hpp"
 #include "artcal/calibration/calibrate_readings.hpp"
 #include "artcal/calibration/station_verification.hpp"
 #include "cli_runner.hpp"

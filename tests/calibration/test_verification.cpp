@@ -15,7 +15,7 @@
 #include <string>
 #include <tuple>
 
-#include "artcal/artcal.hpp"
+#include "artcal/internal.hpp"
 #include "artcal/calibration/verification.hpp"
 #include "cli_runner.hpp"
 #include "test_paths.hpp"

@@ -9,7 +9,7 @@
 #include <algorithm>
 #include <numbers>
 
-#include "artcal/artcal.hpp"
+#include "artcal/internal.hpp"
 #include "finite_difference.hpp"
 #include "plan_builders.hpp"
 #include "test_paths.hpp"

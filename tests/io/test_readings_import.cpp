@@ -11,7 +11,7 @@
 #include <set>
 #include <tuple>
 
-#include "artcal/artcal.hpp"
+#include "artcal/internal.hpp"
 #include "artcal/io/readings_import.hpp"
 #include "cli_runner.hpp"
 #include "temp_folder.hpp"
