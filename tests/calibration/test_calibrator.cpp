@@ -343,7 +343,7 @@ void expectMisprobeStandsOut(int placement, int measurement) {
   const Calibration clean = calibratePlan(plan);
   ASSERT_TRUE(clean.summary.converged());
   EXPECT_LT(clean.residuals[static_cast<std::size_t>(clean.largest_residual)].score, 3.0);
-  misprobe(plan, placement, measurement, 0.2 * Eigen::Vector3d(1, -1, 1).standardized());
+  misprobe(plan, placement, measurement, 0.2 * Eigen::Vector3d(1, -1, 1).normalized());
   const Calibration corrupted = calibratePlan(plan);
   ASSERT_TRUE(corrupted.summary.converged());
   const ResidualEntry& largest =
@@ -388,7 +388,7 @@ TEST(Calibrator, GrossLimitIsNeverBelowTheThresholdWhenTheScatterIsSmall) {
   quiet.noise_scale = 1.0 / 3.0;
   NormalSource normal(11);
   plan.placements = Simulator(plan, quiet).simulate(plan.machine.nominal, normal).placements;
-  misprobe(plan, 0, 4, 0.08 * Eigen::Vector3d(1, -1, 1).standardized());
+  misprobe(plan, 0, 4, 0.08 * Eigen::Vector3d(1, -1, 1).normalized());
   CalibrationOptions options;
   options.gross_threshold = 2.5;
   const Calibration c = Calibrator(plan, options).run(plan.placements);
