@@ -56,7 +56,8 @@ install(TARGETS ${ARTCAL_EXPORTED_TARGETS}
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
         LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
         INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
-install(TARGETS artcal_cli RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+# OPTIONAL: the library installs after a build of the libraries alone (the program not built).
+install(TARGETS artcal_cli RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} OPTIONAL)
 install(EXPORT artcalTargets NAMESPACE artcal:: DESTINATION ${ARTCAL_INSTALL_CMAKEDIR})
 
 configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/artcalConfig.cmake.in

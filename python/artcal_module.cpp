@@ -20,8 +20,8 @@
 #include <optional>
 #include <string>
 
-#include "artcal/acceptance/length_test.hpp"
-#include "artcal/acceptance/pose_test.hpp"
+#include "artcal/acceptance/length_acceptance.hpp"
+#include "artcal/acceptance/pose_acceptance.hpp"
 #include "artcal/calibration/calibrate_readings.hpp"
 #include "artcal/calibration/confirmation.hpp"
 #include "artcal/calibration/simulation.hpp"
@@ -484,10 +484,10 @@ AcceptanceInput acceptanceInput(const PyPlan& p, const py::object& machine, bool
   if (machine.is_none()) {
     if (posterior)
       throw InputError(p.source, "", "--posterior goes with a calibrated machine file");
-    return acceptanceInputOfPlan(p.plan, p.source);
+    return evaluatedAcceptanceInput(p.plan, p.source);
   }
   const auto [document, source] = machineDocument(machine, "machine");
-  return acceptanceInputOfMachine(document, source, p.plan, posterior);
+  return acceptanceInputFromMachineFile(document, source, p.plan, posterior);
 }
 
 json acceptanceLength(const PyPlan& p, const std::string& mpe, const MonteCarloOptions& mc,
@@ -502,7 +502,7 @@ json acceptanceLength(const PyPlan& p, const std::string& mpe, const MonteCarloO
   std::optional<AcceptanceInput> input;  // a machine's: read with the GIL (Python objects)
   if (!machine.is_none() || posterior) input = acceptanceInput(p, machine, posterior);
   return withoutGil([&] {
-    if (!input) input = acceptanceInputOfPlan(p.plan, p.source);
+    if (!input) input = evaluatedAcceptanceInput(p.plan, p.source);
     return lengthTestToJson(*input, predictLengthTest(*input, options), mc);
   });
 }
@@ -524,7 +524,7 @@ json acceptancePose(const PyPlan& p, double cube, const std::array<double, 3>& c
   std::optional<AcceptanceInput> input;  // a machine's: read with the GIL (Python objects)
   if (!machine.is_none() || posterior) input = acceptanceInput(p, machine, posterior);
   return withoutGil([&] {
-    if (!input) input = acceptanceInputOfPlan(p.plan, p.source);
+    if (!input) input = evaluatedAcceptanceInput(p.plan, p.source);
     return poseTestToJson(*input, predictPoseTest(*input, options), options);
   });
 }

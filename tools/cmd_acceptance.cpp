@@ -6,8 +6,8 @@
 #include <iostream>
 #include <sstream>
 
-#include "artcal/acceptance/length_test.hpp"
-#include "artcal/acceptance/pose_test.hpp"
+#include "artcal/acceptance/length_acceptance.hpp"
+#include "artcal/acceptance/pose_acceptance.hpp"
 #include "artcal/io/acceptance_spec.hpp"
 #include "artcal/io/output_file.hpp"
 #include "artcal/io/plan_io.hpp"
@@ -40,7 +40,7 @@ bool isPlanDocument(const nlohmann::json& document) {
 
 LoadedInput loadFromPlan(const std::string& path, const nlohmann::json& document) {
   LoadedInput loaded{loadPlanReporting(path), {}, parseAcceptanceSpec(document, path)};
-  loaded.input = acceptanceInputOfPlan(loaded.plan, path);
+  loaded.input = evaluatedAcceptanceInput(loaded.plan, path);
   return loaded;
 }
 
@@ -51,7 +51,7 @@ LoadedInput loadFromMachine(const AcceptanceArguments& args, const nlohmann::jso
                      "noise and workspace)");
   LoadedInput loaded{
       loadPlanReporting(args.plan), {}, parseAcceptanceSpec(readJsonFile(args.plan), args.plan)};
-  loaded.input = acceptanceInputOfMachine(document, args.file, loaded.plan, args.posterior);
+  loaded.input = acceptanceInputFromMachineFile(document, args.file, loaded.plan, args.posterior);
   return loaded;
 }
 

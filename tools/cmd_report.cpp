@@ -189,7 +189,7 @@ void addReportCommand(CLI::App& app, Action& action) {
                 "also calibrate the plan's readings and show the result and the residuals "
                 "(automatic for a plan written by `artcal simulate`)");
   cmd->add_option("--flag-threshold", args->flag_threshold,
-                  "normalized residual beyond which a reading is flagged (as calibrate)")
+                  "standardised residual beyond which a reading is flagged (as calibrate)")
       ->check(positiveNumber())
       ->capture_default_str();
   cmd->add_option("--held-out", args->held_out,

@@ -7,7 +7,7 @@
 // Public (stable; changes are noted in the changelog):
 //   plan in memory     artcal/plan/plan.hpp, artcal/artifact/artifact.hpp,
 //                      artcal/artifact/rigid_transform.hpp
-//   plan files         artcal/io/plan_io.hpp (loadPlan, parsePlan), artcal/core/error.hpp
+//   plan files         artcal/io/plan_file.hpp (loadPlan; no JSON types), artcal/core/error.hpp
 //   units              artcal/core/units.hpp (internal units mm and rad; file units mm and deg)
 //   models             artcal/model/machine.hpp, artcal/model/mechanism.hpp and one header per
 //                      family: planar2r, serial_dh, chain, hexapod, cartesian
@@ -19,10 +19,13 @@
 //                      CalibrationOptions, Calibration; artcal/calibration/calibrator.hpp)
 //   verify             artcal/calibration/verification.hpp (verifyMachine, Verification)
 //
-// Everything else under include/artcal (report/, the codecs and the model registry, the design
-// matrix and normal-matrix internals, acceptance, the command line's helpers) is INTERNAL: used by
-// the tools and the tests of this project, not installed, free to change. The project's own code
-// may include artcal/internal.hpp for all of it.
+// Everything else under include/artcal (plan documents as JSON: io/plan_io.hpp, parsePlan and
+// the writers; report/, the codecs and the model registry, the design matrix and normal-matrix
+// internals, acceptance, the command line's helpers) is INTERNAL: used by the tools and the tests
+// of this project, free to change. The project's own code may include artcal/internal.hpp for
+// all of it. The umbrella includes no JSON header (tests/consumer checks that the installed tree
+// has none). Some internal headers are still reached through the classes' private members
+// (PlanEvaluator, Calibrator, the optimizer) and installed with them.
 
 #include "artcal/artifact/artifact.hpp"
 #include "artcal/artifact/rigid_transform.hpp"
@@ -32,7 +35,7 @@
 #include "artcal/core/error.hpp"
 #include "artcal/core/units.hpp"
 #include "artcal/estimation/evaluator.hpp"
-#include "artcal/io/plan_io.hpp"
+#include "artcal/io/plan_file.hpp"
 #include "artcal/model/cartesian.hpp"
 #include "artcal/model/chain.hpp"
 #include "artcal/model/hexapod.hpp"

@@ -15,6 +15,7 @@
 #include "artcal/estimation/identifiability.hpp"
 #include "artcal/estimation/normal_matrix.hpp"
 #include "artcal/estimation/tip.hpp"
+#include "artcal/io/plan_io.hpp"
 #include "artcal/io/truth_io.hpp"
 #include "artcal/model/inverse_kinematics.hpp"
 #include "artcal/planning/design_space.hpp"

@@ -4,8 +4,10 @@
 #include <regex>
 #include <sstream>
 
+#include "artcal/core/error.hpp"
 #include "artcal/core/linear_algebra.hpp"
 #include "artcal/core/units.hpp"
+#include "artcal/estimation/evaluator.hpp"
 
 namespace artcal {
 
@@ -28,6 +30,15 @@ std::optional<AcceptanceInput> acceptanceInputFromPlan(const Plan& plan,
   return input;
 }
 
+AcceptanceInput evaluatedAcceptanceInput(const Plan& plan, const std::string& source) {
+  auto input = acceptanceInputFromPlan(plan, evaluatePlan(plan));
+  if (!input)
+    throw InputError(source, "/placements",
+                     "the plan does not identify its calibrated parameters (no V_p): run "
+                     "`artcal evaluate` and follow its advice");
+  return std::move(*input);
+}
+
 AcceptanceInput acceptanceInputFromMachine(const Plan& plan, const Eigen::VectorXd& parameters,
                                            ParameterUncertainty uncertainty, bool posterior) {
   AcceptanceInput input;
@@ -44,7 +55,7 @@ AcceptanceInput acceptanceInputFromMachine(const Plan& plan, const Eigen::Vector
 
 std::string Mpe::text() const {
   std::ostringstream out;
-  out << a / kMicrometre;
+  out << a / kMmPerMicrometre;
   if (k > 0.0) out << " + L/" << k;
   return out.str();
 }
@@ -62,7 +73,7 @@ std::optional<Mpe> parseMpe(const std::string& text, std::string* error) {
   if (!std::regex_match(text, match, pattern))
     return fail("MPE \"" + text + "\" is not of the form \"A + L/K\" (A in um, L in mm)");
   Mpe mpe;
-  mpe.a = std::stod(match[1].str()) * kMicrometre;
+  mpe.a = std::stod(match[1].str()) * kMmPerMicrometre;
   if (match[2].matched) mpe.k = std::stod(match[2].str());
   if (!(mpe.a > 0.0) || !std::isfinite(mpe.a)) return fail("MPE's A must be a number > 0 (um)");
   if (match[2].matched && (!(mpe.k > 0.0) || !std::isfinite(mpe.k)))

@@ -660,15 +660,15 @@ void Calibrator::fillDetails(const std::vector<Placement>& placements, Calibrati
       // A pose's rows: the point's, then the orientation's (each standardised).
       const int per = artifact.rowsPerReading();
       const int row = per * static_cast<int>(i);
-      entry.normalized.resize(per);
+      entry.standardized.resize(per);
       for (int r = 0; r < per; ++r) {
         // A row the fit absorbs (almost) entirely, 1 - h < 1e-3, cannot be tested: it reports 0
         // rather than a ratio of two rounding-level numbers.
         constexpr double kTestable = 0.0316;
         const double s = spread[row + r];
-        entry.normalized[r] = s > kTestable ? blocks[j].e[row + r] / s : 0.0;
+        entry.standardized[r] = s > kTestable ? blocks[j].e[row + r] / s : 0.0;
       }
-      entry.score = entry.normalized.cwiseAbs().maxCoeff();
+      entry.score = entry.standardized.cwiseAbs().maxCoeff();
       entry.flagged = entry.score > options_.flag_threshold;
       entry.gross = entry.score > gross_limit;
       if (out.largest_residual < 0 || entry.score > out.residuals[out.largest_residual].score) {

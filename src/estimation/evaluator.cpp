@@ -77,8 +77,8 @@ PlanInformation planInformation(const Plan& plan, const std::vector<Placement>& 
   return out;
 }
 
-Eigen::MatrixXd parameterInformation(const Plan& plan, const std::vector<Placement>& placements,
-                                     const Eigen::VectorXd& p) {
+Eigen::MatrixXd placementsInformation(const Plan& plan, const std::vector<Placement>& placements,
+                                      const Eigen::VectorXd& p) {
   return addParameterPrior(planInformation(plan, placements, p).estimable, GlobalLayout::of(plan));
 }
 

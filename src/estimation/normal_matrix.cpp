@@ -56,8 +56,8 @@ Eigen::MatrixXd addPriors(const Eigen::MatrixXd& information_g, const GlobalLayo
   return withPriors(information_g, layout, ParameterPrior::Included);
 }
 
-Eigen::MatrixXd parameterInformation(const Eigen::MatrixXd& information_g,
-                                     const GlobalLayout& layout, ParameterPrior prior) {
+Eigen::MatrixXd informationOfParameters(const Eigen::MatrixXd& information_g,
+                                        const GlobalLayout& layout, ParameterPrior prior) {
   const int n_p = layout.parameters;
   const int n_c = layout.systematicCount();
   const Eigen::MatrixXd N = withPriors(information_g, layout, prior);
@@ -424,7 +424,7 @@ Eigen::MatrixXd NormalMatrixReducer::normalWithPrior() const {
 }
 
 Eigen::MatrixXd NormalMatrixReducer::parameterInformation(ParameterPrior prior) const {
-  return artcal::parameterInformation(N_, layout_, prior);
+  return informationOfParameters(N_, layout_, prior);
 }
 
 }  // namespace artcal

@@ -7,6 +7,7 @@
 
 #include "artcal/core/linear_algebra.hpp"
 #include "artcal/core/random.hpp"
+#include "artcal/estimation/tip_kernel.hpp"
 #include "artcal/model/inverse_kinematics.hpp"
 
 namespace artcal {
@@ -181,11 +182,28 @@ TipEvaluator::TipEvaluator(const Machine& machine, const Noise& noise,
   const long per_configuration = gram_constant_.size() > 0
                                      ? static_cast<long>(gram_rows_.size())
                                      : static_cast<long>(dimension_) * n_p * n_p;
-  if (prepareFactored(n_p, per_configuration)) {
+  const bool factored = prepareFactored(n_p, per_configuration);
+  // The Gram matrices only while they are less data than J_p itself (tip.hpp).
+  const bool blocked = !factored && count > 0 && kTipPanelRows % dimension_ == 0 &&
+                       per_configuration > static_cast<long>(dimension_) * n_p;
+  if (factored || blocked) {
     gram_.resize(0, 0);
     gram_rows_.clear();
     gram_constant_.resize(0);
   }
+  if (blocked) preparePanels(n_p);
+}
+
+void TipEvaluator::preparePanels(int n_p) {
+  const int rows = dimension_ * size();
+  panel_count_ = (rows + kTipPanelRows - 1) / kTipPanelRows;
+  const long panel_size = static_cast<long>(n_p) * kTipPanelRows;
+  panels_.assign(static_cast<std::size_t>(panel_count_ * panel_size), 0.0);
+  for (int row = 0; row < rows; ++row) {
+    double* panel = panels_.data() + (row / kTipPanelRows) * panel_size + row % kTipPanelRows;
+    for (int a = 0; a < n_p; ++a) panel[static_cast<long>(a) * kTipPanelRows] = J_p_(row, a);
+  }
+  row_squares_.resize(static_cast<std::size_t>(panel_count_) * kTipPanelRows);
 }
 
 // The factored form (tip.hpp): vec(J_g), entry (row, parameter a) at a * dimension + row, scaled
@@ -311,6 +329,20 @@ void TipEvaluator::kinematicVariance(const Eigen::MatrixXd& V_p, Eigen::VectorXd
     return;
   }
   const Eigen::LLT<Eigen::MatrixXd> llt(V_p);
+  if (!panels_.empty()) {
+    const bool lower = llt.info() == Eigen::Success;
+    const Eigen::MatrixXd L = lower ? Eigen::MatrixXd(llt.matrixL()) : covarianceRoot(V_p);
+    tipKernelRowSquares(panels_.data(), panel_count_, static_cast<int>(L.rows()), L.data(), lower,
+                        row_squares_.data());
+    S_m2.resize(size());
+    const double* squares = row_squares_.data();
+    for (int g = 0; g < size(); ++g, squares += dimension_) {
+      double sum = 0.0;
+      for (int r = 0; r < dimension_; ++r) sum += squares[r];
+      S_m2[g] = sum;
+    }
+    return;
+  }
   if (llt.info() == Eigen::Success) {
     scratch_.noalias() = J_p_ * llt.matrixL();
   } else {

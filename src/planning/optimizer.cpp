@@ -14,12 +14,13 @@
 #include <sstream>
 #include <thread>
 
-#include "artcal/acceptance/length_test.hpp"
+#include "artcal/acceptance/length_acceptance.hpp"
 #include "artcal/calibration/simulation.hpp"
 #include "artcal/core/error.hpp"
 #include "artcal/core/linear_algebra.hpp"
 #include "artcal/core/parallel.hpp"
 #include "artcal/core/random.hpp"
+#include "artcal/estimation/evaluator.hpp"
 #include "artcal/estimation/identifiability.hpp"
 #include "artcal/planning/instrument_design.hpp"
 
@@ -252,7 +253,8 @@ double DesignCriterion::smoothValue(const Eigen::MatrixXd& information_g) {
 
 std::optional<PassEstimate> DesignCriterion::passEstimate(const Eigen::MatrixXd& information_g) {
   if (criterion_ != Criterion::Pass) throw std::logic_error("passEstimate: criterion is not pass");
-  const auto covariance = covarianceFromInformation(parameterInformation(information_g, layout_));
+  const auto covariance =
+      covarianceFromInformation(informationOfParameters(information_g, layout_));
   if (!covariance) return std::nullopt;
   return estimatePass(*pass_, covariance->V, true);
 }
@@ -269,14 +271,16 @@ void DesignCriterion::resetActive() {
 
 double DesignCriterion::activeValue(const Eigen::MatrixXd& information_g) {
   if (criterion_ != Criterion::WorstTip || !active_tip_) return value(information_g);
-  const auto covariance = covarianceFromInformation(parameterInformation(information_g, layout_));
+  const auto covariance =
+      covarianceFromInformation(informationOfParameters(information_g, layout_));
   if (!covariance) return kInfinity;
   return worstOver(covariance->V, *active_tip_);
 }
 
 double DesignCriterion::activate(const Eigen::MatrixXd& information_g) {
   if (criterion_ != Criterion::WorstTip) return value(information_g);
-  const auto covariance = covarianceFromInformation(parameterInformation(information_g, layout_));
+  const auto covariance =
+      covarianceFromInformation(informationOfParameters(information_g, layout_));
   if (!covariance) return kInfinity;
   const TipEvaluator& tip = evaluator_.workspace();
   tip.kinematicVariance(covariance->V, S_m2_);
@@ -304,7 +308,8 @@ double DesignCriterion::activate(const Eigen::MatrixXd& information_g) {
 }
 
 double DesignCriterion::evaluate(const Eigen::MatrixXd& information_g, double power) {
-  const auto covariance = covarianceFromInformation(parameterInformation(information_g, layout_));
+  const auto covariance =
+      covarianceFromInformation(informationOfParameters(information_g, layout_));
   if (!covariance) return kInfinity;
   const Eigen::MatrixXd& V = covariance->V;
   const TipEvaluator& tip = evaluator_.workspace();

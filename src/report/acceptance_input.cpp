@@ -8,18 +8,9 @@
 
 namespace artcal {
 
-AcceptanceInput acceptanceInputOfPlan(const Plan& plan, const std::string& source) {
-  auto input = acceptanceInputFromPlan(plan, evaluatePlan(plan));
-  if (!input)
-    throw InputError(source, "/placements",
-                     "the plan does not identify its calibrated parameters (no V_p): run "
-                     "`artcal evaluate` and follow its advice");
-  return std::move(*input);
-}
-
-AcceptanceInput acceptanceInputOfMachine(const nlohmann::json& machine,
-                                         const std::string& machine_source, const Plan& plan,
-                                         bool posterior) {
+AcceptanceInput acceptanceInputFromMachineFile(const nlohmann::json& machine,
+                                               const std::string& machine_source, const Plan& plan,
+                                               bool posterior) {
   const Eigen::VectorXd parameters = parseTruth(machine, machine_source, plan);
   auto uncertainty = parseMachineCovariance(machine, machine_source, plan);
   if (!uncertainty)

@@ -65,13 +65,13 @@ json gaugeJson(const AcceptanceInput& input, const Gauge& gauge) {
           {"b", vectorJson(gauge.b)},
           {"joints_a", jointsToFile(*input.machine, gauge.joints_a)},
           {"joints_b", jointsToFile(*input.machine, gauge.joints_b)},
-          {"mpe_um", finiteOrNull(gauge.mpe / kMicrometre)},
+          {"mpe_um", finiteOrNull(gauge.mpe / kMmPerMicrometre)},
           {"sigma_sys", finiteOrNull(gauge.sigma_sys)},
           {"sigma_noise", finiteOrNull(gauge.sigma_noise)},
           {"sigma_total", finiteOrNull(total)},
-          {"sigma_sys_um", finiteOrNull(gauge.sigma_sys / kMicrometre)},
-          {"sigma_noise_um", finiteOrNull(gauge.sigma_noise / kMicrometre)},
-          {"sigma_total_um", finiteOrNull(total / kMicrometre)}};
+          {"sigma_sys_um", finiteOrNull(gauge.sigma_sys / kMmPerMicrometre)},
+          {"sigma_noise_um", finiteOrNull(gauge.sigma_noise / kMmPerMicrometre)},
+          {"sigma_total_um", finiteOrNull(total / kMmPerMicrometre)}};
 }
 
 }  // namespace
@@ -98,7 +98,7 @@ json lengthTestToJson(const AcceptanceInput& input, const LengthTestPrediction& 
   const MonteCarloSummary& mc = prediction.monte_carlo;
   json out = {{"test", "iso10360-2"},
               {"mpe", prediction.mpe.text()},
-              {"mpe_A_um", prediction.mpe.a / kMicrometre},
+              {"mpe_A_um", prediction.mpe.a / kMmPerMicrometre},
               {"mpe_K", prediction.mpe.k > 0.0 ? json(prediction.mpe.k) : json(nullptr)},
               {"units",
                {{"a, b, length, joints, sigma_sys, sigma_noise, sigma_total", "mm"},
@@ -140,8 +140,8 @@ std::string lengthTestTable(const AcceptanceInput& input, const LengthTestPredic
     char row[160];
     std::snprintf(row, sizeof row, "%4d  %-9s %4.2f  %8.2f  %12.4f  %14.4f  %14.4f  %6.3f\n",
                   gauge.line, gauge.kind.c_str(), gauge.fraction, gauge.length,
-                  gauge.sigma_sys / kMicrometre, gauge.sigma_noise / kMicrometre,
-                  gauge.sigmaTotal() / kMicrometre, gauge.mpe / kMicrometre);
+                  gauge.sigma_sys / kMmPerMicrometre, gauge.sigma_noise / kMmPerMicrometre,
+                  gauge.sigmaTotal() / kMmPerMicrometre, gauge.mpe / kMmPerMicrometre);
     out << row;
   }
   out << "\nmax |E|/MPE over the "
@@ -167,7 +167,7 @@ std::string lengthTestSvg(const LengthTestPrediction& prediction) {
   const svg::Style axis_line{"#21918c", "none", svg::Dash::Solid, 2.5, 0.9};
   for (const Gauge& gauge : prediction.gauges) {
     const double x = gauge.length + spread * (gauge.line - 0.5 * (prediction.lines - 1));
-    const double half = kCoverage95 * gauge.sigmaTotal() / kMicrometre;
+    const double half = kCoverage95 * gauge.sigmaTotal() / kMmPerMicrometre;
     const bool is_diagonal = gauge.kind == "diagonal";
     plot.polyline({Eigen::Vector2d(x, -half), Eigen::Vector2d(x, half)},
                   is_diagonal ? diagonal : axis_line,
@@ -178,7 +178,7 @@ std::string lengthTestSvg(const LengthTestPrediction& prediction) {
   std::vector<Eigen::Vector2d> upper, lower;
   for (int i = 0; i <= 20; ++i) {
     const double length = longest * 1.05 * i / 20.0;
-    const double mpe = prediction.mpe.at(length) / kMicrometre;
+    const double mpe = prediction.mpe.at(length) / kMmPerMicrometre;
     upper.emplace_back(length, mpe);
     lower.emplace_back(length, -mpe);
   }

@@ -310,7 +310,7 @@ json calibrationToJson(const Plan& plan, const std::vector<Placement>& placement
     residuals.back()["measurements"].push_back({{"measurement", entry.measurement},
                                                 {"feature", entry.feature},
                                                 {"residual", vectorToJson(entry.residual)},
-                                                {"normalized", vectorToJson(entry.normalized)},
+                                                {"standardized", vectorToJson(entry.standardized)},
                                                 {"score", finiteOrNull(entry.score)},
                                                 {"flagged", entry.flagged},
                                                 {"gross", entry.gross}});
@@ -413,8 +413,8 @@ std::string calibrationTable(const Plan& plan, const std::vector<Placement>& pla
       std::ostringstream residual, z;
       for (int k = 0; k < e.residual.size(); ++k)
         residual << numberOrDash("%+.5f", e.residual[k]) << " ";
-      for (int k = 0; k < e.normalized.size(); ++k)
-        z << numberOrDash("%+.2f", e.normalized[k]) << " ";
+      for (int k = 0; k < e.standardized.size(); ++k)
+        z << numberOrDash("%+.2f", e.standardized[k]) << " ";
       std::string residual_text = residual.str();
       residual_text.resize(std::max<std::size_t>(residual_text.size(), 30), ' ');
       out << padded(placementLabel(placements, static_cast<std::size_t>(e.placement)), 9)

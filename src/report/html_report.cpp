@@ -22,7 +22,7 @@ namespace {
 using report_text::format;
 
 using report_text::exact;
-constexpr const char* kMicro = report_text::kMicrometre;
+constexpr const char* kMicro = report_text::kMicrometreSymbol;
 
 // Line styles of the three tip-uncertainty curves, as in the seed's Fig. 6.
 svg::Style curveStyle(svg::Dash dash, const std::string& colour) {
@@ -358,7 +358,7 @@ constexpr std::size_t kTabledOutliers = 50;
 
 ReportFigure residualFigure(const json& calibration, double threshold) {
   svg::Plot plot("residuals", "Normalized residuals of the calibration",
-                 "reading (in plan order, from 0)", "normalized residual (standard deviations)",
+                 "reading (in plan order, from 0)", "standardized residual (standard deviations)",
                  640.0, 400.0);
   const svg::Shape shapes[] = {svg::Shape::Circle, svg::Shape::Square, svg::Shape::Triangle};
   const char* names[] = {"coordinate x", "coordinate y", "coordinate z"};
@@ -372,21 +372,21 @@ ReportFigure residualFigure(const json& calibration, double threshold) {
     for (std::size_t m = 0; m < measurements.size(); ++m) {
       ++reading;
       const json& entry = measurements[m];
-      const json& normalized = entry.at("normalized");
-      for (std::size_t c = 0; c < normalized.size() && c < 3; ++c) {
-        if (!normalized[c].is_number()) continue;
-        const double v = normalized[c].get<double>();
+      const json& standardized = entry.at("standardized");
+      for (std::size_t c = 0; c < standardized.size() && c < 3; ++c) {
+        if (!standardized[c].is_number()) continue;
+        const double v = standardized[c].get<double>();
         largest = std::max(largest, std::abs(v));
         // Coordinates of one reading side by side, so that none hides another.
-        const double offset = 0.18 * (static_cast<double>(c) - 0.5 * (normalized.size() - 1.0));
+        const double offset = 0.18 * (static_cast<double>(c) - 0.5 * (standardized.size() - 1.0));
         plot.marker({reading + offset, v}, shapes[c], 6.0,
                     filled("#000000", c == 0 ? "#ffffff" : "#999999"),
-                    normalized.size() == 1 ? "valued coordinate" : names[c]);
+                    standardized.size() == 1 ? "valued coordinate" : names[c]);
       }
       if (entry.at("flagged").get<bool>()) {
-        // The diamond sits on the coordinate that decided the flag (largest |normalized|).
+        // The diamond sits on the coordinate that decided the flag (largest |standardized|).
         double worst = 0.0;
-        for (const json& v : normalized) {
+        for (const json& v : standardized) {
           if (v.is_number() && std::abs(v.get<double>()) > std::abs(worst)) worst = v.get<double>();
         }
         const std::string field = format("/calibration/residuals/%zu/measurements/%zu/score", j, m);
@@ -793,7 +793,7 @@ void writeFlagged(std::ostream& out, const json& cal) {
            "ball not seated, a socket that moved). A reading from a CSV file is left out with "
            "<code>\"exclude_rows\"</code> in its measurement entry.</p>\n";
   }
-  out << "<table>\n<tr><th>flagged reading</th><th>feature</th><th>score (largest |normalized "
+  out << "<table>\n<tr><th>flagged reading</th><th>feature</th><th>score (largest |standardized "
          "residual|)</th>"
       << (gross.empty() ? "" : "<th>gross error</th>") << "</tr>\n";
   for (std::size_t k = 0; k < std::min(flags.size(), kTabledOutliers); ++k) {

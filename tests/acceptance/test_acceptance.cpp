@@ -13,9 +13,9 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "artcal/acceptance/length_test.hpp"
-#include "artcal/acceptance/pose_test.hpp"
-#include "artcal/artcal.hpp"
+#include "artcal/acceptance/length_acceptance.hpp"
+#include "artcal/acceptance/pose_acceptance.hpp"
+#include "artcal/internal.hpp"
 #include "artcal/io/machine_covariance.hpp"
 #include "artcal/model/cartesian.hpp"
 #include "cli_runner.hpp"
@@ -186,7 +186,7 @@ TEST(LengthTest, SharedReferenceCase) {
     EXPECT_NEAR(gauge.sigma_sys, sys, 1e-6 * sys) << "item " << i;
     const double noise = item["sigma_noise"].get<double>();
     EXPECT_NEAR(gauge.sigma_noise, noise, 1e-9 * noise) << "item " << i;
-    EXPECT_NEAR(gauge.mpe / kMicrometre, item["mpe_um"].get<double>(), 1e-12);
+    EXPECT_NEAR(gauge.mpe / kMmPerMicrometre, item["mpe_um"].get<double>(), 1e-12);
   }
   const MonteCarloSummary& mc = prediction.monte_carlo;
   const double se = std::hypot(mc.p_pass_standard_error, expected["p_pass_se"].get<double>());
@@ -453,6 +453,39 @@ TEST(PoseTest, WithoutSystematicErrorTheApIsTheNormOfTheMeanNoise) {
     // The mean of AP is below sqrt(E[AP^2]) (Jensen) and above half of it for a 3-D Gaussian.
     EXPECT_LT(point.ap.mean, point.sigma_noise);
     EXPECT_GT(point.ap.mean, 0.5 * point.sigma_noise);
+  }
+}
+
+// The noise of the mean position at each point against a dense oracle: central differences of
+// the public forward kinematics over the joints give J_q, and the mean of `cycles` independent
+// readings has covariance J_q Sigma_q J_q^T / cycles (ISO 9283: AP_P is from the mean of the
+// cycles), so sigma_noise^2 = sum_j |dx/dq_j|^2 s_j^2 / cycles for 1, 30 and 7 cycles.
+TEST(PoseTest, TheNoiseOfTheMeanPositionIsTheEncoderNoiseOverTheCycles) {
+  const Prepared prepared = prepare(test_support::planFile("aacmm-6axis-3bars.json"));
+  const Machine& machine = prepared.plan.machine;
+  const Eigen::VectorXd& s_q = prepared.plan.noise.encoder;
+  ASSERT_EQ(s_q.size(), machine.jointCount());
+  ASSERT_GT(s_q.maxCoeff(), 0.0);
+  for (const int cycles : {1, 30, 7}) {
+    PoseTestOptions options;
+    options.cube = 300.0;
+    options.center = Eigen::Vector3d(0.0, 300.0, 200.0);
+    options.cycles = cycles;
+    const PoseTestPrediction prediction = predictPoseTestLinear(prepared.input, options);
+    ASSERT_EQ(prediction.points.size(), 5u);
+    for (const PosePoint& point : prediction.points) {
+      auto position = [&](const Eigen::VectorXd& q) {
+        Eigen::VectorXd x;
+        EXPECT_EQ(machine.mechanism->forward(machine.nominal, q, x), ForwardStatus::Ok);
+        return Eigen::VectorXd(x.head<3>());
+      };
+      const Eigen::MatrixXd J_q = testing::centralDifferenceJacobian(position, point.joints, 1e-6);
+      double variance = 0.0;
+      for (int j = 0; j < J_q.cols(); ++j) variance += J_q.col(j).squaredNorm() * s_q[j] * s_q[j];
+      const double expected = std::sqrt(variance / cycles);
+      EXPECT_NEAR(point.sigma_noise, expected, 1e-6 * expected) << cycles << " cycles";
+      EXPECT_NEAR(point.noise_covariance.trace(), variance / cycles, 1e-6 * variance / cycles);
+    }
   }
 }
 

@@ -9,8 +9,8 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "artcal/acceptance/length_test.hpp"
-#include "artcal/artcal.hpp"
+#include "artcal/acceptance/length_acceptance.hpp"
+#include "artcal/internal.hpp"
 #include "test_paths.hpp"
 
 namespace artcal {

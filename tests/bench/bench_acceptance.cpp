@@ -7,7 +7,7 @@
 
 #include <benchmark/benchmark.h>
 
-#include "artcal/acceptance/length_test.hpp"
+#include "artcal/acceptance/length_acceptance.hpp"
 #include "artcal/internal.hpp"
 #include "test_paths.hpp"
 

@@ -13,7 +13,7 @@
 #include <set>
 #include <sstream>
 
-#include "artcal/artcal.hpp"
+#include "artcal/internal.hpp"
 #include "artcal/calibration/calibrator.hpp"
 #include "artcal/calibration/levenberg_marquardt.hpp"
 #include "artcal/calibration/simulation.hpp"
@@ -67,7 +67,7 @@ TEST(ParameterPrior, AddsItsInverseVarianceToTheInformation) {
   Plan plan =
       testing::seedPlanar2RPlan(0.002);  // with a systematic c: the prior must sit beside it
   plan.placements = testing::randomPlanarBars(plan, 5, 21);
-  const Eigen::MatrixXd N0 = parameterInformation(plan, plan.placements, plan.machine.nominal);
+  const Eigen::MatrixXd N0 = placementsInformation(plan, plan.placements, plan.machine.nominal);
   const Eigen::Vector3d sigma(0.004, 0.0, 2e-5);  // l2 without a prior
   plan.machine.prior_sigma = sigma;
   const PlanInformation with = planInformation(plan, plan.placements, plan.machine.nominal);
@@ -371,8 +371,8 @@ TEST(Calibrator, StandardisedResidualsHaveUnitVariance) {
     const Calibration c =
         calibrator.run(Simulator(plan).simulate(plan.machine.nominal, normal).placements);
     for (const ResidualEntry& entry : c.residuals) {
-      sum += entry.normalized.squaredNorm();
-      count += static_cast<int>(entry.normalized.size());
+      sum += entry.standardized.squaredNorm();
+      count += static_cast<int>(entry.standardized.size());
     }
   }
   EXPECT_NEAR(sum / count, 1.0, 0.05);

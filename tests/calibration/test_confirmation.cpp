@@ -8,7 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "artcal/artcal.hpp"
+#include "artcal/internal.hpp"
 #include "artcal/calibration/confirmation.hpp"
 #include "artcal/report/calibration_report.hpp"
 #include "cli_runner.hpp"

@@ -6,7 +6,7 @@
 #include <Eigen/LU>
 #include <random>
 
-#include "artcal/artcal.hpp"
+#include "artcal/internal.hpp"
 #include "test_paths.hpp"
 
 namespace artcal {

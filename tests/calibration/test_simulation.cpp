@@ -8,7 +8,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "artcal/artcal.hpp"
+#include "artcal/internal.hpp"
 #include "artcal/calibration/simulation.hpp"
 #include "artcal/io/truth_io.hpp"
 #include "cli_runner.hpp"

@@ -15,7 +15,7 @@
 #include <string>
 #include <tuple>
 
-#include "artcal/artcal.hpp"
+#include "artcal/internal.hpp"
 #include "artcal/calibration/verification.hpp"
 #include "cli_runner.hpp"
 #include "test_paths.hpp"
@@ -246,6 +246,39 @@ TEST(Verification, WorseThanNominalCountsALengthErrorBeyondTwiceItsPosteriorU) {
   EXPECT_TRUE(worseThanNominal(figures(0.3, 0.343, 0.07, 0.0), nominal).empty());
   EXPECT_EQ(worseThanNominal(figures(5.2, 0.2, 0.0, 0.0), nominal),
             (std::vector<std::string>{"spread_mean", "spread_rms"}));
+}
+
+// The pairs' u the rule reads is their RMS, the root of the mean u^2 (the expected mean square
+// of the calibrated machine's length errors), not their mean: pairs of posterior u 0.03 and
+// 0.09 mm have RMS sqrt((0.03^2 + 0.09^2) / 2) = 0.06708 mm (mean 0.06 mm). A calibrated mean |e|
+// 0.128 mm above the nominal one is within twice the RMS (0.134 mm), one 0.138 mm above is not.
+TEST(Verification, WorseThanNominalReadsTheRmsOfThePairsU) {
+  const auto figures = [](double error, std::vector<double> u_posterior) {
+    Verification v;
+    v.spread_mean = 0.3;
+    v.spread_rms = 0.33;
+    v.length_error_mean_abs = error;
+    PlacementVerification placement;
+    for (const double u : u_posterior) {
+      LengthError e;
+      e.error = error;
+      e.predicted_u = 0.001;  // the prior prediction, replaced by the posterior
+      e.predicted_u_posterior = u;
+      placement.length_errors.push_back(e);
+    }
+    v.placements.push_back(placement);
+    return v;
+  };
+  const double rms = std::sqrt((0.03 * 0.03 + 0.09 * 0.09) / 2.0);
+  ASSERT_NEAR(2.0 * rms, 0.13416, 1e-5);
+  const Verification nominal = figures(0.1, {});
+  EXPECT_TRUE(worseThanNominal(figures(0.228, {0.03, 0.09}), nominal).empty());
+  EXPECT_EQ(worseThanNominal(figures(0.238, {0.03, 0.09}), nominal),
+            std::vector<std::string>{"length_error_mean_abs"});
+  // Over two placements alike: the RMS is over every pair of every placement.
+  Verification split = figures(0.228, {0.03});
+  split.placements.push_back(figures(0.228, {0.09}).placements.front());
+  EXPECT_TRUE(worseThanNominal(split, nominal).empty());
 }
 
 // A machine of a calibration at a stated noise carries no estimate: the posterior stays the

@@ -19,7 +19,7 @@
 #include <sstream>
 #include <thread>
 
-#include "artcal/artcal.hpp"
+#include "artcal/internal.hpp"
 #include "artcal/calibration/calibrator.hpp"
 #include "artcal/io/csv_readings.hpp"
 #include "sanitizers.hpp"

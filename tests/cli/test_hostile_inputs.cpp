@@ -12,7 +12,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "artcal/artcal.hpp"
+#include "artcal/internal.hpp"
 #include "artcal/core/linear_algebra.hpp"
 #include "artcal/core/parallel.hpp"
 #include "artcal/io/csv_readings.hpp"

@@ -12,7 +12,7 @@
 #include <fstream>
 #include <random>
 
-#include "artcal/artcal.hpp"
+#include "artcal/internal.hpp"
 #include "cli_runner.hpp"
 #include "test_paths.hpp"
 

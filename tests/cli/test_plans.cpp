@@ -12,7 +12,7 @@
 
 #include <sys/wait.h>
 
-#include "artcal/artcal.hpp"
+#include "artcal/internal.hpp"
 #include "cli_runner.hpp"
 
 namespace artcal {

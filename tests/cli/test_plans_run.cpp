@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "artcal/artcal.hpp"
+#include "artcal/internal.hpp"
 #include "cli_runner.hpp"
 #include "sanitizers.hpp"
 

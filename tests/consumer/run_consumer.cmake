@@ -28,6 +28,15 @@ foreach(internal artcal/internal.hpp artcal/report/html_report.hpp artcal/io/mod
   endif()
 endforeach()
 
+# The installed headers include no JSON header (the umbrella's promise, artcal/artcal.hpp).
+file(GLOB_RECURSE installed_headers ${prefix}/include/artcal/*.hpp)
+foreach(header ${installed_headers})
+  file(STRINGS ${header} json_includes REGEX "^#include <nlohmann/")
+  if(json_includes)
+    message(FATAL_ERROR "the installed header ${header} includes ${json_includes}")
+  endif()
+endforeach()
+
 run("configuring the consumer" ${CMAKE_COMMAND} -S ${CONSUMER_DIR} -B ${consumer_build}
     -G ${GENERATOR} -DCMAKE_BUILD_TYPE=${BUILD_TYPE} -DCMAKE_CXX_COMPILER=${CXX_COMPILER}
     -DCMAKE_PREFIX_PATH=${prefix} -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF)

@@ -6,7 +6,7 @@
 
 #include <fstream>
 
-#include "artcal/artcal.hpp"
+#include "artcal/internal.hpp"
 #include "artcal/estimation/error_functions.hpp"
 #include "artcal/model/cartesian.hpp"
 #include "artcal/report/cartesian_report.hpp"

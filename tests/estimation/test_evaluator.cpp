@@ -9,7 +9,7 @@
 #include <algorithm>
 #include <numbers>
 
-#include "artcal/artcal.hpp"
+#include "artcal/internal.hpp"
 #include "finite_difference.hpp"
 #include "plan_builders.hpp"
 #include "test_paths.hpp"
@@ -134,9 +134,9 @@ TEST(Evaluator, SystematicLengthErrorAddsAScaleTermThatDoesNotAverageAway) {
   for (const std::vector<Placement>* placements :
        {&five, static_cast<const std::vector<Placement>*>(&many)}) {
     const auto V0 =
-        covarianceFromInformation(parameterInformation(exact, *placements, exact.machine.nominal));
+        covarianceFromInformation(placementsInformation(exact, *placements, exact.machine.nominal));
     const auto VL = covarianceFromInformation(
-        parameterInformation(uncertain, *placements, uncertain.machine.nominal));
+        placementsInformation(uncertain, *placements, uncertain.machine.nominal));
     ASSERT_TRUE(V0 && VL);
     const Eigen::Matrix3d expected = V0->V + s * s.transpose() * u_length * u_length;
     EXPECT_LT((VL->V - expected).cwiseAbs().maxCoeff(), 1e-6 * expected.cwiseAbs().maxCoeff());
@@ -213,7 +213,7 @@ TEST(Evaluator, SchurReductionEqualsTheDenseFullInverse) {
   EXPECT_NEAR(V_pc(0, n_p + 1), V_full(0, n_p + rigid + 1),
               1e-8 * std::sqrt(V_pc(0, 0) * V_pc(n_p + 1, n_p + 1)));
   // And the same through the evaluator's own entry point.
-  const Eigen::MatrixXd info = parameterInformation(plan, placements, p);
+  const Eigen::MatrixXd info = placementsInformation(plan, placements, p);
   EXPECT_LT((info - reducer.parameterInformation()).cwiseAbs().maxCoeff(),
             1e-12 * info.cwiseAbs().maxCoeff());
 }

@@ -8,7 +8,7 @@
 
 #include <functional>
 
-#include "artcal/artcal.hpp"
+#include "artcal/internal.hpp"
 #include "rank_plans.hpp"
 #include "test_paths.hpp"
 

@@ -4,7 +4,7 @@
 
 #include <fstream>
 
-#include "artcal/artcal.hpp"
+#include "artcal/internal.hpp"
 #include "plan_builders.hpp"
 #include "test_paths.hpp"
 

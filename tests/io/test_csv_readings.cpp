@@ -10,7 +10,7 @@
 #include <fstream>
 #include <numbers>
 
-#include "artcal/artcal.hpp"
+#include "artcal/internal.hpp"
 #include "artcal/io/csv_readings.hpp"
 #include "cli_runner.hpp"
 #include "temp_folder.hpp"

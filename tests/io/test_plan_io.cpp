@@ -13,7 +13,7 @@
 #include <functional>
 #include <limits>
 
-#include "artcal/artcal.hpp"
+#include "artcal/internal.hpp"
 
 namespace artcal {
 namespace plan_io_test {

@@ -11,7 +11,7 @@
 #include <set>
 #include <tuple>
 
-#include "artcal/artcal.hpp"
+#include "artcal/internal.hpp"
 #include "artcal/io/readings_import.hpp"
 #include "cli_runner.hpp"
 #include "temp_folder.hpp"
@@ -269,6 +269,30 @@ TEST_F(ImportFolder, GeneralLayoutTakesTheUnitsFromTheHeader) {
   EXPECT_NE(bare.out.find("feature_0.csv: line 1: expected a header naming each column's unit"),
             std::string::npos)
       << bare.out;
+}
+
+// One file takes one angle unit and one length unit (docs/plan-format.md): a header naming deg
+// beside rad, or mm beside m, is refused (exit 2, the file and line 1 named), since no single
+// conversion reads it; the same file with one unit per kind is accepted.
+TEST_F(ImportFolder, AHeaderInMixedUnitsIsRefused) {
+  const TwoArm arm;
+  json machine = arm.plan["machine"];
+  machine["joint_limits"] = {{-180, 180}, {-170, 170}};
+  write("machine.json", machine.dump());
+  const auto import = [&](const std::string& folder, const std::string& header) {
+    write(folder + "/p/feature_0.csv", csvText(arm.readings(0, 0), 1.0, header));
+    write(folder + "/p/feature_1.csv", csvText(arm.readings(0, 1), 1.0, "t1_deg,t2_deg"));
+    return runCli("import-readings " + path(folder) + " --machine " + path("machine.json") +
+                      " --ball-bar 80 -o " + path(folder + ".json"),
+                  Stderr::Only);
+  };
+  EXPECT_EQ(import("same", "t1_deg,t2_deg").status, 0);
+  for (const std::string header : {"t1_deg,t2_rad", "t1 [mm],t2 [m]", "t1_m,t2_mm"}) {
+    const auto run = import("mixed", header);
+    EXPECT_EQ(run.status, 2) << header;
+    EXPECT_NE(run.out.find("feature_0.csv: line 1: columns in mixed units"), std::string::npos)
+        << header << ": " << run.out;
+  }
 }
 
 /// A station's readings of the instrument reference plan as CSV text: the joints times

@@ -13,7 +13,7 @@
 #include <fstream>
 #include <random>
 
-#include "artcal/artcal.hpp"
+#include "artcal/internal.hpp"
 #include "artcal/io/chain_codec.hpp"
 #include "artcal/io/urdf.hpp"
 #include "cli_runner.hpp"

@@ -6,7 +6,7 @@
 #include <numbers>
 #include <random>
 
-#include "artcal/artcal.hpp"
+#include "artcal/internal.hpp"
 #include "artcal/model/inverse_kinematics.hpp"
 #include "artcal/planning/design_space.hpp"
 #include "test_paths.hpp"

@@ -15,7 +15,7 @@
 #include <memory>
 #include <numbers>
 
-#include "artcal/artcal.hpp"
+#include "artcal/internal.hpp"
 #include "artcal/model/inverse_kinematics.hpp"
 #include "artcal/planning/design_space.hpp"
 #include "artcal/planning/optimizer.hpp"

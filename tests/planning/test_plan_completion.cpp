@@ -10,7 +10,7 @@
 #include <fstream>
 #include <random>
 
-#include "artcal/artcal.hpp"
+#include "artcal/internal.hpp"
 #include "artcal/planning/design_space.hpp"
 #include "artcal/planning/plan_completion.hpp"
 #include "cli_runner.hpp"

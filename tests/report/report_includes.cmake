@@ -11,7 +11,9 @@
 #   procedure_result.hpp       the operator's procedure (poses, inverse kinematics), from
 #                              operatorProcedure (planning/procedure.hpp)
 #   placement_sweep_result.hpp the placement sweep, from sweepPlacements
-# No .cpp of report/ includes an estimation/ or planning/ header; a new include fails this test.
+# No .cpp of report/ includes an estimation/ or planning/ header, nor do the acceptance/ headers
+# the report reads its predictions from (the acceptance layer's computation, evaluatePlan among
+# it, is in its .cpp files); a new include fails this test.
 # Run: cmake -DSOURCE_DIR=... -P tests/report/report_includes.cmake
 cmake_minimum_required(VERSION 3.20)
 set(result_headers
@@ -19,6 +21,8 @@ set(result_headers
     artcal/estimation/cartesian_answers.hpp artcal/planning/procedure_result.hpp
     artcal/planning/placement_sweep_result.hpp)
 set(allowed
+    "include/artcal/acceptance/acceptance.hpp|artcal/estimation/evaluation_result.hpp"
+    "include/artcal/acceptance/plan_acceptance.hpp|artcal/estimation/evaluation_result.hpp"
     "include/artcal/report/cartesian_report.hpp|artcal/estimation/cartesian_answers.hpp"
     "include/artcal/report/html_report.hpp|artcal/estimation/evaluation_result.hpp"
     "include/artcal/report/html_report.hpp|artcal/planning/procedure_result.hpp"
@@ -29,7 +33,8 @@ foreach(header ${result_headers})
   list(APPEND allowed "include/${header}|artcal/estimation/identifiability_result.hpp")
 endforeach()
 file(GLOB report_files RELATIVE ${SOURCE_DIR} ${SOURCE_DIR}/src/report/*.cpp
-     ${SOURCE_DIR}/src/report/*.hpp ${SOURCE_DIR}/include/artcal/report/*.hpp)
+     ${SOURCE_DIR}/src/report/*.hpp ${SOURCE_DIR}/include/artcal/report/*.hpp
+     ${SOURCE_DIR}/include/artcal/acceptance/*.hpp)
 foreach(header ${result_headers})
   list(APPEND report_files include/${header})
 endforeach()

@@ -19,7 +19,7 @@
 #include <sstream>
 #include <tuple>
 
-#include "artcal/artcal.hpp"
+#include "artcal/internal.hpp"
 #include "artcal/estimation/error_functions.hpp"
 #include "artcal/model/cartesian.hpp"
 #include "artcal/report/cartesian_report.hpp"

@@ -10,13 +10,13 @@
 #include <vector>
 
 #include "artcal/calibration/verification.hpp"
-#include "artcal/estimation/evaluator.hpp"
+#include "artcal/estimation/evaluation_result.hpp"
 #include "artcal/plan/plan.hpp"
 
 namespace artcal {
 
 /// One micrometre in mm (the unit of E and the MPE in outputs).
-inline constexpr double kMicrometre = 1e-3;
+inline constexpr double kMmPerMicrometre = 1e-3;
 
 struct AcceptanceInput {
   std::string source;  ///< the plan file, for messages
@@ -37,6 +37,11 @@ AcceptanceInput acceptanceInputAtNominal(const Plan& plan, Eigen::MatrixXd V);
 std::optional<AcceptanceInput> acceptanceInputFromPlan(const Plan& plan,
                                                        const Evaluation& evaluation);
 
+/// The plan evaluated (evaluatePlan), then acceptanceInputFromPlan: what `artcal acceptance PLAN`
+/// and the Python module predict from. InputError naming `source` when the plan does not
+/// identify its calibrated parameters.
+AcceptanceInput evaluatedAcceptanceInput(const Plan& plan, const std::string& source);
+
 /// A calibrated machine: its parameters and covariance (times birge_ratio^2 when `posterior`
 /// and the ratio is known), the noise and workspace of the plan it was calibrated from.
 AcceptanceInput acceptanceInputFromMachine(const Plan& plan, const Eigen::VectorXd& parameters,
@@ -48,7 +53,7 @@ struct Mpe {
   double a = 0.0;  ///< mm
   double k = 0.0;  ///< dimensionless (L in mm gives L / K in um), 0: no length term
   /// MPE(L) in mm for L in mm.
-  double at(double length) const { return k > 0.0 ? a + length / k * kMicrometre : a; }
+  double at(double length) const { return k > 0.0 ? a + length / k * kMmPerMicrometre : a; }
   /// "1.5 + L/333" (A in um).
   std::string text() const;
 };

@@ -8,9 +8,9 @@
 #include <string>
 
 #include "artcal/acceptance/acceptance.hpp"
-#include "artcal/acceptance/length_test.hpp"
-#include "artcal/acceptance/pose_test.hpp"
-#include "artcal/estimation/evaluator.hpp"
+#include "artcal/acceptance/length_acceptance.hpp"
+#include "artcal/acceptance/pose_acceptance.hpp"
+#include "artcal/estimation/evaluation_result.hpp"
 #include "artcal/plan/plan.hpp"
 
 namespace artcal {

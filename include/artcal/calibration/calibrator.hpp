@@ -104,8 +104,8 @@ struct ResidualEntry {
   /// Standardised: z_i / sqrt(1 - h_ii), z = Sigma^-1/2 (F - W*) whitened, h_ii the row's
   /// leverage in the full fit (p, c and every r_j). Unit variance under the noise model, so a
   /// gross error is not hidden by what the fit absorbs; 0 where 1 - h_ii < 1e-3 (not testable).
-  Eigen::VectorXd normalized;
-  double score = 0.0;    ///< max |normalized|
+  Eigen::VectorXd standardized;
+  double score = 0.0;    ///< max |standardized|
   bool flagged = false;  ///< score > flag_threshold
   bool gross = false;    ///< score > gross_threshold * max(1, Birge ratio)
 };

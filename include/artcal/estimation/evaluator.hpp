@@ -24,8 +24,8 @@ std::optional<ParameterCovariance> covarianceFromInformation(const Eigen::Matrix
 
 /// The information of p for a set of placements at parameters p (full vector), each r_j fitted,
 /// the machine's parameter prior included (its inverse is V_p).
-Eigen::MatrixXd parameterInformation(const Plan& plan, const std::vector<Placement>& placements,
-                                     const Eigen::VectorXd& p);
+Eigen::MatrixXd placementsInformation(const Plan& plan, const std::vector<Placement>& placements,
+                                      const Eigen::VectorXd& p);
 /// The same with what the rank policy needs (identifiability.hpp): the unreduced diagonal and
 /// each placement's observed rigid directions. Without `with_estimable` (a rank decision alone)
 /// PlanInformation::estimable is left empty and its second pass skipped.

@@ -19,7 +19,7 @@
 // leaves the information of p alone, whose inverse is V_p (seed eq. 9). A machine's parameter
 // prior (`machine.prior`, nominal tolerances, docs/method.md section 3 "Priors") enters the same
 // way as whitened prior rows: Sigma_p0^-1 added to the p block. Both are added in one place,
-// addPriors / parameterInformation below, which evaluate, optimize and calibrate all use.
+// addPriors / informationOfParameters below, which evaluate, optimize and calibrate all use.
 
 #include <Eigen/Core>
 #include <vector>
@@ -58,9 +58,9 @@ Eigen::MatrixXd addParameterPrior(const Eigen::MatrixXd& information_p, const Gl
 /// The information of p from N over g (docs/method.md section 3): the priors added (the parameter
 /// prior only when Included), then c eliminated by its Schur complement. The one elimination of
 /// the systematic errors behind evaluate, the optimizer's criteria and the calibrator.
-Eigen::MatrixXd parameterInformation(const Eigen::MatrixXd& information_g,
-                                     const GlobalLayout& layout,
-                                     ParameterPrior prior = ParameterPrior::Included);
+Eigen::MatrixXd informationOfParameters(const Eigen::MatrixXd& information_g,
+                                        const GlobalLayout& layout,
+                                        ParameterPrior prior = ParameterPrior::Included);
 
 /// What eliminating r_j leaves to recover it after the global step (calibrator).
 struct PlacementElimination {

@@ -9,6 +9,9 @@
 // (a Cartesian CMM's are polynomials of the readings: about 20 basis matrices for 50
 // parameters), S_m^2 = c^T W c with W_ii' = tr(B_i V_p B_i'^T): r numbers per configuration,
 // the basis found once from a subset, checked on every configuration to 1e-10.
+// Where the Gram matrices' varying entries outnumber J_p's (a 6-axis arm's 21 parameters: 185
+// against 63 per configuration), S_m^2 = |J_p L|_F^2 is summed from J_p kept in panels, each
+// panel's product made and consumed in cache (estimation/tip_kernel.hpp): a third of the data.
 
 #include <Eigen/Core>
 #include <optional>
@@ -49,6 +52,7 @@ class TipEvaluator {
 
  private:
   void prepareGram(int n_p);
+  void preparePanels(int n_p);
   bool prepareFactored(int n_p, long cost_to_beat);
   void factoredVariance(const Eigen::MatrixXd& V_p, Eigen::VectorXd& S_m2) const;
   int dimension_;
@@ -61,6 +65,10 @@ class TipEvaluator {
   std::vector<int> gram_rows_;
   Eigen::VectorXd gram_constant_;
   Eigen::VectorXd S_q2_;
+  /// Blocked form: J_p in panels (tip_kernel.hpp), padded with zero rows; empty when not used.
+  std::vector<double> panels_;
+  int panel_count_ = 0;
+  mutable std::vector<double> row_squares_;
   /// Factored form: coefficients c(q) per configuration (column) and, per tip coordinate, the
   /// basis matrices' rows (r x N(p)); empty when not used.
   Eigen::MatrixXd factor_coefficients_;

@@ -8,6 +8,7 @@
 
 #include "artcal/core/error.hpp"
 #include "artcal/io/output_file.hpp"
+#include "artcal/io/plan_file.hpp"
 #include "artcal/plan/plan.hpp"
 
 namespace artcal {
@@ -40,8 +41,7 @@ nlohmann::json readJsonFile(const std::string& path);
 Plan parsePlan(const nlohmann::json& document, const std::string& source,
                bool require_placements = true, bool check_plausibility = true);
 
-/// readJsonFile + parsePlan.
-Plan loadPlan(const std::string& path, bool require_placements = true);
+// loadPlan (readJsonFile + parsePlan): io/plan_file.hpp.
 
 /// The placements of a plan as plan-file JSON (file units), e.g. for a plan the tool writes.
 nlohmann::json placementsToJson(const Plan& plan);

@@ -6,8 +6,9 @@
 //   mean-tip   sqrt(mean_q S(q)^2)  (the root of the I criterion)
 //   D          det(V_s)^(1/(2 N_p)),  A  sqrt(tr V_s / N_p),  E  sqrt(lambda_max(V_s))
 //   pass       1 - P(pass) of the plan's ISO 10360-2 acceptance test (dimensionless; the mean of
-//              the exact P(pass | dp) over 256 fixed draws of dp, acceptance/length_test.hpp), or,
-//              where P(pass) saturates, the 95 % quantile of max |E|/MPE (PassObjective below)
+//              the exact P(pass | dp) over 256 fixed draws of dp,
+//              acceptance/length_acceptance.hpp), or, where P(pass) saturates, the 95 % quantile
+//              of max |E|/MPE (PassObjective below)
 // where V_s is V_p with every angle parameter scaled by the machine's reach (mm per rad), so
 // that all parameters share a unit.
 //

@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "artcal/acceptance/length_test.hpp"
+#include "artcal/acceptance/length_acceptance.hpp"
 #include "artcal/acceptance/plan_acceptance.hpp"
-#include "artcal/acceptance/pose_test.hpp"
+#include "artcal/acceptance/pose_acceptance.hpp"
 #include "artcal/report/html_report.hpp"
 
 namespace artcal {

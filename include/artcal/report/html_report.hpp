@@ -11,7 +11,7 @@
 // Figures: the layout (machine reach, artifact placements, postures; 3-D: plan XY and side XZ
 // views), tip uncertainty (planar2r: S_m, S_q, S against reach, seed Fig. 6; every model: a map
 // of S over the workspace with the worst point marked), the correlation matrix as a heat map;
-// with a calibration, its normalized residuals with the flagged outliers.
+// with a calibration, its standardised residuals with the flagged outliers.
 
 #include <nlohmann/json.hpp>
 #include <optional>

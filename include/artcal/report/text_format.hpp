@@ -34,6 +34,6 @@ inline std::string exact(double value) {
 
 /// The micro sign (UTF-8) and micrometres.
 inline constexpr const char* kMicroSign = "\xC2\xB5";
-inline constexpr const char* kMicrometre = "\xC2\xB5m";
+inline constexpr const char* kMicrometreSymbol = "\xC2\xB5m";
 
 }  // namespace artcal::report_text

@@ -1,4 +1,4 @@
-#include "artcal/acceptance/pose_test.hpp"
+#include "artcal/acceptance/pose_acceptance.hpp"
 
 #include <cmath>
 #include <limits>

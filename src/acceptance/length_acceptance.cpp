@@ -1,4 +1,4 @@
-#include "artcal/acceptance/length_test.hpp"
+#include "artcal/acceptance/length_acceptance.hpp"
 
 #include <algorithm>
 #include <cmath>

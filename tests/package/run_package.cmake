@@ -1,0 +1,73 @@
+# The test Package.DebInstallsAndBuildsAConsumer (issue 33): `cpack -G DEB` of the build tree,
+# the .deb unpacked with `dpkg -x` into a scratch root (no root needed), its contents checked
+# (the program, the umbrella header, the CMake config, the Python module when built), then
+# tests/consumer configured against the unpacked /usr with find_package(artcal), built and run on
+# PLAN: it must print the u of l1 that the unpacked program's `evaluate --json` prints.
+# Variables: BUILD_DIR, WORK_DIR, CONSUMER_DIR, PLAN, CXX_COMPILER, BUILD_TYPE, GENERATOR, PYTHON
+# (empty without the module).
+cmake_minimum_required(VERSION 3.20)
+set(root ${WORK_DIR}/root)
+file(REMOVE_RECURSE ${WORK_DIR})
+file(MAKE_DIRECTORY ${WORK_DIR})
+
+function(run what)
+  execute_process(COMMAND ${ARGN} RESULT_VARIABLE status OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT status EQUAL 0)
+    message(FATAL_ERROR "${what} failed (${status}):\n${out}\n${err}")
+  endif()
+  set(output "${out}" PARENT_SCOPE)
+endfunction()
+
+run("cpack -G DEB" ${CMAKE_COMMAND} -E chdir ${BUILD_DIR} cpack -G DEB -B ${WORK_DIR}/deb)
+file(GLOB debs ${WORK_DIR}/deb/artcal_*.deb)
+list(LENGTH debs count)
+if(NOT count EQUAL 1)
+  message(FATAL_ERROR "expected one artcal_*.deb in ${WORK_DIR}/deb, found: ${debs}")
+endif()
+run("dpkg-deb --field" dpkg-deb --field ${debs} Package Depends)
+message(STATUS "${output}")
+string(FIND "${output}" "libeigen3-dev" eigen)
+if(eigen LESS 0)
+  message(FATAL_ERROR "the package does not depend on libeigen3-dev:\n${output}")
+endif()
+run("dpkg -x" dpkg -x ${debs} ${root})
+foreach(expected usr/bin/artcal usr/include/artcal/artcal.hpp usr/lib/cmake/artcal/artcalConfig.cmake)
+  if(NOT EXISTS ${root}/${expected})
+    message(FATAL_ERROR "the package lacks /${expected}")
+  endif()
+endforeach()
+if(EXISTS ${root}/usr/include/artcal/internal.hpp)
+  message(FATAL_ERROR "the package installs the internal header artcal/internal.hpp")
+endif()
+
+run("the packaged artcal evaluate --json" ${root}/usr/bin/artcal evaluate ${PLAN} --json)
+string(JSON expected GET "${output}" parameters 0 u)
+
+run("configuring the consumer" ${CMAKE_COMMAND} -S ${CONSUMER_DIR} -B ${WORK_DIR}/consumer
+    -G ${GENERATOR} -DCMAKE_BUILD_TYPE=${BUILD_TYPE} -DCMAKE_CXX_COMPILER=${CXX_COMPILER}
+    -DCMAKE_PREFIX_PATH=${root}/usr -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF)
+run("building the consumer" ${CMAKE_COMMAND} --build ${WORK_DIR}/consumer)
+run("running the consumer" ${WORK_DIR}/consumer/artcal_consumer ${PLAN})
+string(REGEX MATCH "(^|\n)l1 ([^ ]+) " matched "${output}")
+if(NOT matched OR NOT CMAKE_MATCH_2 STREQUAL expected)
+  message(FATAL_ERROR "u(l1): consumer '${CMAKE_MATCH_2}', packaged evaluate --json ${expected}")
+endif()
+message(STATUS "u(l1) = ${expected} from the packaged program and the consumer")
+
+if(PYTHON)
+  file(GLOB_RECURSE modules ${root}/usr/lib/*/artcal/__init__.py)
+  if(NOT modules)
+    message(FATAL_ERROR "the package lacks the Python module")
+  endif()
+  list(GET modules 0 module)
+  get_filename_component(package_dir ${module} DIRECTORY)
+  get_filename_component(site ${package_dir} DIRECTORY)
+  execute_process(
+    COMMAND ${CMAKE_COMMAND} -E env PYTHONPATH=${site} PYTHONDONTWRITEBYTECODE=1 ${PYTHON} -c
+            "import artcal; print(repr(artcal.Plan(r'${PLAN}').evaluate().u[0]))"
+    RESULT_VARIABLE status OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT status EQUAL 0)
+    message(FATAL_ERROR "the packaged Python module failed:\n${out}\n${err}")
+  endif()
+  message(STATUS "the packaged Python module: u(l1) = ${out}")
+endif()
