@@ -64,7 +64,8 @@ struct ImportedPlan {
   /// What errors in the plan name it by: the output path, or "import-readings" for stdout. CSV
   /// paths in the plan are relative to its folder.
   std::string source;
-  std::vector<std::string> warnings;  ///< joint limits widened to the readings
+  /// CSV files under the folder not read (one line), joint limits widened to the readings
+  std::vector<std::string> warnings;
 };
 
 /// The plan of the import. Joint limits: a real robot's readings may pass the limits its URDF
