@@ -137,9 +137,10 @@ void checkEachFileReadOnce(const json& placements, const fs::path& plan_folder) 
   for (const json& placement : placements) {
     for (const json& entry : placement.at("measurements")) {
       std::error_code ec;
-      const fs::path file = (plan_folder / entry.at("csv").get<std::string>())
-                                .lexically_normal()
-                                .lexically_proximate(fs::current_path(ec));
+      // Named as the user would: relative to the working folder when under it, else absolute.
+      const fs::path absolute = (plan_folder / entry.at("csv").get<std::string>()).lexically_normal();
+      fs::path file = absolute.lexically_proximate(fs::current_path(ec));
+      if (file.empty() || *file.begin() == "..") file = absolute;
       const fs::path real = fs::canonical(file, ec);
       const auto [at, inserted] = seen.emplace(ec ? file : real, file);
       if (!inserted) {

@@ -124,7 +124,7 @@ json lengthTestToJson(const AcceptanceInput& input, const LengthTestPrediction& 
   return out;
 }
 
-std::string lengthTestTable(const AcceptanceInput& input, const LengthTestPrediction& prediction,
+std::string lengthTestTable(const AcceptanceInput& /*input*/, const LengthTestPrediction& prediction,
                             const MonteCarloOptions& options) {
   std::ostringstream out;
   const MonteCarloSummary& mc = prediction.monte_carlo;

@@ -120,22 +120,23 @@ TEST(HostileFolders, EveryFileIsReadOnceOrRefusedNamingIt) {
 }
 
 TEST(HostileFolders, UnreadCsvFilesAreNamedInAWarning) {
-  // A placement folder's CSV that is no feature file is said, not dropped silently.
+  // A placement folder's CSV that is no feature file is said, not dropped silently: MUKCa's
+  // front_center holds hole_0.csv, hole_1.csv (read) and hole_0_pose.csv, hole_1_pose.csv.
   Scratch scratch;
   const std::string mukca = testDataFile("mukca/mukca");
-  fs::copy(mukca + "/dinova_1/front", scratch.file("p/front"));
-  scratch.write("p/front/notes.csv", "a,b\n");
+  fs::create_directories(scratch.file("p"));
+  fs::copy(mukca + "/panda_2/front_center", scratch.file("p/front_center"));
+  scratch.write("p/front_center/notes.csv", "a,b\n");
   scratch.write("p/loose.csv", "a,b\n");
   const CliRun run = runCli("import-readings " + quoted(scratch.file("p")) + " --urdf " +
-                                quoted(mukca + "/urdf/gen3lite.urdf") +
-                                " --base BASE --tip END_EFFECTOR --ball-bar 50 -o -",
+                                quoted(mukca + "/urdf/panda.urdf") +
+                                " --base panda_link0 --tip ball_link --ball-bar 50 --unit deg -o -",
                             Stderr::Only);
-  // The URDF's link names may differ: the walk answers before or after the machine is read.
-  if (run.status == 0) {
-    EXPECT_NE(run.out.find("2 CSV file(s) of "), std::string::npos) << run.out;
-    EXPECT_NE(run.out.find("front/notes.csv"), std::string::npos) << run.out;
-    EXPECT_NE(run.out.find("loose.csv"), std::string::npos) << run.out;
-  }
+  ASSERT_EQ(run.status, 0) << run.out;
+  EXPECT_NE(run.out.find("warning: 4 CSV file(s) of "), std::string::npos) << run.out;
+  for (const char* name : {"front_center/hole_0_pose.csv", "front_center/hole_1_pose.csv",
+                           "front_center/notes.csv", "loose.csv"})
+    EXPECT_NE(run.out.find(name), std::string::npos) << name << " in " << run.out;
 }
 
 /// The folder-layout fuzzer (bounded, deterministic): random layouts of station files, copies,
@@ -242,12 +243,12 @@ TEST(HostileValues, VerifyWithoutCalibrationHasNoPosterior) {
   const std::string plan = quoted(planFile("tracker-arm6-2stations.simulated.json"));
   const json out = json::parse(runCli("verify --json " + plan).out);
   int stations = 0;
-  for (const json& station : out["stations"]["stations"]) {
+  for (const json& station : out["instrument"]["stations"]) {
     EXPECT_TRUE(station["predicted_rms_posterior"].is_null()) << station.dump();
     ++stations;
   }
   EXPECT_EQ(stations, 2);
-  EXPECT_TRUE(out["stations"]["all"]["predicted_rms_posterior"].is_null());
+  EXPECT_TRUE(out["instrument"]["all"]["predicted_rms_posterior"].is_null());
   const std::string table = runCli("verify " + plan).out;
   EXPECT_EQ(table.find(" 0.0000\n"), std::string::npos) << table;
   EXPECT_NE(table.find("            -\n"), std::string::npos) << table;
