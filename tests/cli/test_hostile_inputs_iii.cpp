@@ -185,7 +185,7 @@ TEST(HostileFolders, RandomLayoutsAreReadOnceOrRefusedNamingAPath) {
           break;
       }
     }
-    const CliRun run = runCli(f.command(dir.string()) + " 2>&1", Stderr::Discard);
+    const CliRun run = runCli(f.command(dir.string()), Stderr::Only);
     if (run.status == 2) {
       ++refused;
       EXPECT_EQ(std::count(run.out.begin(), run.out.end(), '\n'), 1) << run.out;
