@@ -178,7 +178,8 @@ constexpr int kBrokenPipeStatus = 141;
 /// Whether stdout is a pipe (or socket) whose reader has gone: a write would fail with EPIPE.
 bool standardOutputReaderGone() {
   struct stat status {};
-  if (::fstat(STDOUT_FILENO, &status) != 0 || !(S_ISFIFO(status.st_mode) || S_ISSOCK(status.st_mode)))
+  if (::fstat(STDOUT_FILENO, &status) != 0 ||
+      !(S_ISFIFO(status.st_mode) || S_ISSOCK(status.st_mode)))
     return false;
   pollfd out{STDOUT_FILENO, POLLOUT, 0};
   return ::poll(&out, 1, 0) == 1 && (out.revents & (POLLERR | POLLHUP)) != 0;

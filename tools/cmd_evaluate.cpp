@@ -32,7 +32,8 @@ void addCommonOptions(CLI::App* cmd, EvaluateArguments& args) {
 
 int printCheck(const Plan& plan, bool json, double rank_tolerance) {
   const PlanInformation information = planInformation(plan, plan.placements, plan.machine.nominal);
-  const Identifiability id = analyseIdentifiability(plan, plan.placements, information, rank_tolerance);
+  const Identifiability id =
+      analyseIdentifiability(plan, plan.placements, information, rank_tolerance);
   const CartesianAnswers cmm = cartesianAnswers(plan, nullptr);
   if (json) {
     nlohmann::json out = identifiabilityToJson(id);

@@ -56,8 +56,7 @@ std::optional<Mpe> parseMpe(const std::string& text, std::string* error) {
   // The datasheet forms (docs/method.md section 9), spaces free: "A", "A + L/K", "A + B*L" (B in
   // um per mm: K = 1/B), and either inside "min(..., C)" (C in um, the cap); numbers unsigned.
   static const std::string number = R"(([0-9]*\.?[0-9]+(?:[eE][-+]?[0-9]+)?))";
-  static const std::string inner =
-      number + R"((?:\+L/)" + number + R"(|\+)" + number + R"(\*?L)?)";
+  static const std::string inner = number + R"((?:\+L/)" + number + R"(|\+)" + number + R"(\*?L)?)";
   static const std::regex pattern("(?:" + inner + R"(|min\()" + inner + "," + number + R"(\)))");
   std::string compact;
   for (const char c : text)

@@ -6,8 +6,8 @@
 #include <cstdio>
 #include <map>
 #include <numbers>
-#include <string>
 #include <optional>
+#include <string>
 #include <utility>
 
 #include "artcal/calibration/corrections.hpp"
@@ -292,13 +292,12 @@ void addRepeatWarnings(const Plan& plan, std::vector<std::string>& warnings) {
     warnings.push_back("placement " + placementLabel(plan.placements, j) + ": " +
                        std::to_string(repeats) + " of " + std::to_string(readings.size()) +
                        " readings repeat another bit for bit (the first: " + copy.file + " " +
-                       copy.where + " = " + (of.file == copy.file ? "" : of.file + " ") +
-                       of.where +
+                       copy.where + " = " + (of.file == copy.file ? "" : of.file + " ") + of.where +
                        "): each copy is counted as a measurement of its own, which makes every "
                        "u up to " +
                        factor +
-                       "x too small if they are copies; remove the copies (real repeated "
-                       "measurements never agree to the last bit)");
+                       "x too small if they are copies; remove the copies (repeated "
+                       "measurements of a real probe rarely agree to the last bit)");
   }
 }
 

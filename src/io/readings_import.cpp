@@ -40,8 +40,11 @@ bool csvName(const fs::path& path) {
 bool validUtf8(std::string_view text) {
   for (std::size_t i = 0; i < text.size();) {
     const auto c = static_cast<unsigned char>(text[i]);
-    const std::size_t length = c < 0x80 ? 1 : (c >> 5) == 0x6 ? 2 : (c >> 4) == 0xE ? 3
-                                            : (c >> 3) == 0x1E ? 4 : 0;
+    const std::size_t length = c < 0x80           ? 1
+                               : (c >> 5) == 0x6  ? 2
+                               : (c >> 4) == 0xE  ? 3
+                               : (c >> 3) == 0x1E ? 4
+                                                  : 0;
     if (length == 0 || i + length > text.size()) return false;
     for (std::size_t k = 1; k < length; ++k)
       if ((static_cast<unsigned char>(text[i + k]) >> 6) != 0x2) return false;
@@ -117,12 +120,12 @@ std::vector<FolderEntry> folderEntries(const fs::path& folder) {
       }
     }
     if (csvName(path) && !entry.regular) {
-      throw InputError(path.string(), "",
-                       std::string(type == fs::file_type::not_found ? "a link to nothing"
-                                                                    : kindOf(type)) +
-                           ", named like a CSV file of readings: give the file itself (a "
-                           "regular file), or move it out of " +
-                           folder.string());
+      throw InputError(
+          path.string(), "",
+          std::string(type == fs::file_type::not_found ? "a link to nothing" : kindOf(type)) +
+              ", named like a CSV file of readings: give the file itself (a "
+              "regular file), or move it out of " +
+              folder.string());
     }
     out.push_back(entry);
   }
@@ -138,7 +141,8 @@ void checkEachFileReadOnce(const json& placements, const fs::path& plan_folder) 
     for (const json& entry : placement.at("measurements")) {
       std::error_code ec;
       // Named as the user would: relative to the working folder when under it, else absolute.
-      const fs::path absolute = (plan_folder / entry.at("csv").get<std::string>()).lexically_normal();
+      const fs::path absolute =
+          (plan_folder / entry.at("csv").get<std::string>()).lexically_normal();
       fs::path file = absolute.lexically_proximate(fs::current_path(ec));
       if (file.empty() || *file.begin() == "..") file = absolute;
       const fs::path real = fs::canonical(file, ec);

@@ -1,6 +1,5 @@
 #include "artcal/planning/instrument_design.hpp"
 
-
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -335,9 +334,8 @@ OptimizerSummary InstrumentSearch::run() {
     if (options_.progress) {
       const std::lock_guard lock(progress_mutex);
       best = std::min(best, result.refined);
-      options_.progress(
-          {++starts_done, starts, best,
-           std::chrono::duration<double>(SearchClock::now() - start_time_).count()});
+      options_.progress({++starts_done, starts, best,
+                         std::chrono::duration<double>(SearchClock::now() - start_time_).count()});
     }
   });
   OptimizerSummary summary = OptimizerSummary::ofStarts(
@@ -393,7 +391,8 @@ OptimizerSummary optimizeInstrumentDesign(const Plan& spec, const OptimizerOptio
   InstrumentSearch search(spec, options, seeds);
   OptimizerSummary summary = search.run();
   // The run's time is the whole run's, the D-optimal seeding included (it printed 5.86 s of 21).
-  summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  summary.seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   if (summary.best_start >= 0) summary.message = summary.briefReport();
   return summary;
 }

@@ -100,8 +100,8 @@ json lengthTestToJson(const AcceptanceInput& input, const LengthTestPrediction& 
               {"mpe", prediction.mpe.text()},
               {"mpe_A_um", prediction.mpe.a / kMicrometre},
               {"mpe_K", prediction.mpe.k > 0.0 ? json(prediction.mpe.k) : json(nullptr)},
-              {"mpe_C_um", prediction.mpe.cap > 0.0 ? json(prediction.mpe.cap / kMicrometre)
-                                                    : json(nullptr)},
+              {"mpe_C_um",
+               prediction.mpe.cap > 0.0 ? json(prediction.mpe.cap / kMicrometre) : json(nullptr)},
               {"units",
                {{"a, b, length, joints, sigma_sys, sigma_noise, sigma_total", "mm"},
                 {"*_um", "um"},
@@ -124,7 +124,8 @@ json lengthTestToJson(const AcceptanceInput& input, const LengthTestPrediction& 
   return out;
 }
 
-std::string lengthTestTable(const AcceptanceInput& /*input*/, const LengthTestPrediction& prediction,
+std::string lengthTestTable(const AcceptanceInput& /*input*/,
+                            const LengthTestPrediction& prediction,
                             const MonteCarloOptions& options) {
   std::ostringstream out;
   const MonteCarloSummary& mc = prediction.monte_carlo;

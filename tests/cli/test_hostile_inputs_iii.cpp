@@ -50,7 +50,9 @@ std::string readText(const std::string& path) {
   return text.str();
 }
 
-std::string quoted(const std::string& path) { return "'" + path + "'"; }
+std::string quoted(const std::string& path) {
+  return "'" + path + "'";
+}
 
 /// Exit 2 and exactly one line `error: FILE: ...` holding `part`.
 void expectRefused(const std::string& arguments, const std::string& file, const std::string& part) {
@@ -219,7 +221,8 @@ TEST(HostileCalibrate, NoDegreesOfFreedomGivesCheckSAnswerNotConverged) {
   EXPECT_EQ(calibrate.out, check.out);  // the answer is check's, word for word
   EXPECT_EQ(calibrate.out.find("converged"), std::string::npos);
   EXPECT_EQ(calibrate.out.find("estimated from the fit"), std::string::npos);
-  EXPECT_EQ(runCli("calibrate --json " + quoted(plan)).out, runCli("check --json " + quoted(plan)).out);
+  EXPECT_EQ(runCli("calibrate --json " + quoted(plan)).out,
+            runCli("check --json " + quoted(plan)).out);
   const CliRun said = runCli("calibrate " + quoted(plan), Stderr::Only);
   EXPECT_NE(said.out.find("degrees of freedom -18"), std::string::npos) << said.out;
 }
@@ -317,15 +320,13 @@ TEST(HostileAcceptance, AMachineFileWarnsOfTheParametersItDidNotCalibrate) {
                    quoted(truth) + " --seed 3 -o " + quoted(simulated))
                 .status,
             0);
-  const json calibration =
-      json::parse(runCli("calibrate --json " + quoted(simulated) + " --write-machine " +
-                         quoted(machine))
-                      .out);
+  const json calibration = json::parse(
+      runCli("calibrate --json " + quoted(simulated) + " --write-machine " + quoted(machine)).out);
   ASSERT_TRUE(calibration["converged"].get<bool>());
   const std::string test = " --test iso10360-2 --mpe '3 + L/300' --trials 200 --json";
   const json from_plan = json::parse(runCli("acceptance " + quoted(simulated) + test).out);
-  const json from_machine =
-      json::parse(runCli("acceptance " + quoted(machine) + " --plan " + quoted(simulated) + test).out);
+  const json from_machine = json::parse(
+      runCli("acceptance " + quoted(machine) + " --plan " + quoted(simulated) + test).out);
   const auto names = [](const json& out) {
     std::set<std::string> warned;
     for (const json& w : out["warnings"]) {
@@ -372,8 +373,8 @@ TEST(HostileOutputs, DevStdoutIntoAPipeSuggestsTheDash) {
   const std::string plan = quoted(testDataFile("ref-2r-5bars.json"));
   Scratch scratch;
   const std::string truth = scratch.write("truth.json", R"({"parameters": {"l1": 150.01}})");
-  const CliRun run = runCli("simulate " + plan + " --truth " + quoted(truth) +
-                            " -o /dev/stdout 2>&1 | cat");
+  const CliRun run =
+      runCli("simulate " + plan + " --truth " + quoted(truth) + " -o /dev/stdout 2>&1 | cat");
   EXPECT_NE(run.out.find("error: /dev/stdout: is a FIFO"), std::string::npos) << run.out;
   EXPECT_NE(run.out.find("use - for standard output"), std::string::npos) << run.out;
 }

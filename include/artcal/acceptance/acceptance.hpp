@@ -46,8 +46,8 @@ AcceptanceInput acceptanceInputFromMachine(const Plan& plan, const Eigen::Vector
 /// The maximum permissible error E0,MPE = A + L / K of ISO 10360-2: A in um, L in mm, L / K in
 /// um. Kept in mm: `a` = A in mm; K = 0 means a constant MPE.
 struct Mpe {
-  double a = 0.0;  ///< mm
-  double k = 0.0;  ///< dimensionless (L in mm gives L / K in um), 0: no length term
+  double a = 0.0;    ///< mm
+  double k = 0.0;    ///< dimensionless (L in mm gives L / K in um), 0: no length term
   double cap = 0.0;  ///< mm: min(A + L/K, C), 0: no cap
   /// MPE(L) in mm for L in mm.
   double at(double length) const {
