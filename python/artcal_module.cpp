@@ -89,7 +89,36 @@ py::object toPython(const json& value) {
 
 /// A Python dict (the plan file's form) as JSON, through json.dumps: what it cannot encode
 /// (a set, an object) raises TypeError naming it.
+/// The JSON pointer of the first number of `object` that is not finite (NaN, inf), its text in
+/// `value`; "" when every number is finite. JSON has no such numbers (docs/hardening.md).
+std::string firstNonFinite(const py::handle& object, const std::string& pointer,
+                           std::string& value) {
+  if (py::isinstance<py::float_>(object)) {
+    const double x = py::cast<double>(object);
+    if (std::isfinite(x)) return "";
+    value = py::cast<std::string>(py::repr(object));
+    return pointer.empty() ? "/" : pointer;
+  }
+  if (py::isinstance<py::dict>(object)) {
+    for (const auto& [key, item] : py::reinterpret_borrow<py::dict>(object)) {
+      const std::string at =
+          firstNonFinite(item, pointer + "/" + py::cast<std::string>(py::str(key)), value);
+      if (!at.empty()) return at;
+    }
+  } else if (py::isinstance<py::list>(object) || py::isinstance<py::tuple>(object)) {
+    std::size_t i = 0;
+    for (const py::handle item : object) {
+      const std::string at = firstNonFinite(item, pointer + "/" + std::to_string(i++), value);
+      if (!at.empty()) return at;
+    }
+  }
+  return "";
+}
+
 json fromPython(const py::handle& object, const std::string& source) {
+  std::string value;
+  if (const std::string at = firstNonFinite(object, "", value); !at.empty())
+    throw InputError(source, at, "expected a finite number, got " + value);
   const py::object dumps = py::module_::import("json").attr("dumps");
   const std::string text = py::cast<std::string>(dumps(object, py::arg("allow_nan") = false));
   return parseJsonText(text, source);
@@ -303,6 +332,12 @@ py::tuple calibrate(const PyPlan& p, int max_iterations, double step_tolerance,
   Plan plan = p.plan;  // calibrateReadings holds weak parameters at nominal in its plan
   const auto [document, machine] = withoutGil([&] {
     const Calibration calibration = calibrateReadings(plan, options);
+    if (calibration.dof < 0) {  // fewer equations than unknowns: check's answer, nothing estimated
+      json answer = checkDocument(p, kDefaultRankTolerance);
+      answer["converged"] = false;
+      answer["dof"] = calibration.dof;
+      return std::make_pair(std::move(answer), json());
+    }
     json result = calibrationToJson(plan, plan.placements, calibration);
     json machine_block;
     if (calibration.summary.converged()) {
@@ -511,7 +546,8 @@ json acceptancePose(const PyPlan& p, double cube, const std::array<double, 3>& c
                     std::optional<double> mpe, const MonteCarloOptions& mc,
                     const py::object& machine, bool posterior) {
   noteInput(p.source);
-  if (!(cube > 0.0)) throw InputError("--cube", "", "the pose test needs --cube E (mm, > 0)");
+  if (!(cube > 0.0) || !std::isfinite(cube))
+    throw InputError("--cube", "", "the pose test needs --cube E (mm, > 0, finite)");
   PoseTestOptions options;
   options.cube = cube;
   options.center = Eigen::Vector3d(center[0], center[1], center[2]);

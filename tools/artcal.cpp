@@ -1,5 +1,9 @@
 // artcal: plan and run the kinematic calibration of measuring mechanisms with artifacts.
 
+#include <poll.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
@@ -114,18 +118,26 @@ void printPlanSummary(const std::string& command, const std::string& output, con
 namespace {
 
 /// The first argument (or the value of --option=value) that reads as a non-finite number ("nan",
-/// "-inf", "Infinity", "1e999"), or "": CLI11 converts them to double and its range checks let NaN
-/// through (--rank-tol nan) or print the range with 300 digits (--rank-tol inf). One guard for
-/// every number option of every command, before CLI11 parses.
+/// "-inf", "Infinity", "1e999"), with the option it is given to, or "": CLI11 converts them to
+/// double and its range checks let NaN through (--rank-tol nan) or print the range with 300
+/// digits (--rank-tol inf). One guard for every number option of every command, before CLI11
+/// parses. The message names the option ("--cube: nan: ..."), or the value alone for a
+/// positional argument.
 std::string nonFiniteArgument(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     std::string value = argv[i];
-    if (value.starts_with("--") && value.find('=') != std::string::npos)
+    std::string option;
+    if (value.starts_with("--") && value.find('=') != std::string::npos) {
+      option = value.substr(0, value.find('='));
       value = value.substr(value.find('=') + 1);
+    } else if (i > 1 && argv[i - 1][0] == '-' && argv[i - 1][1] != '\0') {
+      option = argv[i - 1];
+    }
     const char* begin = value.c_str();
     char* end = nullptr;
     const double number = std::strtod(begin, &end);
-    if (end != begin && *end == '\0' && !std::isfinite(number)) return argv[i];
+    if (end != begin && *end == '\0' && !std::isfinite(number))
+      return (option.empty() ? "" : option + ": ") + value;
   }
   return "";
 }
@@ -161,11 +173,26 @@ std::string withoutTag(const std::string& message) {
   return end == std::string::npos ? message : message.substr(end + 2);
 }
 
+constexpr int kBrokenPipeStatus = 141;
+
+/// Whether stdout is a pipe (or socket) whose reader has gone: a write would fail with EPIPE.
+bool standardOutputReaderGone() {
+  struct stat status {};
+  if (::fstat(STDOUT_FILENO, &status) != 0 ||
+      !(S_ISFIFO(status.st_mode) || S_ISSOCK(status.st_mode)))
+    return false;
+  pollfd out{STDOUT_FILENO, POLLOUT, 0};
+  return ::poll(&out, 1, 0) == 1 && (out.revents & (POLLERR | POLLHUP)) != 0;
+}
+
 /// Exit status 2 with "error: -: standard output cannot be written" when stdout failed (a full
 /// disk, a closed pipe): a command must not end with 0 and a truncated output.
 int checkStandardOutput(int status) {
   std::cout.flush();
   if (std::fflush(stdout) == 0 && !std::ferror(stdout) && std::cout.good()) return status;
+  // A reader that closed the pipe (`artcal ... | head`) has what it wanted: silent, as other
+  // tools, with the status of a death by SIGPIPE (128 + 13) for `set -o pipefail`.
+  if (errno == EPIPE || standardOutputReaderGone()) return kBrokenPipeStatus;
   std::cerr << "error: -: standard output cannot be written (" << std::strerror(errno)
             << "): the output is incomplete" << std::endl;
   return 2;
@@ -176,6 +203,7 @@ int runAction(const artcal::cli::Action& action, const std::string& input) {
   try {
     return action();
   } catch (const artcal::InputError& e) {
+    if (e.describe().starts_with("-: ") && standardOutputReaderGone()) return kBrokenPipeStatus;
     std::cerr << "error: " << e.describe() << std::endl;
     return 2;
   } catch (const artcal::RunError& e) {

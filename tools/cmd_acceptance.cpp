@@ -72,6 +72,12 @@ std::vector<Eigen::Vector3d> loadLines(const std::string& path) {
   const nlohmann::json document = readJsonFile(path);
   if (!document.is_array() || document.empty())
     throw InputError(path, "", "expected a non-empty list of unit directions [x, y, z]");
+  if (document.size() > kMaxTestLines)  // refused before the entries are read
+    throw InputError(path, "",
+                     std::to_string(document.size()) + " lines, more than " +
+                         std::to_string(kMaxTestLines) +
+                         ": the length test's work grows as the square of its lines; give at "
+                         "most that many directions");
   std::vector<Eigen::Vector3d> lines;
   for (std::size_t i = 0; i < document.size(); ++i) {
     const nlohmann::json& entry = document[i];
@@ -121,9 +127,9 @@ int runLengthTest(const AcceptanceArguments& args, const LoadedInput& loaded) {
   if (!args.svg.empty()) checkOutputPath(args.svg);
   const LengthTestPrediction prediction = predictLengthTest(loaded.input, options);
   if (!args.svg.empty()) writeOutputFile(args.svg, lengthTestSvg(prediction));
+  for (const std::string& w : unseenParameterWarnings(loaded.input, prediction))
+    std::cerr << "warning: " << w << "\n";  // table or JSON: stdout is the result alone
   if (args.json) {
-    for (const std::string& w : unseenParameterWarnings(loaded.input, prediction))
-      std::cerr << "warning: " << w << "\n";
     printJson(lengthTestToJson(loaded.input, prediction, args.monte_carlo));
   } else {
     std::cout << lengthTestTable(loaded.input, prediction, args.monte_carlo);

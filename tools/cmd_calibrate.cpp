@@ -10,6 +10,7 @@
 #include "artcal/calibration/confirmation.hpp"
 #include "artcal/calibration/simulation.hpp"
 #include "artcal/core/parallel.hpp"
+#include "artcal/estimation/identifiability.hpp"
 #include "artcal/io/machine_covariance.hpp"
 #include "artcal/io/machine_frames.hpp"
 #include "artcal/io/output_file.hpp"
@@ -113,8 +114,18 @@ int runCalibrate(CalibrateArguments args) {
   args.options.model_choice = *fromName(kModelChoiceModeNames, args.model_choice);
   if (!args.write_machine.empty()) checkOutputPath(args.write_machine);
   Plan plan = loadPlanReporting(args.plan);
+  const Plan given = plan;
   // Weakly determined parameters held at nominal and the noise estimated, in `plan` too.
   const Calibration calibration = calibrateReadings(plan, args.options);
+  if (calibration.dof < 0) {
+    // Fewer equations than unknowns: nothing is estimated, the answer is check's.
+    std::cerr << "calibrate: " << args.plan << ": " << -calibration.dof
+              << " more unknowns than equations (degrees of freedom " << calibration.dof
+              << "): nothing can be estimated; check's answer follows\n";
+    if (!args.write_machine.empty())
+      std::cerr << "warning: nothing estimated: " << args.write_machine << " not written\n";
+    return printCheck(given, args.json, kDefaultRankTolerance);
+  }
   if (!args.write_machine.empty()) {
     // Only a converged estimate may become the next plan's machine.
     if (calibration.summary.converged()) {

@@ -30,6 +30,23 @@ void addCommonOptions(CLI::App* cmd, EvaluateArguments& args) {
 
 }  // namespace
 
+int printCheck(const Plan& plan, bool json, double rank_tolerance) {
+  const PlanInformation information = planInformation(plan, plan.placements, plan.machine.nominal);
+  const Identifiability id =
+      analyseIdentifiability(plan, plan.placements, information, rank_tolerance);
+  const CartesianAnswers cmm = cartesianAnswers(plan, nullptr);
+  if (json) {
+    nlohmann::json out = identifiabilityToJson(id);
+    out.update(calibrateSelectionToJson(plan));
+    out.update(cartesianAnswersToJson(plan, cmm));
+    out["plan"] = plan.name;
+    printJson(out);
+  } else {
+    std::cout << identifiabilityTable(plan, id) << cartesianAnswersTable(plan, cmm);
+  }
+  return id.identifiable() ? 0 : 1;
+}
+
 namespace {
 
 void addCheckCommand(CLI::App& app, Action& action) {
@@ -41,22 +58,7 @@ void addCheckCommand(CLI::App& app, Action& action) {
   addCommonOptions(cmd, *args);
   cmd->callback([&action, args] {
     action = [args] {
-      const Plan plan = loadPlanReporting(args->plan);
-      const PlanInformation information =
-          planInformation(plan, plan.placements, plan.machine.nominal);
-      const Identifiability id =
-          analyseIdentifiability(plan, plan.placements, information, args->rank_tolerance);
-      const CartesianAnswers cmm = cartesianAnswers(plan, nullptr);
-      if (args->json) {
-        nlohmann::json out = identifiabilityToJson(id);
-        out.update(calibrateSelectionToJson(plan));
-        out.update(cartesianAnswersToJson(plan, cmm));
-        out["plan"] = plan.name;
-        printJson(out);
-      } else {
-        std::cout << identifiabilityTable(plan, id) << cartesianAnswersTable(plan, cmm);
-      }
-      return id.identifiable() ? 0 : 1;
+      return printCheck(loadPlanReporting(args->plan), args->json, args->rank_tolerance);
     };
   });
 }

@@ -35,6 +35,10 @@ std::vector<CommandFactory> registeredCommands();
 /// Loads a plan and prints its warnings (unknown fields) on stderr.
 Plan loadPlanReporting(const std::string& path, bool require_placements = true);
 
+/// `artcal check`'s answer for `plan` (table or JSON on stdout) and its exit status; also
+/// calibrate's answer to a plan with fewer equations than unknowns (docs/hardening.md).
+int printCheck(const Plan& plan, bool json, double rank_tolerance);
+
 /// Prints a JSON document (2-space indent) on stdout.
 void printJson(const nlohmann::json& document);
 

@@ -5,7 +5,7 @@
 ARTCAL_PACKAGES=(build-essential cmake ninja-build libeigen3-dev libnlopt-cxx-dev
                  nlohmann-json3-dev libcli11-dev libgtest-dev libbenchmark-dev
                  liburdfdom-dev libtinyxml2-dev
-                 pybind11-dev python3-dev python3-numpy python3-pytest)
+                 pybind11-dev python3-dev python3-numpy python3-pytest python3-hypothesis)
 
 # Prints the packages of ARTCAL_PACKAGES that are not installed, one per line.
 missing_packages() {

@@ -22,6 +22,7 @@ from ._native import Error, InputError, RunError
 __all__ = [
     "Error", "InputError", "RunError", "Plan", "Result", "Evaluator", "export_urdf",
     "import_readings", "import_urdf", "load_plan", "optimize", "optimize_sweep", "placement",
+    "station",
 ]
 
 PLAN_FORMAT = "artcal-plan/1"
@@ -61,26 +62,58 @@ def _plain(value: Any) -> Any:
     return value
 
 
+def _real_array(value: Any, what: str) -> np.ndarray:
+    """``value`` as a float array; InputError (naming ``what``) for complex, bool, text or object
+    entries, which ``np.asarray(..., dtype=float)`` would convert or truncate without a word."""
+    array = np.asarray(value)
+    if array.dtype.kind not in "iuf":
+        raise InputError(f"{what}: expected real numbers (mm, deg), got an array of "
+                         f"{array.dtype} ({array.dtype.kind!r} entries)")
+    return array.astype(float)
+
+
+def _feature_index(value: Any, what: str) -> int:
+    """A feature index: a whole number (0.5, True, "1" and complex numbers are refused)."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.integer,
+                                                                      np.floating)):
+        raise InputError(f"{what}: expected a whole number (a feature index), got {value!r}")
+    if not float(value).is_integer():
+        raise InputError(f"{what}: expected a whole number (a feature index), got {value!r}")
+    return int(value)
+
+
 def _feature_blocks(joints: Any, features: Any) -> list[tuple[int, np.ndarray]]:
     """(feature, (n, k) readings) blocks from the forms add_placement takes."""
     if features is not None:
-        q = np.asarray(joints, dtype=float)
+        q = _real_array(joints, "joints")
         f = np.asarray(features).reshape(-1)
         if q.ndim != 2 or q.shape[0] != f.shape[0]:
             raise ValueError("joints: expected an (n, joints) array with one feature per row, "
                              f"got {q.shape} readings and {f.shape[0]} features")
-        return [(int(fi), q[i:i + 1]) for i, fi in enumerate(f)]
+        return [(_feature_index(fi.item() if isinstance(fi, np.generic) else fi,
+                                f"features/{i}"), q[i:i + 1]) for i, fi in enumerate(f)]
     items = joints.items() if isinstance(joints, Mapping) else enumerate(joints)
     blocks = []
     for feature, readings in items:
-        q = np.asarray(readings, dtype=float)
+        q = _real_array(readings, f"joints of feature {feature}")
         if q.ndim == 1:
             q = q.reshape(1, -1)
         if q.ndim != 2:
             raise ValueError(f"joints of feature {feature}: expected an (n, joints) array, "
                              f"got shape {q.shape}")
-        blocks.append((int(feature), q))
+        blocks.append((_feature_index(feature, f"feature {feature!r}"), q))
     return blocks
+
+
+def _finite(**numbers: Any) -> None:
+    """InputError naming the option, as the command line does (``--cube: inf: expected a finite
+    number``), for a number argument that is NaN or infinite."""
+    for name, value in numbers.items():
+        if value is None:
+            continue
+        for x in np.ravel(np.asarray(value, dtype=float)):
+            if not np.isfinite(x):
+                raise InputError(f"--{name.replace('_', '-')}: {x}: expected a finite number")
 
 
 def placement(artifact: str, joints: Any, features: Any = None, *,
@@ -101,6 +134,39 @@ def placement(artifact: str, joints: Any, features: Any = None, *,
     entry["measurements"] = [{"feature": feature, "joints": row.tolist()}
                              for feature, rows in _feature_blocks(joints, features)
                              for row in rows]
+    return entry
+
+
+def station(artifact: str, joints: Any, points: Any, *, stationing: Any = None,
+            name: Optional[str] = None) -> dict[str, Any]:
+    """One station of an instrument (a laser tracker, a total station; docs/instruments.md) in
+    the plan's JSON form: ``joints`` an (n, joints) array of readings (deg, mm), ``points`` the
+    (n, 3) points the instrument measured (mm, its own frame), or (n, 6) for a pose instrument
+    (x, y, z, then the orientation as a rotation vector, deg); ``stationing`` an optional (n,)
+    boolean mask of the readings ``verify`` fits the station on (the others are held out)."""
+    q = _real_array(joints, "joints")
+    x = _real_array(points, "points")
+    if q.ndim == 1:
+        q = q.reshape(1, -1)
+    if x.ndim == 1:
+        x = x.reshape(1, -1)
+    if q.ndim != 2 or x.ndim != 2 or q.shape[0] != x.shape[0] or x.shape[1] not in (2, 3, 6):
+        raise ValueError("station: expected (n, joints) readings and (n, 3) points (n, 6 for a "
+                         f"pose instrument), got {q.shape} and {x.shape}")
+    marks = None
+    if stationing is not None:
+        marks = np.asarray(stationing).reshape(-1)
+        if marks.dtype.kind != "b" or marks.shape[0] != q.shape[0]:
+            raise ValueError(f"stationing: expected {q.shape[0]} booleans, one per reading")
+    entry: dict[str, Any] = {"artifact": artifact}
+    if name is not None:
+        entry["name"] = name
+    entry["measurements"] = []
+    for i in range(q.shape[0]):
+        reading: dict[str, Any] = {"joints": q[i].tolist(), "point": x[i].tolist()}
+        if marks is not None and bool(marks[i]):
+            reading["stationing"] = True
+        entry["measurements"].append(reading)
     return entry
 
 
@@ -183,7 +249,21 @@ class Plan:
         """Adds a placement of ``artifact`` with its readings (see :func:`placement`: per
         feature (n, joints) arrays, or one (n, joints) array and ``features``; mm, deg);
         returns the plan."""
+        document = self._editable()
+        kind = document.get("artifacts", {}).get(artifact, {})
+        if isinstance(kind, Mapping) and kind.get("type") == "instrument":
+            raise InputError(f"{self._source}: /artifacts/{artifact}: an instrument: its readings "
+                             "are joints and the measured points, without features: use "
+                             "add_station(artifact, joints, points)")
         entry = placement(artifact, joints, features, pose=pose, name=name)
+        document.setdefault("placements", []).append(entry)
+        return self
+
+    def add_station(self, artifact: str, joints: Any, points: Any, *, stationing: Any = None,
+                    name: Optional[str] = None) -> "Plan":
+        """Adds a station of the instrument ``artifact`` with its readings and measured points
+        (see :func:`station`: (n, joints) readings, (n, 3) points, mm, deg); returns the plan."""
+        entry = station(artifact, joints, points, stationing=stationing, name=name)
         self._editable().setdefault("placements", []).append(entry)
         return self
 
@@ -223,6 +303,7 @@ class Plan:
 
     def check(self, *, rank_tol: float = 1e-10) -> Result:
         """``artcal check --json``: counting condition and rank."""
+        _finite(rank_tol=rank_tol)
         return Result(self._plan.check(rank_tol))
 
     def evaluate(self, *, rank_tol: float = 1e-10, profile_steps: int = 21,
@@ -234,6 +315,7 @@ class Plan:
         ``per_configuration`` the tip uncertainty at each workspace configuration:
         ``tip_total``, ``tip_kinematic``, ``tip_encoder`` (mm) and ``tip_joints`` (n, joints).
         """
+        _finite(rank_tol=rank_tol)
         document, covariance, tip = self._plan.evaluate(rank_tol, profile_steps,
                                                         per_configuration)
         names, matrix = _labelled_matrix(covariance)
@@ -259,6 +341,7 @@ class Plan:
         the CSV row it came from when the readings were imported), ``converged`` and ``machine``
         (the machine block ``--write-machine`` writes, None when not converged).
         """
+        _finite(step_tol=step_tol, flag_threshold=flag_threshold, gross_threshold=gross_threshold)
         document, machine = self._plan.calibrate(max_iterations, step_tol, flag_threshold,
                                                  gross_threshold)
         parameters = document.get("parameters", [])
@@ -284,6 +367,7 @@ class Plan:
         """``artcal simulate --truth TRUTH -o -``: the plan with simulated readings."""
         if isinstance(truth, os.PathLike):
             truth = os.fspath(truth)
+        _finite(noise_scale=noise_scale)
         document = self._plan.simulate(truth, seed, noise_scale, artifact_errors)
         return Plan.from_dict(document, source=self.source)
 
@@ -293,6 +377,8 @@ class Plan:
                 progress: Optional[Callable[[int, int], None]] = None) -> Result:
         """``artcal confirm --json``: Monte-Carlo confirmation (GIL released);
         ``progress(done, total)`` is called as trials finish."""
+        _finite(noise_scale=noise_scale, perturbation=perturbation, level=level,
+                allowance=allowance)
         return Result(self._plan.confirm(trials, seed, threads, noise_scale, perturbation, level,
                                          allowance, progress))
 
@@ -314,6 +400,7 @@ class Plan:
                         threads: int = 0) -> Result:
         """``artcal acceptance PLAN --test iso9283 --cube E --center X,Y,Z --json`` (ISO 9283);
         ``machine`` and ``posterior`` as in :meth:`acceptance_length`."""
+        _finite(cube=cube, center=center, mpe=mpe)
         return Result(self._plan.acceptance_pose(cube, tuple(center), mpe, trials, seed,
                                                  threads, _machine_arg(machine), posterior))
 

@@ -1,5 +1,6 @@
 #include "artcal/acceptance/acceptance.hpp"
 
+#include <cctype>
 #include <cmath>
 #include <regex>
 #include <sstream>
@@ -55,29 +56,48 @@ AcceptanceInput acceptanceInputFromMachine(const Plan& plan, const Eigen::Vector
 
 std::string Mpe::text() const {
   std::ostringstream out;
+  if (cap > 0.0) out << "min(";
   out << a / kMmPerMicrometre;
   if (k > 0.0) out << " + L/" << k;
+  if (cap > 0.0) out << ", " << cap / kMmPerMicrometre << ")";
   return out.str();
 }
 
 std::optional<Mpe> parseMpe(const std::string& text, std::string* error) {
-  // "A" or "A + L/K", spaces free; A and K unsigned decimal numbers.
+  // The datasheet forms (docs/method.md section 9), spaces free: "A", "A + L/K", "A + B*L" (B in
+  // um per mm: K = 1/B), and either inside "min(..., C)" (C in um, the cap); numbers unsigned.
   static const std::string number = R"(([0-9]*\.?[0-9]+(?:[eE][-+]?[0-9]+)?))";
-  static const std::regex pattern(R"(\s*)" + number + R"(\s*(?:\+\s*L\s*/\s*)" + number +
-                                  R"(\s*)?)");
+  static const std::string inner = number + R"((?:\+L/)" + number + R"(|\+)" + number + R"(\*?L)?)";
+  static const std::regex pattern("(?:" + inner + R"(|min\()" + inner + "," + number + R"(\)))");
+  std::string compact;
+  for (const char c : text)
+    if (!std::isspace(static_cast<unsigned char>(c))) compact += c;
   std::smatch match;
   auto fail = [error](const std::string& message) -> std::optional<Mpe> {
     if (error) *error = message;
     return std::nullopt;
   };
-  if (!std::regex_match(text, match, pattern))
-    return fail("MPE \"" + text + "\" is not of the form \"A + L/K\" (A in um, L in mm)");
+  if (!std::regex_match(compact, match, pattern))
+    return fail("MPE \"" + text +
+                "\" is not of the form \"A + L/K\", \"A + B*L\" or \"min(A + L/K, C)\" (A, C in "
+                "um, B in um/mm, L in mm)");
+  const int at = match[1].matched ? 1 : 4;  // the form without min( or within it
   Mpe mpe;
-  mpe.a = std::stod(match[1].str()) * kMmPerMicrometre;
-  if (match[2].matched) mpe.k = std::stod(match[2].str());
+  mpe.a = std::stod(match[at].str()) * kMmPerMicrometre;
   if (!(mpe.a > 0.0) || !std::isfinite(mpe.a)) return fail("MPE's A must be a number > 0 (um)");
-  if (match[2].matched && (!(mpe.k > 0.0) || !std::isfinite(mpe.k)))
-    return fail("MPE's K must be a number > 0");
+  if (match[at + 1].matched) {
+    mpe.k = std::stod(match[at + 1].str());
+    if (!(mpe.k > 0.0) || !std::isfinite(mpe.k)) return fail("MPE's K must be a number > 0");
+  } else if (match[at + 2].matched) {
+    const double b = std::stod(match[at + 2].str());
+    if (!(b > 0.0) || !std::isfinite(1.0 / b)) return fail("MPE's B must be a number > 0 (um/mm)");
+    mpe.k = 1.0 / b;
+  }
+  if (match[7].matched) {
+    mpe.cap = std::stod(match[7].str()) * kMmPerMicrometre;
+    if (!(mpe.cap >= mpe.a) || !std::isfinite(mpe.cap))
+      return fail("MPE's cap C must be a number at least A (um)");
+  }
   return mpe;
 }
 

@@ -79,6 +79,11 @@ PoseTestPrediction predictPoseTestLinear(const AcceptanceInput& input,
   if (input.machine->dimension() != 3)
     throw InputError(input.source, "/machine/model",
                      "the ISO 9283 pose test needs a mechanism whose probe moves in 3-D");
+  // Every caller (command line, Python) gets the same answer: no cube of infinite edge.
+  if (!(options.cube > 0.0) || !std::isfinite(options.cube))
+    throw InputError("--cube", "", "the pose test needs --cube E (mm, > 0, finite)");
+  if (!options.center.allFinite())
+    throw InputError("--center", "", "expected X,Y,Z in mm, e.g. 500,0,400");
   PoseTestPrediction prediction;
   prediction.mpe = options.mpe;
   const std::vector<Eigen::Vector3d> targets = poseTestPoints(options.cube, options.center);

@@ -4,8 +4,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <numbers>
 #include <optional>
+#include <string>
 #include <utility>
 
 #include "artcal/calibration/corrections.hpp"
@@ -255,7 +257,53 @@ void nearestTurn(const Plan& plan, Calibration& calibration) {
   }
 }
 
+/// Readings repeated bit for bit (docs/hardening.md, repeated readings): copies of one reading
+/// are not independent measurements, yet each counts as one, and u shrinks as sqrt(copies). One
+/// warning per placement naming the first repeat and what it repeats.
+void addRepeatWarnings(const Plan& plan, std::vector<std::string>& warnings) {
+  const auto bytes = [](std::string& key, const Eigen::VectorXd& v) {
+    key.append(reinterpret_cast<const char*>(v.data()),
+               static_cast<std::size_t>(v.size()) * sizeof(double));
+    key += '|';
+  };
+  for (std::size_t j = 0; j < plan.placements.size(); ++j) {
+    const std::vector<Measurement>& readings = plan.placements[j].measurements;
+    std::map<std::string, std::size_t> first;  // the reading's bytes -> its first index
+    std::size_t repeats = 0, example = 0, original = 0;
+    for (std::size_t i = 0; i < readings.size(); ++i) {
+      const Measurement& m = readings[i];
+      std::string key = std::to_string(m.feature) + "/" + std::to_string(m.stylus) + "|";
+      bytes(key, m.joints);
+      bytes(key, m.point);
+      bytes(key, m.orientation);
+      const auto [at, fresh] = first.emplace(std::move(key), i);
+      if (fresh) continue;
+      if (repeats++ == 0) {
+        example = i;
+        original = at->second;
+      }
+    }
+    if (repeats == 0) continue;
+    const ReadingLocation copy = readingLocation(plan, j, example);
+    const ReadingLocation of = readingLocation(plan, j, original);
+    const double shrink = std::sqrt(static_cast<double>(readings.size()) /
+                                    static_cast<double>(readings.size() - repeats));
+    char factor[32];
+    std::snprintf(factor, sizeof factor, "%.3g", shrink);
+    warnings.push_back("placement " + placementLabel(plan.placements, j) + ": " +
+                       std::to_string(repeats) + " of " + std::to_string(readings.size()) +
+                       " readings repeat another bit for bit (the first: " + copy.file + " " +
+                       copy.where + " = " + (of.file == copy.file ? "" : of.file + " ") + of.where +
+                       "): each copy is counted as a measurement of its own, which makes every "
+                       "u up to " +
+                       factor +
+                       "x too small if they are copies; remove the copies (repeated "
+                       "measurements of a real probe rarely agree to the last bit)");
+  }
+}
+
 void addWarnings(const Plan& plan, Calibration& calibration) {
+  addRepeatWarnings(plan, calibration.warnings);
   for (const ImplausibleCorrection& c :
        implausibleCorrections(plan.machine, plan.machine.nominal, calibration.parameters)) {
     calibration.warnings.push_back(describeCorrection(plan.machine, c));
@@ -358,6 +406,12 @@ Calibration calibrateAsListed(Plan& plan, const CalibrationOptions& options) {
       }
       calibration.model_choice = std::move(outcome->choice);
     }
+  }
+  if (plan.noise.estimate_probe && calibration.dof == 0) {
+    // No redundancy: the "estimate" would be the starting value (docs/hardening.md).
+    throw InputError(plan.source, "/noise/probe",
+                     "\"estimate\" needs more equations than unknowns, and the calibration has 0 "
+                     "degrees of freedom: state the probe noise (mm) or add readings");
   }
   nearestTurn(plan, calibration);
   addWarnings(plan, calibration);

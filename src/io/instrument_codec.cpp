@@ -1,5 +1,7 @@
 #include "artcal/io/instrument_codec.hpp"
 
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
 
 #include "artcal/core/error.hpp"
@@ -85,6 +87,20 @@ void appendReading(Measurement measurement, const Eigen::VectorXd& measured, Art
   if (instrument.measures_pose) measurement.orientation = measured.tail(3) * degToRad(1.0);
   measurement.feature = instrument.appendFeature(measurement.point);
   placement.measurements.push_back(std::move(measurement));
+}
+
+/// A measured orientation longer than a turn (a rotation vector's length is the angle it turns,
+/// at most 360 deg however it is written): its unit or its columns are wrong. The message names
+/// the reading (docs/hardening.md); "" when the orientation is plausible.
+std::string implausibleOrientation(const Eigen::VectorXd& coordinates, const Artifact& instrument) {
+  if (!instrument.measures_pose) return "";
+  const double turned = coordinates.tail(3).norm();
+  if (std::isfinite(turned) && turned <= 360.0 + 1e-9) return "";
+  char text[48];
+  std::snprintf(text, sizeof text, "%.4g", turned);
+  return std::string("the measured orientation (a rotation vector) turns ") + text +
+         " deg, more than a turn: check its unit (orientation_unit deg or rad) and the columns "
+         "(x, y, z, then rx, ry, rz)";
 }
 
 /// The nominal tip point of a reading: where the instrument sees it when the plan gives no point
@@ -189,6 +205,8 @@ void appendCsvReadings(const Node& entry, const std::string& plan_source, const 
         coordinates.tail(3) = *w;
       }
     }
+    if (const std::string why = implausibleOrientation(coordinates, instrument); !why.empty())
+      throw InputError(file, where, why);
     appendReading(std::move(measurement), coordinates, instrument, placement);
   }
 }
@@ -250,6 +268,8 @@ void parseStationReadings(const Node& measurements, const std::string& plan_sour
       coordinates.head(instrument.dimension) *= pointUnitToMm(m);
       const double orientation_scale = orientationUnitToDeg(m, instrument);
       if (instrument.measures_pose) coordinates.tail(3) *= orientation_scale;
+      if (const std::string why = implausibleOrientation(coordinates, instrument); !why.empty())
+        given->fail(why);
       appendReading(std::move(measurement), coordinates, instrument, placement);
     } else {
       setNominalReading(machine, instrument, measurement);

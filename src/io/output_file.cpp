@@ -74,9 +74,14 @@ std::string resolveOutputPath(const std::string& path) {
 void checkOutputPath(const std::string& path) {
   if (path == kStandardOutput) return;
   if (path.empty()) refuse(path, "an empty output name (use - for standard output)");
-  const std::string resolved = resolveOutputPath(path);
   struct stat status {};
-  if (::stat(resolved.c_str(), &status) != 0) return;  // a new file
+  // Through its links first: /dev/stdout on a pipe is a link to "pipe:[N]", which no path
+  // resolves to, and is refused as the FIFO it is, with the advice to write "-".
+  const bool exists = ::stat(path.c_str(), &status) == 0;
+  if (!exists || specialFileKind(status).empty()) {
+    const std::string resolved = resolveOutputPath(path);
+    if (::stat(resolved.c_str(), &status) != 0) return;  // a new file
+  }
   const std::string kind = specialFileKind(status);
   if (!kind.empty()) {
     refuse(path, "is " + kind +

@@ -26,6 +26,168 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
+// ------------------------------------------------------------------ the folder walk
+
+/// Every entry of a folder the import reads is read once or refused naming it (docs/hardening.md,
+/// "Hardening III"): nothing is skipped without a word.
+
+/// A name ending in .csv, in any case.
+bool csvName(const fs::path& path) {
+  std::string extension = path.extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return extension == ".csv";
+}
+
+bool validUtf8(std::string_view text) {
+  for (std::size_t i = 0; i < text.size();) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    const std::size_t length = c < 0x80           ? 1
+                               : (c >> 5) == 0x6  ? 2
+                               : (c >> 4) == 0xE  ? 3
+                               : (c >> 3) == 0x1E ? 4
+                                                  : 0;
+    if (length == 0 || i + length > text.size()) return false;
+    for (std::size_t k = 1; k < length; ++k)
+      if ((static_cast<unsigned char>(text[i + k]) >> 6) != 0x2) return false;
+    i += length;
+  }
+  return true;
+}
+
+/// A name with its bytes beyond ASCII shown as \xNN (a message must be valid UTF-8 itself).
+std::string printableName(const std::string& name) {
+  std::string out;
+  for (const char c : name) {
+    const auto byte = static_cast<unsigned char>(c);
+    if (byte >= 0x20 && byte < 0x7F) {
+      out += c;
+    } else {
+      char hex[8];
+      std::snprintf(hex, sizeof hex, "\\x%02X", byte);
+      out += hex;
+    }
+  }
+  return out;
+}
+
+const char* kindOf(fs::file_type type) {
+  switch (type) {
+    case fs::file_type::directory:
+      return "a directory";
+    case fs::file_type::fifo:
+      return "a FIFO";
+    case fs::file_type::block:
+    case fs::file_type::character:
+      return "a device";
+    case fs::file_type::socket:
+      return "a socket";
+    default:
+      return "not a regular file";
+  }
+}
+
+struct FolderEntry {
+  fs::path path;
+  bool directory = false;  ///< a folder (through links)
+  bool regular = false;    ///< a regular file (through links)
+};
+
+/// The entries of `folder`, links followed, in name order. Refused, naming the entry: a name that
+/// is not valid UTF-8; a link to the folder itself or to a folder above it (a loop); a name ending
+/// in .csv that is not a regular file (a directory, a FIFO, a device, a socket, a link to nothing).
+std::vector<FolderEntry> folderEntries(const fs::path& folder) {
+  std::error_code ec;
+  const fs::path here = fs::weakly_canonical(folder, ec);
+  std::vector<FolderEntry> out;
+  for (const fs::directory_entry& item : fs::directory_iterator(folder)) {
+    const fs::path& path = item.path();
+    const std::string name = path.filename().string();
+    if (!validUtf8(name)) {
+      throw InputError((folder / printableName(name)).string(), "",
+                       "the file name is not valid UTF-8: rename it (a plan names its CSV files "
+                       "in JSON, which is UTF-8)");
+    }
+    const fs::file_status status = fs::status(path, ec);
+    const fs::file_type type = ec ? fs::file_type::not_found : status.type();
+    FolderEntry entry{path, type == fs::file_type::directory, type == fs::file_type::regular};
+    if (entry.directory && item.is_symlink(ec)) {
+      const fs::path target = fs::weakly_canonical(path, ec);
+      if (std::mismatch(target.begin(), target.end(), here.begin(), here.end()).first ==
+          target.end()) {
+        throw InputError(path.string(), "",
+                         "a link to " + target.string() +
+                             ", the folder itself or one above it: its files would be read twice "
+                             "(a loop); remove the link");
+      }
+    }
+    if (csvName(path) && !entry.regular) {
+      throw InputError(
+          path.string(), "",
+          std::string(type == fs::file_type::not_found ? "a link to nothing" : kindOf(type)) +
+              ", named like a CSV file of readings: give the file itself (a "
+              "regular file), or move it out of " +
+              folder.string());
+    }
+    out.push_back(entry);
+  }
+  std::sort(out.begin(), out.end(),
+            [](const FolderEntry& a, const FolderEntry& b) { return a.path < b.path; });
+  return out;
+}
+
+/// Refuses the second name of a file read twice (a link to a file or a folder of the import).
+void checkEachFileReadOnce(const json& placements, const fs::path& plan_folder) {
+  std::map<fs::path, fs::path> seen;
+  for (const json& placement : placements) {
+    for (const json& entry : placement.at("measurements")) {
+      std::error_code ec;
+      // Named as the user would: relative to the working folder when under it, else absolute.
+      const fs::path absolute =
+          (plan_folder / entry.at("csv").get<std::string>()).lexically_normal();
+      fs::path file = absolute.lexically_proximate(fs::current_path(ec));
+      if (file.empty() || *file.begin() == "..") file = absolute;
+      const fs::path real = fs::canonical(file, ec);
+      const auto [at, inserted] = seen.emplace(ec ? file : real, file);
+      if (!inserted) {
+        throw InputError(file.string(), "",
+                         "is the same file as " + at->second.string() +
+                             " (through a link): each file of readings is read once; remove "
+                             "the link or the copy");
+      }
+    }
+  }
+}
+
+/// The CSV files under DIR (in DIR and its sub-folders) that the plan does not read: said in one
+/// warning, never skipped silently.
+std::vector<std::string> unreadCsvFiles(const fs::path& dir, const json& placements,
+                                        const fs::path& plan_folder) {
+  std::set<fs::path> read;
+  std::error_code ec;
+  for (const json& placement : placements)
+    for (const json& entry : placement.at("measurements"))
+      read.insert(fs::weakly_canonical(plan_folder / entry.at("csv").get<std::string>(), ec));
+  std::vector<std::string> unread;
+  const auto note = [&](const FolderEntry& entry) {
+    if (entry.regular && csvName(entry.path) && !read.count(fs::weakly_canonical(entry.path, ec)))
+      unread.push_back(entry.path.lexically_relative(dir).generic_string());
+  };
+  for (const FolderEntry& entry : folderEntries(dir)) {
+    note(entry);
+    if (entry.directory)
+      for (const FolderEntry& inner : folderEntries(entry.path)) note(inner);
+  }
+  if (unread.empty()) return {};
+  std::string list;
+  for (std::size_t i = 0; i < unread.size() && i < 5; ++i) list += (i ? ", " : "") + unread[i];
+  if (unread.size() > 5) list += ", ...";
+  return {std::to_string(unread.size()) + " CSV file(s) of " + dir.string() +
+          " not read (not a placement's hole_<k>.csv or feature_<k>.csv, or not in a station's "
+          "folder): " +
+          list};
+}
+
 /// One feature file of a placement folder and the unit its readings are in ("" when the layout
 /// leaves it to --unit).
 struct FeatureFile {
@@ -52,9 +214,20 @@ std::string folderName(const fs::path& folder) {
   return (normal.has_filename() ? normal.filename() : normal.parent_path().filename()).string();
 }
 
+/// Columns a CSV header may have (docs/hardening.md, work caps): counted before the header is
+/// split, so that a header of 10^8 commas is refused instead of taking gigabytes.
+constexpr std::size_t kMaxHeaderColumns = 1024;
+
 std::string firstLine(const fs::path& file) {
   const std::string text = readInputFile(file.string());
-  return text.substr(0, text.find('\n'));
+  std::string line = text.substr(0, text.find('\n'));
+  if (static_cast<std::size_t>(std::count(line.begin(), line.end(), ',')) >= kMaxHeaderColumns) {
+    throw InputError(file.string(), "line 1",
+                     "more than " + std::to_string(kMaxHeaderColumns) +
+                         " columns: a file of readings has one column per joint reading and "
+                         "coordinate");
+  }
+  return line;
 }
 
 /// The unit a header field names as its last word: "q1_deg", "joint1 [rad]", "z (mm)".
@@ -120,11 +293,11 @@ std::string unitFromHeader(const fs::path& file) {
 /// The feature files of one folder, by feature index; empty when it holds none.
 std::vector<FeatureFile> featureFiles(const fs::path& folder, const std::string& unit) {
   std::map<int, FeatureFile> files;
-  for (const fs::directory_entry& entry : fs::directory_iterator(folder)) {
-    if (!entry.is_regular_file()) continue;
-    const std::string name = entry.path().filename().string();
+  for (const FolderEntry& entry : folderEntries(folder)) {
+    if (!entry.regular) continue;
+    const std::string name = entry.path.filename().string();
     FeatureFile file;
-    file.path = entry.path();
+    file.path = entry.path;
     if (const auto k = featureIndex(name, "hole_")) {  // MUKCa: rad, no header
       file.feature = *k;
       file.unit = unit.empty() ? "rad" : unit;
@@ -439,10 +612,8 @@ constexpr std::size_t kPoseColumns = 6;
 /// The CSV files of a folder, in name order.
 std::vector<fs::path> csvFiles(const fs::path& folder) {
   std::vector<fs::path> out;
-  for (const fs::directory_entry& entry : fs::directory_iterator(folder)) {
-    if (entry.is_regular_file() && entry.path().extension() == ".csv") out.push_back(entry.path());
-  }
-  std::sort(out.begin(), out.end());
+  for (const FolderEntry& entry : folderEntries(folder))
+    if (entry.regular && csvName(entry.path)) out.push_back(entry.path);
   return out;
 }
 
@@ -453,13 +624,19 @@ std::vector<std::pair<std::string, std::vector<fs::path>>> stations(const fs::pa
   if (!fs::is_directory(dir, ec)) throw InputError(dir.string(), "", "is not a folder");
   std::vector<std::pair<std::string, std::vector<fs::path>>> out;
   std::vector<fs::path> folders;
-  for (const fs::directory_entry& entry : fs::directory_iterator(dir)) {
-    if (entry.is_directory() && !csvFiles(entry.path()).empty()) folders.push_back(entry.path());
-  }
-  std::sort(folders.begin(), folders.end());
+  for (const FolderEntry& entry : folderEntries(dir))
+    if (entry.directory && !csvFiles(entry.path).empty()) folders.push_back(entry.path);
   for (const fs::path& folder : folders) out.emplace_back(folderName(folder), csvFiles(folder));
+  const std::vector<fs::path> loose = csvFiles(dir);
+  if (!out.empty() && !loose.empty()) {
+    throw InputError(loose.front().string(), "",
+                     "a CSV file beside station sub-folders (" + folders.front().string() +
+                         ", ...): with sub-folders each station is one; move the file into a "
+                         "station's folder, or make every station one CSV file of " +
+                         dir.string());
+  }
   if (out.empty()) {
-    for (const fs::path& file : csvFiles(dir))
+    for (const fs::path& file : loose)
       out.emplace_back(file.stem().string(), std::vector<fs::path>{file});
   }
   if (out.empty()) {
@@ -651,12 +828,17 @@ std::vector<fs::path> placementFolders(const fs::path& dir, const std::string& u
   std::error_code ec;
   if (!fs::is_directory(dir, ec)) throw InputError(dir.string(), "", "is not a folder");
   std::vector<fs::path> out;
-  for (const fs::directory_entry& entry : fs::directory_iterator(dir)) {
-    if (entry.is_directory() && !featureFiles(entry.path(), unit).empty())
-      out.push_back(entry.path());
+  for (const FolderEntry& entry : folderEntries(dir))
+    if (entry.directory && !featureFiles(entry.path, unit).empty()) out.push_back(entry.path);
+  const std::vector<FeatureFile> loose = featureFiles(dir, unit);
+  if (!out.empty() && !loose.empty()) {
+    throw InputError(loose.front().path.string(), "",
+                     "a feature file beside placement sub-folders (" + out.front().string() +
+                         ", ...): with sub-folders each placement is one; move the file into a "
+                         "placement's folder, or out of " +
+                         dir.string());
   }
-  std::sort(out.begin(), out.end());
-  if (out.empty() && !featureFiles(dir, unit).empty()) out.push_back(dir);
+  if (out.empty() && !loose.empty()) out.push_back(dir);
   if (out.empty()) {
     throw InputError(dir.string(), "",
                      "no readings: expected sub-folders (one per placement) holding hole_<k>.csv "
@@ -803,6 +985,7 @@ ImportedPlan importReadings(const ReadingsImport& import) {
     placements.push_back(
         {{"name", name}, {"artifact", artifact_id}, {"measurements", measurements}});
   }
+  checkEachFileReadOnce(placements, plan_folder);
   const std::string plan_name = folderName(dir);
   ImportedPlan out;
   out.plan = {{"format", "artcal-plan/1"},
@@ -813,6 +996,7 @@ ImportedPlan importReadings(const ReadingsImport& import) {
               {"artifacts", artifacts},
               {"placements", placements}};
   out.source = source;
+<<<<<<< HEAD
   if (!ignored.empty()) {
     std::set<std::string> distinct(ignored.begin(), ignored.end());
     std::string names;
@@ -825,6 +1009,12 @@ ImportedPlan importReadings(const ReadingsImport& import) {
     for (std::string& w : widenJointLimits(out.plan, out.source, plan_folder))
       out.warnings.push_back(std::move(w));
   }
+=======
+  out.warnings = unreadCsvFiles(dir, placements, plan_folder);
+  if (!out.plan["machine"].contains("joint_limits") || import.keep_limits) return out;
+  for (std::string& warning : widenJointLimits(out.plan, out.source, plan_folder))
+    out.warnings.push_back(std::move(warning));
+>>>>>>> wt-harden
   return out;
 }
 

@@ -100,6 +100,8 @@ json lengthTestToJson(const AcceptanceInput& input, const LengthTestPrediction& 
               {"mpe", prediction.mpe.text()},
               {"mpe_A_um", prediction.mpe.a / kMmPerMicrometre},
               {"mpe_K", prediction.mpe.k > 0.0 ? json(prediction.mpe.k) : json(nullptr)},
+              {"mpe_C_um",
+               prediction.mpe.cap > 0.0 ? json(prediction.mpe.cap / kMicrometre) : json(nullptr)},
               {"units",
                {{"a, b, length, joints, sigma_sys, sigma_noise, sigma_total", "mm"},
                 {"*_um", "um"},
@@ -122,7 +124,8 @@ json lengthTestToJson(const AcceptanceInput& input, const LengthTestPrediction& 
   return out;
 }
 
-std::string lengthTestTable(const AcceptanceInput& input, const LengthTestPrediction& prediction,
+std::string lengthTestTable(const AcceptanceInput& /*input*/,
+                            const LengthTestPrediction& prediction,
                             const MonteCarloOptions& options) {
   std::ostringstream out;
   const MonteCarloSummary& mc = prediction.monte_carlo;
@@ -152,9 +155,7 @@ std::string lengthTestTable(const AcceptanceInput& input, const LengthTestPredic
       << " (Monte-Carlo standard error; " << mc.trials << " trials, seed " << options.seed
       << (mc.adaptive ? (mc.stable ? ", adaptive" : ", adaptive, not stable at the limit") : "")
       << ")\n";
-  for (const std::string& warning : unseenParameterWarnings(input, prediction))
-    out << "warning: " << warning << "\n";
-  return out.str();
+  return out.str();  // the warnings go to stderr (the command line) and into the JSON
 }
 
 std::string lengthTestSvg(const LengthTestPrediction& prediction) {

@@ -13,6 +13,10 @@ json finiteOrNull(double value) {
   return std::isfinite(value) ? json(value) : json(nullptr);
 }
 
+json posteriorOrNull(double value) {
+  return value > 0.0 ? finiteOrNull(value) : json(nullptr);
+}
+
 std::vector<double> jointsToFile(const Machine& machine, const Eigen::VectorXd& q) {
   std::vector<double> out;
   for (int i = 0; i < q.size(); ++i) {

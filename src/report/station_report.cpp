@@ -14,15 +14,17 @@ nlohmann::json summaryToJson(const DeviationSummary& s) {
           {"rms", finiteOrNull(s.rms)},
           {"max", finiteOrNull(s.max)},
           {"predicted_rms", finiteOrNull(s.predicted_rms)},
-          {"predicted_rms_posterior", finiteOrNull(s.predicted_rms_posterior)}};
+          {"predicted_rms_posterior", posteriorOrNull(s.predicted_rms_posterior)}};
 }
 
 std::string summaryRow(const std::string& label, int stationing, const DeviationSummary& s) {
   char line[200];
-  std::snprintf(line, sizeof line, "%-16s %10d %9d %10.4f %10.4f %10.4f %14.4f %12.4f\n",
-                label.c_str(), stationing, s.count, s.mean, s.rms, s.max, s.predicted_rms,
-                s.predicted_rms_posterior);
-  return line;
+  std::snprintf(line, sizeof line, "%-16s %10d %9d %10.4f %10.4f %10.4f %14.4f", label.c_str(),
+                stationing, s.count, s.mean, s.rms, s.max, s.predicted_rms);
+  char posterior[32] = "            -";  // no Birge ratio: no posterior (not 0)
+  if (s.predicted_rms_posterior > 0.0)
+    std::snprintf(posterior, sizeof posterior, " %12.4f", s.predicted_rms_posterior);
+  return std::string(line) + posterior + "\n";
 }
 
 std::string inFrameRow(const std::string& label, const std::string& frame_of,

@@ -17,11 +17,6 @@ namespace {
 
 using report_text::fixed;
 
-/// A posterior prediction exists only when the calibration's Birge ratio is known.
-json posteriorOrNull(double value) {
-  return value > 0.0 ? finiteOrNull(value) : json(nullptr);
-}
-
 json featureToJson(const FeatureSpread& f) {
   return {{"feature", f.feature},
           {"postures", f.postures},

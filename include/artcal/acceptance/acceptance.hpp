@@ -5,6 +5,7 @@
 // reading). Parameters outside the covariance are taken as exact.
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <optional>
 #include <string>
 #include <vector>
@@ -50,16 +51,21 @@ AcceptanceInput acceptanceInputFromMachine(const Plan& plan, const Eigen::Vector
 /// The maximum permissible error E0,MPE = A + L / K of ISO 10360-2: A in um, L in mm, L / K in
 /// um. Kept in mm: `a` = A in mm; K = 0 means a constant MPE.
 struct Mpe {
-  double a = 0.0;  ///< mm
-  double k = 0.0;  ///< dimensionless (L in mm gives L / K in um), 0: no length term
+  double a = 0.0;    ///< mm
+  double k = 0.0;    ///< dimensionless (L in mm gives L / K in um), 0: no length term
+  double cap = 0.0;  ///< mm: min(A + L/K, C), 0: no cap
   /// MPE(L) in mm for L in mm.
-  double at(double length) const { return k > 0.0 ? a + length / k * kMmPerMicrometre : a; }
-  /// "1.5 + L/333" (A in um).
+  double at(double length) const {
+    const double value = k > 0.0 ? a + length / k * kMmPerMicrometre : a;
+    return cap > 0.0 ? std::min(value, cap) : value;
+  }
+  /// "1.5 + L/333", "min(1.5 + L/333, 4)" (A and C in um).
   std::string text() const;
 };
 
-/// Parses "A + L/K" or "A" (A in um, L in mm, K dimensionless; spaces free); std::nullopt and
-/// `error` set when malformed, A <= 0, K <= 0 or not finite.
+/// Parses "A", "A + L/K", "A + B*L" (K = 1/B) or either inside "min(..., C)" (A, C in um, B in
+/// um/mm, L in mm, K dimensionless; spaces free); std::nullopt and `error` set when malformed,
+/// A, B or K <= 0, C < A, or not finite.
 std::optional<Mpe> parseMpe(const std::string& text, std::string* error = nullptr);
 
 /// The columns `indices` of a full-parameter Jacobian.

@@ -24,6 +24,11 @@
 
 namespace artcal {
 
+/// Most lines a length test takes (`--lines`; docs/hardening.md, work caps): the prediction's
+/// systematic covariance and its Monte-Carlo grow as the square of the results (5 lengths x 3
+/// repetitions a line); 3000 lines took 46 s and 3.5 GB, 256 take well under a second.
+inline constexpr std::size_t kMaxTestLines = 256;
+
 struct LengthTestOptions {
   Mpe mpe;
   /// Unit directions replacing the 7 lines (`--lines`); empty: the standard ones.

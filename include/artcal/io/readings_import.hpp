@@ -74,7 +74,8 @@ struct ImportedPlan {
   /// What errors in the plan name it by: the output path, or "import-readings" for stdout. CSV
   /// paths in the plan are relative to its folder.
   std::string source;
-  /// Joint limits widened to the readings; columns of header-named files that were not read.
+  /// CSV files under the folder not read (one line), joint limits widened to the readings,
+  /// columns of header-named files that were not read.
   std::vector<std::string> warnings;
 };
 

@@ -12,6 +12,9 @@ namespace artcal {
 
 /// A number for JSON: non-finite values become null (JSON has no NaN or infinity).
 nlohmann::json finiteOrNull(double value);
+/// A posterior figure: it exists only when the calibration's Birge ratio is known (the figure is
+/// then > 0); null otherwise, never 0.0 (docs/hardening.md, values that do not exist).
+nlohmann::json posteriorOrNull(double value);
 
 /// Joint values in file units (deg or mm).
 std::vector<double> jointsToFile(const Machine& machine, const Eigen::VectorXd& q);
