@@ -135,10 +135,39 @@ TEST(Plane, PointContactRowsMatchCentralDifferences) {
   expectRowsMatchCentralDifferences(completed(armDocument(artifacts, placements)));
 }
 
+// The derivatives hold at any configuration, flush or not: the point-contact touches' joints
+// read as flush contacts (a tool axis off the tip frame's axes), and a cube corner's faces.
 TEST(Plane, FlushContactRowsMatchCentralDifferences) {
-  const Plan plan = completed(armDocument({{"table", kFlushTable}}, threePlanes("table", 6)));
+  Plan plan = completed(armDocument({{"table", kTable}}, threePlanes("table", 6)));
+  PlaneGeometry flush;
+  flush.flush = true;
+  flush.tool_axis = Eigen::Vector3d(0.3, -0.2, 1.0).normalized();
+  plan.artifacts[0] = Artifact::planeArtifact("table", 3, flush, 0.002, 1e-4, 0.0);
   ASSERT_EQ(plan.artifacts[0].rowsPerReading(), 3);
   expectRowsMatchCentralDifferences(plan);
+  flush.shape = PlaneShape::CubeCorner;
+  flush.length = 200.0;
+  plan.artifacts[0] = Artifact::planeArtifact("table", 3, flush, 0.002, 1e-4, 0.0);
+  for (Placement& placement : plan.placements) {
+    for (std::size_t i = 0; i < placement.measurements.size(); ++i)
+      placement.measurements[i].feature = static_cast<int>(i % 3);
+  }
+  expectRowsMatchCentralDifferences(plan);
+}
+
+// Planned flush contacts lie flush: every row zero at the nominal machine and the plan's poses.
+TEST(Plane, PlannedFlushContactsAreFlush) {
+  const Plan plan = completed(armDocument({{"table", kFlushTable}}, threePlanes("table", 6)));
+  PlaneRows rows;
+  PlaneRowsScratch scratch;
+  for (const Placement& placement : plan.placements) {
+    ASSERT_EQ(placement.measurements.size(), 6u);
+    for (const Measurement& m : placement.measurements) {
+      planeRows(plan.artifacts[0], plan.machine, plan.machine.nominal, m,
+                poseTransform(3, *placement.pose), Eigen::VectorXd(), false, rows, scratch);
+      EXPECT_LT(rows.residual.cwiseAbs().maxCoeff(), 1e-9);
+    }
+  }
 }
 
 // ---- the length scale --------------------------------------------------------------------------
