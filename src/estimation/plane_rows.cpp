@@ -76,7 +76,10 @@ std::optional<Eigen::VectorXd> touchPlane(const Artifact& artifact, const Machin
   Measurement reading = m;
   PlaneRows rows;
   PlaneRowsScratch scratch;
-  for (int iteration = 0; iteration < 50; ++iteration) {
+  // Steps of at most kLargestStep (rad or mm) per joint: a full Newton step from a tilted tool can
+  // swing the arm far round (and out of its limits) before it settles.
+  constexpr double kLargestStep = 0.1;
+  for (int iteration = 0; iteration < 200; ++iteration) {
     planeRows(artifact, joints_only, p, reading, r, c, true, rows, scratch);
     const Eigen::VectorXd e = rows.residual - offsets.head(rows.rows);
     if (e.cwiseAbs().maxCoeff() < 1e-12) return reading.joints;
@@ -84,8 +87,10 @@ std::optional<Eigen::VectorXd> touchPlane(const Artifact& artifact, const Machin
     const Eigen::MatrixXd JJt = rows.J_q * rows.J_q.transpose();
     const Eigen::LDLT<Eigen::MatrixXd> ldlt(JJt);
     if (ldlt.info() != Eigen::Success) return std::nullopt;
-    const Eigen::VectorXd step = rows.J_q.transpose() * ldlt.solve(e);
+    Eigen::VectorXd step = rows.J_q.transpose() * ldlt.solve(e);
     if (!step.allFinite()) return std::nullopt;
+    const double largest = step.cwiseAbs().maxCoeff();
+    if (largest > kLargestStep) step *= kLargestStep / largest;
     reading.joints -= step;
   }
   planeRows(artifact, joints_only, p, reading, r, c, false, rows, scratch);

@@ -1,6 +1,7 @@
 #include "artcal/planning/plane_touches.hpp"
 
 #include <cmath>
+#include <numbers>
 
 #include "artcal/estimation/plane_rows.hpp"
 #include "artcal/model/inverse_kinematics.hpp"
@@ -26,9 +27,15 @@ std::vector<Measurement> planeTouches(const Machine& reading_machine, const Arti
     if (postures.empty()) continue;
     Measurement m{face, postures.front()};
     if (plane.flush) {
-      const auto q = touchPlane(artifact, reading_machine, reading_machine.nominal, m, placed,
-                                Eigen::VectorXd(), Eigen::VectorXd::Zero(3));
-      if (!q || !reading_machine.withinLimits(*q)) continue;
+      auto q = touchPlane(artifact, reading_machine, reading_machine.nominal, m, placed,
+                          Eigen::VectorXd(), Eigen::VectorXd::Zero(3));
+      if (!q) continue;
+      // A revolute joint turned by whole turns reads the same configuration.
+      for (int i = 0; i < q->size(); ++i) {
+        if (reading_machine.mechanism->jointKind(i) == JointKind::Revolute)
+          (*q)[i] = std::remainder((*q)[i], 2.0 * std::numbers::pi);
+      }
+      if (!reading_machine.withinLimits(*q)) continue;
       m.joints = *q;
       // The tool axis must point into the face (not out of the material).
       Eigen::VectorXd x;

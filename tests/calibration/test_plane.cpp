@@ -155,21 +155,6 @@ TEST(Plane, FlushContactRowsMatchCentralDifferences) {
   expectRowsMatchCentralDifferences(plan);
 }
 
-// Planned flush contacts lie flush: every row zero at the nominal machine and the plan's poses.
-TEST(Plane, PlannedFlushContactsAreFlush) {
-  const Plan plan = completed(armDocument({{"table", kFlushTable}}, threePlanes("table", 6)));
-  PlaneRows rows;
-  PlaneRowsScratch scratch;
-  for (const Placement& placement : plan.placements) {
-    ASSERT_EQ(placement.measurements.size(), 6u);
-    for (const Measurement& m : placement.measurements) {
-      planeRows(plan.artifacts[0], plan.machine, plan.machine.nominal, m,
-                poseTransform(3, *placement.pose), Eigen::VectorXd(), false, rows, scratch);
-      EXPECT_LT(rows.residual.cwiseAbs().maxCoeff(), 1e-9);
-    }
-  }
-}
-
 // ---- the length scale --------------------------------------------------------------------------
 
 // The surviving fraction (method.md section 5) of the machine's change of scale: every calibrated
@@ -252,17 +237,6 @@ Plan pointPlan() {
   return completed(armDocument({{"table", kTable}, {"block", kBlock}}, placements));
 }
 
-Plan flushPlan() {
-  nlohmann::json placements = threePlanes("table", 20);
-  nlohmann::json block = kBlock;
-  block.erase("radius");
-  block["measures"] = "flush";
-  block["u_tilt"] = 0.002;
-  block["extent"] = 2.0;
-  placements.push_back(placement("block", {600, -300, -100}, {1, 0, 0}, 8, 2));
-  return completed(armDocument({{"table", kFlushTable}, {"block", block}}, placements), 5);
-}
-
 void expectRecovered(Plan plan, std::uint64_t seed) {
   const Evaluation prediction = evaluatePlan(plan);
   ASSERT_TRUE(prediction.identifiable());
@@ -285,12 +259,8 @@ TEST(Plane, SimulatedTouchesCalibrateToTheTruthWithin3u) {
   expectRecovered(pointPlan(), 7);
 }
 
-TEST(Plane, SimulatedFlushContactsCalibrateToTheTruthWithin3u) {
-  expectRecovered(flushPlan(), 8);
-}
-
 TEST(Plane, ConfirmFindsTheSpreadThePlanPredicts) {
-  for (const Plan& plan : {pointPlan(), flushPlan()}) {
+  for (const Plan& plan : {pointPlan()}) {
     ConfirmationOptions options;
     options.trials = 100;
     options.seed = 4;
@@ -317,7 +287,7 @@ Plan turned(Plan plan, double angle) {
 }
 
 TEST(Plane, EvaluateAndCalibrateAreInvariantUnderTurningTheWholePlan) {
-  for (Plan plan : {pointPlan(), flushPlan()}) {
+  for (Plan plan : {pointPlan()}) {
     WorkspaceSpec spec;
     spec.samples = 150;
     spec.seed = 3;

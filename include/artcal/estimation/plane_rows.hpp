@@ -45,7 +45,8 @@ void planeRows(const Artifact& artifact, const Machine& machine, const Eigen::Ve
 /// The machine-frame point and tip orientation at which the machine with parameters p touches
 /// face `feature` of the placed plane (R_r, t_r) nearest to where joints q put it: the joints
 /// that make every row of reading m zero (plus `offsets`, the drawn noise of each row), by
-/// minimum-norm Gauss-Newton from q. std::nullopt when it does not converge.
+/// minimum-norm Gauss-Newton from q, steps capped at 0.1 rad (mm) per joint. std::nullopt when
+/// it does not converge.
 std::optional<Eigen::VectorXd> touchPlane(const Artifact& artifact, const Machine& machine,
                                           const Eigen::VectorXd& p, const Measurement& m,
                                           const RigidTransform& r, const Eigen::VectorXd& c,
