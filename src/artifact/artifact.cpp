@@ -77,10 +77,16 @@ struct RigidOrders {
   std::vector<int> table;
 };
 
-const RigidOrders& rigidOrders(int dimension, ArtifactKind kind) {
+const RigidOrders& rigidOrders(int dimension, ArtifactKind kind, PlaneShape shape) {
   static const RigidOrders all2{{0, 1, 2}, {0, 1, 2}}, gauge2{{0, 2, 1}, {0, 2}};
   static const RigidOrders all3{{0, 1, 2, 3, 4, 5}, {0, 1, 2, 3, 4, 5}},
       bar3{{0, 1, 2, 4, 5, 3}, {0, 1, 2, 4, 5}}, gauge3{{0, 4, 5, 1, 2, 3}, {0, 4, 5}};
+  // Faces all normal to X (a plane, a gauge block) see what a step gauge's faces see: the
+  // translation along X and the turns that tilt X; a cube corner's faces see every motion.
+  if (kind == ArtifactKind::Plane) {
+    if (shape == PlaneShape::CubeCorner) return dimension == 2 ? all2 : all3;
+    return dimension == 2 ? gauge2 : gauge3;
+  }
   if (dimension == 2) return kind == ArtifactKind::StepGauge ? gauge2 : all2;
   switch (kind) {
     case ArtifactKind::BallBar:
@@ -89,6 +95,7 @@ const RigidOrders& rigidOrders(int dimension, ArtifactKind kind) {
       return gauge3;
     case ArtifactKind::BallPlate:
     case ArtifactKind::Instrument:
+    case ArtifactKind::Plane:
       break;
   }
   return all3;
@@ -97,7 +104,7 @@ const RigidOrders& rigidOrders(int dimension, ArtifactKind kind) {
 }  // namespace
 
 const std::vector<int>& Artifact::rigidDirections() const {
-  return rigidOrders(dimension, kind).table;
+  return rigidOrders(dimension, kind, plane.shape).table;
 }
 
 namespace {
@@ -131,15 +138,16 @@ void Artifact::rigidJacobian(const Eigen::VectorXd& W, Eigen::Ref<Eigen::MatrixX
 }
 
 const std::vector<int>& Artifact::fullRigidOrder() const {
-  return rigidOrders(dimension, kind).full;
+  return rigidOrders(dimension, kind, plane.shape).full;
 }
 
-void Artifact::fullRigidJacobian(const Eigen::VectorXd& W, Eigen::Ref<Eigen::MatrixXd> J) const {
+void Artifact::fullRigidJacobian(const Eigen::VectorXd& W, Eigen::Ref<Eigen::MatrixXd> J,
+                                 int feature) const {
   const std::vector<int>& order = fullRigidOrder();
   const int k = valuedPerFeature();
   for (std::size_t c = 0; c < order.size(); ++c) {
     const Eigen::Vector3d column = rigidColumn(dimension, order[c], W);
-    for (int r = 0; r < k; ++r) J(r, static_cast<int>(c)) = column[r];
+    for (int r = 0; r < k; ++r) J(r, static_cast<int>(c)) = column[valuedCoordinate(feature, r)];
   }
 }
 

@@ -640,6 +640,8 @@ void Calibrator::fillDetails(const std::vector<Placement>& placements, Calibrati
   const double gross_limit = options_.gross_threshold * std::max(1.0, out.birgeRatio());
   out.gross_limit = gross_limit;
   Eigen::VectorXd x;
+  PlaneRows plane_rows;
+  PlaneRowsScratch plane_scratch;
   for (std::size_t j = 0; j < placements.size(); ++j) {
     const Placement& placement = placements[j];
     const Artifact& artifact = artifactOf(plan, placement);
@@ -656,7 +658,13 @@ void Calibrator::fillDetails(const std::vector<Placement>& placements, Calibrati
       entry.placement = static_cast<int>(j);
       entry.measurement = static_cast<int>(i);
       entry.feature = m.feature;
-      entry.residual = (out.poses[j].apply(x) - artifact.feature(m.feature, c[j])).head(k);
+      if (artifact.kind == ArtifactKind::Plane) {  // the distance to its face (plane_rows.hpp)
+        planeRows(artifact, plan.machine, out.parameters, m, out.poses[j], c[j], false, plane_rows,
+                  plane_scratch);
+        entry.residual = plane_rows.residual.head(1);
+      } else {
+        entry.residual = (out.poses[j].apply(x) - artifact.feature(m.feature, c[j])).head(k);
+      }
       // A pose's rows: the point's, then the orientation's (each standardised).
       const int per = artifact.rowsPerReading();
       const int row = per * static_cast<int>(i);

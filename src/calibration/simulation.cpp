@@ -11,6 +11,7 @@
 #include "artcal/core/error.hpp"
 #include "artcal/core/random.hpp"
 #include "artcal/estimation/design_matrix.hpp"
+#include "artcal/estimation/plane_rows.hpp"
 #include "artcal/estimation/reading_noise.hpp"
 #include "artcal/model/rotation_vector.hpp"
 
@@ -179,6 +180,35 @@ void simulateStation(const Plan& plan, const Eigen::VectorXd& p_true, const Rigi
   }
 }
 
+// A plane's touches (docs/planes.md): from each planned configuration the true machine moves as
+// little as it can until it touches the true face (a flush contact: lies flush on it), at the
+// drawn probing error along the normal (and the drawn tilts); the joints read q + delta_q. Draw
+// order per reading: the distance row's deviate, a flush contact's 2 tilt deviates, the joints'.
+void simulateTouches(const Plan& plan, const Eigen::VectorXd& p_true, const RigidTransform& pose,
+                     const Artifact& artifact, const Eigen::VectorXd& c, double scale,
+                     std::size_t placement_index, Placement& placement, NormalSource& normal) {
+  const double distance_sigma = scale * std::hypot(plan.noise.probe, artifact.noise);
+  const double tilt_sigma =
+      scale * std::sqrt(readingAngleVariance(plan.noise.probe, plan.noise.estimate_probe,
+                                             artifact.noise, artifact.noise_angle));
+  const int rows = artifact.rowsPerReading();
+  Eigen::VectorXd offsets(rows);
+  for (std::size_t i = 0; i < placement.measurements.size(); ++i) {
+    Measurement& m = placement.measurements[i];
+    for (int k = 0; k < rows; ++k) offsets[k] = (k == 0 ? distance_sigma : tilt_sigma) * normal();
+    const std::optional<Eigen::VectorXd> q =
+        touchPlane(artifact, plan.machine, p_true, m, pose, c, offsets);
+    if (!q) {
+      const ReadingLocation location = readingLocation(plan, placement_index, i);
+      throw RunError(location.file, location.where,
+                     "the simulated machine cannot touch the plane from this reading's joints");
+    }
+    m.joints = *q;
+    for (int k = 0; k < m.joints.size(); ++k)
+      m.joints[k] += scale * plan.noise.encoder[k] * normal();
+  }
+}
+
 }  // namespace
 
 Simulator::Simulator(const Plan& plan, const SimulationOptions& options)
@@ -216,6 +246,10 @@ SimulatedRun Simulator::simulate(const Eigen::VectorXd& p_true, NormalSource& no
     const Eigen::VectorXd& c = artifact_c[static_cast<std::size_t>(placement.artifact)];
     if (artifact.kind == ArtifactKind::Instrument) {
       simulateStation(plan, p_true, poses_[j], artifact, scale, placement, normal);
+      continue;
+    }
+    if (artifact.kind == ArtifactKind::Plane) {
+      simulateTouches(plan, p_true, poses_[j], artifact, c, scale, j, placement, normal);
       continue;
     }
     for (std::size_t i = 0; i < placement.measurements.size(); ++i) {

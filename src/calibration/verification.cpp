@@ -1,10 +1,12 @@
 #include "artcal/calibration/verification.hpp"
 
+#include <Eigen/QR>
 #include <cmath>
 #include <map>
 
 #include "artcal/estimation/design_matrix.hpp"
 #include "artcal/estimation/normal_matrix.hpp"
+#include "artcal/estimation/plane_rows.hpp"
 #include "artcal/estimation/reading_noise.hpp"
 
 namespace artcal {
@@ -119,12 +121,57 @@ double artifactDistanceVariance(const Artifact& artifact, int a, int b) {
   return variance;
 }
 
+// A plane's touches (docs/planes.md): the placement fitted with p held, each touch's distance
+// from its face is both its residual and its deviation; predicted, the sum over touches of
+// E d_i^2 = tr(P (J_p V J_p^T + Sigma) P), P = I - J_r J_r^+ the part the fitted placement
+// leaves (distance rows, unweighted), Sigma the touches' own variance (encoders, probe, flatness).
+PlacementVerification verifyTouches(const Plan& plan, int index, const Eigen::VectorXd& p,
+                                    const RigidTransform& start, DesignMatrixBuilder& builder,
+                                    const std::optional<ParameterUncertainty>& uncertainty,
+                                    const VerifyOptions& options, double& predicted_sum) {
+  const Placement& placement = plan.placements[static_cast<std::size_t>(index)];
+  const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
+  PlacementVerification out;
+  out.index = index;
+  out.pose = fitRigidOnly(builder, artifact, placement, p, start, options);
+  Machine machine = plan.machine;
+  machine.calibrated = uncertainty ? uncertainty->indices : std::vector<int>{};
+  const auto count = static_cast<int>(placement.measurements.size());
+  Eigen::MatrixXd J_p(count, machine.calibratedCount()), J_r(count, artifact.fullRigidDof());
+  Eigen::VectorXd variance(count);
+  out.residuals.resize(count);
+  PlaneRows rows;
+  PlaneRowsScratch scratch;
+  const double own = readingPointVariance(plan.noise.probe, artifact.noise);
+  for (int i = 0; i < count; ++i) {
+    planeRows(artifact, machine, p, placement.measurements[static_cast<std::size_t>(i)], out.pose,
+              Eigen::VectorXd(), true, rows, scratch);
+    out.residuals[i] = std::abs(rows.residual[0]);
+    J_p.row(i) = rows.J_p.row(0);
+    J_r.row(i) = rows.J_r.row(0);
+    const auto sigma_q2 = plan.noise.encoder.array().square().matrix();
+    variance[i] = rows.J_q.row(0).transpose().array().square().matrix().dot(sigma_q2) + own;
+  }
+  out.deviations = out.residuals;
+  const Eigen::MatrixXd P =
+      Eigen::MatrixXd::Identity(count, count) -
+      J_r * Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd>(J_r).pseudoInverse();
+  Eigen::MatrixXd C = variance.asDiagonal();
+  if (uncertainty) C += J_p * uncertainty->V * J_p.transpose();
+  predicted_sum += (P * C * P.transpose()).trace();
+  out.residual_rms = count > 0 ? std::sqrt(out.residuals.squaredNorm() / count) : 0.0;
+  out.residual_max = count > 0 ? out.residuals.maxCoeff() : 0.0;
+  return out;
+}
+
 PlacementVerification verifyPlacement(const Plan& plan, int index, const Eigen::VectorXd& p,
                                       const RigidTransform& start, DesignMatrixBuilder& builder,
                                       const std::optional<ParameterUncertainty>& uncertainty,
                                       const VerifyOptions& options, double& predicted_sum) {
   const Placement& placement = plan.placements[static_cast<std::size_t>(index)];
   const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
+  if (artifact.kind == ArtifactKind::Plane)
+    return verifyTouches(plan, index, p, start, builder, uncertainty, options, predicted_sum);
   const std::vector<int> no_indices;
   const std::vector<int>& indices = uncertainty ? uncertainty->indices : no_indices;
   PlacementVerification out;

@@ -7,6 +7,7 @@
 
 #include "artcal/model/rotation_vector.hpp"
 
+#include "artcal/estimation/plane_rows.hpp"
 #include "artcal/estimation/reading_noise.hpp"
 #include "artcal/estimation/reading_rows.hpp"
 
@@ -89,6 +90,14 @@ void DesignMatrixBuilder::build(const Artifact& artifact,
   for (std::size_t i = 0; i < measurements.size(); ++i) {
     const Measurement& m = measurements[i];
     const int row = per * static_cast<int>(i);
+    if (artifact.kind == ArtifactKind::Plane) {
+      const Small own_L = planeReading(artifact, m, p, r, c, row, with_residuals, block);
+      const Small L = held ? Small(held->factors[i].topLeftCorner(per, per)) : own_L;
+      if (held && own) storeFactor(*own, measurements.size(), i, own_L);
+      if (record) storeFactor(*record, measurements.size(), i, L);
+      whitenReading(L, row, with_residuals, block);
+      continue;
+    }
     if (artifact.measures_pose) {
       forwardPoseOrThrow(*machine.mechanism, p, m.joints, x_, R_tip_, &J_x_p_, &J_x_q_, &J_w_p_,
                          &J_w_q_);
@@ -129,6 +138,30 @@ void DesignMatrixBuilder::build(const Artifact& artifact,
     if (record) storeFactor(*record, measurements.size(), i, L);
     whitenReading(L, row, with_residuals, block);
   }
+}
+
+// A plane reading's rows at `row` (unwhitened, plane_rows.hpp) and the factor of their covariance:
+// Sigma = J_q Sigma_q J_q^T + diag(s_p^2 + flatness^2, tilt variance, tilt variance).
+DesignMatrixBuilder::Small DesignMatrixBuilder::planeReading(
+    const Artifact& artifact, const Measurement& m, const Eigen::VectorXd& p,
+    const RigidTransform& r, const Eigen::VectorXd& c, int row, bool with_residuals,
+    ObservationBlock& block) {
+  planeRows(artifact, *machine_, p, m, r, c, true, plane_rows_, plane_scratch_);
+  const int n = plane_rows_.rows;
+  block.A_p.middleRows(row, n) = plane_rows_.J_p;
+  block.A_r.middleRows(row, n) = plane_rows_.J_r;
+  for (int s = 0; s < artifact.systematicCount(); ++s) {
+    const SystematicError& err = artifact.systematic[static_cast<std::size_t>(s)];
+    if (err.feature == m.feature) block.A_c(row, s) = -1.0;
+  }
+  if (with_residuals) block.e.segment(row, n) = plane_rows_.residual;
+  Small sigma;
+  readingCovariance(noise_->encoder, plane_rows_.J_q,
+                    readingPointVariance(noise_->probe, artifact.noise), 1,
+                    readingAngleVariance(noise_->probe, noise_->estimate_probe, artifact.noise,
+                                         artifact.noise_angle),
+                    sigma);
+  return Eigen::LLT<Small>(sigma).matrixL();
 }
 
 // A pose reading's orientation rows at `row` (unwhitened): the residual of the predicted
@@ -227,7 +260,28 @@ void DesignMatrixBuilder::misfits(const Artifact& artifact,
   Eigen::VectorXd x;
   Eigen::Matrix3d R;
   Eigen::MatrixXd J_x_q, J_w_q;
+  const bool tilt_rows = artifact.plane.flush && angle_share > 0.0;
+  PlaneRows plane_rows;
+  PlaneRowsScratch plane_scratch;
   for (const Measurement& m : measurements) {
+    if (artifact.kind == ArtifactKind::Plane) {
+      // As a pose's: the distance row, and a flush contact's tilt rows when they carry a share.
+      planeRows(artifact, *machine_, p, m, r, c, true, plane_rows, plane_scratch);
+      const int kept = tilt_rows ? plane_rows.rows : 1;
+      ReadingMisfit misfit;
+      readingCovariance(noise_->encoder, plane_rows.J_q.topRows(kept),
+                        readingPointVariance(0.0, artifact.noise), 1,
+                        artifact.noise_angle * artifact.noise_angle, misfit.encoder_covariance);
+      misfit.residual = plane_rows.residual.head(kept);
+      if (kept > 1) {
+        const double unscale = 1.0 / std::sqrt(angle_share);
+        misfit.residual.tail(kept - 1) *= unscale;
+        misfit.encoder_covariance.bottomRows(kept - 1) *= unscale;
+        misfit.encoder_covariance.rightCols(kept - 1) *= unscale;
+      }
+      out.push_back(std::move(misfit));
+      continue;
+    }
     if (pose_rows)
       forwardPoseOrThrow(*machine_->mechanism, p, m.joints, x, R, nullptr, &J_x_q, nullptr, &J_w_q);
     else
@@ -269,7 +323,8 @@ std::vector<RigidTransform> fitPlacements(const Plan& plan,
     const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
     std::set<int> distinct;
     for (const Measurement& m : placement.measurements) distinct.insert(m.feature);
-    if (distinct.size() < 2 && placement.pose) {
+    // A plane's touches lie anywhere on its faces: its placement starts from the plan's pose.
+    if ((distinct.size() < 2 || artifact.kind == ArtifactKind::Plane) && placement.pose) {
       poses.push_back(poseTransform(plan.machine.dimension(), *placement.pose));
       continue;
     }

@@ -60,6 +60,21 @@ Eigen::MatrixXd reducedRowEchelon(Eigen::MatrixXd B, double tolerance) {
   return B;
 }
 
+// The surviving fraction (section 5) of the machine's change of scale s: each calibrated length
+// parameter in proportion to its nominal value. A uniform scale of an all-revolute machine maps a
+// plane to a parallel plane, which the placement's offset absorbs: a single plane sees no length.
+bool scaleUnobserved(const Plan& plan, const PlanInformation& information, double tolerance) {
+  const Machine& machine = plan.machine;
+  Eigen::VectorXd s = Eigen::VectorXd::Zero(machine.calibratedCount());
+  for (int k = 0; k < s.size(); ++k) {
+    if (!machine.calibratedInfo(k).quantity.isAngle())
+      s[k] = machine.nominal[machine.calibrated[static_cast<std::size_t>(k)]];
+  }
+  const double own = s.dot(information.unreduced_diagonal.cwiseMax(0.0).asDiagonal() * s);
+  if (!(own > 0.0) || s.size() != information.reduced.rows()) return false;
+  return s.dot(information.reduced * s) / own <= tolerance;
+}
+
 }  // namespace
 
 Eigen::MatrixXd scaledInformation(const PlanInformation& information) {
@@ -99,6 +114,7 @@ Identifiability analyseIdentifiability(const Plan& plan, const std::vector<Place
                                 ? largest / lambda[0]
                                 : std::numeric_limits<double>::infinity();
   if (null.empty()) return result;
+  result.no_length_scale = scaleUnobserved(plan, information, tolerance);
   Eigen::MatrixXd basis(static_cast<int>(null.size()), n);
   for (std::size_t k = 0; k < null.size(); ++k) {
     basis.row(static_cast<int>(k)) = eig.eigenvectors().col(null[k]).transpose();

@@ -27,6 +27,7 @@
 #include "artcal/io/instrument_codec.hpp"
 #include "artcal/io/json_node.hpp"
 #include "artcal/io/model_registry.hpp"
+#include "artcal/io/plane_codec.hpp"
 #include "artcal/io/plausibility.hpp"
 
 namespace artcal {
@@ -228,6 +229,7 @@ Artifact parseArtifact(const std::string& id, const Node& node, const Machine& m
   const Node typeNode = node.at("type");
   const std::string type = typeNode.string();
   if (type == "instrument") return parseInstrumentArtifact(id, node, machine, warnings);
+  if (type == "plane") return parsePlaneArtifact(id, node, machine, warnings);
   if (type == "ball_bar") {
     node.warnUnknown({"type", "length", "u_length"}, warnings);
     return Artifact::ballBar(id, dimension, node.at("length").positive(),
@@ -264,7 +266,7 @@ Artifact parseArtifact(const std::string& id, const Node& node, const Machine& m
     return Artifact::stepGauge(id, dimension, values, optionalUncertainty(node, "u"));
   }
   typeNode.fail("unknown artifact type \"" + type +
-                "\" (expected ball_bar, ball_plate, step_gauge or instrument)");
+                "\" (expected ball_bar, ball_plate, step_gauge, instrument or plane)");
 }
 
 Pose parsePose(const Node& node, int dimension, std::vector<std::string>& warnings) {
@@ -547,6 +549,10 @@ Placement parsePlacement(const Node& node, Plan& plan, CsvFiles& csv_files,
   if (placement.artifact < 0) artifact.fail("unknown artifact \"" + id + "\"");
   const int dimension = plan.machine.dimension();
   if (const auto pose = node.find("pose")) placement.pose = parsePose(*pose, dimension, warnings);
+  // A plane's touches lie anywhere on its faces: where it stands is the plan's (docs/planes.md).
+  if (!placement.pose &&
+      plan.artifacts[static_cast<std::size_t>(placement.artifact)].kind == ArtifactKind::Plane)
+    node.at("pose");  // raises "missing"
   const auto measurements = node.find("measurements");
   if (!measurements) {
     if (require_measurements || !placement.pose) node.at("measurements");  // raises "missing"

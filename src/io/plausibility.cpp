@@ -1,5 +1,7 @@
 #include "artcal/io/plausibility.hpp"
 
+#include "artcal/estimation/plane_rows.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -252,6 +254,38 @@ void checkFeaturesNotCollapsed(const Plan& plan, const Placement& placement,
                        "lengths in mm, not metres)");
 }
 
+// A plane's touches (docs/planes.md) lie anywhere on its faces: what can be wrong is their
+// distance from the faces where the placement's pose puts them (RMS over the readings), beyond a
+// machine error, the pose's own error (kPoseFloor) or noise: wrong units or a wrong pose.
+void checkTouches(const Plan& plan, const Eigen::VectorXd& p, const Placement& placement,
+                  const std::string& where, const std::string& machine, double reach) {
+  const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
+  const RigidTransform placed = poseTransform(plan.machine.dimension(), *placement.pose);
+  PlaneRows rows;
+  PlaneRowsScratch scratch;
+  double sum = 0.0;
+  for (const Measurement& m : placement.measurements) {
+    try {
+      planeRows(artifact, plan.machine, p, m, placed, Eigen::VectorXd(), false, rows, scratch);
+    } catch (const KinematicsError&) {
+      return;  // left to the numerical code to report
+    }
+    sum += rows.residual[0] * rows.residual[0];
+  }
+  const double residual = std::sqrt(sum / static_cast<double>(placement.measurements.size()));
+  const double threshold =
+      std::max(plausibleResidual(artifact, plan.noise.probe, reach), kPoseFloor);
+  if (residual <= threshold) return;
+  throw InputError(plan.source, where,
+                   machine + " puts these touches " + millimetres(residual) +
+                       " (RMS) off the faces where the pose puts them, more than a machine "
+                       "error or the pose's own error explains (" +
+                       millimetres(threshold) +
+                       "): check the pose (center in mm on the face, direction along its "
+                       "normal) and the units (joint readings in degrees, lengths in mm)" +
+                       tipHint(plan));
+}
+
 }  // namespace
 
 double plausibleResidual(const Artifact& artifact, double probe_sigma, double reach) {
@@ -272,6 +306,10 @@ void checkPlausibility(const Plan& plan, const Eigen::VectorXd& p, const std::st
     Eigen::MatrixXd points;
     if (!probedPoints(plan, p, placement, points)) continue;
     const std::string where = "/placements/" + std::to_string(j);
+    if (artifact.kind == ArtifactKind::Plane) {
+      checkTouches(plan, p, placement, where, machine, reach);
+      continue;
+    }
     checkFeaturesNotCollapsed(plan, placement, points, where, machine);
     const double threshold = plausibleResidual(artifact, plan.noise.probe, reach);
     const double residual = fitResidual(artifact, placement, points);

@@ -984,6 +984,10 @@ ImportedPlan importReadings(const ReadingsImport& import) {
     const std::string name = folderName(folder);
     placements.push_back(
         {{"name", name}, {"artifact", artifact_id}, {"measurements", measurements}});
+    // Where the artifact stood (a plane's placement, docs/planes.md): the folder's pose.json,
+    // {"center": [...], "direction": [...], "roll": deg}, checked when the plan is read.
+    if (const fs::path pose = folder / "pose.json"; fs::exists(pose))
+      placements.back()["pose"] = readJsonFile(pose.string());
   }
   checkEachFileReadOnce(placements, plan_folder);
   const std::string plan_name = folderName(dir);

@@ -6,7 +6,9 @@
 
 #include "artcal/core/error.hpp"
 #include "artcal/core/random.hpp"
+#include "artcal/estimation/plane_rows.hpp"
 #include "artcal/model/inverse_kinematics.hpp"
+#include "artcal/planning/plane_touches.hpp"
 
 namespace artcal {
 
@@ -211,8 +213,13 @@ std::optional<Placement> DesignSpace::placeWithNewPostures(const Eigen::VectorXd
   Placement placement;
   placement.artifact = design().artifact;
   placement.pose = poseOf(v);
+  const bool plane = artifact().kind == ArtifactKind::Plane;
   for (int i = 0; i < x.cols(); ++i) {
-    const auto readings = featureReadings(reading_machine_, i, x.col(i), design().postures, rng);
+    // A plane's face is touched at points spread over it (plane_touches.hpp), a ball at its centre.
+    const auto readings =
+        plane ? planeTouches(reading_machine_, artifact(),
+                             poseTransform(dimension(), *placement.pose), i, design().postures, rng)
+              : featureReadings(reading_machine_, i, x.col(i), design().postures, rng);
     if (static_cast<int>(readings.size()) < design().postures) return std::nullopt;
     placement.measurements.insert(placement.measurements.end(), readings.begin(), readings.end());
   }
@@ -226,11 +233,28 @@ std::optional<Placement> DesignSpace::movePlacement(const Placement& previous,
   Placement placement;
   placement.artifact = previous.artifact;
   placement.pose = poseOf(v);
+  const bool plane = artifact().kind == ArtifactKind::Plane;
+  const RigidTransform before =
+      plane ? poseTransform(dimension(), *previous.pose) : RigidTransform{};
+  const RigidTransform after =
+      plane ? poseTransform(dimension(), *placement.pose) : RigidTransform{};
   for (const Measurement& m : previous.measurements) {
     IkOptions options;
     options.stylus = m.stylus;
-    auto q = solveInverseKinematics(reading_machine_, reading_machine_.nominal, x.col(m.feature),
-                                    m.joints, options);
+    // A plane's touch keeps its point on the face (artifact frame) as the face moves.
+    Eigen::VectorXd target = x.col(m.feature);
+    if (plane) {
+      forwardOrThrow(*reading_machine_.mechanism, reading_machine_.nominal, m.joints, target,
+                     nullptr, nullptr, m.stylus);
+      target = after.inverse().apply(before.apply(target));
+    }
+    auto q = solveInverseKinematics(reading_machine_, reading_machine_.nominal, target, m.joints,
+                                    options);
+    if (q && plane && artifact().plane.flush) {
+      q = touchPlane(artifact(), reading_machine_, reading_machine_.nominal, {m.feature, *q}, after,
+                     Eigen::VectorXd(), Eigen::VectorXd::Zero(3));
+      if (q && !reading_machine_.withinLimits(*q)) q.reset();
+    }
     if (!q) return std::nullopt;
     placement.measurements.push_back({m.feature, *q, m.stylus});
   }

@@ -4,6 +4,7 @@
 
 #include "artcal/core/error.hpp"
 #include "artcal/planning/design_space.hpp"
+#include "artcal/planning/plane_touches.hpp"
 
 namespace artcal {
 
@@ -23,8 +24,13 @@ std::vector<std::vector<std::vector<Measurement>>> plannedReadings(const Plan& p
     const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
     const Eigen::MatrixXd features = placedFeatures(artifact, *placement.pose);
     for (const PostureRequest& request : placement.posture_requests) {
-      std::vector<Measurement> readings = featureReadings(
-          reading_machine, request.feature, features.col(request.feature), request.postures, rng);
+      std::vector<Measurement> readings =
+          artifact.kind == ArtifactKind::Plane
+              ? planeTouches(reading_machine, artifact,
+                             poseTransform(machine.dimension(), *placement.pose), request.feature,
+                             request.postures, rng)
+              : featureReadings(reading_machine, request.feature, features.col(request.feature),
+                                request.postures, rng);
       if (static_cast<int>(readings.size()) < request.postures) {
         throw InputError(plan.source, request.pointer,
                          "only " + std::to_string(readings.size()) + " of " +

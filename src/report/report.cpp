@@ -75,7 +75,8 @@ json identifiabilityToJson(const Identifiability& id) {
             {"tolerance", id.tolerance},
             {"unidentifiable", names},
             {"combinations", combinations},
-            {"fix", id.to_fix}}}};
+            {"fix", id.to_fix},
+            {"no_length_scale", id.no_length_scale}}}};
 }
 
 json tipToJson(const Machine& machine, const TipSummary& tip,
@@ -242,6 +243,11 @@ std::string identifiabilityTable(const Plan& plan, const Identifiability& id) {
       out << termText(i == 0, comb.coefficients[i], comb.names[i]);
     }
     out << "   (scaled parameters)\n";
+  }
+  if (id.no_length_scale) {
+    out << "  no length scale: the machine's change of scale (every calibrated length in "
+           "proportion) is unobserved;\n  a single plane fixes no length: add a gauge block, a "
+           "ball bar or a second face at a known distance\n";
   }
   if (!id.to_fix.empty() && !too_few_equations) {
     out << "  more placements like these will not help; to calibrate the rest, fix:";

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "artcal/artifact/plane_geometry.hpp"
 #include "artcal/core/enum_names.hpp"
 
 namespace artcal {
@@ -15,15 +16,18 @@ namespace artcal {
 /// Instrument: a laser tracker, total station or optical tracker (docs: instruments.md). Each
 /// placement is one station; every reading is its own feature, the point the instrument reported
 /// in its own frame (all coordinates valued, N(r_j) = 6 as for a ball plate).
-enum class ArtifactKind { BallBar, BallPlate, StepGauge, Instrument };
+/// Plane: one or more flat faces of known relative geometry touched by the tip (docs/planes.md,
+/// artifact/plane.hpp); each face is a feature whose one valued coordinate is along its normal.
+enum class ArtifactKind { BallBar, BallPlate, StepGauge, Instrument, Plane };
 
 /// The names of the plan format's artifact "type".
-inline constexpr EnumNames<ArtifactKind, 4> kArtifactKindNames{
+inline constexpr EnumNames<ArtifactKind, 5> kArtifactKindNames{
     {{ArtifactKind::BallBar, "ball_bar"},
      {ArtifactKind::BallPlate, "ball_plate"},
      {ArtifactKind::StepGauge, "step_gauge"},
-     {ArtifactKind::Instrument, "instrument"}}};
-/// "ball_bar", "ball_plate", "step_gauge", "instrument".
+     {ArtifactKind::Instrument, "instrument"},
+     {ArtifactKind::Plane, "plane"}}};
+/// "ball_bar", "ball_plate", "step_gauge", "instrument", "plane".
 std::string artifactKindName(ArtifactKind kind);
 
 /// One systematic error of an artifact: moves coordinate `coordinate` of feature `feature` by c,
@@ -49,6 +53,9 @@ class Artifact {
   /// (rad, per rotation-vector coordinate). Only on models whose forward kinematics gives one.
   bool measures_pose = false;
   double noise_angle = 0.0;
+  /// A plane artifact's faces and contact (kind Plane only): `noise` holds its flatness (mm),
+  /// `noise_angle` a flush contact's tilt uncertainty (rad).
+  PlaneGeometry plane;
 
   static Artifact ballBar(std::string id, int dimension, double length, double u_length);
   static Artifact ballPlate(std::string id, const Eigen::MatrixXd& centers, double u);
@@ -56,14 +63,28 @@ class Artifact {
                             double u);
   /// An instrument with no reading yet: each reading appends its measured point as a feature.
   static Artifact instrument(std::string id, int dimension, double noise);
+  /// A plane artifact (docs/planes.md): its faces from `geometry`, flatness (mm, per touch) and a
+  /// flush contact's tilt uncertainty (rad); a gauge block's length uncertainty `u_length` (mm)
+  /// moves its second face along its normal.
+  static Artifact planeArtifact(std::string id, int dimension, PlaneGeometry geometry,
+                                double flatness, double u_tilt, double u_length);
   /// Appends a measured point (an instrument's reading) as a feature; returns its index.
   int appendFeature(const Eigen::VectorXd& point);
 
   int featureCount() const { return static_cast<int>(features.cols()); }
   /// k: valued coordinates per feature (all of them for a ball, the first for a step-gauge face).
-  int valuedPerFeature() const { return kind == ArtifactKind::StepGauge ? 1 : dimension; }
-  /// Observation rows per reading: the valued coordinates, and 3 orientation rows for a pose.
-  int rowsPerReading() const { return valuedPerFeature() + (measures_pose ? 3 : 0); }
+  int valuedPerFeature() const {
+    return kind == ArtifactKind::StepGauge || kind == ArtifactKind::Plane ? 1 : dimension;
+  }
+  /// The artifact coordinate of feature i's j-th valued row: j, or a plane face's normal axis.
+  int valuedCoordinate(int feature, int j) const {
+    return kind == ArtifactKind::Plane ? plane.faces[static_cast<std::size_t>(feature)].axis : j;
+  }
+  /// Observation rows per reading: the valued coordinates, 3 orientation rows for a pose, 2 tilt
+  /// rows for a plane's flush contact.
+  int rowsPerReading() const {
+    return valuedPerFeature() + (measures_pose ? 3 : 0) + (plane.flush ? 2 : 0);
+  }
   /// N(r_j): the rigid-motion directions that move valued coordinates (docs/method.md section 1).
   int rigidDof() const { return static_cast<int>(rigidDirections().size()); }
   /// Indices into the full rigid motion (translation, rotation) that a placement estimates.
@@ -82,7 +103,9 @@ class Artifact {
   /// policy, docs/method.md section 5, "Real readings"): a rigid motion of the whole machine is
   /// then absorbed by the placement exactly, whatever the points. On consistent points the
   /// trailing columns move no valued coordinate (zero): gauges the reduction leaves out.
-  void fullRigidJacobian(const Eigen::VectorXd& W, Eigen::Ref<Eigen::MatrixXd> J) const;
+  /// `feature`: whose valued coordinates (valuedCoordinate; a plane face's normal axis).
+  void fullRigidJacobian(const Eigen::VectorXd& W, Eigen::Ref<Eigen::MatrixXd> J,
+                         int feature = 0) const;
   /// The full rigid motion (translation, rotation) for a step over fullRigidOrder().
   Eigen::VectorXd expandFullRigidStep(const Eigen::VectorXd& step) const;
   int systematicCount() const { return static_cast<int>(systematic.size()); }

@@ -10,6 +10,7 @@
 
 #include "artcal/artifact/artifact.hpp"
 #include "artcal/artifact/rigid_transform.hpp"
+#include "artcal/estimation/plane_rows.hpp"
 #include "artcal/plan/plan.hpp"
 
 namespace artcal {
@@ -95,6 +96,13 @@ class DesignMatrixBuilder {
   Eigen::MatrixXd J_x_p_, J_x_q_, J_w_p_, J_w_q_, J_valued_q_, J_r_;
   Eigen::Matrix3d R_tip_, orientation_factor_;
   Eigen::VectorXd W_;
+
+  PlaneRows plane_rows_;
+  PlaneRowsScratch plane_scratch_;
+  /// A plane reading's rows at `row` (plane_rows.hpp); returns the factor of their covariance.
+  Small planeReading(const Artifact& artifact, const Measurement& m, const Eigen::VectorXd& p,
+                     const RigidTransform& r, const Eigen::VectorXd& c, int row,
+                     bool with_residuals, ObservationBlock& block);
 
   void orientationRows(const Artifact& artifact, const Measurement& m, const RigidTransform& r,
                        int row, bool with_residuals, ObservationBlock& block);

@@ -35,6 +35,10 @@ struct Identifiability {
   /// When deficient: the calibrated parameters to fix (keep at nominal) so that the rest is
   /// identifiable with these placements (chooseIdentifiableSet in the plan's order).
   std::vector<std::string> to_fix;
+  /// The machine's change of scale (every calibrated length in proportion to its nominal value,
+  /// angles unchanged) keeps less than `tolerance` of its information: nothing in the plan fixes
+  /// a length (a single plane's touches: docs/planes.md). Never set when no length is calibrated.
+  bool no_length_scale = false;
   bool identifiable() const { return counting.satisfied && deficiency == 0; }
 };
 

@@ -1,0 +1,101 @@
+#include "artcal/estimation/plane_rows.hpp"
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <optional>
+
+namespace artcal {
+
+void planeRows(const Artifact& artifact, const Machine& machine, const Eigen::VectorXd& p,
+               const Measurement& m, const RigidTransform& r, const Eigen::VectorXd& c,
+               bool with_jacobians, PlaneRows& out, PlaneRowsScratch& s) {
+  const PlaneGeometry& plane = artifact.plane;
+  const PlaneFace& face = plane.faces.at(static_cast<std::size_t>(m.feature));
+  const int a = face.axis;
+  const int n_p = machine.calibratedCount();
+  const int n_r = artifact.fullRigidDof();
+  out.rows = plane.flush ? 3 : 1;
+  out.residual.resize(out.rows);
+  Eigen::MatrixXd* J_x_p = with_jacobians ? &s.J_x_p : nullptr;
+  Eigen::MatrixXd* J_x_q = with_jacobians ? &s.J_x_q : nullptr;
+  if (plane.flush) {
+    forwardPoseOrThrow(*machine.mechanism, p, m.joints, s.x, s.R_tip, J_x_p, J_x_q,
+                       with_jacobians ? &s.J_w_p : nullptr, with_jacobians ? &s.J_w_q : nullptr);
+  } else {
+    forwardOrThrow(*machine.mechanism, p, m.joints, s.x, J_x_p, J_x_q, m.stylus);
+  }
+  const Eigen::VectorXd W = r.apply(s.x);
+  // The distance row: the valued coordinate against the face's feature (its systematic error).
+  out.residual[0] = W[a] - artifact.feature(m.feature, c)[a];
+  Eigen::Vector3d u = Eigen::Vector3d::Zero(), v = Eigen::Vector3d::Zero();
+  const int b = (a + 1) % 3, bc = (a + 2) % 3;
+  if (plane.flush) {
+    u = s.R_tip * plane.tool_axis;  // machine frame
+    v = r.R * u;                    // artifact frame
+    out.residual[1] = v[b];
+    out.residual[2] = v[bc];
+  }
+  if (!with_jacobians) return;
+  out.J_p.resize(out.rows, n_p);
+  out.J_q.resize(out.rows, s.J_x_q.cols());
+  out.J_r.setZero(out.rows, n_r);
+  const Eigen::VectorXd R_a = r.R.row(a).transpose();
+  for (int j = 0; j < n_p; ++j) out.J_p(0, j) = R_a.dot(s.J_x_p.col(machine.calibrated[j]));
+  out.J_q.row(0).noalias() = R_a.transpose() * s.J_x_q;
+  artifact.fullRigidJacobian(W, out.J_r.topRows(1), m.feature);
+  if (!plane.flush) return;
+  // d(R z) = w x (R z) for a turn w of the tip frame: -[u]x w; then into the artifact frame.
+  Eigen::Matrix3d skew_u;
+  skew_u << 0, -u[2], u[1], u[2], 0, -u[0], -u[1], u[0], 0;
+  const Eigen::Matrix3d turn = -r.R * skew_u;  // dv/dw
+  Eigen::Matrix<double, 2, 3> tilt_rows;
+  tilt_rows.row(0) = turn.row(b);
+  tilt_rows.row(1) = turn.row(bc);
+  for (int j = 0; j < n_p; ++j)
+    out.J_p.block<2, 1>(1, j).noalias() = tilt_rows * s.J_w_p.col(machine.calibrated[j]);
+  out.J_q.bottomRows(2).noalias() = tilt_rows * s.J_w_q;
+  // A rigid step exp(delta) turns v by delta's rotation: dv/dw_i = e_i x v; translation: 0.
+  const std::vector<int>& order = artifact.fullRigidOrder();
+  for (std::size_t col = 0; col < order.size(); ++col) {
+    const int direction = order[col];
+    if (direction < 3) continue;
+    const Eigen::Vector3d column = Eigen::Vector3d::Unit(direction - 3).cross(v);
+    out.J_r(1, static_cast<int>(col)) = column[b];
+    out.J_r(2, static_cast<int>(col)) = column[bc];
+  }
+}
+
+std::optional<Eigen::VectorXd> touchPlane(const Artifact& artifact, const Machine& machine,
+                                          const Eigen::VectorXd& p, const Measurement& m,
+                                          const RigidTransform& r, const Eigen::VectorXd& c,
+                                          const Eigen::VectorXd& offsets) {
+  // The joint Jacobian of the rows does not depend on which parameters are calibrated: a
+  // machine with none calibrated gives J_q alone.
+  Machine joints_only = machine;
+  joints_only.calibrated.clear();
+  Measurement reading = m;
+  PlaneRows rows;
+  PlaneRowsScratch scratch;
+  // Steps of at most kLargestStep (rad or mm) per joint: a full Newton step from a tilted tool can
+  // swing the arm far round (and out of its limits) before it settles.
+  constexpr double kLargestStep = 0.1;
+  for (int iteration = 0; iteration < 200; ++iteration) {
+    planeRows(artifact, joints_only, p, reading, r, c, true, rows, scratch);
+    const Eigen::VectorXd e = rows.residual - offsets.head(rows.rows);
+    if (e.cwiseAbs().maxCoeff() < 1e-12) return reading.joints;
+    // Minimum-norm step: J_q^T (J_q J_q^T)^-1 e (the machine moves as little as it can).
+    const Eigen::MatrixXd JJt = rows.J_q * rows.J_q.transpose();
+    const Eigen::LDLT<Eigen::MatrixXd> ldlt(JJt);
+    if (ldlt.info() != Eigen::Success) return std::nullopt;
+    Eigen::VectorXd step = rows.J_q.transpose() * ldlt.solve(e);
+    if (!step.allFinite()) return std::nullopt;
+    const double largest = step.cwiseAbs().maxCoeff();
+    if (largest > kLargestStep) step *= kLargestStep / largest;
+    reading.joints -= step;
+  }
+  planeRows(artifact, joints_only, p, reading, r, c, false, rows, scratch);
+  if ((rows.residual - offsets.head(rows.rows)).cwiseAbs().maxCoeff() < 1e-9) return reading.joints;
+  return std::nullopt;
+}
+
+}  // namespace artcal
