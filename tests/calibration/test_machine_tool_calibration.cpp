@@ -10,6 +10,10 @@
 #include <random>
 
 #include "artcal/artcal.hpp"
+#include "artcal/calibration/calibrator.hpp"
+#include "artcal/calibration/confirmation.hpp"
+#include "artcal/calibration/simulation.hpp"
+#include "artcal/calibration/verification.hpp"
 #include "test_paths.hpp"
 
 namespace artcal {

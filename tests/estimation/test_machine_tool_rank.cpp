@@ -65,15 +65,6 @@ TEST(MachineToolRank, TrunnionSpheresHaveTheThreeDeficienciesOfConstruction) {
   EXPECT_FALSE(result.identifiable());
 }
 
-TEST(MachineToolRank, TheLengthCombinationIsTheirDifference) {
-  const Identifiability result = analyse(allListed("machine-tool-trunnion-2spheres.json"));
-  for (const Combination& c : result.unidentifiable) {
-    if (c.names.size() != 2 || c.names[1] != "L") continue;
-    // L - E_Z0A moves every probed centre alike: equal coefficients in the null vector.
-    EXPECT_NEAR(c.coefficients[0], c.coefficients[1], 1e-6);
-  }
-}
-
 // Head-table, by the same construction: E_C0C; the B pivot raised by dz with the tool shortened by
 // dz moves the tip by dz along Z in M whatever B (t = s + P z + c_B + R_B (q - c_B)), a vector
 // the sphere's position absorbs (C turns about Z): {E_Z0B, L}; the B pivot moved by dx along X
