@@ -10,7 +10,7 @@
 //   plan files         artcal/io/plan_file.hpp (loadPlan; no JSON types), artcal/core/error.hpp
 //   units              artcal/core/units.hpp (internal units mm and rad; file units mm and deg)
 //   models             artcal/model/machine.hpp, artcal/model/mechanism.hpp and one header per
-//                      family: planar2r, serial_dh, chain, hexapod, cartesian
+//                      family: planar2r, serial_dh, chain, hexapod, cartesian, machine_tool
 //   evaluate           artcal/estimation/evaluator.hpp (evaluatePlan, EvaluateOptions,
 //                      Evaluation, PlanEvaluator)
 //   optimize           artcal/planning/optimizer.hpp (optimizePlan, OptimizerOptions,
@@ -39,6 +39,7 @@
 #include "artcal/model/cartesian.hpp"
 #include "artcal/model/chain.hpp"
 #include "artcal/model/hexapod.hpp"
+#include "artcal/model/machine_tool.hpp"
 #include "artcal/model/machine.hpp"
 #include "artcal/model/mechanism.hpp"
 #include "artcal/model/planar2r.hpp"

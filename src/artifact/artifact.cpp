@@ -59,6 +59,15 @@ Artifact Artifact::instrument(std::string id, int dimension, double noise) {
   return a;
 }
 
+Artifact Artifact::sphere(std::string id) {
+  Artifact a;
+  a.id = std::move(id);
+  a.kind = ArtifactKind::Sphere;
+  a.dimension = 3;
+  a.features = Eigen::MatrixXd::Zero(3, 1);
+  return a;
+}
+
 int Artifact::appendFeature(const Eigen::VectorXd& point) {
   const int index = featureCount();
   features.conservativeResize(Eigen::NoChange, index + 1);
@@ -80,7 +89,8 @@ struct RigidOrders {
 const RigidOrders& rigidOrders(int dimension, ArtifactKind kind, PlaneShape shape) {
   static const RigidOrders all2{{0, 1, 2}, {0, 1, 2}}, gauge2{{0, 2, 1}, {0, 2}};
   static const RigidOrders all3{{0, 1, 2, 3, 4, 5}, {0, 1, 2, 3, 4, 5}},
-      bar3{{0, 1, 2, 4, 5, 3}, {0, 1, 2, 4, 5}}, gauge3{{0, 4, 5, 1, 2, 3}, {0, 4, 5}};
+      bar3{{0, 1, 2, 4, 5, 3}, {0, 1, 2, 4, 5}}, gauge3{{0, 4, 5, 1, 2, 3}, {0, 4, 5}},
+      sphere3{{0, 1, 2}, {0, 1, 2}};
   // Faces all normal to X (a plane, a gauge block) see what a step gauge's faces see: the
   // translation along X and the turns that tilt X; a cube corner's faces see every motion.
   if (kind == ArtifactKind::Plane) {
@@ -93,6 +103,8 @@ const RigidOrders& rigidOrders(int dimension, ArtifactKind kind, PlaneShape shap
       return bar3;
     case ArtifactKind::StepGauge:
       return gauge3;
+    case ArtifactKind::Sphere:
+      return sphere3;
     case ArtifactKind::BallPlate:
     case ArtifactKind::Instrument:
     case ArtifactKind::Plane:
@@ -153,7 +165,7 @@ void Artifact::fullRigidJacobian(const Eigen::VectorXd& W, Eigen::Ref<Eigen::Mat
 
 Eigen::VectorXd Artifact::expandFullRigidStep(const Eigen::VectorXd& step) const {
   const std::vector<int>& order = fullRigidOrder();
-  Eigen::VectorXd full = Eigen::VectorXd::Zero(fullRigidDof());
+  Eigen::VectorXd full = Eigen::VectorXd::Zero(dimension == 2 ? 3 : 6);
   for (std::size_t c = 0; c < order.size(); ++c) full[order[c]] = step[static_cast<int>(c)];
   return full;
 }

@@ -323,6 +323,17 @@ std::vector<RigidTransform> fitPlacements(const Plan& plan,
     const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
     std::set<int> distinct;
     for (const Measurement& m : placement.measurements) distinct.insert(m.feature);
+    if (artifact.translatesOnly() && !placement.measurements.empty()) {
+      // A sphere: the mean offset of the probed centres from its centre, no rotation.
+      const Eigen::MatrixXd machine_points = builder.probePositions(placement.measurements, p);
+      RigidTransform shift = RigidTransform::identity(artifact.dimension);
+      shift.t = -machine_points.rowwise().mean();
+      for (const Measurement& m : placement.measurements)
+        shift.t += readingTarget(artifact, m, Eigen::VectorXd()) /
+                   static_cast<double>(placement.measurements.size());
+      poses.push_back(shift);
+      continue;
+    }
     // A plane's touches lie anywhere on its faces: its placement starts from the plan's pose.
     if ((distinct.size() < 2 || artifact.kind == ArtifactKind::Plane) && placement.pose) {
       poses.push_back(poseTransform(plan.machine.dimension(), *placement.pose));

@@ -23,6 +23,7 @@ std::optional<ParameterCovariance> covarianceFromInformation(const Eigen::Matrix
   if (!cov.V.allFinite() || !(cov.V.diagonal().array() > 0.0).all()) return std::nullopt;
   cov.u = cov.V.diagonal().cwiseSqrt();
   cov.correlation = cov.u.cwiseInverse().asDiagonal() * cov.V * cov.u.cwiseInverse().asDiagonal();
+  cov.confounding = cov.u.cwiseProduct(diagonal.cwiseSqrt());
   return cov;
 }
 

@@ -5,6 +5,7 @@
 #include "artcal/io/cartesian_codec.hpp"
 #include "artcal/io/chain_codec.hpp"
 #include "artcal/io/hexapod_codec.hpp"
+#include "artcal/io/machine_tool_codec.hpp"
 #include "artcal/io/planar2r_codec.hpp"
 #include "artcal/io/serial_dh_codec.hpp"
 
@@ -14,6 +15,7 @@ const std::vector<ModelCodec>& modelCodecs() {
   // The registry: one line per family (model_registry.hpp says how to add one).
   static const std::vector<ModelCodec> codecs = {
       planar2rCodec(), serialDhCodec(), hexapodCodec(), cartesianCodec(), chainCodec(),
+      machineToolCodec(),
   };
   return codecs;
 }

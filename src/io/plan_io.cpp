@@ -265,8 +265,15 @@ Artifact parseArtifact(const std::string& id, const Node& node, const Machine& m
     }
     return Artifact::stepGauge(id, dimension, values, optionalUncertainty(node, "u"));
   }
+  if (type == "sphere") {
+    // A sphere on a machine tool's table (five-axis.md): its probed centre, position unknown.
+    node.warnUnknown({"type", "diameter"}, warnings);
+    if (dimension != 3) typeNode.fail("a sphere needs a 3-D machine");
+    if (const auto diameter = node.find("diameter")) diameter->positive();
+    return Artifact::sphere(id);
+  }
   typeNode.fail("unknown artifact type \"" + type +
-                "\" (expected ball_bar, ball_plate, step_gauge, instrument or plane)");
+                "\" (expected ball_bar, ball_plate, step_gauge, instrument, plane or sphere)");
 }
 
 Pose parsePose(const Node& node, int dimension, std::vector<std::string>& warnings) {

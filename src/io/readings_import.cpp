@@ -1000,7 +1000,7 @@ ImportedPlan importReadings(const ReadingsImport& import) {
               {"artifacts", artifacts},
               {"placements", placements}};
   out.source = source;
-<<<<<<< HEAD
+  out.warnings = unreadCsvFiles(dir, placements, plan_folder);
   if (!ignored.empty()) {
     std::set<std::string> distinct(ignored.begin(), ignored.end());
     std::string names;
@@ -1008,17 +1008,9 @@ ImportedPlan importReadings(const ReadingsImport& import) {
     out.warnings.push_back("columns not read (not a joint of the machine nor the marker's): " +
                            names);
   }
-  if (!out.plan["machine"].contains("joint_limits")) return out;
-  if (!import.keep_limits) {
-    for (std::string& w : widenJointLimits(out.plan, out.source, plan_folder))
-      out.warnings.push_back(std::move(w));
-  }
-=======
-  out.warnings = unreadCsvFiles(dir, placements, plan_folder);
   if (!out.plan["machine"].contains("joint_limits") || import.keep_limits) return out;
   for (std::string& warning : widenJointLimits(out.plan, out.source, plan_folder))
     out.warnings.push_back(std::move(warning));
->>>>>>> wt-harden
   return out;
 }
 

@@ -1,4 +1,5 @@
 #include "artcal/report/calibration_report.hpp"
+#include "artcal/report/location_errors.hpp"
 #include "artcal/report/text_format.hpp"
 
 #include <algorithm>
@@ -280,6 +281,11 @@ json calibrationToJson(const Plan& plan, const std::vector<Placement>& placement
     parameters.push_back(p);
   }
   out["parameters"] = parameters;
+  if (machine.mechanism->hasLocationErrors() && calibration.covariance) {
+    out["location_errors"] =
+        locationErrorsToJson(plan, *calibration.covariance, &calibration.parameters);
+    out["controller_table"] = controllerTableToJson(plan, calibration.parameters);
+  }
   json systematic = json::array();
   const std::vector<int> offsets = systematicOffsets(plan);
   for (std::size_t a = 0; a < plan.artifacts.size(); ++a) {
@@ -390,6 +396,10 @@ std::string calibrationTable(const Plan& plan, const std::vector<Placement>& pla
                   16)
         << padded(numberOrDash("%.3g", u), 14) << padded(numberOrDash("%.3g", up), 15) << "  "
         << unitName(info.quantity) << "\n";
+  }
+  if (machine.mechanism->hasLocationErrors() && calibration.covariance) {
+    out << locationErrorTable(plan, *calibration.covariance, &calibration.parameters);
+    out << controllerTable(plan, calibration.parameters);
   }
   if (calibration.systematic.size() > 0) {
     out << "\nartifact systematic errors (estimate, prior u, mm):\n";

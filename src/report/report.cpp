@@ -1,4 +1,5 @@
 #include "artcal/report/report.hpp"
+#include "artcal/report/location_errors.hpp"
 #include "artcal/report/text_format.hpp"
 
 #include <cmath>
@@ -108,6 +109,8 @@ json evaluationToJson(const Plan& plan, const Evaluation& ev) {
     parameters.push_back(p);
   }
   out["parameters"] = parameters;
+  if (ev.covariance && machine.mechanism->hasLocationErrors())
+    out["location_errors"] = locationErrorsToJson(plan, *ev.covariance, nullptr);
   if (ev.covariance) {
     const Eigen::MatrixXd& corr = ev.covariance->correlation;
     json rows = json::array();
@@ -289,6 +292,8 @@ std::string evaluationTable(const Plan& plan, const Evaluation& ev) {
                   std::string(unitName(info.quantity)).c_str(),
                   uncertaintyText(info.quantity, ev.covariance->u[k]).c_str());
   }
+  if (machine.mechanism->hasLocationErrors())
+    out << locationErrorTable(plan, *ev.covariance, nullptr);
   if (ev.tip) {
     const TipSummary& tip = *ev.tip;
     out << format("\nTip uncertainty over %zu workspace configurations (um)\n",

@@ -25,6 +25,7 @@ set(allowed
     "include/artcal/acceptance/plan_acceptance.hpp|artcal/estimation/evaluation_result.hpp"
     "include/artcal/report/cartesian_report.hpp|artcal/estimation/cartesian_answers.hpp"
     "include/artcal/report/html_report.hpp|artcal/estimation/evaluation_result.hpp"
+    "include/artcal/report/location_errors.hpp|artcal/estimation/evaluation_result.hpp"
     "include/artcal/report/html_report.hpp|artcal/planning/procedure_result.hpp"
     "include/artcal/report/procedure.hpp|artcal/planning/procedure_result.hpp"
     "include/artcal/report/report.hpp|artcal/estimation/evaluation_result.hpp"

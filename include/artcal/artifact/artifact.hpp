@@ -18,16 +18,19 @@ namespace artcal {
 /// in its own frame (all coordinates valued, N(r_j) = 6 as for a ball plate).
 /// Plane: one or more flat faces of known relative geometry touched by the tip (docs/planes.md,
 /// artifact/plane.hpp); each face is a feature whose one valued coordinate is along its normal.
-enum class ArtifactKind { BallBar, BallPlate, StepGauge, Instrument, Plane };
+/// Sphere: a sphere fixed on a machine tool's table, its probed centre read (five-axis.md); one
+/// feature whose position only the placement's 3 translations absorb.
+enum class ArtifactKind { BallBar, BallPlate, StepGauge, Instrument, Plane, Sphere };
 
 /// The names of the plan format's artifact "type".
-inline constexpr EnumNames<ArtifactKind, 5> kArtifactKindNames{
+inline constexpr EnumNames<ArtifactKind, 6> kArtifactKindNames{
     {{ArtifactKind::BallBar, "ball_bar"},
      {ArtifactKind::BallPlate, "ball_plate"},
      {ArtifactKind::StepGauge, "step_gauge"},
      {ArtifactKind::Instrument, "instrument"},
-     {ArtifactKind::Plane, "plane"}}};
-/// "ball_bar", "ball_plate", "step_gauge", "instrument", "plane".
+     {ArtifactKind::Plane, "plane"},
+     {ArtifactKind::Sphere, "sphere"}}};
+/// "ball_bar", "ball_plate", "step_gauge", "instrument", "plane", "sphere".
 std::string artifactKindName(ArtifactKind kind);
 
 /// One systematic error of an artifact: moves coordinate `coordinate` of feature `feature` by c,
@@ -68,6 +71,8 @@ class Artifact {
   /// moves its second face along its normal.
   static Artifact planeArtifact(std::string id, int dimension, PlaneGeometry geometry,
                                 double flatness, double u_tilt, double u_length);
+  /// A sphere on a machine tool's table (3-D): one feature at its centre, the origin.
+  static Artifact sphere(std::string id);
   /// Appends a measured point (an instrument's reading) as a feature; returns its index.
   int appendFeature(const Eigen::VectorXd& point);
 
@@ -94,7 +99,10 @@ class Artifact {
   /// The full rigid motion (translation, rotation) for a step in the estimated directions.
   Eigen::VectorXd expandRigidStep(const Eigen::VectorXd& step) const;
   /// Size of the full rigid motion: 3 in 2-D (tx, ty, rz), 6 in 3-D (tx, ty, tz, wx, wy, wz).
-  int fullRigidDof() const { return dimension == 2 ? 3 : 6; }
+  /// A sphere's 3 translations only (its centre is all a probing sees).
+  int fullRigidDof() const { return static_cast<int>(fullRigidOrder().size()); }
+  /// True when the placement is its translations only (a sphere): no rotation to fit or step.
+  bool translatesOnly() const { return fullRigidDof() == dimension; }
   /// The full rigid motion's directions, the estimated ones (rigidDirections()) first, then the
   /// ones the table leaves out (a 3-D ball bar's roll; a step gauge's motions across its axis).
   const std::vector<int>& fullRigidOrder() const;

@@ -42,6 +42,10 @@ struct ParameterCovariance {
   Eigen::MatrixXd V;  ///< internal units
   Eigen::VectorXd u;  ///< sqrt(diag V), internal units
   Eigen::MatrixXd correlation;
+  /// The confounding index F_k = u_k / u_k(alone), u_k(alone) = 1 / sqrt(N_red[k, k]) (the
+  /// parameter's u with every other calibrated one held): >= 1, 1 = as well determined as if it
+  /// were the only unknown (docs/five-axis.md).
+  Eigen::VectorXd confounding;
 };
 
 struct Evaluation {

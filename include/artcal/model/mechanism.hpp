@@ -131,6 +131,10 @@ class Mechanism {
   /// estimation/error_functions.hpp and the ISO 10360-2 length test ask for it; null for the
   /// others.
   virtual const AxisErrorFunctions* axisErrorFunctions() const { return nullptr; }
+  /// The parameters are the ISO 230-7 location errors of a machine tool's axes, named
+  /// E_<error>0<axis> (E_X0C, E_A0C, ...; docs/five-axis.md): evaluate and calibrate add the
+  /// engineer's table (u in urad / um, the confounding index, the controller table).
+  virtual bool hasLocationErrors() const { return false; }
   /// Points to draw the mechanism by, from its base to the probe (e.g. joint-frame origins),
   /// each of dimension(); empty when the model is not drawn (the report then draws the probe
   /// positions only).

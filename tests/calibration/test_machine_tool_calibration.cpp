@@ -1,0 +1,117 @@
+// Five-axis sphere probing end to end (docs/five-axis.md): a trunnion machine off nominal by
+// typical location errors (10-50 um, 10-50 urad) is recovered by calibrate within 3 u, confirm
+// confirms the plan's prediction, and verify on held-out probings (two other spheres, other rotary
+// positions) agrees with the predicted spread over Monte-Carlo runs with fixed seeds.
+
+#include <gtest/gtest.h>
+
+#include <Eigen/LU>
+#include <cmath>
+#include <random>
+
+#include "artcal/artcal.hpp"
+#include "artcal/calibration/calibrator.hpp"
+#include "artcal/calibration/confirmation.hpp"
+#include "artcal/calibration/simulation.hpp"
+#include "artcal/calibration/verification.hpp"
+#include "test_paths.hpp"
+
+namespace artcal {
+namespace machine_tool_calibration_test {
+
+Plan trunnionPlan() {
+  return loadPlan(test_support::planFile("machine-tool-trunnion-2spheres.json"));
+}
+
+// Positions 10-50 um, angles 10-50 urad, random signs, on every calibrated parameter; E_C0C (a
+// turn the spheres' positions absorb) off too: it must not disturb the rest.
+Eigen::VectorXd typicalTruth(const Machine& machine, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> size(10.0, 50.0);
+  Eigen::VectorXd truth = machine.nominal;
+  for (int k : machine.calibrated) {
+    const bool angle = machine.mechanism->parameters()[k].quantity == Quantity::Angle;
+    const double sign = (rng() & 1) ? 1.0 : -1.0;
+    truth[k] += sign * size(rng) * (angle ? 1e-6 : 1e-3);
+  }
+  truth[machine.mechanism->parameterIndex("E_C0C")] = 40e-6;
+  return truth;
+}
+
+TEST(MachineToolCalibration, RecoversTypicalLocationErrorsWithinThreeU) {
+  const Plan plan = trunnionPlan();
+  const Machine& machine = plan.machine;
+  ASSERT_EQ(machine.calibratedCount(), 11);  // 14 less E_A0C, E_C0C, L (check's verdict)
+  const Eigen::VectorXd truth = typicalTruth(machine, 5);
+  const Simulator simulator(plan);
+  NormalSource normal(17);
+  const SimulatedRun run = simulator.simulate(truth, normal);
+  Calibrator calibrator(plan, CalibrationOptions{});
+  const Calibration result = calibrator.run(run.placements);
+  ASSERT_TRUE(result.summary.converged());
+  ASSERT_TRUE(result.covariance.has_value());
+  const Eigen::VectorXd estimate = result.estimate(machine);
+  const Eigen::VectorXd expected = machine.calibratedValues(truth);
+  for (int k = 0; k < machine.calibratedCount(); ++k) {
+    EXPECT_LE(std::abs(estimate[k] - expected[k]), 3.0 * result.covariance->u[k])
+        << machine.calibratedInfo(k).name;
+  }
+  // Jointly (chi-square with 11 degrees of freedom in the metric of V_p: mean 11, sd 4.7); the
+  // nominal machine is far outside it, so the test can fail.
+  const Eigen::MatrixXd information = result.covariance->V.inverse();
+  const auto mahalanobis = [&](const Eigen::VectorXd& e) { return e.dot(information * e); };
+  EXPECT_LT(mahalanobis(estimate - expected), 11.0 + 4.0 * std::sqrt(22.0));
+  EXPECT_GT(mahalanobis(machine.calibratedValues(machine.nominal) - expected), 1000.0);
+  EXPECT_LT(result.chi2_per_dof, 2.0);
+  // F_k >= 1 (a parameter is never better determined than alone).
+  for (int k = 0; k < machine.calibratedCount(); ++k)
+    EXPECT_GE(result.covariance->confounding[k], 1.0 - 1e-9);
+}
+
+TEST(MachineToolCalibration, ConfirmConfirmsThePrediction) {
+  ConfirmationOptions options;
+  options.trials = 120;
+  options.seed = 4;
+  options.threads = 1;
+  const Confirmation confirmation = confirmPlan(trunnionPlan(), options);
+  EXPECT_TRUE(confirmation.confirmed);
+}
+
+// Held-out probings: 30 Monte-Carlo runs (seeded) of calibrate on the plan and verify on the
+// held-out readings of the same simulated machine. The mean squared observed spread over the mean
+// squared predicted one is 1 up to sampling (each run's spread has 16 probings, 2 spheres); a
+// nominal machine's spread is an order of magnitude larger, so the check can fail.
+TEST(MachineToolCalibration, VerifyOnHeldOutProbingsAgreesWithThePredictedSpread) {
+  const Plan plan = trunnionPlan();
+  const Plan held_out = loadPlan(test_support::testDataFile("machine-tool-trunnion-held-out.json"));
+  const Machine& machine = plan.machine;
+  const Simulator simulator(plan), held_simulator(held_out);
+  double observed2 = 0.0, predicted2 = 0.0, nominal2 = 0.0;
+  const int runs = 30;
+  for (int run = 0; run < runs; ++run) {
+    const Eigen::VectorXd truth = typicalTruth(machine, 100 + static_cast<std::uint64_t>(run));
+    NormalSource normal(200 + static_cast<std::uint64_t>(run));
+    const SimulatedRun readings = simulator.simulate(truth, normal);
+    Calibrator calibrator(plan, CalibrationOptions{});
+    const Calibration result = calibrator.run(readings.placements);
+    ASSERT_TRUE(result.summary.converged());
+    ASSERT_TRUE(result.covariance.has_value());
+    Plan held = held_out;
+    held.placements = held_simulator.simulate(truth, normal).placements;
+    ParameterUncertainty uncertainty;
+    uncertainty.indices = machine.calibrated;
+    uncertainty.V = result.covariance->V;
+    const Verification verified = verifyMachine(held, result.parameters, uncertainty);
+    observed2 += verified.spread_rms * verified.spread_rms;
+    predicted2 += verified.predicted_spread_rms * verified.predicted_spread_rms;
+    if (const auto nominal = verifyNominal(held))
+      nominal2 += nominal->spread_rms * nominal->spread_rms;
+  }
+  const double ratio = std::sqrt(observed2 / predicted2);
+  EXPECT_GT(ratio, 0.8);
+  EXPECT_LT(ratio, 1.2);
+  EXPECT_GT(std::sqrt(nominal2 / predicted2), 5.0);
+}
+
+}  // namespace machine_tool_calibration_test
+}  // namespace artcal
