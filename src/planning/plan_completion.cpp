@@ -23,8 +23,9 @@ std::vector<std::vector<std::vector<Measurement>>> plannedReadings(const Plan& p
     const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
     const Eigen::MatrixXd features = placedFeatures(artifact, *placement.pose);
     for (const PostureRequest& request : placement.posture_requests) {
-      std::vector<Measurement> readings = featureReadings(
-          reading_machine, request.feature, features.col(request.feature), request.postures, rng);
+      std::vector<Measurement> readings =
+          featureReadings(reading_machine, request.feature, features.col(request.feature),
+                          request.postures, rng, request.stylus);
       if (static_cast<int>(readings.size()) < request.postures) {
         throw InputError(plan.source, request.pointer,
                          "only " + std::to_string(readings.size()) + " of " +
