@@ -23,12 +23,13 @@ inline std::string humanoidUrdf() {
 
 struct TipPlanOptions {
   int placements_per_tip = 4;
-  int postures = 3;                ///< readings per ball
-  double bar = 100.0;              ///< ball bar length, mm
-  std::vector<int> tips_read;      ///< the tips that read (empty: all)
-  bool shared_placements = false;  ///< every tip reads every placement (else one tip each)
+  int postures = 3;                 ///< readings per ball
+  double bar = 100.0;               ///< ball bar length, mm
+  std::vector<int> tips_read = {};  ///< the tips that read (empty: all)
+  bool shared_placements = false;   ///< every tip reads every placement (else one tip each)
   std::uint64_t seed = 7;
-  Eigen::VectorXd truth;  ///< the machine the readings are solved on (empty: nominal)
+  Eigen::VectorXd truth =
+      Eigen::VectorXd();  ///< the machine the readings are solved on (empty: nominal)
 };
 
 /// A plan for `machine` (a chain block from importUrdf, "calibrate" set by the caller): ball
