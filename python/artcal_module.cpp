@@ -775,9 +775,9 @@ PYBIND11_MODULE(_native, m) {
         py::arg("require_placements") = true);
   m.def(
       "import_urdf",
-      [](const std::string& path, const std::string& base, const std::string& tip) {
+      [](const std::string& path, const std::string& base, const std::vector<std::string>& tips) {
         artcal::python::noteInput(path);
-        return toPython(artcal::importUrdf(path, base, tip));
+        return toPython(artcal::importUrdf(path, base, tips));
       },
       py::arg("path"), py::arg("base"), py::arg("tip"));
   py::class_<OptimizeKnobs>(m, "_OptimizeKnobs")

@@ -2,6 +2,8 @@
 // section 1).
 
 #include <iostream>
+#include <string>
+#include <vector>
 
 #include "artcal/io/calibrated_urdf.hpp"
 #include "artcal/io/plan_io.hpp"
@@ -13,7 +15,8 @@ namespace artcal::cli {
 namespace {
 
 struct ImportArguments {
-  std::string urdf, base, tip, output = kStandardOutput;
+  std::string urdf, base, output = kStandardOutput;
+  std::vector<std::string> tips;
 };
 
 void addImportCommand(CLI::App& app, Action& action) {
@@ -23,13 +26,18 @@ void addImportCommand(CLI::App& app, Action& action) {
       "the machine block (model chain, mm and deg) of the joints from a base link to a tip link");
   cmd->add_option("URDF", args->urdf, "robot description (URDF, metres and radians)")->required();
   cmd->add_option("--base", args->base, "link the chain starts from")->required();
-  cmd->add_option("--tip", args->tip, "link whose origin is the probe centre")->required();
+  cmd->add_option("--tip", args->tips,
+                  "link whose origin is the probe centre; repeated: one machine with several tips "
+                  "sharing joints (docs/urdf.md)")
+      ->required()
+      ->expected(1)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   cmd->add_option("-o,--output", args->output, "machine file to write (- for stdout)")
       ->capture_default_str();
   cmd->callback([&action, args] {
     action = [args] {
       checkOutputPath(args->output);
-      writeJsonOutput(args->output, importUrdf(args->urdf, args->base, args->tip));
+      writeJsonOutput(args->output, importUrdf(args->urdf, args->base, args->tips));
       return 0;
     };
   });

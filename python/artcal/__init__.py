@@ -12,7 +12,7 @@ from __future__ import annotations
 import copy
 import os
 import warnings
-from typing import Any, Callable, Mapping, Optional, Union
+from typing import Any, Callable, Mapping, Optional, Sequence, Union
 
 import numpy as np
 
@@ -427,9 +427,11 @@ def load_plan(path: PathLike, *, require_placements: bool = True) -> Plan:
     return Plan(path, require_placements=require_placements)
 
 
-def import_urdf(path: PathLike, base: str, tip: str) -> dict[str, Any]:
-    """``artcal import-urdf URDF --base BASE --tip TIP``: the machine block (mm, deg)."""
-    return _native.import_urdf(os.fspath(path), base, tip)
+def import_urdf(path: PathLike, base: str, tip: Union[str, Sequence[str]]) -> dict[str, Any]:
+    """``artcal import-urdf URDF --base BASE --tip TIP [--tip TIP2 ...]``: the machine block
+    (mm, deg); several tips give one machine whose shared joints appear once (docs/urdf.md)."""
+    tips = [tip] if isinstance(tip, str) else list(tip)
+    return _native.import_urdf(os.fspath(path), base, tips)
 
 
 def _machine_arg(machine: Any) -> Any:

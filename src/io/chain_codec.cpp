@@ -2,6 +2,7 @@
 
 #include "artcal/io/model_registry.hpp"
 
+#include <map>
 #include <memory>
 #include <set>
 
@@ -59,8 +60,63 @@ ChainMimic readMimic(const Node& joint, ChainJointType type, std::vector<std::st
   return out;
 }
 
+// "reversed": true (a joint traversed from its URDF child to its parent); false when absent.
+bool readReversed(const Node& joint) {
+  const auto reversed = joint.find("reversed");
+  if (!reversed) return false;
+  if (!reversed->value().is_boolean()) reversed->fail("expected true or false");
+  return reversed->value().get<bool>();
+}
+
+// "tips": [{"name": N, "joints": [joint names from the base]}, ...] (docs/urdf.md); none: one
+// tip through every joint.
+std::vector<ChainTip> readTips(const Node& machine, const std::vector<ChainJoint>& chain,
+                               std::vector<std::string>& warnings) {
+  std::vector<ChainTip> tips;
+  const auto list = machine.find("tips");
+  if (!list) return tips;
+  std::map<std::string, int> index;
+  for (std::size_t i = 0; i < chain.size(); ++i) index[chain[i].name] = static_cast<int>(i);
+  std::vector<bool> used(chain.size(), false);
+  std::set<std::string> names;
+  const std::size_t n = list->arraySize(1, static_cast<std::size_t>(Chain::kMaxJoints));
+  for (std::size_t t = 0; t < n; ++t) {
+    const Node tip = (*list)[t];
+    tip.object();
+    tip.warnUnknown({"name", "joints"}, warnings);
+    ChainTip entry;
+    const Node name = tip.at("name");
+    entry.name = name.string();
+    if (entry.name.empty()) name.fail("a tip name must not be empty");
+    if (!names.insert(entry.name).second) name.fail("tip name \"" + entry.name + "\" used twice");
+    const Node joints = tip.at("joints");
+    const std::size_t m = joints.arraySize(1, chain.size());
+    std::set<int> on_path;
+    for (std::size_t j = 0; j < m; ++j) {
+      const Node joint = joints[j];
+      const std::string joint_name = joint.string();
+      const auto found = index.find(joint_name);
+      if (found == index.end()) joint.fail("no joint named \"" + joint_name + "\" in /joints");
+      if (!on_path.insert(found->second).second) {
+        joint.fail("joint \"" + joint_name + "\" twice on this tip's path");
+      }
+      used[static_cast<std::size_t>(found->second)] = true;
+      entry.joints.push_back(found->second);
+    }
+    tips.push_back(std::move(entry));
+  }
+  for (std::size_t i = 0; i < chain.size(); ++i) {
+    if (!used[i]) {
+      list->fail("joint \"" + chain[i].name +
+                 "\" is on no tip's path (its parameters would move no tip): add it to a tip or "
+                 "remove it from /joints");
+    }
+  }
+  return tips;
+}
+
 MachineBlock readChain(const Node& machine, std::vector<std::string>& warnings) {
-  machine.warnUnknown({"joints"}, warnings);
+  machine.warnUnknown({"joints", "tips"}, warnings);
   const Node joints = machine.at("joints");
   const std::size_t n = joints.arraySize(1, Chain::kMaxJoints);
   std::vector<ChainJoint> chain;
@@ -69,7 +125,7 @@ MachineBlock readChain(const Node& machine, std::vector<std::string>& warnings) 
   for (std::size_t i = 0; i < n; ++i) {
     const Node joint = joints[i];
     joint.object();
-    joint.warnUnknown({"name", "type", "origin", "axis", "offset", "mimic"}, warnings);
+    joint.warnUnknown({"name", "type", "origin", "axis", "offset", "mimic", "reversed"}, warnings);
     const Node name = joint.at("name");
     ChainJoint entry{name.string(), readJointType(joint), Eigen::Vector3d::UnitZ()};
     if (entry.name.empty()) name.fail("a joint name must not be empty");
@@ -77,6 +133,7 @@ MachineBlock readChain(const Node& machine, std::vector<std::string>& warnings) 
     if (Chain::isMovable(entry.type)) entry.axis = readAxis(joint);
     readOriginAndOffset(joint, entry.type, values, warnings);
     if (joint.has("mimic")) entry.mimic = readMimic(joint, entry.type, warnings);
+    entry.reversed = readReversed(joint);
     chain.push_back(std::move(entry));
   }
   if (const auto problem = Chain::mimicProblem(chain)) {
@@ -86,9 +143,10 @@ MachineBlock readChain(const Node& machine, std::vector<std::string>& warnings) 
          : mimic.at("joint"))
         .fail(problem->message);
   }
+  std::vector<ChainTip> tips = readTips(machine, chain, warnings);
   MachineBlock block;
   block.nominal = Eigen::Map<Eigen::VectorXd>(values.data(), static_cast<int>(values.size()));
-  block.mechanism = std::make_shared<Chain>(std::move(chain));
+  block.mechanism = std::make_shared<Chain>(std::move(chain), std::move(tips));
   return block;
 }
 
@@ -118,9 +176,18 @@ void writeChain(const Mechanism& mechanism, const Eigen::VectorXd& parameters,
                         {"multiplier", joint.mimic->multiplier},
                         {"offset", offset}};
     }
+    if (joint.reversed) entry["reversed"] = true;
     joints.push_back(entry);
   }
   out["joints"] = joints;
+  if (!chain.namesTips()) return;
+  nlohmann::json tips = nlohmann::json::array();
+  for (const ChainTip& tip : chain.tips()) {
+    nlohmann::json path = nlohmann::json::array();
+    for (const int j : tip.joints) path.push_back(chain.joints()[static_cast<std::size_t>(j)].name);
+    tips.push_back({{"name", tip.name}, {"joints", path}});
+  }
+  out["tips"] = tips;
 }
 
 }  // namespace

@@ -452,11 +452,13 @@ void checkCsvReadingsInAll(const Node& placements, const Plan& plan, CsvFiles& f
 /// A measurement entry {"feature", "csv", "unit", "exclude_rows"}: one measurement per row of
 /// the CSV file, which is relative to the plan file (docs/models.md section 7), but the rows
 /// excluded.
+int readStylus(const Node& entry, const Mechanism& mech);
 void appendCsvMeasurements(const Node& entry, const Plan& plan, const Artifact& artifact,
                            CsvFiles& files, bool explicit_limits, int entry_index,
                            std::vector<Measurement>& out, std::vector<std::string>& warnings) {
-  entry.warnUnknown({"feature", "csv", "unit", "columns", "exclude_rows"}, warnings);
+  entry.warnUnknown({"feature", "csv", "unit", "columns", "exclude_rows", "tip"}, warnings);
   const int feature = static_cast<int>(entry.at("feature").integer(0, artifact.featureCount() - 1));
+  const int stylus = readStylus(entry, *plan.machine.mechanism);
   const Node csv = entry.at("csv");
   const std::filesystem::path relative = csvRelativePath(entry);
   const CsvFiles::Parsed& parsed = csvRowsOf(entry, plan, files);
@@ -476,7 +478,7 @@ void appendCsvMeasurements(const Node& entry, const Plan& plan, const Artifact& 
         throw InputError(file, where, violation->second);
     }
     Eigen::VectorXd x;
-    const ForwardStatus status = mech.forwardStylus(0, plan.machine.nominal, rows[r], x);
+    const ForwardStatus status = mech.forwardStylus(stylus, plan.machine.nominal, rows[r], x);
     if (status != ForwardStatus::Ok) throw InputError(file, where, forwardStatusName(status));
     if (out.size() >= kMaxMeasurements)
       csv.fail("more than " + std::to_string(kMaxMeasurements) + " readings in one placement");
@@ -486,18 +488,40 @@ void appendCsvMeasurements(const Node& entry, const Plan& plan, const Artifact& 
     measurement.csv = relative.string();
     measurement.csv_row = static_cast<int>(row);
     measurement.entry = entry_index;
+    measurement.stylus = stylus;
     out.push_back(std::move(measurement));
   }
+}
+
+/// The stylus a reading entry chooses: "tip" (a name of mech.stylusNames(), a chain's tips) or
+/// "stylus" (an index); 0 when it names none.
+int readStylus(const Node& entry, const Mechanism& mech) {
+  const auto tip = entry.find("tip");
+  if (!tip) {
+    const auto stylus = entry.find("stylus");
+    return stylus ? static_cast<int>(stylus->integer(0, mech.stylusCount() - 1)) : 0;
+  }
+  if (entry.has("stylus")) entry.at("stylus").fail("give \"tip\" or \"stylus\", not both");
+  const std::vector<std::string> names = mech.stylusNames();
+  const std::string name = tip->string();
+  std::string known;
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    if (names[i] == name) return static_cast<int>(i);
+    known += (i ? ", \"" : "\"") + names[i] + "\"";
+  }
+  tip->fail(names.empty() ? "the machine names no tips (its \"tips\", docs/urdf.md)"
+                          : "no tip named \"" + name + "\" (the machine's tips: " + known + ")");
 }
 
 /// A measurement entry {"feature": k, "postures": N}: N readings of feature k to be planned from
 /// the placement's pose by `artcal plan --complete` (docs/plan-format.md); a plan to be run
 /// needs them planned first.
 PostureRequest parsePostureRequest(const Node& entry, const Artifact& artifact,
-                                   const Placement& placement, bool require_measurements,
-                                   std::vector<std::string>& warnings) {
-  entry.warnUnknown({"feature", "postures"}, warnings);
+                                   const Placement& placement, const Mechanism& mech,
+                                   bool require_measurements, std::vector<std::string>& warnings) {
+  entry.warnUnknown({"feature", "postures", "tip"}, warnings);
   PostureRequest request;
+  if (entry.has("tip")) request.stylus = readStylus(entry, mech);
   request.feature = static_cast<int>(entry.at("feature").integer(0, artifact.featureCount() - 1));
   request.postures = static_cast<int>(entry.at("postures").integer(1, kMaxPosturesPerRequest));
   request.pointer = entry.pointer();
@@ -583,19 +607,17 @@ Placement parsePlacement(const Node& node, Plan& plan, CsvFiles& csv_files,
     }
     if (m.has("postures")) {
       placement.posture_requests.push_back(
-          parsePostureRequest(m, art, placement, require_measurements, warnings));
+          parsePostureRequest(m, art, placement, mech, require_measurements, warnings));
       continue;
     }
-    m.warnUnknown({"feature", "joints", "stylus"}, warnings);
+    m.warnUnknown({"feature", "joints", "stylus", "tip"}, warnings);
     Measurement measurement;
     measurement.entry = static_cast<int>(i);
     measurement.feature = static_cast<int>(m.at("feature").integer(0, art.featureCount() - 1));
     measurement.joints = jointsFromFile(
         mech, m.at("joints").finiteNumbers(static_cast<std::size_t>(mech.jointCount())));
     if (explicit_limits) checkWithinJointLimits(m.at("joints"), plan.machine, measurement.joints);
-    if (const auto stylus = m.find("stylus")) {
-      measurement.stylus = static_cast<int>(stylus->integer(0, mech.stylusCount() - 1));
-    }
+    measurement.stylus = readStylus(m, mech);
     // A closed chain's forward kinematics is numerical: a reading it cannot solve at nominal is
     // bad input, named here (docs/models.md section 3), not a failure deep in the estimation.
     Eigen::VectorXd x;
@@ -992,7 +1014,12 @@ nlohmann::json placementsToJson(const Plan& plan) {
         continue;
       }
       json entry = {{"feature", m.feature}, {"joints", joints}};
-      if (m.stylus != 0) entry["stylus"] = m.stylus;
+      if (const std::vector<std::string> tips = plan.machine.mechanism->stylusNames();
+          !tips.empty()) {
+        entry["tip"] = tips[static_cast<std::size_t>(m.stylus)];
+      } else if (m.stylus != 0) {
+        entry["stylus"] = m.stylus;
+      }
       measurements.push_back(entry);
     }
     p["measurements"] = measurements;

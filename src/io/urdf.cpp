@@ -250,32 +250,54 @@ tinyxml2::XMLElement* jointElement(const UrdfDocument& doc, const std::string& n
   return it == doc.joint_elements.end() ? nullptr : it->second;
 }
 
-// The joints from `base` down to `tip`, in chain order.
-std::vector<urdf::JointConstSharedPtr> chainJoints(const UrdfDocument& doc, const std::string& base,
-                                                   const std::string& tip) {
+// One joint of a path through the URDF tree: reversed when the path runs it from its child link
+// up to its parent.
+struct PathJoint {
+  urdf::JointConstSharedPtr joint;
+  bool reversed = false;
+};
+
+// The joints above `link` up to the root, nearest first.
+std::vector<urdf::JointConstSharedPtr> jointsAbove(const UrdfDocument& doc,
+                                                   const std::string& link_name) {
+  std::vector<urdf::JointConstSharedPtr> joints;
+  for (urdf::LinkConstSharedPtr link = doc.model->getLink(link_name); link && link->parent_joint;
+       link = doc.model->getLink(link->parent_joint->parent_link_name)) {
+    if (joints.size() > doc.model->joints_.size()) {
+      doc.fail(nullptr, "the links above \"" + link_name + "\" form a loop: a URDF is a tree");
+    }
+    joints.push_back(link->parent_joint);
+  }
+  return joints;
+}
+
+// The joints from `base` to `tip` in chain order: up from `base` to the links' common ancestor
+// (each joint reversed: child to parent), then down to `tip` (a tip below the base: down only).
+std::vector<PathJoint> chainJoints(const UrdfDocument& doc, const std::string& base,
+                                   const std::string& tip) {
   for (const std::string& link : {base, tip}) {
     if (!doc.model->getLink(link)) {
       doc.fail(nullptr, "no link named \"" + link + "\" (check --base and --tip)");
     }
   }
-  std::vector<urdf::JointConstSharedPtr> joints;
-  for (urdf::LinkConstSharedPtr link = doc.model->getLink(tip); link->name != base;) {
-    if (joints.size() > doc.model->joints_.size()) {
-      doc.fail(nullptr, "the links above \"" + tip + "\" form a loop: a URDF is a tree");
-    }
-    if (!link || !link->parent_joint) {
-      doc.fail(nullptr,
-               "link \"" + base + "\" is not above link \"" + tip + "\" (check --base and --tip)");
-    }
-    joints.push_back(link->parent_joint);
-    link = doc.model->getLink(link->parent_joint->parent_link_name);
+  std::vector<urdf::JointConstSharedPtr> up = jointsAbove(doc, base);
+  std::vector<urdf::JointConstSharedPtr> down = jointsAbove(doc, tip);
+  // Drop the joints both walks share (above the common ancestor), from the root down.
+  while (!up.empty() && !down.empty() && up.back() == down.back()) {
+    up.pop_back();
+    down.pop_back();
   }
-  if (joints.empty()) doc.fail(nullptr, "--base and --tip name the same link: no joints between");
-  if (joints.size() > static_cast<std::size_t>(Chain::kMaxJoints)) {
+  if (up.empty() && down.empty()) {
+    doc.fail(nullptr, "--base and --tip name the same link: no joints between");
+  }
+  if (up.size() + down.size() > static_cast<std::size_t>(Chain::kMaxJoints)) {
     doc.fail(nullptr,
              "more than " + std::to_string(Chain::kMaxJoints) + " joints from base to tip");
   }
-  return {joints.rbegin(), joints.rend()};
+  std::vector<PathJoint> path;
+  for (const urdf::JointConstSharedPtr& joint : up) path.push_back({joint, true});
+  for (auto it = down.rbegin(); it != down.rend(); ++it) path.push_back({*it, false});
+  return path;
 }
 
 const char* chainTypeName(const UrdfDocument& doc, const urdf::Joint& joint) {
@@ -448,13 +470,37 @@ bool sameCoupling(const ChainJoint& joint, const urdf::Joint& urdf_joint) {
 }  // namespace
 
 json importUrdf(const std::string& urdf_path, const std::string& base, const std::string& tip) {
+  return importUrdf(urdf_path, base, std::vector<std::string>{tip});
+}
+
+json importUrdf(const std::string& urdf_path, const std::string& base,
+                const std::vector<std::string>& tips) {
   UrdfDocument doc;
   loadUrdf(urdf_path, doc);
+  if (tips.empty()) doc.fail(nullptr, "no --tip: name the link whose origin is the probe");
+  // Every tip's path; the joints once each, in the order the paths first reach them.
+  std::vector<PathJoint> chain;
+  std::map<std::string, bool> direction;  // joint -> reversed
+  json tip_list = json::array();
+  for (const std::string& tip : tips) {
+    json path = json::array();
+    for (const PathJoint& step : chainJoints(doc, base, tip)) {
+      path.push_back(step.joint->name);
+      if (direction.emplace(step.joint->name, step.reversed).second) chain.push_back(step);
+    }
+    for (const json& other : tip_list) {
+      if (other["name"] == tip) doc.fail(nullptr, "--tip \"" + tip + "\" given twice");
+    }
+    tip_list.push_back({{"name", tip}, {"joints", path}});
+  }
+  if (chain.size() > static_cast<std::size_t>(Chain::kMaxJoints)) {
+    doc.fail(nullptr, "more than " + std::to_string(Chain::kMaxJoints) + " joints to the tips");
+  }
   json joints = json::array(), limits = json::array();
-  const std::vector<urdf::JointConstSharedPtr> chain = chainJoints(doc, base, tip);
   std::set<std::string> on_chain, masters_read;
-  for (const urdf::JointConstSharedPtr& joint : chain) on_chain.insert(joint->name);
-  for (const urdf::JointConstSharedPtr& joint : chain) {
+  for (const PathJoint& step : chain) on_chain.insert(step.joint->name);
+  for (const PathJoint& step : chain) {
+    const urdf::JointConstSharedPtr& joint = step.joint;
     const tinyxml2::XMLElement* element = jointElement(doc, joint->name);
     if (!element) doc.fail(nullptr, "joint \"" + joint->name + "\" not found in the XML");
     const OriginValues origin = readOrigin(doc, element);
@@ -478,9 +524,11 @@ json importUrdf(const std::string& urdf_path, const std::string& base, const std
     } else if (joint->type != urdf::Joint::FIXED) {
       limits.push_back(jointLimits(doc, *joint));
     }
+    if (step.reversed) entry["reversed"] = true;
     joints.push_back(entry);
   }
   json machine = {{"model", "chain"}, {"joints", joints}};
+  if (tips.size() > 1) machine["tips"] = tip_list;
   if (!limits.empty()) machine["joint_limits"] = limits;
   machine["calibrate"] = "identifiable";
   return machine;
@@ -504,22 +552,57 @@ Eigen::VectorXd urdfNominal(const Chain& chain, const Eigen::VectorXd& p,
   return nominal;
 }
 
+namespace {
+
+// Each tip's joints must follow one another through the URDF tree as the machine runs them (a
+// reversed joint from its child link to its parent): else the exported origins would not give
+// the machine's forward kinematics.
+void checkPaths(const Chain& chain, const UrdfDocument& doc, const std::string& machine_source,
+                const std::string& urdf_path) {
+  const auto ends = [&](int i) {
+    const ChainJoint& joint = chain.joints()[static_cast<std::size_t>(i)];
+    const urdf::JointConstSharedPtr u = doc.model->getJoint(joint.name);
+    return joint.reversed ? std::pair{u->child_link_name, u->parent_link_name}
+                          : std::pair{u->parent_link_name, u->child_link_name};
+  };
+  for (std::size_t t = 0; t < chain.tips().size(); ++t) {
+    const std::vector<int>& path = chain.tips()[t].joints;
+    for (std::size_t j = 1; j < path.size(); ++j) {
+      const auto [from, to] = ends(path[j - 1]);
+      const auto [next_from, next_to] = ends(path[j]);
+      if (to == next_from) continue;
+      const std::string& name = chain.joints()[static_cast<std::size_t>(path[j])].name;
+      const std::string where = chain.namesTips()
+                                    ? "/tips/" + std::to_string(t) + "/joints/" + std::to_string(j)
+                                    : "/joints/" + std::to_string(path[j]);
+      throw InputError(machine_source, where,
+                       "joint \"" + name + "\" starts from link \"" + next_from + "\" in " +
+                           urdf_path + ", not from link \"" + to +
+                           "\" where the joint before it ends (the machine's joints are not a "
+                           "path of the URDF tree: export to the URDF the machine was imported "
+                           "from)");
+    }
+  }
+}
+
+}  // namespace
+
 std::string exportUrdf(const Chain& chain, const Eigen::VectorXd& p, const std::string& urdf_path,
                        const std::string& machine_source) {
   UrdfDocument doc;
   loadUrdf(urdf_path, doc);
-  // What each joint's origin is premultiplied by: the offset of the movable joint above it.
+  // Each chain joint's origin, then what each joint's origin is premultiplied by: the offset of
+  // the movable joint above it (a reversed joint's offset stays on its own origin).
+  const int n = static_cast<int>(chain.joints().size());
+  std::vector<Eigen::Isometry3d> origins;
   std::map<std::string, Eigen::Isometry3d> folds;
-  std::map<std::string, bool> in_chain;
-  std::set<std::string> written;
-  for (int i = 0; i < static_cast<int>(chain.joints().size()); ++i) {
+  std::set<std::string> in_chain;
+  for (int i = 0; i < n; ++i) {
     const ChainJoint& joint = chain.joints()[static_cast<std::size_t>(i)];
-    in_chain[joint.name] = true;
-    written.insert(joint.name);
+    in_chain.insert(joint.name);
     const urdf::JointConstSharedPtr urdf_joint = doc.model->getJoint(joint.name);
-    tinyxml2::XMLElement* element = jointElement(doc, joint.name);
     const std::string where = "/joints/" + std::to_string(i);
-    if (!urdf_joint || !element) {
+    if (!urdf_joint || !jointElement(doc, joint.name)) {
       throw InputError(machine_source, where,
                        "joint \"" + joint.name + "\" is not in " + urdf_path +
                            " (export to the URDF the machine was imported from)");
@@ -534,35 +617,37 @@ std::string exportUrdf(const Chain& chain, const Eigen::VectorXd& p, const std::
                        "joint \"" + joint.name + "\" has another type in " + urdf_path);
     }
     const int k = chain.parameterOffset(i);
-    Eigen::Isometry3d T = originTransform(p.segment<3>(k), p.segment<3>(k + 3));
-    if (const auto fold = folds.find(joint.name); fold != folds.end()) T = fold->second * T;
-    writeOrigin(doc, element, T, p.segment<3>(k + 3));
+    origins.push_back(originTransform(p.segment<3>(k), p.segment<3>(k + 3)));
     if (!Chain::isMovable(joint.type) || p[k + 6] == 0.0) continue;
-    // M(q + d) = M(q) M(d): M(d) moves to the front of every origin below this joint.
+    // M(q + d) = M(q) M(d) = M(d) M(q).
     Eigen::Isometry3d M = Eigen::Isometry3d::Identity();
     if (joint.type == ChainJointType::Revolute) {
       M.linear() = axisAngleMatrix(joint.axis, p[k + 6]);
     } else {
       M.translation() = joint.axis * p[k + 6];
     }
+    if (joint.reversed) {
+      // Traversed upward, T(q + d)^-1 = (Trans Rot M(d) M(q))^-1: M(d) joins the joint's own
+      // origin, exactly, whatever hangs from its child link (the chain's base, a sole, often
+      // nothing).
+      origins.back() = origins.back() * M;
+      continue;
+    }
+    // Downward, M(d) moves to the front of every origin below this joint.
     const urdf::LinkConstSharedPtr child = doc.model->getLink(urdf_joint->child_link_name);
     if (!child || child->child_joints.empty()) {
       throw InputError(machine_source, where,
                        "joint \"" + joint.name +
                            "\" has an offset but no joint below it in the URDF to fold it into");
     }
-    for (const urdf::JointSharedPtr& below : child->child_joints) {
-      // An origin already written (the machine lists its joints in another order than the
-      // URDF's tree) cannot take the offset any more: refused, never dropped.
-      if (written.count(below->name) || folds.count(below->name)) {
-        throw InputError(
-            machine_source, where,
-            "joint \"" + joint.name + "\": its offset cannot be folded into joint \"" +
-                below->name + "\" of " + urdf_path +
-                " (the machine's joints are not in the URDF's order from base to tip)");
-      }
-      folds[below->name] = M;
-    }
+    for (const urdf::JointSharedPtr& below : child->child_joints) folds[below->name] = M;
+  }
+  checkPaths(chain, doc, machine_source, urdf_path);
+  for (int i = 0; i < n; ++i) {
+    const ChainJoint& joint = chain.joints()[static_cast<std::size_t>(i)];
+    Eigen::Isometry3d T = origins[static_cast<std::size_t>(i)];
+    if (const auto fold = folds.find(joint.name); fold != folds.end()) T = fold->second * T;
+    writeOrigin(doc, jointElement(doc, joint.name), T, p.segment<3>(chain.parameterOffset(i) + 3));
   }
   // Joints off the chain that hang from a link with a folded offset (e.g. a gripper's fingers).
   for (const auto& [name, M] : folds) {

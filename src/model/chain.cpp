@@ -68,7 +68,8 @@ Eigen::Matrix3d axisAngleMatrix(const Eigen::Vector3d& axis, double angle) {
   return Eigen::AngleAxisd(angle, axis).toRotationMatrix();
 }
 
-Chain::Chain(std::vector<ChainJoint> joints) : joints_(std::move(joints)) {
+Chain::Chain(std::vector<ChainJoint> joints, std::vector<ChainTip> tips)
+    : joints_(std::move(joints)), tips_(std::move(tips)) {
   if (joints_.empty()) throw std::invalid_argument("chain: no joints");
   if (joints_.size() > static_cast<std::size_t>(kMaxJoints)) {
     throw std::invalid_argument("chain: at most " + std::to_string(kMaxJoints) + " joints");
@@ -94,6 +95,42 @@ Chain::Chain(std::vector<ChainJoint> joints) : joints_(std::move(joints)) {
   }
   resolveReadings();
   parameters_ = chainParameters(joints_);
+  checkTips();
+}
+
+// No tips: one through every joint. Named tips: distinct non-empty names, each a non-empty path
+// of distinct joints, every joint on some path (else its parameters would move nothing).
+void Chain::checkTips() {
+  named_tips_ = !tips_.empty();
+  if (tips_.empty()) {
+    ChainTip all;
+    for (int i = 0; i < static_cast<int>(joints_.size()); ++i) all.joints.push_back(i);
+    tips_.push_back(std::move(all));
+    return;
+  }
+  std::set<std::string> names;
+  std::vector<bool> used(joints_.size(), false);
+  for (const ChainTip& tip : tips_) {
+    if (tip.name.empty()) throw std::invalid_argument("chain: a tip without a name");
+    if (!names.insert(tip.name).second) {
+      throw std::invalid_argument("chain: tip name \"" + tip.name + "\" used twice");
+    }
+    if (tip.joints.empty())
+      throw std::invalid_argument("chain: tip \"" + tip.name + "\" has no joints");
+    std::set<int> on_path;
+    for (const int j : tip.joints) {
+      if (j < 0 || j >= static_cast<int>(joints_.size()) || !on_path.insert(j).second) {
+        throw std::invalid_argument("chain: tip \"" + tip.name +
+                                    "\" names a joint twice or one that does not exist");
+      }
+      used[static_cast<std::size_t>(j)] = true;
+    }
+  }
+  for (std::size_t i = 0; i < joints_.size(); ++i) {
+    if (!used[i]) {
+      throw std::invalid_argument("chain: joint \"" + joints_[i].name + "\" is on no tip's path");
+    }
+  }
 }
 
 std::optional<ChainMimicProblem> Chain::mimicProblem(const std::vector<ChainJoint>& joints) {
@@ -194,19 +231,46 @@ JointKind Chain::jointKind(int joint) const {
 //   dx/dq_r = sum over the joints i driven by reading r of scale_i dx/doffset_i (a mimic's
 //   multiplier; 1 for the driving joint itself).
 // Rotation columns hold their world axis until the tip is known, then the cross product.
+//
+// A reversed joint contributes M(-v) Rx(-roll) Ry(-pitch) Rz(-yaw) Trans(-xyz): its rotations turn
+// about the point o_i reached after M (a prismatic M moves it), each column with its world axis
+// negated, and its translation columns are -R after its turns.
 ForwardStatus Chain::forward(const Eigen::VectorXd& p, const Eigen::VectorXd& q, Eigen::VectorXd& x,
                              Eigen::MatrixXd* J_x_p, Eigen::MatrixXd* J_x_q) const {
   Eigen::Matrix3d R;
-  return forwardPose(p, q, x, R, J_x_p, J_x_q);
+  return forwardTipPose(0, p, q, x, R, J_x_p, J_x_q);
 }
 
-// The angular Jacobians are the world axes of forward()'s rotation columns (yaw, pitch, roll,
-// a revolute offset) before their cross product; translations do not turn the tip frame.
+std::vector<std::string> Chain::stylusNames() const {
+  std::vector<std::string> names;
+  if (named_tips_)
+    for (const ChainTip& tip : tips_) names.push_back(tip.name);
+  return names;
+}
+
+ForwardStatus Chain::forwardStylus(int stylus, const Eigen::VectorXd& p, const Eigen::VectorXd& q,
+                                   Eigen::VectorXd& x, Eigen::MatrixXd* J_x_p,
+                                   Eigen::MatrixXd* J_x_q) const {
+  Eigen::Matrix3d R;
+  return forwardTipPose(stylus, p, q, x, R, J_x_p, J_x_q);
+}
+
 ForwardStatus Chain::forwardPose(const Eigen::VectorXd& p, const Eigen::VectorXd& q,
                                  Eigen::VectorXd& x, Eigen::Matrix3d& R, Eigen::MatrixXd* J_x_p,
                                  Eigen::MatrixXd* J_x_q, Eigen::MatrixXd* J_w_p,
                                  Eigen::MatrixXd* J_w_q) const {
+  return forwardTipPose(0, p, q, x, R, J_x_p, J_x_q, J_w_p, J_w_q);
+}
+
+// The angular Jacobians are the world axes of forward()'s rotation columns (yaw, pitch, roll,
+// a revolute offset) before their cross product; translations do not turn the tip frame.
+ForwardStatus Chain::forwardTipPose(int tip, const Eigen::VectorXd& p, const Eigen::VectorXd& q,
+                                    Eigen::VectorXd& x, Eigen::Matrix3d& R, Eigen::MatrixXd* J_x_p,
+                                    Eigen::MatrixXd* J_x_q, Eigen::MatrixXd* J_w_p,
+                                    Eigen::MatrixXd* J_w_q) const {
+  const std::vector<int>& path = tips_.at(static_cast<std::size_t>(tip)).joints;
   const int n = static_cast<int>(joints_.size());
+  const bool whole = static_cast<int>(path.size()) == n;  // every column is written
   R = Eigen::Matrix3d::Identity();
   Eigen::Vector3d o = Eigen::Vector3d::Zero();
   ChainColumns pivots(3, n), joint_axes(3, n);
@@ -215,11 +279,35 @@ ForwardStatus Chain::forwardPose(const Eigen::VectorXd& p, const Eigen::VectorXd
   std::optional<Jacobian> Jp;
   if (J_x_p) {
     J_x_p->resize(3, parameterCount());
+    if (!whole) J_x_p->setZero();
     Jp.emplace(J_x_p->data(), 3, parameterCount());
   }
-  for (int i = 0; i < n; ++i) {
+  for (const int i : path) {
     const ChainJoint& joint = joints_[i];
     const int k = offsets_[i];
+    if (joint.reversed) {
+      if (isMovable(joint.type)) {
+        const double value = jointValue(i, p, q);
+        const Eigen::Vector3d axis = R * joint.axis;
+        joint_axes.col(i) = -axis;
+        if (Jp) Jp->col(k + 6) = -axis;
+        if (joint.type == ChainJointType::Revolute) {
+          R = R * axisAngleMatrix(joint.axis, -value);
+        } else {
+          o -= axis * value;
+        }
+      }
+      pivots.col(i) = o;
+      if (Jp) Jp->col(k + 3) = -R.col(0);
+      turnAboutX(R, -p[k + 3]);
+      if (Jp) Jp->col(k + 4) = -R.col(1);
+      turnAboutY(R, -p[k + 4]);
+      if (Jp) Jp->col(k + 5) = -R.col(2);
+      turnAboutZ(R, -p[k + 5]);
+      if (Jp) Jp->middleCols<3>(k) = -R;
+      o -= R * p.segment<3>(k);
+      continue;
+    }
     if (Jp) Jp->middleCols<3>(k) = R;
     o += R * p.segment<3>(k);
     pivots.col(i) = o;
@@ -245,7 +333,7 @@ ForwardStatus Chain::forwardPose(const Eigen::VectorXd& p, const Eigen::VectorXd
   if (J_w_p) {
     J_w_p->setZero(3, parameterCount());
     Jacobian Jw(J_w_p->data(), 3, parameterCount());
-    for (int i = 0; i < n; ++i) {
+    for (const int i : path) {
       const int k = offsets_[i];
       Jw.middleCols<3>(k + 3) = Jp->middleCols<3>(k + 3);
       if (joints_[i].type == ChainJointType::Revolute) Jw.col(k + 6) = Jp->col(k + 6);
@@ -254,14 +342,14 @@ ForwardStatus Chain::forwardPose(const Eigen::VectorXd& p, const Eigen::VectorXd
   if (J_w_q) {
     J_w_q->setZero(3, jointCount());
     Jacobian Jw(J_w_q->data(), 3, jointCount());
-    for (int i = 0; i < n; ++i) {
+    for (const int i : path) {
       if (joints_[i].type != ChainJointType::Revolute) continue;
       const Coupling& c = couplings_[static_cast<std::size_t>(i)];
       Jw.col(c.reading) += c.scale * joint_axes.col(i);
     }
   }
   if (Jp) {
-    for (int i = 0; i < n; ++i) {
+    for (const int i : path) {
       const int k = offsets_[i];
       for (int c = k + 3; c < k + 6; ++c)
         Jp->col(c) = tipColumn(true, Jp->col(c), pivots.col(i), o);
@@ -273,7 +361,7 @@ ForwardStatus Chain::forwardPose(const Eigen::VectorXd& p, const Eigen::VectorXd
   if (J_x_q) {
     J_x_q->setZero(3, jointCount());
     Jacobian Jq(J_x_q->data(), 3, jointCount());
-    for (int i = 0; i < n; ++i) {
+    for (const int i : path) {
       const ChainJointType type = joints_[i].type;
       if (!isMovable(type)) continue;
       const Coupling& c = couplings_[static_cast<std::size_t>(i)];
@@ -290,16 +378,29 @@ std::vector<Eigen::VectorXd> Chain::skeleton(const Eigen::VectorXd& p,
   Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
   Eigen::Vector3d o = Eigen::Vector3d::Zero();
   std::vector<Eigen::VectorXd> points{o};
-  for (std::size_t i = 0; i < joints_.size(); ++i) {
-    const ChainJoint& joint = joints_[i];
-    const int k = offsets_[i];
+  for (const int i : tips_.front().joints) {
+    const ChainJoint& joint = joints_[static_cast<std::size_t>(i)];
+    const int k = offsets_[static_cast<std::size_t>(i)];
+    if (joint.reversed) {
+      if (joint.type == ChainJointType::Revolute) {
+        R = R * axisAngleMatrix(joint.axis, -jointValue(i, p, q));
+      } else if (joint.type == ChainJointType::Prismatic) {
+        o -= R * joint.axis * jointValue(i, p, q);
+      }
+      turnAboutX(R, -p[k + 3]);
+      turnAboutY(R, -p[k + 4]);
+      turnAboutZ(R, -p[k + 5]);
+      o -= R * p.segment<3>(k);
+      points.push_back(o);
+      continue;
+    }
     o += R * p.segment<3>(k);
     points.push_back(o);
     turnAboutZ(R, p[k + 5]);
     turnAboutY(R, p[k + 4]);
     turnAboutX(R, p[k + 3]);
     if (!isMovable(joint.type)) continue;
-    const double value = jointValue(static_cast<int>(i), p, q);
+    const double value = jointValue(i, p, q);
     if (joint.type == ChainJointType::Revolute) {
       R = R * axisAngleMatrix(joint.axis, value);
     } else {

@@ -196,7 +196,16 @@ std::vector<Measurement> stylusPostures(const Machine& machine, int feature,
 
 std::vector<Measurement> featureReadings(const Machine& reading_machine, int feature,
                                          const Eigen::VectorXd& target, int count,
-                                         std::mt19937_64& rng) {
+                                         std::mt19937_64& rng, int stylus) {
+  if (stylus >= 0) {
+    IkOptions options;
+    options.stylus = stylus;
+    std::vector<Measurement> out;
+    for (Eigen::VectorXd& q :
+         posturesFor(reading_machine, reading_machine.nominal, target, count, rng, options))
+      out.push_back({feature, std::move(q), stylus});
+    return out;
+  }
   if (reading_machine.mechanism->stylusCount() > 1)
     return stylusPostures(reading_machine, feature, target, count);
   std::vector<Measurement> out;

@@ -30,7 +30,7 @@ std::vector<std::vector<std::vector<Measurement>>> plannedReadings(const Plan& p
                              poseTransform(machine.dimension(), *placement.pose), request.feature,
                              request.postures, rng)
               : featureReadings(reading_machine, request.feature, features.col(request.feature),
-                                request.postures, rng);
+                                request.postures, rng, request.stylus);
       if (static_cast<int>(readings.size()) < request.postures) {
         throw InputError(plan.source, request.pointer,
                          "only " + std::to_string(readings.size()) + " of " +

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <numbers>
 #include <random>
+#include <tuple>
 
 #include "artcal/io/chain_codec.hpp"
 #include "artcal/io/plan_io.hpp"
@@ -229,6 +230,135 @@ TEST(UrdfExport, NominalMachineReproducesTheInputOrigins) {
 
 // ---- the command line
 
+// Chains that run against the URDF tree (docs/urdf.md): a chain imported from a link up to a
+// common ancestor and down again equals, to 1e-12 mm, the same chain written downward by hand:
+// the two downward chains from the ancestor, imported the ordinary way, composed here as
+// T(ancestor -> base)^-1 T(ancestor -> tip) with Eigen's inverse, at the same (perturbed)
+// parameters, mapped by name, and the same readings.
+const std::string kHumanoidUrdf = kData + "/urdf/humanoid-small.urdf";
+
+Eigen::Isometry3d poseOf(const Chain& chain, const Eigen::VectorXd& p, const Eigen::VectorXd& q) {
+  Eigen::VectorXd x;
+  Eigen::Matrix3d R;
+  EXPECT_EQ(chain.forwardPose(p, q, x, R), ForwardStatus::Ok);
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = R;
+  T.translation() = x;
+  return T;
+}
+
+// `from`'s parameters and readings copied by name into `to`'s (every name must be found).
+Eigen::VectorXd byName(const Chain& from, const Eigen::VectorXd& values, const Chain& to,
+                       const Eigen::VectorXd& to_values, bool readings) {
+  Eigen::VectorXd out = to_values;
+  const int n = readings ? to.jointCount() : to.parameterCount();
+  for (int i = 0; i < n; ++i) {
+    int k = -1;
+    if (readings) {
+      for (int r = 0; r < from.jointCount(); ++r)
+        if (from.readings()[static_cast<std::size_t>(r)].name ==
+            to.readings()[static_cast<std::size_t>(i)].name)
+          k = r;
+    } else {
+      k = from.parameterIndex(to.parameters()[static_cast<std::size_t>(i)].name);
+    }
+    EXPECT_GE(k, 0) << i;
+    if (k >= 0) out[i] = values[k];
+  }
+  return out;
+}
+
+// The largest distance (mm) between the imported chain `base` -> `tip` and the hand-written
+// T(ancestor -> base)^-1 T(ancestor -> tip), over seeded readings and parameters moved by up
+// to `size` (mm, rad; offsets included).
+double upwardChainAgainstHand(const std::string& urdf, const std::string& ancestor,
+                              const std::string& base, const std::string& tip_link, double size,
+                              std::uint64_t seed) {
+  const MachineBlock up = readMachine(importUrdf(urdf, base, tip_link));
+  const MachineBlock to_base = readMachine(importUrdf(urdf, ancestor, base));
+  const bool tip_is_ancestor = tip_link == ancestor;
+  const MachineBlock to_tip =
+      tip_is_ancestor ? to_base : readMachine(importUrdf(urdf, ancestor, tip_link));
+  double worst = 0.0;
+  for (int c = 0; c < 10; ++c) {
+    const Eigen::VectorXd p = calibrated(up, size, seed + c);
+    const Eigen::VectorXd q = randomVector(chainOf(up).jointCount(), seed + 100 + c, 2.5);
+    const auto hand = [&](const MachineBlock& down) {
+      return poseOf(chainOf(down), byName(chainOf(up), p, chainOf(down), down.nominal, false),
+                    byName(chainOf(up), q, chainOf(down),
+                           Eigen::VectorXd::Zero(chainOf(down).jointCount()), true));
+    };
+    const Eigen::Isometry3d expected =
+        hand(to_base).inverse() * (tip_is_ancestor ? Eigen::Isometry3d::Identity() : hand(to_tip));
+    worst = std::max(worst, (tip(chainOf(up), p, q) - expected.translation()).norm());
+  }
+  return worst;
+}
+
+TEST(UrdfTree, AChainUpTheTreeEqualsTheInverseWrittenByHand) {
+  // The humanoid standing on its left sole, to its left gripper: six leg joints and the sole's
+  // fixed joint run upward (roll, pitch and yaw in their origins), then torso and arm downward.
+  const nlohmann::json machine =
+      importUrdf(kHumanoidUrdf, "left_sole_link", "gripper_left_base_link");
+  ASSERT_EQ(machine["joints"].size(), 14u);
+  EXPECT_EQ(machine["joints"][0]["name"], "left_sole_joint");
+  EXPECT_EQ(machine["joints"][0]["reversed"], true);
+  EXPECT_EQ(machine["joints"][6]["name"], "leg_left_1_joint");
+  EXPECT_EQ(machine["joints"][6]["reversed"], true);
+  EXPECT_FALSE(machine["joints"][7].contains("reversed"));  // torso_1_joint, downward
+  // The readings are the URDF's joint values, in chain order (leg from the ankle up).
+  EXPECT_EQ(chainOf(readMachine(machine)).readings().front().name, "leg_left_6_joint");
+  EXPECT_LT(upwardChainAgainstHand(kHumanoidUrdf, "base_link", "left_sole_link",
+                                   "gripper_left_base_link", 0.0, 1),
+            1e-12);
+  EXPECT_LT(upwardChainAgainstHand(kHumanoidUrdf, "base_link", "left_sole_link",
+                                   "gripper_left_base_link", 0.05, 2),
+            1e-12);
+  // From one sole to the other: up one leg, down the other.
+  EXPECT_LT(upwardChainAgainstHand(kHumanoidUrdf, "base_link", "left_sole_link", "right_sole_link",
+                                   0.05, 3),
+            1e-12);
+  // A reversed prismatic joint and a reversed continuous one with a gimbal-locked origin: the
+  // small arm from its finger up to the world (all upward), and across to its probe.
+  EXPECT_LT(upwardChainAgainstHand(kSmallUrdf, "world", "finger", "world", 0.05, 4), 1e-12);
+  EXPECT_LT(upwardChainAgainstHand(kSmallUrdf, "probe_mount", "finger", "probe", 0.05, 5), 1e-12);
+}
+
+TEST(UrdfTree, ExportOfAnUpwardChainRoundTripsItsCorrections) {
+  // Every origin and every offset moved, those of upward joints included: export writes each
+  // correction onto the URDF's own joint (an upward joint's offset into its own origin, even the
+  // first one's, whose child link is the base and carries no joint), and the file imported again
+  // has the calibrated machine's forward kinematics.
+  for (const auto& [urdf, base, tip_link] :
+       {std::tuple{kHumanoidUrdf, "left_sole_link", "gripper_left_base_link"},
+        std::tuple{kSmallUrdf, "finger", "world"}, std::tuple{kSmallUrdf, "finger", "probe"}}) {
+    SCOPED_TRACE(base + std::string(" -> ") + tip_link);
+    const MachineBlock block = readMachine(importUrdf(urdf, base, tip_link));
+    for (const std::uint64_t seed : {50u, 60u}) {
+      const Eigen::VectorXd p = calibrated(block, seed == 50u ? 0.02 : 0.5, seed);
+      const std::string out = temporaryPath("tree-roundtrip");
+      writeText(out, exportUrdf(chainOf(block), p, urdf, "machine"));
+      const MachineBlock again = readMachine(importUrdf(out, base, tip_link));
+      std::filesystem::remove(out);
+      EXPECT_LT(largestTipDifference(chainOf(block), p, chainOf(again), again.nominal, seed),
+                1e-12);
+    }
+  }
+}
+
+TEST(UrdfTree, ExportRefusesAMachineWhoseJointsAreNotAPathOfTheTree) {
+  nlohmann::json machine = importUrdf(kHumanoidUrdf, "left_sole_link", "gripper_left_base_link");
+  machine["joints"][3]["reversed"] = false;  // leg_left_4_joint run downward: no path
+  const MachineBlock block = readMachine(machine);
+  try {
+    (void)exportUrdf(chainOf(block), block.nominal, kHumanoidUrdf, "cal.json");
+    ADD_FAILURE() << "exported";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("not a path of the URDF tree"), std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(UrdfCli, ImportWritesAMachineTheExportReadsBack) {
   const std::string machine = temporaryPath("machine") + ".json";
   const std::string out = temporaryPath("cli-export");
@@ -286,8 +416,9 @@ TEST(UrdfCli, BadUrdfIsOneLineAndExitStatus2) {
   std::filesystem::remove(broken);
   expectOneLineError("import-urdf " + kSmallUrdf + " --base world --tip nowhere", kSmallUrdf,
                      "no link named \"nowhere\"");
-  expectOneLineError("import-urdf " + kSmallUrdf + " --base probe --tip world", kSmallUrdf,
-                     "is not above");
+  // A tip not below the base is reached up the tree (UrdfTree tests); the same link is refused.
+  expectOneLineError("import-urdf " + kSmallUrdf + " --base probe --tip probe", kSmallUrdf,
+                     "the same link");
   expectOneLineError("import-urdf /nonexistent.urdf --base a --tip b", "/nonexistent.urdf",
                      "cannot read");
 }

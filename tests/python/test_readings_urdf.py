@@ -165,3 +165,17 @@ def test_export_urdf_never_replaces_its_input(tmp_path):
     with pytest.raises(artcal.InputError) as raised:
         artcal.export_urdf(MACHINE, urdf, output=urdf)
     assert str(raised.value) == expected
+
+
+def test_import_urdf_with_several_tips_equals_cli():
+    # One machine, both arms of the test humanoid from its left sole (docs/urdf.md): the shared
+    # leg and torso joints once, each tip's path named; the same document as the command's.
+    humanoid = "tests/data/urdf/humanoid-small.urdf"
+    tips = ["gripper_left_base_link", "gripper_right_base_link"]
+    machine = artcal.import_urdf(humanoid, "left_sole_link", tips)
+    assert machine == cli_json("import-urdf", humanoid, "--base", "left_sole_link",
+                               "--tip", tips[0], "--tip", tips[1])
+    assert len(machine["joints"]) == 19
+    assert [t["name"] for t in machine["tips"]] == tips
+    assert machine["joints"][0] == {**machine["joints"][0], "reversed": True}
+    assert "tips" not in artcal.import_urdf(humanoid, "left_sole_link", tips[0])

@@ -1,7 +1,8 @@
 #pragma once
 // URDF import and export of the `chain` model (docs/models.md section 1).
 //
-// Import: the chain of joints from a base link to a tip link, parsed with urdfdom (the model:
+// Import: the chain of joints from a base link to a tip link (up the tree to their common
+// ancestor, each joint there "reversed", then down), parsed with urdfdom (the model:
 // links, joints, types, axes, limits); the <origin> values are read from the file's own text with
 // tinyxml2 (urdfdom keeps origins as quaternions, and back to roll-pitch-yaw loses digits near
 // pitch = +-90 deg). Metres and radians become mm and degrees; joint_limits come from <limit>
@@ -25,6 +26,7 @@
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "artcal/model/chain.hpp"
 
@@ -34,6 +36,11 @@ namespace artcal {
 /// of the chain from link `base` to link `tip` of the URDF file at `urdf_path`.
 nlohmann::json importUrdf(const std::string& urdf_path, const std::string& base,
                           const std::string& tip);
+/// The machine block of several tips sharing joints: each tip's path from `base` (docs/urdf.md,
+/// "one machine, several tips"), the joints once each, "tips" naming each path (one tip: the
+/// block above, without "tips").
+nlohmann::json importUrdf(const std::string& urdf_path, const std::string& base,
+                          const std::vector<std::string>& tips);
 
 /// `p` with the origins of `chain`'s joints as the URDF file at `urdf_path` states them (offsets
 /// 0): the nominal machine a calibrated one is compared with (export-urdf's warnings,

@@ -13,6 +13,16 @@
 // driving joint: the movable joints that are not mimics, in chain order, with each master that
 // is not on the chain (a virtual lifting column on a branch of its own) inserted where its first
 // mimic joint stands. A mimic and its master are of one type (both revolute or both prismatic).
+//
+// A reversed joint is traversed from its URDF child link to its parent (a chain that runs up
+// the URDF tree: a humanoid from its sole): it contributes the inverse
+//   T_i(q_i)^-1 = M_i(-(q_i + offset_i)) Rot(rpy_i)^T Trans(-xyz_i),
+// with the URDF's own parameters and reading (docs/urdf.md).
+//
+// Several tips (docs/urdf.md, "one machine, several tips"): each tip is a path of the chain's
+// joints from the base (a shared torso, then one arm). The joints are listed once; each tip's
+// forward kinematics runs along its own path (forwardStylus(tip, ...); forward() is tip 0), and
+// the readings are every driving joint of the list. Without tips, one tip runs every joint.
 
 #include <Eigen/Core>
 #include <optional>
@@ -43,6 +53,13 @@ struct ChainJoint {
   ChainJointType type = ChainJointType::Fixed;
   Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();  ///< normalised by the model; unused if fixed
   std::optional<ChainMimic> mimic = std::nullopt;   ///< movable joints only
+  bool reversed = false;  ///< traversed child to parent: contributes T(q)^-1 (URDF parameters)
+};
+
+/// One tip of a machine with several: its name and its path, chain joint indices from the base.
+struct ChainTip {
+  std::string name;
+  std::vector<int> joints;
 };
 
 /// Why a chain's mimics do not resolve: the chain index of the mimic joint and what to check.
@@ -66,7 +83,9 @@ class Chain final : public Mechanism {
   /// Throws std::invalid_argument on an empty chain, more than kMaxJoints joints, an empty or
   /// repeated name, a zero axis of a movable joint, or a mimic that is not a coupling of two
   /// movable joints of one type (on a fixed joint, of itself, of a fixed joint or of a mimic).
-  explicit Chain(std::vector<ChainJoint> joints);
+  /// `tips` (none: one tip through every joint in order) must each name a non-empty path of
+  /// distinct joint indices, the names distinct and non-empty, and every joint on some path.
+  explicit Chain(std::vector<ChainJoint> joints, std::vector<ChainTip> tips = {});
 
   std::string modelName() const override { return "chain"; }
   int dimension() const override { return 3; }
@@ -81,8 +100,15 @@ class Chain final : public Mechanism {
   ForwardStatus forward(const Eigen::VectorXd& p, const Eigen::VectorXd& q, Eigen::VectorXd& x,
                         Eigen::MatrixXd* J_x_p = nullptr,
                         Eigen::MatrixXd* J_x_q = nullptr) const override;
+  /// One stylus per tip (tip 0 when the machine names none).
+  int stylusCount() const override { return static_cast<int>(tips_.size()); }
+  /// The tips' names when the machine names them.
+  std::vector<std::string> stylusNames() const override;
+  ForwardStatus forwardStylus(int stylus, const Eigen::VectorXd& p, const Eigen::VectorXd& q,
+                              Eigen::VectorXd& x, Eigen::MatrixXd* J_x_p = nullptr,
+                              Eigen::MatrixXd* J_x_q = nullptr) const override;
   bool hasOrientation() const override { return true; }
-  /// The tip frame is the last joint's frame (its origin is the probe).
+  /// The tip frame is the last joint's frame (its origin is the probe); tip 0's.
   ForwardStatus forwardPose(const Eigen::VectorXd& p, const Eigen::VectorXd& q, Eigen::VectorXd& x,
                             Eigen::Matrix3d& R, Eigen::MatrixXd* J_x_p = nullptr,
                             Eigen::MatrixXd* J_x_q = nullptr, Eigen::MatrixXd* J_w_p = nullptr,
@@ -102,6 +128,16 @@ class Chain final : public Mechanism {
   static std::optional<ChainMimicProblem> mimicProblem(const std::vector<ChainJoint>& joints);
   /// The readings (driving joints), in order.
   const std::vector<ChainReading>& readings() const { return readings_; }
+  /// The tips (one, unnamed and through every joint, when the machine names none).
+  const std::vector<ChainTip>& tips() const { return tips_; }
+  /// True when the machine names its tips (the machine block's "tips").
+  bool namesTips() const { return named_tips_; }
+  /// forwardPose() along tip `tip`'s path.
+  ForwardStatus forwardTipPose(int tip, const Eigen::VectorXd& p, const Eigen::VectorXd& q,
+                               Eigen::VectorXd& x, Eigen::Matrix3d& R,
+                               Eigen::MatrixXd* J_x_p = nullptr, Eigen::MatrixXd* J_x_q = nullptr,
+                               Eigen::MatrixXd* J_w_p = nullptr,
+                               Eigen::MatrixXd* J_w_q = nullptr) const;
 
  private:
   /// How a movable joint's value follows the readings: scale * q[reading] + bias + its offset.
@@ -111,11 +147,14 @@ class Chain final : public Mechanism {
     double bias = 0.0;
   };
   void resolveReadings();
+  void checkTips();
   double jointValue(int chain_joint, const Eigen::VectorXd& p, const Eigen::VectorXd& q) const;
 
   std::vector<ChainJoint> joints_;
   std::vector<ChainReading> readings_;
   std::vector<Coupling> couplings_;  ///< per chain joint (unused for fixed ones)
+  std::vector<ChainTip> tips_;
+  bool named_tips_ = false;
   std::vector<int> offsets_;
   std::vector<ParameterInfo> parameters_;
 };

@@ -73,6 +73,9 @@ class Mechanism {
   /// Styli (probe offsets) a reading may choose (a Cartesian CMM's, docs/models.md section 4); 1
   /// for models with one probe.
   virtual int stylusCount() const { return 1; }
+  /// The names a reading may choose its stylus by ("tip": a chain's tips, docs/urdf.md), one per
+  /// stylus; empty when the model names none (its styli are chosen by index).
+  virtual std::vector<std::string> stylusNames() const { return {}; }
   /// forward() through stylus `stylus` (0 .. stylusCount() - 1); single-probe models ignore it.
   [[nodiscard]] virtual ForwardStatus forwardStylus(int stylus, const Eigen::VectorXd& p,
                                                     const Eigen::VectorXd& q, Eigen::VectorXd& x,

@@ -88,6 +88,7 @@ struct Pose {
 struct PostureRequest {
   int feature = 0;
   int postures = 1;
+  int stylus = -1;      ///< the tip the request names ("tip", docs/urdf.md); -1: the model's rule
   std::string pointer;  ///< where the request stands in the plan file, for messages
 };
 

@@ -39,10 +39,11 @@ Machine withJointMargin(const Machine& machine, const Eigen::VectorXd& margin);
 
 /// The planner's rule for the nominal readings of one feature at machine-frame point `target`:
 /// `count` postures (a Cartesian CMM: styli 0 .. count - 1; other models: posturesFor, spread in
-/// joint space) within `reading_machine`'s limits; fewer when not that many reach it.
+/// joint space) within `reading_machine`'s limits; fewer when not that many reach it. A
+/// `stylus` >= 0 (a request naming a chain's tip, docs/urdf.md): `count` postures of that tip.
 std::vector<Measurement> featureReadings(const Machine& reading_machine, int feature,
                                          const Eigen::VectorXd& target, int count,
-                                         std::mt19937_64& rng);
+                                         std::mt19937_64& rng, int stylus = -1);
 
 class DesignSpace {
  public:
