@@ -44,6 +44,17 @@ def placement(
     """One placement in the plan's JSON form; joints per feature ((n, joints) arrays, mm/deg) or
     one (n, joints) array with features (n,)."""
 
+def station(
+    artifact: str,
+    joints: Any,
+    points: Any,
+    *,
+    stationing: Any = None,
+    name: Optional[str] = None,
+) -> dict[str, Any]:
+    """One station of an instrument in the plan's JSON form: (n, joints) readings, (n, 3) or
+    (n, 6) measured points (mm, deg), an optional (n,) stationing mask."""
+
 class Plan:
     """An artcal plan (artcal-plan/1): from a file, a dict, or built in code."""
 
@@ -74,6 +85,16 @@ class Plan:
         name: Optional[str] = None,
     ) -> Plan:
         """Adds a placement with its readings (see placement()); returns the plan."""
+    def add_station(
+        self,
+        artifact: str,
+        joints: Any,
+        points: Any,
+        *,
+        stationing: Any = None,
+        name: Optional[str] = None,
+    ) -> Plan:
+        """Adds a station of an instrument with its readings and measured points (see station())."""
     @classmethod
     def from_dict(
         cls, document: Mapping[str, Any], *, source: str = "<dict>", require_placements: bool = True

@@ -101,7 +101,7 @@ json lengthTestToJson(const AcceptanceInput& input, const LengthTestPrediction& 
               {"mpe_A_um", prediction.mpe.a / kMmPerMicrometre},
               {"mpe_K", prediction.mpe.k > 0.0 ? json(prediction.mpe.k) : json(nullptr)},
               {"mpe_C_um",
-               prediction.mpe.cap > 0.0 ? json(prediction.mpe.cap / kMicrometre) : json(nullptr)},
+               prediction.mpe.cap > 0.0 ? json(prediction.mpe.cap / kMmPerMicrometre) : json(nullptr)},
               {"units",
                {{"a, b, length, joints, sigma_sys, sigma_noise, sigma_total", "mm"},
                 {"*_um", "um"},

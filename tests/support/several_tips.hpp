@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
 #include <random>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -93,7 +94,11 @@ inline Plan tipPlan(const nlohmann::json& machine, const TipPlanOptions& options
         }
       }
     }
-    placements.push_back({{"artifact", "bar"}, {"measurements", measurements}});
+    // A ball that no tip reached from the seeded starts leaves the bar without a pair: skipped.
+    std::set<int> features_read;
+    for (const nlohmann::json& entry : measurements) features_read.insert(entry["feature"].get<int>());
+    if (features_read.size() == 2)
+      placements.push_back({{"artifact", "bar"}, {"measurements", measurements}});
   };
   for (const int t : tips) {
     Eigen::VectorXd x;
