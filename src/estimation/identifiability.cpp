@@ -5,6 +5,7 @@
 #include "artcal/estimation/normal_matrix.hpp"
 
 #include <algorithm>
+#include <numeric>
 #include <cmath>
 #include <limits>
 
@@ -172,21 +173,18 @@ std::vector<std::pair<int, double>> tieOf(const Eigen::MatrixXd& S, std::vector<
   return tie;
 }
 
-}  // namespace
-
-CalibratedSetChoice chooseIdentifiableSet(const PlanInformation& information, double tolerance) {
+// The greedy rule along `order` (positions into S): a parameter is kept when the smallest
+// eigenvalue of S over the kept ones and it exceeds `cutoff`.
+CalibratedSetChoice greedyAlong(const Eigen::MatrixXd& S, const std::vector<int>& order,
+                                double cutoff) {
   CalibratedSetChoice choice;
-  const Eigen::MatrixXd S = scaledInformation(information);
-  const int n = static_cast<int>(S.rows());
-  // Absolute cutoff on the surviving fraction (docs/method.md section 5): a lone absorbed
-  // parameter (j1.theta alone) is dropped too.
-  const double cutoff = tolerance;
+  const auto n = static_cast<int>(S.rows());
   // The smallest eigenvalue of S over kept + {i} exceeds the cutoff exactly when S - cutoff I over
   // kept + {i} is positive definite: its Cholesky factor L grows by one row per kept parameter, a
   // trial costs one forward substitution. Only a dropped parameter needs its eigenvalue (the
   // fraction it keeps) and its tie.
   Eigen::MatrixXd L(n, n);
-  for (int i = 0; i < n; ++i) {
+  for (const int i : order) {
     const int k = static_cast<int>(choice.kept.size());
     Eigen::VectorXd column(k);
     for (int a = 0; a < k; ++a) column[a] = S(choice.kept[static_cast<std::size_t>(a)], i);
@@ -208,6 +206,65 @@ CalibratedSetChoice chooseIdentifiableSet(const PlanInformation& information, do
     choice.ties.push_back(tieOf(S, trial));
   }
   return choice;
+}
+
+// The order of Cholesky with diagonal pivoting of S, which is QR with column pivoting of the
+// scaled reduced Jacobian (S = J^T J): next, the parameter whose information surviving the ones
+// before it, |R_kk|^2, is the largest. Parameters nothing observes come last.
+std::vector<int> pivotedOrder(const Eigen::MatrixXd& S) {
+  const auto n = static_cast<int>(S.rows());
+  Eigen::VectorXd remaining = S.diagonal();
+  Eigen::MatrixXd L = Eigen::MatrixXd::Zero(n, n);
+  std::vector<bool> taken(static_cast<std::size_t>(n), false);
+  std::vector<int> order;
+  for (int k = 0; k < n; ++k) {
+    int best = -1;
+    for (int i = 0; i < n; ++i) {
+      if (taken[static_cast<std::size_t>(i)]) continue;
+      if (best < 0 || remaining[i] > remaining[best]) best = i;
+    }
+    taken[static_cast<std::size_t>(best)] = true;
+    order.push_back(best);
+    if (!(remaining[best] > 0.0)) continue;  // the rest: rounding, in the listed order
+    const double root = std::sqrt(remaining[best]);
+    for (int i = 0; i < n; ++i) {
+      if (taken[static_cast<std::size_t>(i)]) continue;
+      const double l = (S(i, best) - L.row(i).head(k).dot(L.row(best).head(k))) / root;
+      L(i, k) = l;
+      remaining[i] -= l * l;
+    }
+  }
+  return order;
+}
+
+}  // namespace
+
+CalibratedSetChoice chooseIdentifiableSet(const PlanInformation& information, double tolerance) {
+  const Eigen::MatrixXd S = scaledInformation(information);
+  std::vector<int> listed(static_cast<std::size_t>(S.rows()));
+  std::iota(listed.begin(), listed.end(), 0);
+  // Absolute cutoff on the surviving fraction (docs/method.md section 5): a lone absorbed
+  // parameter (j1.theta alone) is dropped too.
+  return greedyAlong(S, listed, tolerance);
+}
+
+CalibratedSetChoice choosePivotedSet(const PlanInformation& information, double tolerance) {
+  const Eigen::MatrixXd S = scaledInformation(information);
+  CalibratedSetChoice choice = greedyAlong(S, pivotedOrder(S), tolerance);
+  // Reported in the listed order, as chooseIdentifiableSet's.
+  std::sort(choice.kept.begin(), choice.kept.end());
+  std::vector<std::size_t> by_position(choice.dropped.size());
+  std::iota(by_position.begin(), by_position.end(), std::size_t{0});
+  std::sort(by_position.begin(), by_position.end(),
+            [&](std::size_t x, std::size_t y) { return choice.dropped[x] < choice.dropped[y]; });
+  CalibratedSetChoice sorted;
+  sorted.kept = std::move(choice.kept);
+  for (const std::size_t d : by_position) {
+    sorted.dropped.push_back(choice.dropped[d]);
+    sorted.dropped_fraction.push_back(choice.dropped_fraction[d]);
+    sorted.ties.push_back(choice.ties[d]);
+  }
+  return sorted;
 }
 
 CalibratedSetResolution resolveListedSet(const Plan& plan,

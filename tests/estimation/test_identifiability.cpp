@@ -6,6 +6,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <numeric>
 #include <random>
 
 #include "artcal/artcal.hpp"
@@ -222,6 +223,87 @@ TEST(GreedyChoice, AgreesWithTheSmallestEigenvalueOfEveryTrial) {
             (std::vector<int>{7, 9}));
   EXPECT_EQ(chooseIdentifiableSet(information, kWeakInformationTolerance).dropped,
             (std::vector<int>{3, 7, 9}));
+}
+
+
+// The pivoted choice (choosePivotedSet) on hand-made columns of a scaled Jacobian: a = (0.5, 0, 0),
+// b = (0.9, 5e-4, 0), c = (0, 0, 1). a and b are nearly parallel: S over {a, b} has determinant
+// 0.25 * 0.81 + 0.25 * 2.5e-7 - 0.45^2 = 6.25e-8 and trace 1.06, so its smallest eigenvalue is
+// about 5.9e-8, under the weak tolerance. Listed first, a is kept and b held; QR with column
+// pivoting takes b first (|b|^2 = 0.81 > 0.25) and holds a, in whichever order they are listed.
+PlanInformation informationOfColumns(const Eigen::MatrixXd& J, const Eigen::VectorXd& unreduced) {
+  PlanInformation information;
+  information.reduced = J.transpose() * J;
+  information.unreduced_diagonal = unreduced;
+  return information;
+}
+
+TEST(PivotedChoice, KeepsTheStrongerOfTwoNearlyParallelColumnsInAnyOrder) {
+  Eigen::Matrix3d J;
+  J.col(0) << 0.5, 0.0, 0.0;
+  J.col(1) << 0.9, 5e-4, 0.0;
+  J.col(2) << 0.0, 0.0, 1.0;
+  // The unreduced norms are 1: S is J^T J itself.
+  const PlanInformation abc = informationOfColumns(J, Eigen::Vector3d::Ones());
+  EXPECT_EQ(chooseIdentifiableSet(abc, kWeakInformationTolerance).kept, (std::vector<int>{0, 2}));
+  const CalibratedSetChoice pivoted = choosePivotedSet(abc, kWeakInformationTolerance);
+  EXPECT_EQ(pivoted.kept, (std::vector<int>{1, 2}));
+  ASSERT_EQ(pivoted.dropped, (std::vector<int>{0}));
+  // The dropped one's surviving fraction: the smallest eigenvalue over {a, b}, by hand.
+  const double trace = 0.25 + 0.81 + 2.5e-7, det = 0.25 * (0.81 + 2.5e-7) - 0.45 * 0.45;
+  const double smallest = 0.5 * (trace - std::sqrt(trace * trace - 4.0 * det));
+  EXPECT_NEAR(pivoted.dropped_fraction[0], smallest, 1e-12);
+  // Listed as c, b, a: the same parameters kept (positions 0 and 1 now), a held.
+  Eigen::Matrix3d reversed;
+  reversed << J.col(2), J.col(1), J.col(0);
+  const PlanInformation cba = informationOfColumns(reversed, Eigen::Vector3d::Ones());
+  EXPECT_EQ(choosePivotedSet(cba, kWeakInformationTolerance).kept, (std::vector<int>{0, 1}));
+  EXPECT_EQ(choosePivotedSet(cba, kWeakInformationTolerance).dropped, (std::vector<int>{2}));
+  // At the structural tolerance both are kept whatever the order.
+  EXPECT_EQ(choosePivotedSet(abc, kDefaultRankTolerance).kept, (std::vector<int>{0, 1, 2}));
+}
+
+// On the made-up Jacobian of the greedy test, shuffled: the pivoted choice holds the same
+// parameters whatever the order, and as many as the greedy rule (the count of directions under
+// the tolerance does not depend on the order).
+TEST(PivotedChoice, TheSetDoesNotDependOnTheListedOrder) {
+  std::mt19937_64 rng(18);
+  std::normal_distribution<double> normal;
+  Eigen::MatrixXd A(40, 12);
+  for (int r = 0; r < A.rows(); ++r) {
+    for (int c = 0; c < A.cols(); ++c) A(r, c) = normal(rng);
+  }
+  Eigen::VectorXd noise(A.rows());
+  for (int r = 0; r < A.rows(); ++r) noise[r] = normal(rng);
+  A.col(3) = A.col(0) + A.col(1) + 5e-4 * noise;
+  A.col(9).setZero();
+  const auto n = static_cast<int>(A.cols());
+  const auto held = [&](const std::vector<int>& order) {
+    Eigen::MatrixXd B(A.rows(), n);
+    Eigen::VectorXd unreduced(n);  // each column's own, larger than what survives (no ties)
+    for (int k = 0; k < n; ++k) {
+      const int column = order[static_cast<std::size_t>(k)];
+      B.col(k) = A.col(column);
+      unreduced[k] = (1.2 + 0.07 * column) * A.col(column).squaredNorm();
+    }
+    const PlanInformation information = informationOfColumns(B, unreduced);
+    const CalibratedSetChoice choice = choosePivotedSet(information, kWeakInformationTolerance);
+    EXPECT_EQ(choice.dropped.size(),
+              chooseIdentifiableSet(information, kWeakInformationTolerance).dropped.size());
+    std::vector<int> out;
+    for (const int d : choice.dropped) out.push_back(order[static_cast<std::size_t>(d)]);
+    std::sort(out.begin(), out.end());
+    return out;
+  };
+  std::vector<int> order(static_cast<std::size_t>(n));
+  std::iota(order.begin(), order.end(), 0);
+  const std::vector<int> listed = held(order);
+  EXPECT_EQ(listed.size(), 2u);  // one of 0, 1, 3, and the unobserved 9
+  EXPECT_EQ(listed.back(), 9);
+  for (int shuffle = 0; shuffle < 5; ++shuffle) {
+    std::shuffle(order.begin(), order.end(), rng);
+    EXPECT_EQ(held(order), listed);
+  }
 }
 
 }  // namespace identifiability_test

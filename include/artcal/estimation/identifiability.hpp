@@ -94,6 +94,13 @@ struct CalibratedSetChoice {
 CalibratedSetChoice chooseIdentifiableSet(const PlanInformation& information,
                                           double tolerance = kDefaultRankTolerance);
 
+/// The greedy rule in the order of QR with column pivoting of the scaled reduced Jacobian
+/// (Cholesky of S with diagonal pivoting: next, the parameter whose information surviving the ones
+/// before it is the largest) instead of the listed order; the same size as chooseIdentifiableSet's
+/// in general, and the same set whatever order the parameters are listed in (ties aside). Kept and
+/// dropped are reported in the listed order.
+CalibratedSetChoice choosePivotedSet(const PlanInformation& information, double tolerance);
+
 /// Which of the plan's listed parameters (machine.calibrated, in preferred order) the nominal
 /// readings of `placements` identify (chooseIdentifiableSet), as model parameter indices.
 CalibratedSetResolution resolveListedSet(const Plan& plan,
