@@ -32,11 +32,13 @@ std::string number(double value) {
 }
 
 // Holds at nominal the calibrated parameters whose surviving fraction in `information` is below
-// kWeakInformationTolerance (greedy in the calibrated set's order); true when it held any.
+// kWeakInformationTolerance, greedy in the order of QR with column pivoting (choosePivotedSet:
+// the independent reference's order of docs/method.md section 5, and independent of the order
+// the parameters are listed in); true when it held any.
 // `kept_positions`: the positions in the calibrated set of the ones still calibrated.
 bool holdWeaklyDetermined(Plan& plan, const PlanInformation& information,
                           std::vector<int>* kept_positions = nullptr) {
-  const CalibratedSetChoice choice = chooseIdentifiableSet(information, kWeakInformationTolerance);
+  const CalibratedSetChoice choice = choosePivotedSet(information, kWeakInformationTolerance);
 
   if (choice.dropped.empty()) return false;
   if (kept_positions) *kept_positions = choice.kept;
@@ -378,34 +380,14 @@ Calibration calibrateAsListed(Plan& plan, const CalibrationOptions& options) {
   }
   Calibration calibration = calibrateWithNoise(plan, *calibrator, start);
   // ... and again at the estimate, the newly held parameters back at nominal.
-  std::optional<PlanInformation> at_estimate;  // the last information read there
   for (int round = 0; resolve && round < kMaxWeakRounds && calibration.summary.converged();
        ++round) {
-    at_estimate = informationAtEstimate(plan, *calibrator, calibration);
-    if (!holdWeaklyDetermined(plan, *at_estimate)) break;
-    at_estimate.reset();
+    if (!holdWeaklyDetermined(plan, informationAtEstimate(plan, *calibrator, calibration))) break;
     calibrator.emplace(plan, options);
     start = calibrator->initialState(
         plan.placements, plan.machine.withCalibrated(
                              nominal, plan.machine.calibratedValues(calibration.parameters)));
     calibration = followedBy(calibration, calibrateWithNoise(plan, *calibrator, start));
-  }
-  // The held-out model choice: a smaller set of the rank rule's order where the readings the
-  // fit leaves out say it holds clearly better (model_choice.hpp).
-  if (resolve && options.model_choice == ModelChoiceMode::HeldOut &&
-      calibration.summary.converged()) {
-    if (!at_estimate) at_estimate = informationAtEstimate(plan, *calibrator, calibration);
-    if (auto outcome = chooseKeptSet(plan, options, *calibrator, calibration, *at_estimate)) {
-      const ModelChoice& choice = outcome->choice;
-      if (choice.chosen != 0) {
-        plan.machine.calibrated = choice.candidates[static_cast<std::size_t>(choice.chosen)].kept;
-        plan.calibrate_resolution->kept = plan.machine.calibrated;
-        calibrator.emplace(plan, options);
-        calibration =
-            followedBy(calibration, calibrateWithNoise(plan, *calibrator, outcome->chosen_state));
-      }
-      calibration.model_choice = std::move(outcome->choice);
-    }
   }
   if (plan.noise.estimate_probe && calibration.dof == 0) {
     // No redundancy: the "estimate" would be the starting value (docs/hardening.md).
@@ -418,18 +400,48 @@ Calibration calibrateAsListed(Plan& plan, const CalibrationOptions& options) {
   return calibration;
 }
 
+// The held-out model choice, once, on the minimum taken: a smaller set of the rank rule's order
+// where the readings the fit leaves out say it holds clearly better (model_choice.hpp).
+Calibration withModelChoice(Plan& plan, const CalibrationOptions& options,
+                            Calibration calibration) {
+  if (options.model_choice != ModelChoiceMode::HeldOut || !calibration.summary.converged())
+    return calibration;
+  // The linearisation at the estimate the choice starts from.
+  Calibrator calibrator(plan, options);
+  const CalibrationState state{calibration.parameters, calibration.systematic, calibration.poses};
+  if (!calibrator.prepare(plan.placements, state)) return calibration;
+  const PlanInformation at_estimate = informationAtEstimate(plan, calibrator, calibration);
+  auto outcome = chooseKeptSet(plan, options, calibrator, calibration, at_estimate);
+  if (!outcome) return calibration;
+  const ModelChoice& choice = outcome->choice;
+  if (choice.chosen != 0) {
+    plan.machine.calibrated = choice.candidates[static_cast<std::size_t>(choice.chosen)].kept;
+    plan.calibrate_resolution->kept = plan.machine.calibrated;
+    Calibrator narrowed(plan, options);
+    Calibration chosen = followedBy(calibration,
+                                    calibrateWithNoise(plan, narrowed, outcome->chosen_state));
+    chosen.minimum = std::move(calibration.minimum);
+    nearestTurn(plan, chosen);
+    addWarnings(plan, chosen);
+    calibration = std::move(chosen);
+  }
+  calibration.model_choice = std::move(outcome->choice);
+  return calibration;
+}
+
 }  // namespace
 
 Calibration calibrateReadings(Plan& plan, const CalibrationOptions& options) {
   requireMeasuredPoints(plan);
+  if (!plan.machine.calibrate_identifiable || !plan.calibrate_resolution)
+    return calibrateAsListed(plan, options);
   // A fit whose corrections are flagged is searched for a plausible minimum from the plan as
-  // loaded (plausible_minimum.hpp).
-  std::optional<Plan> before;
-  if (plan.machine.calibrate_identifiable && plan.calibrate_resolution) before = plan;
+  // loaded (plausible_minimum.hpp); the kept set is then judged held out on the minimum taken.
+  const Plan before = plan;
   Calibration calibration = calibrateAsListed(plan, options);
-  if (!before) return calibration;
-  return choosePlausibleMinimum(*before, plan, std::move(calibration),
-                                [&](Plan& trial) { return calibrateAsListed(trial, options); });
+  calibration = choosePlausibleMinimum(before, plan, std::move(calibration),
+                                       [&](Plan& trial) { return calibrateAsListed(trial, options); });
+  return withModelChoice(plan, options, std::move(calibration));
 }
 
 }  // namespace artcal

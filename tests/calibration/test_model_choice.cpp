@@ -169,10 +169,12 @@ TEST(HeldOutModelChoice, TheRealPandaKeepsTheRankRuleSet) {
   EXPECT_NE(table.find("kept set chosen by the rank rule"), std::string::npos);
 }
 
-// A machine off nominal except in panda_joint7.x and panda_joint7.pitch, the two parameters the
-// readings determine least (surviving fractions about 1e-3): their estimates carry only noise.
-// Over 12 seeds the held-out choice holds some of them at nominal (the folds agree: 2 of 12 here,
-// a sign test at 5 % with little to gain), and never a parameter whose true value is off nominal.
+// A machine off nominal except in panda_joint5.y, panda_joint7.x and panda_joint7.pitch. The
+// weak rule (pivoted order) holds panda_joint7.x already; the held-out candidates start with
+// panda_joint5.y, the kept parameter the readings determine least (surviving fraction 3.4e-3):
+// its estimate carries only noise. Over 12 seeds the held-out choice holds it at nominal some of
+// the time (the folds agree: a sign test at 5 % with little to gain), and never a parameter whose
+// true value is off nominal.
 TEST(HeldOutModelChoice, DropsOnlyParametersWhoseTruthIsNominal) {
   const Plan plan = pandaPlan();
   const json truth_document = {{"parameters",
@@ -181,7 +183,6 @@ TEST(HeldOutModelChoice, DropsOnlyParametersWhoseTruthIsNominal) {
                                  {"panda_joint3.y", -316.23},
                                  {"panda_joint4.x", 82.46},
                                  {"panda_joint4.pitch", 1.28},
-                                 {"panda_joint5.y", 384.48},
                                  {"panda_joint5.pitch", 0.58},
                                  {"panda_joint6.x", 0.56},
                                  {"panda_joint6.roll", 90.05}}}};
