@@ -799,7 +799,7 @@ PYBIND11_MODULE(_native, m) {
          const std::string& unit, bool keep_calibrate, bool keep_limits, const std::string& output,
          std::optional<double> instrument, const std::string& point_unit,
          std::optional<double> instrument_angle, const std::string& orientation_unit,
-         const std::string& marker, const std::string& orientation,
+         const std::vector<std::string>& marker, const std::string& orientation,
          const std::map<std::string, double>& hold) {
         artcal::ReadingsImport import;
         import.folder = folder;
@@ -819,7 +819,7 @@ PYBIND11_MODULE(_native, m) {
         import.point_unit = point_unit;
         import.instrument_angle = instrument_angle;
         import.orientation_unit = orientation_unit;
-        import.marker = marker;
+        import.markers = marker;
         import.orientation = orientation;
         for (const auto& [joint, value] : hold) import.holds.emplace_back(joint, value);
         return importReadingsPlan(std::move(import), probe);

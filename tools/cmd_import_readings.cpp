@@ -86,9 +86,13 @@ void addImportReadingsCommand(CLI::App& app, Action& action) {
   cmd->add_option("--unit", in.unit,
                   "unit of every file's readings (deg, rad, mm, m), instead of "
                   "the layout's (hole_<k>.csv: rad; feature_<k>.csv: header)");
-  cmd->add_option("--marker", in.marker,
+  cmd->add_option("--marker", in.markers,
                   "files whose header names the columns: the marker whose <marker>_x, <marker>_y, "
-                  "<marker>_z are the tip's measured point (default: the header's only marker)");
+                  "<marker>_z are the tip's measured point (default: the header's only marker); "
+                  "repeated: each row is one reading of each marker, each marker a tip of its "
+                  "own whose offset is calibrated")
+      ->expected(1)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   cmd->add_option("--orientation", in.orientation,
                   "a pose's orientation columns: rotation_vector, rpy (roll, pitch, yaw: the "
                   "URDF's fixed-axis x-y-z, R = Rz(yaw) Ry(pitch) Rx(roll)) or quaternion (w, x, "

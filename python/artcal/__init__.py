@@ -512,7 +512,7 @@ def import_readings(folder: PathLike, *, urdf: Optional[PathLike] = None,
                     point_unit: Optional[str] = None,
                     instrument_angle: Optional[float] = None,
                     orientation_unit: Optional[str] = None,
-                    marker: Optional[str] = None,
+                    marker: Union[str, Sequence[str], None] = None,
                     orientation: Optional[str] = None,
                     hold: Optional[Mapping[str, float]] = None) -> Plan:
     """``artcal import-readings FOLDER (--urdf U --base B --tip T | --machine M) (--ball-bar L |
@@ -523,7 +523,8 @@ def import_readings(folder: PathLike, *, urdf: Optional[PathLike] = None,
     ``probe`` in mm (or "estimate"; default 0.1, "estimate" beside an instrument), ``encoder`` in
     deg, ``point_unit`` "mm" or "m", ``orientation_unit`` "deg" or "rad". Files whose header
     names the columns (docs/plan-format.md): ``marker`` the marker whose <marker>_x, _y, _z are
-    the tip's point, ``orientation`` "rotation_vector", "rpy" (fixed-axis x-y-z) or "quaternion"
+    the tip's point (a list of several: one reading of each per row, each marker a tip whose
+    offset is calibrated), ``orientation`` "rotation_vector", "rpy" (fixed-axis x-y-z) or "quaternion"
     (w first), ``hold`` {joint: value} for joints no file reads (deg, or mm). With ``output`` the plan is also written there (CSV paths relative to
     its folder; without it, to the current folder). The import's warnings (joint limits widened
     to the readings) are in ``plan.warnings``."""
@@ -536,7 +537,8 @@ def import_readings(folder: PathLike, *, urdf: Optional[PathLike] = None,
                                      tip or "", ball_bar, u_length, text(artifact), probe,
                                      encoder, unit or "", keep_calibrate, keep_limits,
                                      text(output), instrument, point_unit or "",
-                                     instrument_angle, orientation_unit or "", marker or "",
+                                     instrument_angle, orientation_unit or "",
+                                     [marker] if isinstance(marker, str) else list(marker or []),
                                      orientation or "", dict(hold or {}))
     plan = Plan.__new__(Plan)
     plan._require_placements = True

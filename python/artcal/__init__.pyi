@@ -1,7 +1,7 @@
 """Type stubs of the artcal package (docs/python.md). Units: mm and degrees, as the files."""
 
 import os
-from typing import Any, Callable, Mapping, Optional, Union
+from typing import Any, Callable, Mapping, Optional, Sequence, Union
 
 import numpy as np
 
@@ -206,7 +206,7 @@ def import_readings(
     point_unit: Optional[str] = None,
     instrument_angle: Optional[float] = None,
     orientation_unit: Optional[str] = None,
-    marker: Optional[str] = None,
+    marker: Union[str, Sequence[str], None] = None,
     orientation: Optional[str] = None,
     hold: Optional[Mapping[str, float]] = None,
 ) -> Plan:

@@ -9,6 +9,7 @@
 #include "artcal/core/units.hpp"
 #include "artcal/io/csv_readings.hpp"
 #include "artcal/io/json_node.hpp"
+#include "artcal/io/plan_io.hpp"
 #include "artcal/model/rotation_vector.hpp"
 
 namespace artcal {
@@ -105,10 +106,24 @@ std::string implausibleOrientation(const Eigen::VectorXd& coordinates, const Art
 
 /// The nominal tip point of a reading: where the instrument sees it when the plan gives no point
 /// (planning only; the station is then the identity).
-Eigen::VectorXd nominalTip(const Machine& machine, const Eigen::VectorXd& q) {
+Eigen::VectorXd nominalTip(const Machine& machine, const Eigen::VectorXd& q, int stylus) {
   Eigen::VectorXd x;
-  forwardOrThrow(*machine.mechanism, machine.nominal, q, x, nullptr, nullptr, 0);
+  forwardOrThrow(*machine.mechanism, machine.nominal, q, x, nullptr, nullptr, stylus);
   return x;
+}
+
+/// The tip an instrument's reading entry measures (its "tip", a machine with several tips,
+/// docs/urdf.md; the first without one). A pose instrument reads the first tip's orientation
+/// only: another tip is refused at the entry.
+int readTip(const Node& entry, const Mechanism& mech, const Artifact& instrument) {
+  const int stylus = readStylus(entry, mech);
+  if (stylus != 0 && instrument.measures_pose) {
+    entry.at(entry.has("tip") ? "tip" : "stylus")
+        .fail(
+            "a pose instrument measures the machine's first tip only: the readings of "
+            "another tip need a point instrument");
+  }
+  return stylus;
 }
 
 /// The CSV's rows, a wrong column count told in an instrument's terms (joints, then what the
@@ -135,9 +150,10 @@ std::vector<Eigen::VectorXd> readStationCsv(const std::string& file,
 void appendCsvReadings(const Node& entry, const std::string& plan_source, const Machine& machine,
                        Artifact& instrument, Placement& placement, int entry_index,
                        const CheckCsvJoints& check_csv_joints, std::vector<std::string>& warnings) {
-  entry.warnUnknown(
-      {"csv", "unit", "point_unit", "orientation_unit", "orientation", "columns", "stationing"},
-      warnings);
+  entry.warnUnknown({"csv", "unit", "point_unit", "orientation_unit", "orientation", "columns",
+                     "stationing", "tip", "stylus"},
+                    warnings);
+  const int stylus = readTip(entry, *machine.mechanism, instrument);
   const OrientationForm form = orientationForm(entry, instrument);
   const Node csv = entry.at("csv");
   const std::filesystem::path relative(csv.string());
@@ -186,6 +202,7 @@ void appendCsvReadings(const Node& entry, const std::string& plan_source, const 
     measurement.csv = relative.string();
     measurement.csv_row = static_cast<int>(r + 1);
     measurement.entry = entry_index;
+    measurement.stylus = stylus;
     measurement.stationing = stationing;
     Eigen::VectorXd coordinates(measured);
     coordinates.head(d) = rows[r].segment(joints, d) / units.length_to_mm * point_scale;
@@ -254,10 +271,13 @@ void parseStationReadings(const Node& measurements, const std::string& plan_sour
                         check_csv_joints, warnings);
       continue;
     }
-    m.warnUnknown({"joints", "point", "point_unit", "orientation_unit", "stationing"}, warnings);
+    m.warnUnknown(
+        {"joints", "point", "point_unit", "orientation_unit", "stationing", "tip", "stylus"},
+        warnings);
     if (m.has("feature")) m.at("feature").fail("an instrument's reading has no feature");
     Measurement measurement;
     measurement.entry = static_cast<int>(i);
+    measurement.stylus = readTip(m, *machine.mechanism, instrument);
     measurement.joints = joints_from_node(m.at("joints"));
     if (const auto stationing = m.find("stationing")) {
       if (!stationing->value().is_boolean()) stationing->fail("expected true or false");
@@ -291,8 +311,10 @@ void checkStation(const Node& placement_node, const Machine& machine, const Plac
   // The rank test about the station's centroid, scaled by its spread (instruments.md): far from
   // its points, plain [I, -[x]x] columns would look collinear to rounding.
   Eigen::MatrixXd tips(machine.dimension(), n);
-  for (int i = 0; i < n; ++i)
-    tips.col(i) = nominalTip(machine, placement.measurements[static_cast<std::size_t>(i)].joints);
+  for (int i = 0; i < n; ++i) {
+    const Measurement& m = placement.measurements[static_cast<std::size_t>(i)];
+    tips.col(i) = nominalTip(machine, m.joints, m.stylus);
+  }
   const Eigen::MatrixXd centred = tips.colwise() - tips.rowwise().mean();
   const Eigen::VectorXd sv = singularValues(centred);
   const bool collinear =

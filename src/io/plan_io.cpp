@@ -452,7 +452,6 @@ void checkCsvReadingsInAll(const Node& placements, const Plan& plan, CsvFiles& f
 /// A measurement entry {"feature", "csv", "unit", "exclude_rows"}: one measurement per row of
 /// the CSV file, which is relative to the plan file (docs/models.md section 7), but the rows
 /// excluded.
-int readStylus(const Node& entry, const Mechanism& mech);
 void appendCsvMeasurements(const Node& entry, const Plan& plan, const Artifact& artifact,
                            CsvFiles& files, bool explicit_limits, int entry_index,
                            std::vector<Measurement>& out, std::vector<std::string>& warnings) {
@@ -493,8 +492,8 @@ void appendCsvMeasurements(const Node& entry, const Plan& plan, const Artifact& 
   }
 }
 
-/// The stylus a reading entry chooses: "tip" (a name of mech.stylusNames(), a chain's tips) or
-/// "stylus" (an index); 0 when it names none.
+}  // namespace
+
 int readStylus(const Node& entry, const Mechanism& mech) {
   const auto tip = entry.find("tip");
   if (!tip) {
@@ -512,6 +511,8 @@ int readStylus(const Node& entry, const Mechanism& mech) {
   tip->fail(names.empty() ? "the machine names no tips (its \"tips\", docs/urdf.md)"
                           : "no tip named \"" + name + "\" (the machine's tips: " + known + ")");
 }
+
+namespace {
 
 /// A measurement entry {"feature": k, "postures": N}: N readings of feature k to be planned from
 /// the placement's pose by `artcal plan --complete` (docs/plan-format.md); a plan to be run
@@ -1010,6 +1011,12 @@ nlohmann::json placementsToJson(const Plan& plan) {
           entry["point"] = point;
         }
         if (m.stationing) entry["stationing"] = true;
+        if (const std::vector<std::string> tips = plan.machine.mechanism->stylusNames();
+            !tips.empty()) {
+          entry["tip"] = tips[static_cast<std::size_t>(m.stylus)];
+        } else if (m.stylus != 0) {
+          entry["stylus"] = m.stylus;
+        }
         measurements.push_back(entry);
         continue;
       }

@@ -149,7 +149,8 @@ void checkEachFileReadOnce(const json& placements, const fs::path& plan_folder) 
       if (file.empty() || *file.begin() == "..") file = absolute;
       const fs::path real = fs::canonical(file, ec);
       const auto [at, inserted] = seen.emplace(ec ? file : real, file);
-      if (!inserted) {
+      // Several markers of one file: one entry each, the same name.
+      if (!inserted && at->second != file) {
         throw InputError(file.string(), "",
                          "is the same file as " + at->second.string() +
                              " (through a link): each file of readings is read once; remove "
@@ -403,7 +404,7 @@ std::vector<std::string> headerMarkers(const std::vector<std::string>& bases) {
 /// What a header-named file's CSV entry says: "columns", the joints' "unit" and an instrument's
 /// "point_unit", "orientation", "orientation_unit"; the fields it does not read.
 struct NamedColumns {
-  json entry = json::object();
+  std::vector<json> entries;  ///< one per marker read (an artifact's file: one)
   std::vector<std::string> ignored;
 };
 
@@ -428,6 +429,98 @@ std::string commonUnit(const fs::path& file, const std::vector<std::string>& fie
                          "option)");
   }
   return *units.begin();
+}
+
+/// The markers of a header-named station file an import reads: --marker's (each one named in
+/// the header), or the header's only marker.
+std::vector<std::string> markersRead(const fs::path& file, const std::vector<std::string>& bases,
+                                     const ReadingsImport& import) {
+  const std::vector<std::string> markers = headerMarkers(bases);
+  std::string listed;
+  for (const std::string& m : markers) listed += (listed.empty() ? "\"" : ", \"") + m + "\"";
+  if (import.markers.empty()) {
+    if (markers.size() != 1) {
+      throw InputError(file.string(), "line 1",
+                       markers.empty()
+                           ? "no marker: expected the columns <marker>_x, <marker>_y, "
+                             "<marker>_z of the measured point"
+                           : "the header names several markers (" + listed +
+                                 "): select the machine's tip with --marker NAME (several "
+                                 "--marker: one reading of each per row)");
+    }
+    return markers;
+  }
+  for (const std::string& marker : import.markers) {
+    if (std::find(markers.begin(), markers.end(), marker) == markers.end()) {
+      throw InputError(file.string(), "line 1",
+                       "no marker \"" + marker + "\" (<name>_x, <name>_y, <name>_z) in the header" +
+                           (listed.empty() ? std::string() : " (it names " + listed + ")"));
+    }
+  }
+  return import.markers;
+}
+
+/// A marker's point (and a pose's orientation) columns appended to `columns`, their units to
+/// `entry` ("point_unit", "orientation", "orientation_unit"), the fields marked `used`.
+void readMarkerColumns(const fs::path& file, const std::vector<std::string>& fields,
+                       const std::vector<std::string>& bases, const std::string& marker,
+                       const ReadingsImport& import, bool pose, std::vector<bool>& used,
+                       json& entry, json& columns) {
+  std::vector<std::string> point_fields;
+  for (const char* axis : {"x", "y", "z"}) {
+    const int f = markerField(bases, marker, axis);
+    used[static_cast<std::size_t>(f)] = true;
+    point_fields.push_back(fields[static_cast<std::size_t>(f)]);
+    columns.push_back(trimmedField(fields[static_cast<std::size_t>(f)]));
+  }
+  std::string point_unit = import.point_unit;
+  if (point_unit.empty()) point_unit = commonUnit(file, point_fields, "point's");
+  if (point_unit.empty()) {
+    throw InputError(file.string(), "line 1",
+                     "the point's columns name no unit (" + marker + "_x_mm or " + marker +
+                         "_x [m]): state it with --point-unit");
+  }
+  if (point_unit != "mm" && point_unit != "m")
+    throw InputError(file.string(), "line 1", "the point's columns are in mm or m");
+  entry["point_unit"] = point_unit;
+  if (pose) {
+    std::vector<const OrientationColumns*> found;
+    for (const OrientationColumns& o : kOrientationColumns) {
+      bool all = true;
+      for (int k = 0; k < o.count; ++k) all = all && markerField(bases, marker, o.suffixes[k]) >= 0;
+      if (all && (import.orientation.empty() || import.orientation == o.form)) found.push_back(&o);
+    }
+    if (found.size() != 1) {
+      throw InputError(
+          file.string(), "line 1",
+          found.empty()
+              ? "no orientation of marker \"" + marker + "\"" +
+                    (import.orientation.empty() ? std::string() : " as " + import.orientation) +
+                    ": expected its columns _rx, _ry, _rz (a rotation vector), _roll, _pitch, "
+                    "_yaw or _qw, _qx, _qy, _qz"
+              : "marker \"" + marker +
+                    "\" has several orientations: choose one with --orientation");
+    }
+    const OrientationColumns& o = *found.front();
+    std::vector<std::string> angle_fields;
+    for (int k = 0; k < o.count; ++k) {
+      const int f = markerField(bases, marker, o.suffixes[static_cast<std::size_t>(k)]);
+      used[static_cast<std::size_t>(f)] = true;
+      angle_fields.push_back(fields[static_cast<std::size_t>(f)]);
+      columns.push_back(trimmedField(fields[static_cast<std::size_t>(f)]));
+    }
+    entry["orientation"] = o.form;
+    if (std::string(o.form) != "quaternion") {
+      std::string angle_unit = import.orientation_unit;
+      if (angle_unit.empty()) angle_unit = commonUnit(file, angle_fields, "orientation's");
+      if (angle_unit.empty()) {
+        throw InputError(file.string(), "line 1",
+                         "the orientation's columns name no unit (deg or rad): state it with "
+                         "--orientation-unit");
+      }
+      entry["orientation_unit"] = angle_unit;
+    }
+  }
 }
 
 /// The columns of `file` when its header names at least one of the machine's readings (a file
@@ -474,7 +567,6 @@ std::optional<NamedColumns> namedColumns(const fs::path& file, const MachineRead
   if (unit.empty()) {
     unit = unitOfNamed(file, joint_fields);
   }
-  out.entry["unit"] = unit;
   const auto units = readingUnitsFromName(unit);
   json columns = json::array();
   for (std::size_t j = 0; j < machine.names.size(); ++j) {
@@ -490,85 +582,19 @@ std::optional<NamedColumns> namedColumns(const fs::path& file, const MachineRead
                           ? held->second * kDegree / units->angle_to_rad
                           : held->second / units->length_to_mm);
   }
-  if (instrument) {
-    const std::vector<std::string> markers = headerMarkers(bases);
-    std::string marker = import.marker;
-    std::string listed;
-    for (const std::string& m : markers) listed += (listed.empty() ? "\"" : ", \"") + m + "\"";
-    if (marker.empty()) {
-      if (markers.size() != 1) {
-        throw InputError(file.string(), "line 1",
-                         markers.empty()
-                             ? "no marker: expected the columns <marker>_x, <marker>_y, "
-                               "<marker>_z of the measured point"
-                             : "the header names several markers (" + listed +
-                                   "): select the machine's tip with --marker NAME");
-      }
-      marker = markers.front();
-    } else if (std::find(markers.begin(), markers.end(), marker) == markers.end()) {
-      throw InputError(file.string(), "line 1",
-                       "no marker \"" + marker + "\" (<name>_x, <name>_y, <name>_z) in the header" +
-                           (listed.empty() ? std::string() : " (it names " + listed + ")"));
-    }
-    std::vector<std::string> point_fields;
-    for (const char* axis : {"x", "y", "z"}) {
-      const int f = markerField(bases, marker, axis);
-      used[static_cast<std::size_t>(f)] = true;
-      point_fields.push_back(fields[static_cast<std::size_t>(f)]);
-      columns.push_back(trimmedField(fields[static_cast<std::size_t>(f)]));
-    }
-    std::string point_unit = import.point_unit;
-    if (point_unit.empty()) point_unit = commonUnit(file, point_fields, "point's");
-    if (point_unit.empty()) {
-      throw InputError(file.string(), "line 1",
-                       "the point's columns name no unit (" + marker + "_x_mm or " + marker +
-                           "_x [m]): state it with --point-unit");
-    }
-    if (point_unit != "mm" && point_unit != "m")
-      throw InputError(file.string(), "line 1", "the point's columns are in mm or m");
-    out.entry["point_unit"] = point_unit;
-    if (pose) {
-      std::vector<const OrientationColumns*> found;
-      for (const OrientationColumns& o : kOrientationColumns) {
-        bool all = true;
-        for (int k = 0; k < o.count; ++k)
-          all = all && markerField(bases, marker, o.suffixes[k]) >= 0;
-        if (all && (import.orientation.empty() || import.orientation == o.form))
-          found.push_back(&o);
-      }
-      if (found.size() != 1) {
-        throw InputError(
-            file.string(), "line 1",
-            found.empty()
-                ? "no orientation of marker \"" + marker + "\"" +
-                      (import.orientation.empty() ? std::string() : " as " + import.orientation) +
-                      ": expected its columns _rx, _ry, _rz (a rotation vector), _roll, _pitch, "
-                      "_yaw or _qw, _qx, _qy, _qz"
-                : "marker \"" + marker +
-                      "\" has several orientations: choose one with --orientation");
-      }
-      const OrientationColumns& o = *found.front();
-      std::vector<std::string> angle_fields;
-      for (int k = 0; k < o.count; ++k) {
-        const int f = markerField(bases, marker, o.suffixes[static_cast<std::size_t>(k)]);
-        used[static_cast<std::size_t>(f)] = true;
-        angle_fields.push_back(fields[static_cast<std::size_t>(f)]);
-        columns.push_back(trimmedField(fields[static_cast<std::size_t>(f)]));
-      }
-      out.entry["orientation"] = o.form;
-      if (std::string(o.form) != "quaternion") {
-        std::string angle_unit = import.orientation_unit;
-        if (angle_unit.empty()) angle_unit = commonUnit(file, angle_fields, "orientation's");
-        if (angle_unit.empty()) {
-          throw InputError(file.string(), "line 1",
-                           "the orientation's columns name no unit (deg or rad): state it with "
-                           "--orientation-unit");
-        }
-        out.entry["orientation_unit"] = angle_unit;
-      }
+  if (!instrument) {
+    json entry = {{"unit", unit}, {"columns", columns}};
+    out.entries.push_back(entry);
+  } else {
+    for (const std::string& marker : markersRead(file, bases, import)) {
+      json entry = {{"unit", unit}};
+      json marker_columns = columns;
+      readMarkerColumns(file, fields, bases, marker, import, pose, used, entry, marker_columns);
+      entry["columns"] = marker_columns;
+      if (import.markers.size() > 1) entry["tip"] = marker;
+      out.entries.push_back(entry);
     }
   }
-  out.entry["columns"] = columns;
   for (std::size_t f = 0; f < fields.size(); ++f)
     if (!used[f]) out.ignored.push_back(trimmedField(fields[f]));
   return out;
@@ -679,19 +705,28 @@ void checkStationWidth(const fs::path& file, std::size_t columns, int joints, bo
   }
 }
 
-/// A station file's measurement entry: its joints' unit and its point's (and a pose's
-/// orientation's), from --unit, --point-unit and --orientation-unit where given, otherwise from
-/// its header (the last 3 columns are the point's: `q1_deg, ..., x_m, y_m, z_m`; of a pose, the
-/// last 6: `..., x_m, y_m, z_m, rx_rad, ry_rad, rz_rad`); a point without a stated unit is in mm,
-/// an orientation in deg.
-json stationEntry(const fs::path& file, const ReadingsImport& import, const fs::path& plan_folder,
-                  const MachineReadings& machine, bool pose, std::vector<std::string>& ignored) {
+/// A station file's measurement entries (one per marker read; one for a file without names): its
+/// joints' unit and its point's (and a pose's orientation's), from --unit, --point-unit and
+/// --orientation-unit where given, otherwise from its header (the last 3 columns are the point's:
+/// `q1_deg, ..., x_m, y_m, z_m`; of a pose, the last 6: `..., x_m, y_m, z_m, rx_rad, ry_rad,
+/// rz_rad`); a point without a stated unit is in mm, an orientation in deg.
+std::vector<json> stationEntries(const fs::path& file, const ReadingsImport& import,
+                                 const fs::path& plan_folder, const MachineReadings& machine,
+                                 bool pose, std::vector<std::string>& ignored) {
   const fs::path relative = fs::absolute(file).lexically_normal().lexically_relative(plan_folder);
   if (auto named = namedColumns(file, machine, import, true, pose)) {
-    json entry = {{"csv", relative.generic_string()}};
-    entry.update(named->entry);
+    std::vector<json> entries;
+    for (const json& columns : named->entries) {
+      entries.push_back({{"csv", relative.generic_string()}});
+      entries.back().update(columns);
+    }
     ignored.insert(ignored.end(), named->ignored.begin(), named->ignored.end());
-    return entry;
+    return entries;
+  }
+  if (import.markers.size() > 1) {
+    throw InputError(file.string(), "line 1",
+                     "several --marker need a header naming the columns (the joints by name, "
+                     "<marker>_x, <marker>_y, <marker>_z of each marker)");
   }
   std::string unit = import.unit, point_unit = import.point_unit,
               orientation_unit = import.orientation_unit;
@@ -747,7 +782,7 @@ json stationEntry(const fs::path& file, const ReadingsImport& import, const fs::
     entry["orientation_unit"] = orientation_unit.empty() ? "deg" : orientation_unit;
   if (pose && !import.orientation.empty()) entry["orientation"] = import.orientation;
   if (!import.holds.empty()) entry["columns"] = heldColumns(machine, import, unit, measured);
-  return entry;
+  return {entry};
 }
 
 json stationPlacements(const fs::path& dir, const ReadingsImport& import,
@@ -758,7 +793,8 @@ json stationPlacements(const fs::path& dir, const ReadingsImport& import,
   for (const auto& [name, files] : stations(dir)) {
     json measurements = json::array();
     for (const fs::path& file : files)
-      measurements.push_back(stationEntry(file, import, plan_folder, machine, pose, ignored));
+      for (json& entry : stationEntries(file, import, plan_folder, machine, pose, ignored))
+        measurements.push_back(std::move(entry));
     placements.push_back(
         {{"name", name}, {"artifact", instrument_id}, {"measurements", measurements}});
   }
@@ -774,7 +810,7 @@ json featureEntry(const FeatureFile& file, const ReadingsImport& import,
       fs::absolute(file.path).lexically_normal().lexically_relative(plan_folder);
   json entry = {{"feature", file.feature}, {"csv", relative.generic_string()}};
   if (auto named = namedColumns(file.path, machine, import, false, false)) {
-    entry.update(named->entry);
+    entry.update(named->entries.front());
     ignored.insert(ignored.end(), named->ignored.begin(), named->ignored.end());
     return entry;
   }
@@ -784,6 +820,69 @@ json featureEntry(const FeatureFile& file, const ReadingsImport& import,
   return entry;
 }
 
+/// A marker's offset from the chain's tip, one standard deviation per coordinate, mm: where on
+/// the hand a marker sits is not known, so no correction within several of these is implausible
+/// (corrections.hpp); as information it weighs nothing beside the readings.
+constexpr double kMarkerOffsetPrior = 100.0;
+
+/// The joint of marker `name` in a machine block of several markers.
+std::string markerJoint(const std::string& name) {
+  return "marker_" + name;
+}
+
+/// `machine` (a chain of one tip) with one tip per marker of `markers`: a fixed joint
+/// "marker_<name>" after the chain's last joint, its origin 0 (the marker's offset from the
+/// chain's tip is what the calibration estimates), and "tips" naming each path (docs/urdf.md,
+/// "one machine, several tips"). With "calibrate": "identifiable", the markers' x, y, z are listed
+/// first; each has a prior of kMarkerOffsetPrior unless the block states one.
+json withMarkerTips(json machine, const std::vector<std::string>& markers) {
+  if (machine.value("model", "") != "chain" || machine.contains("tips") ||
+      !machine.contains("joints") || !machine["joints"].is_array()) {
+    throw InputError("--marker", markers.front(),
+                     "several markers need a chain machine of one tip (--urdf with one --tip, "
+                     "or a chain machine block without \"tips\"): each marker becomes a tip");
+  }
+  json path = json::array();
+  std::set<std::string> names;
+  for (const json& joint : machine["joints"]) {
+    const std::string name = joint.value("name", "");
+    if (name.empty()) {
+      throw InputError("--marker", markers.front(),
+                       "several markers need the chain's joints named (\"name\")");
+    }
+    path.push_back(name);
+    names.insert(name);
+  }
+  json tips = json::array();
+  for (const std::string& marker : markers) {
+    const std::string joint = markerJoint(marker);
+    if (!names.insert(joint).second) {
+      throw InputError("--marker", marker,
+                       "given twice, or the machine already has a joint \"" + joint + "\"");
+    }
+    machine["joints"].push_back({{"name", joint},
+                                 {"type", "fixed"},
+                                 {"origin", {{"xyz", {0.0, 0.0, 0.0}}, {"rpy", {0.0, 0.0, 0.0}}}}});
+    json joints = path;
+    joints.push_back(joint);
+    tips.push_back({{"name", marker}, {"joints", joints}});
+  }
+  machine["tips"] = tips;
+  // The markers' offsets first in the rank rule's order (the chain's tip frame then takes none of
+  // their directions), each with a prior of kMarkerOffsetPrior: unknown, not implausible.
+  json first = json::array();
+  for (const std::string& marker : markers)
+    for (const char* axis : {".x", ".y", ".z"}) first.push_back(markerJoint(marker) + axis);
+  if (machine.value("calibrate", json()) == "identifiable")
+    machine["calibrate"] = {{"identifiable", first}};
+  if (!machine.contains("prior") || !machine["prior"].is_object())
+    machine["prior"] = json::object();
+  for (const json& name : first)
+    if (!machine["prior"].contains(name.get<std::string>()))
+      machine["prior"][name.get<std::string>()] = kMarkerOffsetPrior;
+  return machine;
+}
+
 json machineBlock(const ReadingsImport& import) {
   if (!import.machine_file.empty()) {
     json machine = readJsonFile(import.machine_file);
@@ -791,11 +890,11 @@ json machineBlock(const ReadingsImport& import) {
     if (!machine.is_object())
       throw InputError(import.machine_file, "", "expected a machine block (an object)");
     if (!import.keep_calibrate) machine["calibrate"] = "identifiable";
-    return machine;
+    return import.markers.size() > 1 ? withMarkerTips(machine, import.markers) : machine;
   }
   json machine = importUrdf(import.urdf, import.base, import.tip);
   machine["calibrate"] = "identifiable";
-  return machine;
+  return import.markers.size() > 1 ? withMarkerTips(machine, import.markers) : machine;
 }
 
 /// The artifacts block and the id of the artifact placed.
@@ -959,6 +1058,11 @@ ImportedPlan importReadings(const ReadingsImport& import) {
   const auto [artifacts, artifact_id] = artifactBlock(import);
   const json& artifact = artifacts.at(artifact_id);
   const bool instrument = artifact.is_object() && artifact.value("type", "") == "instrument";
+  if (import.markers.size() > 1 && !instrument) {
+    throw InputError("--marker", import.markers.front(),
+                     "several markers are an instrument's readings (--instrument): a ball bar's "
+                     "or an artifact's files read one tip");
+  }
   const std::string source = to_stdout ? std::string("import-readings") : import.output;
   const json machine = machineBlock(import);
   json placements = json::array();

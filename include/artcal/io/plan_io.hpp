@@ -7,6 +7,7 @@
 #include <string>
 
 #include "artcal/core/error.hpp"
+#include "artcal/io/json_node.hpp"
 #include "artcal/io/output_file.hpp"
 #include "artcal/io/plan_file.hpp"
 #include "artcal/plan/plan.hpp"
@@ -42,6 +43,10 @@ Plan parsePlan(const nlohmann::json& document, const std::string& source,
                bool require_placements = true, bool check_plausibility = true);
 
 // loadPlan (readJsonFile + parsePlan): io/plan_file.hpp.
+
+/// The stylus a reading entry chooses: its "tip" (one of mech.stylusNames(), a chain's "tips")
+/// or its "stylus" (an index); 0 when it names neither. InputError at the entry otherwise.
+int readStylus(const Node& entry, const Mechanism& mech);
 
 /// The placements of a plan as plan-file JSON (file units), e.g. for a plan the tool writes.
 nlohmann::json placementsToJson(const Plan& plan);

@@ -50,10 +50,11 @@ struct ReadingsImport {
   double encoder = 0.0;
   /// The readings' unit for every file ("deg", "rad", "mm", "m"), overriding the layout's.
   std::string unit;
-  /// Files whose header names its columns (docs/plan-format.md, "Columns by name"): the marker
+  /// Files whose header names its columns (docs/plan-format.md, "Columns by name"): the markers
   /// whose <name>_x, <name>_y, <name>_z an instrument's readings take (empty: the header's only
-  /// one).
-  std::string marker;
+  /// one). Several: each row is one reading of each marker, each marker a tip of its own
+  /// (withMarkerTips: a fixed joint "marker_<name>" after the chain's last joint).
+  std::vector<std::string> markers;
   /// A pose's orientation columns: "rotation_vector", "rpy" (roll, pitch, yaw: the URDF's
   /// fixed-axis x-y-z, R = Rz(yaw) Ry(pitch) Rx(roll)) or "quaternion" (w, x, y, z); empty: what
   /// the header names (rotation_vector for a file without names).
