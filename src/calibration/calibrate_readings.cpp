@@ -418,8 +418,8 @@ Calibration withModelChoice(Plan& plan, const CalibrationOptions& options,
     plan.machine.calibrated = choice.candidates[static_cast<std::size_t>(choice.chosen)].kept;
     plan.calibrate_resolution->kept = plan.machine.calibrated;
     Calibrator narrowed(plan, options);
-    Calibration chosen = followedBy(calibration,
-                                    calibrateWithNoise(plan, narrowed, outcome->chosen_state));
+    Calibration chosen =
+        followedBy(calibration, calibrateWithNoise(plan, narrowed, outcome->chosen_state));
     chosen.minimum = std::move(calibration.minimum);
     nearestTurn(plan, chosen);
     addWarnings(plan, chosen);
@@ -439,8 +439,9 @@ Calibration calibrateReadings(Plan& plan, const CalibrationOptions& options) {
   // loaded (plausible_minimum.hpp); the kept set is then judged held out on the minimum taken.
   const Plan before = plan;
   Calibration calibration = calibrateAsListed(plan, options);
-  calibration = choosePlausibleMinimum(before, plan, std::move(calibration),
-                                       [&](Plan& trial) { return calibrateAsListed(trial, options); });
+  calibration = choosePlausibleMinimum(before, plan, std::move(calibration), [&](Plan& trial) {
+    return calibrateAsListed(trial, options);
+  });
   return withModelChoice(plan, options, std::move(calibration));
 }
 

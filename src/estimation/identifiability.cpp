@@ -5,9 +5,9 @@
 #include "artcal/estimation/normal_matrix.hpp"
 
 #include <algorithm>
-#include <numeric>
 #include <cmath>
 #include <limits>
+#include <numeric>
 
 namespace artcal {
 

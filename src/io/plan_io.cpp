@@ -976,6 +976,20 @@ Plan loadPlan(const std::string& path, bool require_placements) {
   return parsePlan(readJsonFile(path), path, require_placements);
 }
 
+namespace {
+
+/// The stylus of a written reading, as readStylus reads it back: its "tip" on a machine that
+/// names its tips, otherwise its "stylus" index when not the first.
+void addStylus(json& entry, const Mechanism& mech, int stylus) {
+  if (const std::vector<std::string> tips = mech.stylusNames(); !tips.empty()) {
+    entry["tip"] = tips[static_cast<std::size_t>(stylus)];
+  } else if (stylus != 0) {
+    entry["stylus"] = stylus;
+  }
+}
+
+}  // namespace
+
 nlohmann::json placementsToJson(const Plan& plan) {
   json out = json::array();
   const Mechanism& mech = *plan.machine.mechanism;
@@ -1011,22 +1025,12 @@ nlohmann::json placementsToJson(const Plan& plan) {
           entry["point"] = point;
         }
         if (m.stationing) entry["stationing"] = true;
-        if (const std::vector<std::string> tips = plan.machine.mechanism->stylusNames();
-            !tips.empty()) {
-          entry["tip"] = tips[static_cast<std::size_t>(m.stylus)];
-        } else if (m.stylus != 0) {
-          entry["stylus"] = m.stylus;
-        }
+        addStylus(entry, mech, m.stylus);
         measurements.push_back(entry);
         continue;
       }
       json entry = {{"feature", m.feature}, {"joints", joints}};
-      if (const std::vector<std::string> tips = plan.machine.mechanism->stylusNames();
-          !tips.empty()) {
-        entry["tip"] = tips[static_cast<std::size_t>(m.stylus)];
-      } else if (m.stylus != 0) {
-        entry["stylus"] = m.stylus;
-      }
+      addStylus(entry, mech, m.stylus);
       measurements.push_back(entry);
     }
     p["measurements"] = measurements;

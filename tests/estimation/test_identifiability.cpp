@@ -164,12 +164,9 @@ TEST(RankTrap, ScalingAParameterDoesNotChangeTheRank) {
   EXPECT_NEAR(a.condition_number, b.condition_number, 1e-6 * a.condition_number);
 }
 
-// The greedy choice (chooseIdentifiableSet) against a dense oracle: the smallest eigenvalue of the
-// scaled information over kept + {i}, decomposed afresh for every trial. Columns of a made-up
-// Jacobian: independent ones, one nearly a combination of two (surviving fraction about 1e-7:
-// held at 1e-6, kept at 1e-10), one an exact copy, one never observed.
-TEST(GreedyChoice, AgreesWithTheSmallestEigenvalueOfEveryTrial) {
-  std::mt19937_64 rng(18);
+/// A made-up 40 x 12 Jacobian drawn from `rng`: independent normal columns but column 3, nearly
+/// columns 0 + 1 (surviving fraction about 1e-7), and column 9, never observed.
+Eigen::MatrixXd madeUpJacobian(std::mt19937_64& rng) {
   std::normal_distribution<double> normal;
   Eigen::MatrixXd A(40, 12);
   for (int r = 0; r < A.rows(); ++r) {
@@ -178,8 +175,18 @@ TEST(GreedyChoice, AgreesWithTheSmallestEigenvalueOfEveryTrial) {
   Eigen::VectorXd noise(A.rows());
   for (int r = 0; r < A.rows(); ++r) noise[r] = normal(rng);
   A.col(3) = A.col(0) + A.col(1) + 5e-4 * noise;
-  A.col(7) = 2.5 * A.col(2);
   A.col(9).setZero();
+  return A;
+}
+
+// The greedy choice (chooseIdentifiableSet) against a dense oracle: the smallest eigenvalue of the
+// scaled information over kept + {i}, decomposed afresh for every trial. Columns of a made-up
+// Jacobian: independent ones, one nearly a combination of two (surviving fraction about 1e-7:
+// held at 1e-6, kept at 1e-10), one an exact copy, one never observed.
+TEST(GreedyChoice, AgreesWithTheSmallestEigenvalueOfEveryTrial) {
+  std::mt19937_64 rng(18);
+  Eigen::MatrixXd A = madeUpJacobian(rng);
+  A.col(7) = 2.5 * A.col(2);
   A.col(10) *= 1e4;  // a parameter in other units: the scaling makes it alike
   PlanInformation information;
   information.reduced = A.transpose() * A;
@@ -225,7 +232,6 @@ TEST(GreedyChoice, AgreesWithTheSmallestEigenvalueOfEveryTrial) {
             (std::vector<int>{3, 7, 9}));
 }
 
-
 // The pivoted choice (choosePivotedSet) on hand-made columns of a scaled Jacobian: a = (0.5, 0, 0),
 // b = (0.9, 5e-4, 0), c = (0, 0, 1). a and b are nearly parallel: S over {a, b} has determinant
 // 0.25 * 0.81 + 0.25 * 2.5e-7 - 0.45^2 = 6.25e-8 and trace 1.06, so its smallest eigenvalue is
@@ -268,15 +274,7 @@ TEST(PivotedChoice, KeepsTheStrongerOfTwoNearlyParallelColumnsInAnyOrder) {
 // the tolerance does not depend on the order).
 TEST(PivotedChoice, TheSetDoesNotDependOnTheListedOrder) {
   std::mt19937_64 rng(18);
-  std::normal_distribution<double> normal;
-  Eigen::MatrixXd A(40, 12);
-  for (int r = 0; r < A.rows(); ++r) {
-    for (int c = 0; c < A.cols(); ++c) A(r, c) = normal(rng);
-  }
-  Eigen::VectorXd noise(A.rows());
-  for (int r = 0; r < A.rows(); ++r) noise[r] = normal(rng);
-  A.col(3) = A.col(0) + A.col(1) + 5e-4 * noise;
-  A.col(9).setZero();
+  const Eigen::MatrixXd A = madeUpJacobian(rng);
   const auto n = static_cast<int>(A.cols());
   const auto held = [&](const std::vector<int>& order) {
     Eigen::MatrixXd B(A.rows(), n);

@@ -29,6 +29,14 @@ using test_support::testDataFile;
 class NamedColumns : public test_support::TempFolder {
  protected:
   NamedColumns() : TempFolder("named-columns") {}
+  /// The MUKCa Panda's chain to its ball (`import-urdf`), written to FOLDER/machine.json.
+  nlohmann::json pandaMachine() const {
+    const std::string urdf = testDataFile("mukca/mukca/urdf/panda.urdf");
+    const auto run = runCli("import-urdf " + urdf + " --base panda_link0 --tip ball_link -o " +
+                            path("machine.json"));
+    EXPECT_EQ(run.status, 0) << run.out;
+    return readJsonFile(path("machine.json"));
+  }
 };
 
 constexpr double kPi = std::numbers::pi;
@@ -150,11 +158,7 @@ std::vector<Eigen::VectorXd> pandaPostures(int count) {
 // holds (points to 1e-9 mm, orientations to 1e-9 rad), and the three plans read identically.
 TEST_F(NamedColumns, RotationVectorRpyAndQuaternionExportsGiveIdenticalReadings) {
   const std::string urdf = testDataFile("mukca/mukca/urdf/panda.urdf");
-  ASSERT_EQ(runCli("import-urdf " + urdf + " --base panda_link0 --tip ball_link -o " +
-                   path("machine.json"))
-                .status,
-            0);
-  const json machine = readJsonFile(path("machine.json"));
+  const json machine = pandaMachine();
   const std::vector<Eigen::VectorXd> joints = pandaPostures(20);
   std::ofstream(path("reference.json")) << pandaPosePlan(machine, joints).dump(1);
   const Plan reference = loadPlan(path("reference.json"));
@@ -408,12 +412,8 @@ TEST_F(NamedColumns, PrismaticLimitsWidenAndAHeldJointReadsItsValue) {
 // nominal machine is tens of mm off.
 TEST_F(NamedColumns, SeveralMarkersPerRowAreOneReadingOfEachMarkersOwnTip) {
   const std::string urdf = testDataFile("mukca/mukca/urdf/panda.urdf");
-  ASSERT_EQ(runCli("import-urdf " + urdf + " --base panda_link0 --tip ball_link -o " +
-                   path("machine.json"))
-                .status,
-            0);
   const std::vector<Eigen::VectorXd> joints = pandaPostures(40);
-  json reference_document = pandaPosePlan(readJsonFile(path("machine.json")), joints);
+  json reference_document = pandaPosePlan(pandaMachine(), joints);
   reference_document["artifacts"]["instrument"] = {
       {"type", "instrument"}, {"measures", "point"}, {"noise", 0.01}};
   std::ofstream(path("reference.json")) << reference_document.dump(1);
