@@ -146,7 +146,8 @@ std::vector<int> selectedFields(const std::string& path, const std::vector<CsvCo
 std::vector<Eigen::VectorXd> readJointCsv(const std::string& path,
                                           const std::vector<JointKind>& kinds,
                                           const ReadingUnits& units, std::vector<long>* lines,
-                                          const std::vector<CsvColumn>* columns) {
+                                          const std::vector<CsvColumn>* columns,
+                                          CsvDropouts* dropouts) {
   const std::string text = readInputFile(path);
   const auto joints = kinds.size();
   const bool by_name = columns && std::any_of(columns->begin(), columns->end(),
@@ -203,6 +204,21 @@ std::vector<Eigen::VectorXd> readJointCsv(const std::string& path,
     first_content = false;
     if (header) continue;  // joint names
     if (rows.size() >= kMaxCsvRows) fail("more than " + std::to_string(kMaxCsvRows) + " rows");
+    if (dropouts && dropouts->first < joints) {
+      // Missing: an empty field or NaN (exports write either for a marker not seen).
+      auto missing = [&](std::size_t i) {
+        const int f = field_of[i];
+        if (f < 0) return false;
+        const auto& v = values[static_cast<std::size_t>(f)];
+        return fields[static_cast<std::size_t>(f)].empty() || (v && std::isnan(*v));
+      };
+      bool all = true;
+      for (std::size_t i = dropouts->first; i < joints; ++i) all = all && missing(i);
+      if (all) {
+        dropouts->lines.push_back(line_number);
+        continue;
+      }
+    }
     Eigen::VectorXd q(static_cast<int>(joints));
     for (std::size_t i = 0; i < joints; ++i) {
       const int f = field_of[i];
@@ -210,6 +226,13 @@ std::vector<Eigen::VectorXd> readJointCsv(const std::string& path,
           f < 0 ? (*columns)[i].held : values[static_cast<std::size_t>(f)];
       const std::string_view field =
           f < 0 ? std::string_view() : fields[static_cast<std::size_t>(f)];
+      if (!value && f >= 0 && field.empty()) {
+        fail(column_name(i) + ": empty" +
+             (dropouts && i >= dropouts->first
+                  ? std::string(" while the row's other measured coordinates are given: a "
+                                "marker not seen leaves all its cells empty")
+                  : std::string()));
+      }
       if (!value) fail(column_name(i) + ": not a number: \"" + shown(field) + "\"");
       if (!std::isfinite(*value)) fail(column_name(i) + ": expected a finite number");
       const double scale =

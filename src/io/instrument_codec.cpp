@@ -132,9 +132,10 @@ std::vector<Eigen::VectorXd> readStationCsv(const std::string& file,
                                             const std::vector<JointKind>& kinds,
                                             const ReadingUnits& units, int joints,
                                             const Artifact& instrument, std::vector<long>& lines,
-                                            const std::vector<CsvColumn>* columns) {
+                                            const std::vector<CsvColumn>* columns,
+                                            CsvDropouts& dropouts) {
   try {
-    return readJointCsv(file, kinds, units, &lines, columns);
+    return readJointCsv(file, kinds, units, &lines, columns, &dropouts);
   } catch (const InputError& e) {
     const std::string message = e.what();
     if (message.rfind("expected ", 0) != 0) throw;
@@ -145,6 +146,21 @@ std::vector<Eigen::VectorXd> readStationCsv(const std::string& file,
                               ? ": x, y, z, then the orientation as a rotation vector in deg)"
                               : ")"));
   }
+}
+
+/// The rows of a station file whose measured point was not seen, said once (never skipped
+/// silently): how many, the first few lines, and the marker when the entry names its tip.
+std::string droppedRowsWarning(const std::string& file, const Node& entry,
+                               const std::vector<long>& dropped) {
+  std::string list;
+  for (std::size_t i = 0; i < dropped.size() && i < 5; ++i)
+    list += (i ? ", " : "") + std::to_string(dropped[i]);
+  if (dropped.size() > 5) list += ", ...";
+  const std::string marker = entry.find("tip") && entry.at("tip").value().is_string()
+                                 ? " of marker \"" + entry.at("tip").string() + "\""
+                                 : std::string();
+  return file + ": " + std::to_string(dropped.size()) + " row(s) without a reading" + marker +
+         " (its coordinates empty or NaN: not seen) left out, line(s) " + list;
 }
 
 void appendCsvReadings(const Node& entry, const std::string& plan_source, const Machine& machine,
@@ -189,8 +205,10 @@ void appendCsvReadings(const Node& entry, const std::string& plan_source, const 
   std::optional<std::vector<CsvColumn>> columns;
   if (const auto given = entry.find("columns")) columns = parseCsvColumns(*given, kinds.size());
   std::vector<long> lines;
-  const std::vector<Eigen::VectorXd> rows =
-      readStationCsv(file, kinds, units, joints, instrument, lines, columns ? &*columns : nullptr);
+  CsvDropouts dropouts{static_cast<std::size_t>(joints), {}};
+  const std::vector<Eigen::VectorXd> rows = readStationCsv(
+      file, kinds, units, joints, instrument, lines, columns ? &*columns : nullptr, dropouts);
+  if (!dropouts.lines.empty()) warnings.push_back(droppedRowsWarning(file, entry, dropouts.lines));
   for (std::size_t r = 0; r < rows.size(); ++r) {
     const std::string where =
         "line " + std::to_string(lines[r]) + " (row " + std::to_string(r + 1) + ")";

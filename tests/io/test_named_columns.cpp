@@ -521,5 +521,83 @@ TEST_F(NamedColumns, SeveralMarkersPerRowAreOneReadingOfEachMarkersOwnTip) {
   EXPECT_TRUE(calibration.warnings.empty());
 }
 
+// A marker the motion-capture system did not see in some frames (its cells empty, or NaN as some
+// exports write): that marker's reading of those rows is left out, with a warning naming the file,
+// the marker and the lines; the other marker's readings of the same rows are kept, each reading
+// still lands on its own row. A row with only some of a marker's coordinates is refused at its
+// line and column.
+TEST_F(NamedColumns, AMarkerNotSeenInSomeRowsLeavesOutItsReadingsOfThoseRowsAlone) {
+  const std::string urdf = testDataFile("mukca/mukca/urdf/panda.urdf");
+  const std::vector<Eigen::VectorXd> joints = pandaPostures(12);
+  std::string header = "A_x [mm],A_y [mm],A_z [mm],B_x [mm],B_y [mm],B_z [mm]";
+  for (int i = 1; i <= 7; ++i) header += ",panda_joint" + std::to_string(i) + " [rad]";
+  // Row k's coordinates: A at (k, 2k, 3k) mm, B 100 mm beyond along x; B not seen in rows 3 and
+  // 7 (empty), A not seen in row 5 (NaN).
+  auto row = [&](std::size_t k, const std::string& b_y) {
+    std::string text;
+    const double a[3] = {1.0 * k, 2.0 * k, 3.0 * k};
+    const bool a_seen = k != 5, b_seen = k != 3 && k != 7;
+    for (int c = 0; c < 3; ++c) text += (c ? "," : "") + (a_seen ? number(a[c]) : "NaN");
+    for (int c = 0; c < 3; ++c) {
+      const std::string value = c == 1 && !b_y.empty() ? b_y : number(a[c] + (c == 0 ? 100 : 0));
+      text += "," + (b_seen ? value : std::string());
+    }
+    for (int i = 0; i < 7; ++i) text += "," + number(joints[k][i]);
+    return text + "\n";
+  };
+  std::string text = header + "\n";
+  for (std::size_t k = 0; k < joints.size(); ++k) text += row(k, "");
+  write("mocap/take.csv", text);
+  const std::string import = "import-readings " + path("mocap") + " --urdf " + urdf +
+                             " --base panda_link0 --tip ball_link --instrument 0.01 --probe 0.001" +
+                             " --marker A --marker B -o ";
+  const auto run = runCli(import + path("plan.json"), Stderr::Only);
+  ASSERT_EQ(run.status, 0) << run.out;
+  EXPECT_NE(run.out.find("warning: " + path("mocap/take.csv") +
+                         ": 2 row(s) without a reading of marker \"B\""),
+            std::string::npos)
+      << run.out;
+  Plan plan = parsed(path("plan.json"));
+  const auto& readings = plan.placements.at(0).measurements;
+  ASSERT_EQ(readings.size(), 2 * joints.size() - 3);
+  EXPECT_EQ(std::count_if(readings.begin(), readings.end(),
+                          [](const Measurement& m) { return m.stylus == 0; }),
+            static_cast<long>(joints.size()) - 1);
+  // Each kept reading is its row's: the joints say which row, the point must be that row's.
+  for (const Measurement& m : readings) {
+    std::size_t k = 0;
+    while (k < joints.size() && (m.joints - joints[k]).cwiseAbs().maxCoeff() > 1e-15) ++k;
+    ASSERT_LT(k, joints.size());
+    EXPECT_NE(k, m.stylus == 0 ? 5u : 3u);
+    if (m.stylus == 1) {
+      EXPECT_NE(k, 7u);
+    }
+    const Eigen::Vector3d expected(1.0 * k + (m.stylus == 1 ? 100.0 : 0.0), 2.0 * k, 3.0 * k);
+    EXPECT_LT((m.point - expected).cwiseAbs().maxCoeff(), 1e-12) << "row " << k;
+  }
+  const std::string all = [&] {
+    std::string joined;
+    for (const std::string& w : plan.warnings) joined += w + "\n";
+    return joined;
+  }();
+  EXPECT_NE(all.find("take.csv: 1 row(s) without a reading of marker \"A\""), std::string::npos)
+      << all;
+  EXPECT_NE(all.find("take.csv: 2 row(s) without a reading of marker \"B\""), std::string::npos)
+      << all;
+  EXPECT_NE(all.find("line(s) 5, 9"), std::string::npos) << all;  // rows 3 and 7 after the header
+
+  // Only B_y missing in row 4 (line 6): not a marker unseen, a damaged row.
+  text = header + "\n";
+  for (std::size_t k = 0; k < joints.size(); ++k) text += row(k, k == 4 ? " " : "");
+  write("mocap/take.csv", text);
+  const auto damaged = runCli(import + path("damaged.json"), Stderr::Only);
+  EXPECT_EQ(damaged.status, 2);
+  EXPECT_NE(damaged.out.find("take.csv: line 6: column 5 (\"B_y [mm]\"): empty while the row's "
+                             "other measured coordinates are given"),
+            std::string::npos)
+      << damaged.out;
+  EXPECT_FALSE(fs::exists(path("damaged.json")));
+}
+
 }  // namespace named_columns_test
 }  // namespace artcal

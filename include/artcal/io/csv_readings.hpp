@@ -54,10 +54,20 @@ inline constexpr std::size_t kMaxCsvRows = 100'000;
 /// columns by name must start with a header line holding every name selected (once), each row
 /// then has as many fields as the header and the fields not selected are ignored. A fault names the
 /// line and the column ("line 12: column 5 (\"panda_joint3\"): not a number").
+///
+/// `dropouts`, when given, allows rows whose readings from entry `dropouts->first` on (an
+/// instrument's measured coordinates) are all missing: every such field empty or NaN (a marker a
+/// motion-capture system did not see in that frame). Those rows are not returned; their line
+/// numbers go to `dropouts->lines`. A row with some of them missing is still refused.
+struct CsvDropouts {
+  std::size_t first = 0;
+  std::vector<long> lines;
+};
 std::vector<Eigen::VectorXd> readJointCsv(const std::string& path,
                                           const std::vector<JointKind>& kinds,
                                           const ReadingUnits& units,
                                           std::vector<long>* lines = nullptr,
-                                          const std::vector<CsvColumn>* columns = nullptr);
+                                          const std::vector<CsvColumn>* columns = nullptr,
+                                          CsvDropouts* dropouts = nullptr);
 
 }  // namespace artcal
