@@ -70,11 +70,13 @@ void addImportReadingsCommand(CLI::App& app, Action& action) {
       ->check(positiveNumber())
       ->needs(instrument);
   cmd->add_option("--point-unit", in.point_unit,
-                  "unit of the measured points of an instrument (mm or m), instead of the header's")
+                  "unit of the measured points of an instrument (mm or m), for a header that names "
+                  "none (a header naming another is refused)")
       ->check(CLI::IsMember({"mm", "m"}));
-  cmd->add_option("--orientation-unit", in.orientation_unit,
-                  "unit of a pose instrument's measured orientations (deg or rad), instead of the "
-                  "header's")
+  cmd->add_option(
+         "--orientation-unit", in.orientation_unit,
+         "unit of a pose instrument's measured orientations (deg or rad), for a header that "
+         "names none (a header naming another is refused)")
       ->check(CLI::IsMember({"deg", "rad"}));
   auto* probe = cmd->add_option("--probe", args->probe,
                                 "noise.probe: mm per coordinate, or \"estimate\" (the default with "

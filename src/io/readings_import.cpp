@@ -431,6 +431,29 @@ std::string commonUnit(const fs::path& file, const std::vector<std::string>& fie
   return *units.begin();
 }
 
+/// A unit given as an option where the header names one too: the two must agree (a file in m
+/// read as mm is 1000 times off, and neither is silently preferred). `stated` "" (the header
+/// names none) accepts the option.
+void requireAgreeingUnit(const fs::path& file, const std::string& option, const std::string& given,
+                         const std::string& stated, const std::string& what) {
+  if (given.empty() || stated.empty() || given == stated) return;
+  throw InputError(file.string(), "line 1",
+                   "the header names the " + what + " unit " + stated + " and " + option +
+                       " says " + given +
+                       ": drop the option (the header's unit is read) or correct the header");
+}
+
+/// commonUnit where an option gives the unit: "" when the header's words do not name one unit
+/// (the option then decides, as without a header).
+std::string headerUnitBesideOption(const fs::path& file, const std::vector<std::string>& fields,
+                                   const std::string& what) {
+  try {
+    return commonUnit(file, fields, what);
+  } catch (const InputError&) {
+    return {};
+  }
+}
+
 /// The markers of a header-named station file an import reads: --marker's (each one named in
 /// the header), or the header's only marker.
 std::vector<std::string> markersRead(const fs::path& file, const std::vector<std::string>& bases,
@@ -474,7 +497,12 @@ void readMarkerColumns(const fs::path& file, const std::vector<std::string>& fie
     columns.push_back(trimmedField(fields[static_cast<std::size_t>(f)]));
   }
   std::string point_unit = import.point_unit;
-  if (point_unit.empty()) point_unit = commonUnit(file, point_fields, "point's");
+  if (point_unit.empty()) {
+    point_unit = commonUnit(file, point_fields, "point's");
+  } else {
+    requireAgreeingUnit(file, "--point-unit", point_unit,
+                        headerUnitBesideOption(file, point_fields, "point's"), "point's");
+  }
   if (point_unit.empty()) {
     throw InputError(file.string(), "line 1",
                      "the point's columns name no unit (" + marker + "_x_mm or " + marker +
@@ -512,7 +540,13 @@ void readMarkerColumns(const fs::path& file, const std::vector<std::string>& fie
     entry["orientation"] = o.form;
     if (std::string(o.form) != "quaternion") {
       std::string angle_unit = import.orientation_unit;
-      if (angle_unit.empty()) angle_unit = commonUnit(file, angle_fields, "orientation's");
+      if (angle_unit.empty()) {
+        angle_unit = commonUnit(file, angle_fields, "orientation's");
+      } else {
+        requireAgreeingUnit(file, "--orientation-unit", angle_unit,
+                            headerUnitBesideOption(file, angle_fields, "orientation's"),
+                            "orientation's");
+      }
       if (angle_unit.empty()) {
         throw InputError(file.string(), "line 1",
                          "the orientation's columns name no unit (deg or rad): state it with "
@@ -765,6 +799,15 @@ std::vector<json> stationEntries(const fs::path& file, const ReadingsImport& imp
                            (pose ? "3 columns after the joints" : "last 3 columns") +
                            " are the measured point: one length unit (x_mm, y_mm, z_mm or x_m, "
                            "y_m, z_m)");
+    }
+  }
+  if (header) {  // an option beside a header's own unit words: the two agree
+    requireAgreeingUnit(file, "--point-unit", point_unit, unitOfThree(fields, first, {"mm", "m"}),
+                        "point's");
+    if (pose && !quaternion) {
+      requireAgreeingUnit(file, "--orientation-unit", orientation_unit,
+                          unitOfThree(fields, first + kPointColumns, {"deg", "rad"}),
+                          "orientation's");
     }
   }
   if (pose && !quaternion && orientation_unit.empty() && header) {

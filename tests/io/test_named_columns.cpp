@@ -599,5 +599,47 @@ TEST_F(NamedColumns, AMarkerNotSeenInSomeRowsLeavesOutItsReadingsOfThoseRowsAlon
   EXPECT_FALSE(fs::exists(path("damaged.json")));
 }
 
+// A unit given as an option where the header names another (docs/hardening.md): refused naming
+// the file and both units, never silently preferred (a file in mm read as m is 1000 times off);
+// the same unit given both ways is accepted. Header-named and general-layout files alike.
+TEST_F(NamedColumns, AnOptionsUnitContradictingTheHeadersIsRefused) {
+  const std::string urdf = testDataFile("mukca/mukca/urdf/panda.urdf");
+  const std::vector<Eigen::VectorXd> joints = pandaPostures(4);
+  std::string named = "hand_x [mm],hand_y [mm],hand_z [mm]";
+  std::string general;
+  for (int i = 1; i <= 7; ++i) {
+    named += ",panda_joint" + std::to_string(i) + " [rad]";
+    general += "q" + std::to_string(i) + "_rad,";
+  }
+  named += "\n";
+  general += "x_mm,y_mm,z_mm\n";
+  for (const Eigen::VectorXd& q : joints) {
+    std::string angles;
+    for (int i = 0; i < 7; ++i) angles += "," + number(q[i]);
+    named += "100,200,300" + angles + "\n";
+    general += angles.substr(1) + ",100,200,300\n";
+  }
+  write("named/take.csv", named);
+  write("general/take.csv", general);
+  for (const std::string folder : {"named", "general"}) {
+    const std::string import = "import-readings " + path(folder) + " --urdf " + urdf +
+                               " --base panda_link0 --tip ball_link --instrument 0.01 -o ";
+    const auto refused =
+        runCli(import + path(folder + "-m.json") + " --point-unit m", Stderr::Only);
+    EXPECT_EQ(refused.status, 2) << folder;
+    EXPECT_NE(refused.out.find("take.csv: line 1: the header names the point's unit mm and "
+                               "--point-unit says m"),
+              std::string::npos)
+        << refused.out;
+    EXPECT_FALSE(fs::exists(path(folder + "-m.json")));
+    const auto agreed =
+        runCli(import + path(folder + "-mm.json") + " --point-unit mm", Stderr::Only);
+    EXPECT_EQ(agreed.status, 0) << agreed.out;
+    const Plan plan = parsed(path(folder + "-mm.json"));
+    EXPECT_EQ(plan.placements.at(0).measurements.at(0).point, Eigen::Vector3d(100, 200, 300))
+        << folder;
+  }
+}
+
 }  // namespace named_columns_test
 }  // namespace artcal
