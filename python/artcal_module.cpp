@@ -329,9 +329,11 @@ py::tuple calibrate(const PyPlan& p, int max_iterations, double step_tolerance,
   options.gross_threshold = gross_threshold;
   std::string error;
   if (!options.isValid(&error)) throw std::invalid_argument("calibrate: " + error);
-  Plan plan = p.plan;  // calibrateReadings holds weak parameters at nominal in its plan
   const auto [document, machine] = withoutGil([&] {
-    const Calibration calibration = calibrateReadings(plan, options);
+    // The plan as calibrated (the kept set, the noise used); p.plan itself is not changed.
+    const CalibrationRun run = calibrateReadings(p.plan, options);
+    const Plan& plan = run.decided;
+    const Calibration& calibration = run.calibration;
     if (calibration.dof < 0) {  // fewer equations than unknowns: check's answer, nothing estimated
       json answer = checkDocument(p, kDefaultRankTolerance);
       answer["converged"] = false;

@@ -113,10 +113,11 @@ int runCalibrate(CalibrateArguments args) {
   checkOptions(args.options.isValid(&error), "calibrate", error);
   args.options.model_choice = *fromName(kModelChoiceModeNames, args.model_choice);
   if (!args.write_machine.empty()) checkOutputPath(args.write_machine);
-  Plan plan = loadPlanReporting(args.plan);
-  const Plan given = plan;
-  // Weakly determined parameters held at nominal and the noise estimated, in `plan` too.
-  const Calibration calibration = calibrateReadings(plan, args.options);
+  const Plan given = loadPlanReporting(args.plan);
+  // The plan as calibrated: its kept set and the noise used (given itself is not changed).
+  const CalibrationRun run = calibrateReadings(given, args.options);
+  const Plan& plan = run.decided;
+  const Calibration& calibration = run.calibration;
   if (calibration.dof < 0) {
     // Fewer equations than unknowns: nothing is estimated, the answer is check's.
     std::cerr << "calibrate: " << args.plan << ": " << -calibration.dof

@@ -208,16 +208,19 @@ void addReportCommand(CLI::App& app, Action& action) {
       std::optional<nlohmann::json> calibration_json;
       std::optional<bool> converged;
       std::optional<Calibration> calibration;
-      // calibrate holds weakly determined parameters at nominal and may estimate the noise: its
-      // own copy of the plan says with what it calibrated.
-      Plan calibrated = plan;
+      // calibrate holds weakly determined parameters at nominal and may estimate the noise: the
+      // plan as it decided says with what it calibrated.
+      std::optional<Plan> decided;
       if (wantsCalibration(*args, document)) {
         CalibrationOptions options;
         options.flag_threshold = args->flag_threshold;
-        calibration = calibrateReadings(calibrated, options);
-        calibration_json = calibrationToJson(calibrated, calibrated.placements, *calibration);
+        CalibrationRun run = calibrateReadings(plan, options);
+        decided.emplace(std::move(run.decided));
+        calibration.emplace(std::move(run.calibration));
+        calibration_json = calibrationToJson(*decided, decided->placements, *calibration);
         converged = calibration->summary.converged();
       }
+      const Plan& calibrated = decided ? *decided : plan;
       std::optional<nlohmann::json> held_out_json;
       if (!args->held_out.empty())
         held_out_json = heldOutStations(args->held_out, calibrated, *calibration);
@@ -246,8 +249,7 @@ void addReportCommand(CLI::App& app, Action& action) {
         for (ReportFigure& f : heldOutDeviationFigures(*held_out_json))
           figures.push_back(std::move(f));
       }
-      addErrorFunctionFigures(calibration ? calibrated : plan, document, args->plan, evaluation,
-                              calibration, figures);
+      addErrorFunctionFigures(calibrated, document, args->plan, evaluation, calibration, figures);
       if (acceptance) {
         if (auto figure = acceptanceReportFigure(*acceptance))
           figures.push_back(std::move(*figure));

@@ -163,24 +163,24 @@ struct ProbeNoiseSolution {
   double u = 0.0;  // mm
 };
 
-// The s_p that makes chi2 = dof for these misfits at the calibration's estimate (plan.noise.probe,
-// u = 0 where it cannot be solved). u = sqrt(2 target) / |d chi2/ds|: chi2 at the true s_p spreads
-// by sqrt(2 dof), and the solution moves by that over the slope. Without encoder or instrument
-// noise this is s_p / sqrt(2 dof); with the instrument's own noise s_i it is
-// (s_i^2 + s_p^2) / (s_p sqrt(2 dof)): an s_p small against s_i is poorly determined.
-ProbeNoiseSolution probeNoiseOfMisfits(const Plan& plan, const std::vector<ReadingMisfit>& readings,
-                                       const Calibration& calibration) {
+// The s_p that makes chi2 = dof for these misfits at the calibration's estimate (whitened with
+// s_p = `probe`; u = 0 where it cannot be solved). u = sqrt(2 target) / |d chi2/ds|: chi2 at the
+// true s_p spreads by sqrt(2 dof), and the solution moves by that over the slope. Without encoder
+// or instrument noise this is s_p / sqrt(2 dof); with the instrument's own noise s_i it is (s_i^2 +
+// s_p^2) / (s_p sqrt(2 dof)): an s_p small against s_i is poorly determined.
+ProbeNoiseSolution probeNoiseOfMisfits(const std::vector<ReadingMisfit>& readings,
+                                       const Calibration& calibration, double probe) {
   const SpectralMisfits misfits = spectralMisfits(readings);
   // The priors' part of the cost does not depend on s_p: chi2(s) = readings(s) + priors = dof.
-  const double priors = std::max(0.0, calibration.chi2 - readingsChi2(misfits, plan.noise.probe));
+  const double priors = std::max(0.0, calibration.chi2 - readingsChi2(misfits, probe));
   const double target = calibration.dof - priors;
-  if (!(target > 0.0)) return {plan.noise.probe, 0.0};
+  if (!(target > 0.0)) return {probe, 0.0};
   // readings(s) decreases with s (a closed form only without encoders).
   const double low = kProbeNoiseFloor * 1e-3, high = 1e6;
   if (readingsChi2(misfits, low) <= target) return {0.0, 0.0};  // the encoders explain it all
   if (readingsChi2(misfits, high) >= target) return {high, 0.0};
   ProbeNoiseSolution out;
-  out.s = solveProbeNoise(misfits, target, low, high, plan.noise.probe);
+  out.s = solveProbeNoise(misfits, target, low, high, probe);
   // |d chi2/ds| = 2 s |d chi2/du|.
   const double slope = 2.0 * out.s * -readingsChi2InVariance(misfits, out.s * out.s).slope;
   out.u = slope > 0.0 && std::isfinite(slope) ? std::sqrt(2.0 * target) / slope : 0.0;
@@ -195,22 +195,25 @@ Calibration followedBy(const Calibration& earlier, Calibration next) {
   return next;
 }
 
-// Calibrates at the plan's noise (`calibrator` is the plan's, its calibrated set as now); with
-// `"probe": "estimate"`, sets noise.probe to the variance component that gives chi2 = dof and
-// calibrates again until it settles.
-Calibration calibrateWithNoise(Plan& plan, Calibrator& calibrator, const CalibrationState& start) {
+// Calibrates at the calibrator's noise (the plan's when it was made, its calibrated set as now);
+// with `"probe": "estimate"`, sets the calibrator's probe noise to the variance component that
+// gives chi2 = dof and calibrates again until it settles. The plan is not touched: the caller
+// records the noise used (calibrator.probeNoise()).
+Calibration calibrateWithNoise(const Plan& plan, Calibrator& calibrator,
+                               const CalibrationState& start) {
   Calibration calibration = calibrator.run(plan.placements, start);
   if (!plan.noise.estimate_probe) return calibration;
   NoiseEstimate estimate;
-  estimate.stated = plan.noise.probe;
+  estimate.stated = calibrator.probeNoise();
   std::optional<ProbeNoiseSolution> solved;  // at the last calibration's estimate
   for (estimate.fits = 1; estimate.fits < kMaxNoiseFits; ++estimate.fits) {
     if (calibration.dof <= 0 || !std::isfinite(calibration.chi2)) break;
     // The misfits at the estimate from the calibrator's last linearisation, built there.
-    solved = probeNoiseOfMisfits(plan, calibrator.misfits(plan.placements), calibration);
+    solved = probeNoiseOfMisfits(calibrator.misfits(plan.placements), calibration,
+                                 calibrator.probeNoise());
     const double s = std::max(solved->s, kProbeNoiseFloor);
-    if (std::abs(s - plan.noise.probe) <= kNoiseSettled * plan.noise.probe) break;
-    plan.noise.probe = s;  // the calibrator whitens with plan.noise: the new s from here on
+    if (std::abs(s - calibrator.probeNoise()) <= kNoiseSettled * calibrator.probeNoise()) break;
+    calibrator.setProbeNoise(s);  // the new s from the next linearisation on
     // From where the last fit converged: the poses and c too, so that only the reweighting moves.
     CalibrationState state;
     state.p = calibration.parameters;
@@ -219,7 +222,7 @@ Calibration calibrateWithNoise(Plan& plan, Calibrator& calibrator, const Calibra
     calibration = followedBy(calibration, calibrator.run(plan.placements, state));
     solved.reset();
   }
-  estimate.probe = plan.noise.probe;
+  estimate.probe = calibrator.probeNoise();
   // Its u from the solution at the final estimate (settled: within 1e-3 of the s_p used); where
   // the fits ran out first, the chi-square's relative spread alone.
   if (solved && solved->u > 0.0) {
@@ -339,7 +342,7 @@ double probeNoiseForUnitBirgeRatio(const Plan& plan, const std::vector<Placement
     builder.misfits(artifact, placements[j].measurements, calibration.parameters,
                     calibration.poses[j], c, readings);
   }
-  return probeNoiseOfMisfits(plan, readings, calibration).s;
+  return probeNoiseOfMisfits(readings, calibration, plan.noise.probe).s;
 }
 
 // An instrument's reading without its measured point is for planning only (instruments.md):
@@ -379,6 +382,7 @@ Calibration calibrateAsListed(Plan& plan, const CalibrationOptions& options) {
     }
   }
   Calibration calibration = calibrateWithNoise(plan, *calibrator, start);
+  plan.noise.probe = calibrator->probeNoise();  // the noise used, for what follows and the run
   // ... and again at the estimate, the newly held parameters back at nominal.
   for (int round = 0; resolve && round < kMaxWeakRounds && calibration.summary.converged();
        ++round) {
@@ -388,6 +392,7 @@ Calibration calibrateAsListed(Plan& plan, const CalibrationOptions& options) {
         plan.placements, plan.machine.withCalibrated(
                              nominal, plan.machine.calibratedValues(calibration.parameters)));
     calibration = followedBy(calibration, calibrateWithNoise(plan, *calibrator, start));
+    plan.noise.probe = calibrator->probeNoise();
   }
   if (plan.noise.estimate_probe && calibration.dof == 0) {
     // No redundancy: the "estimate" would be the starting value (docs/hardening.md).
@@ -420,6 +425,7 @@ Calibration withModelChoice(Plan& plan, const CalibrationOptions& options,
     Calibrator narrowed(plan, options);
     Calibration chosen =
         followedBy(calibration, calibrateWithNoise(plan, narrowed, outcome->chosen_state));
+    plan.noise.probe = narrowed.probeNoise();
     chosen.minimum = std::move(calibration.minimum);
     nearestTurn(plan, chosen);
     addWarnings(plan, chosen);
@@ -431,18 +437,28 @@ Calibration withModelChoice(Plan& plan, const CalibrationOptions& options,
 
 }  // namespace
 
-Calibration calibrateReadings(Plan& plan, const CalibrationOptions& options) {
-  requireMeasuredPoints(plan);
-  if (!plan.machine.calibrate_identifiable || !plan.calibrate_resolution)
-    return calibrateAsListed(plan, options);
+CalibrationRun calibrateReadings(const Plan& given, const CalibrationOptions& options) {
+  requireMeasuredPoints(given);
+  CalibrationRun run{Calibration{}, given};  // the plan as decided: a copy the run works on
+  Plan& plan = run.decided;
+  if (!plan.machine.calibrate_identifiable || !plan.calibrate_resolution) {
+    run.calibration = calibrateAsListed(plan, options);
+    return run;
+  }
   // A fit whose corrections are flagged is searched for a plausible minimum from the plan as
-  // loaded (plausible_minimum.hpp); the kept set is then judged held out on the minimum taken.
-  const Plan before = plan;
+  // given (plausible_minimum.hpp); the kept set is then judged held out on the minimum taken.
   Calibration calibration = calibrateAsListed(plan, options);
-  calibration = choosePlausibleMinimum(before, plan, std::move(calibration), [&](Plan& trial) {
+  calibration = choosePlausibleMinimum(given, plan, std::move(calibration), [&](Plan& trial) {
     return calibrateAsListed(trial, options);
   });
-  return withModelChoice(plan, options, std::move(calibration));
+  run.calibration = withModelChoice(plan, options, std::move(calibration));
+  return run;
+}
+
+Calibration calibrateReadings(Plan& plan, const CalibrationOptions& options) {
+  CalibrationRun run = calibrateReadings(std::as_const(plan), options);
+  plan = std::move(run.decided);
+  return std::move(run.calibration);
 }
 
 }  // namespace artcal

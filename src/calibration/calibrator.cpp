@@ -238,14 +238,14 @@ bool Calibrator::prepare(const std::vector<Placement>& placements, const Calibra
   current_ = state;
   const bool finite = linearize(placements, current_, current_lin_);
   prepared_of_ = &placements;
-  prepared_probe_ = plan_->noise.probe;
+  prepared_probe_ = builder_.noise().probe;
   return finite;
 }
 
 bool Calibrator::prepareFrom(const Calibrator& other, const std::vector<int>& columns,
                              const std::vector<Placement>& placements) {
   const bool prepared = other.prepared_of_ == &placements && other.current_lin_.fresh &&
-                        other.prepared_probe_ == plan_->noise.probe &&
+                        other.prepared_probe_ == builder_.noise().probe &&
                         other.current_lin_.blocks.size() == placements.size() &&
                         other.rigid_caps_.size() == placements.size() &&
                         static_cast<int>(columns.size()) == layout_.parameters;
@@ -272,7 +272,7 @@ bool Calibrator::prepareFrom(const Calibrator& other, const std::vector<int>& co
                  &out.products[j]);
   }
   prepared_of_ = &placements;
-  prepared_probe_ = plan_->noise.probe;
+  prepared_probe_ = builder_.noise().probe;
   return finishLinearization(current_, out);
 }
 
@@ -333,12 +333,13 @@ bool Calibrator::reweightToProbe(const std::vector<Placement>& placements) {
   // Sigma = L L^T holds s_p^2 I over the point's rows once: with s_p changed,
   // Sigma' = L L^T + (s'^2 - s^2) I_point = L' L'^T (a pose's orientation rows: their share of
   // s_p^2, reading_noise.hpp, 0 unless the probe noise is estimated).
-  const double shift = plan_->noise.probe * plan_->noise.probe - prepared_probe_ * prepared_probe_;
+  const double shift =
+      builder_.noise().probe * builder_.noise().probe - prepared_probe_ * prepared_probe_;
   std::vector<ReadingWeights> targets = current_lin_.weights;
   for (std::size_t j = 0; j < placements.size(); ++j) {
     const Artifact& artifact = artifactOf(*plan_, placements[j]);
     const int per = artifact.rowsPerReading(), k = artifact.valuedPerFeature();
-    const double angle_share = angleVariancePerProbeVariance(plan_->noise.estimate_probe,
+    const double angle_share = angleVariancePerProbeVariance(builder_.noise().estimate_probe,
                                                              artifact.noise, artifact.noise_angle);
     for (auto& factor : targets[j].factors) {
       if (per == 3 && k == 3) {  // a point's 3 x 3: fixed-size, on the stack
@@ -355,7 +356,7 @@ bool Calibrator::reweightToProbe(const std::vector<Placement>& placements) {
       factor.topLeftCorner(per, per) = Eigen::LLT<Factor>(sigma).matrixL();
     }
   }
-  prepared_probe_ = plan_->noise.probe;
+  prepared_probe_ = builder_.noise().probe;
   return rewhiten(placements, targets);
 }
 
@@ -411,7 +412,7 @@ std::vector<ReadingMisfit> Calibrator::misfits(const std::vector<Placement>& pla
   // A pose's orientation rows enter when they carry a share c of s_p^2 (the probe noise
   // estimated, reading_noise.hpp): Sigma = E + s_p^2 D, D = diag(I, c I), and with the orientation
   // rows of the residual and of E scaled by 1/sqrt(c), Sigma becomes E' + s_p^2 I as for a point.
-  const double probe2 = plan_->noise.probe * plan_->noise.probe;
+  const double probe2 = builder_.noise().probe * builder_.noise().probe;
   std::vector<ReadingMisfit> out;
   std::size_t readings = 0;
   for (const Placement& placement : placements) readings += placement.measurements.size();
@@ -419,7 +420,7 @@ std::vector<ReadingMisfit> Calibrator::misfits(const std::vector<Placement>& pla
   for (std::size_t j = 0; j < placements.size(); ++j) {
     const Artifact& artifact = artifactOf(*plan_, placements[j]);
     const int per = artifact.rowsPerReading(), k = artifact.valuedPerFeature();
-    const double angle_share = angleVariancePerProbeVariance(plan_->noise.estimate_probe,
+    const double angle_share = angleVariancePerProbeVariance(builder_.noise().estimate_probe,
                                                              artifact.noise, artifact.noise_angle);
     const int kept = angle_share > 0.0 ? per : k;
     Eigen::VectorXd unscale = Eigen::VectorXd::Ones(kept);
@@ -468,7 +469,7 @@ Calibration Calibrator::run(const std::vector<Placement>& placements,
   // From prepare()'s or the last run's own linearisation when it is at `start` (the probe noise
   // re-estimated: the same blocks re-weighted).
   const bool prepared = isPrepared(placements, start);
-  const bool same_noise = prepared && prepared_probe_ == plan_->noise.probe;
+  const bool same_noise = prepared && prepared_probe_ == builder_.noise().probe;
   prepared_of_ = nullptr;
   if (!prepared) computeRigidCaps(placements);
   dof_ = degreesOfFreedom(placements);
@@ -583,7 +584,7 @@ Calibration Calibrator::run(const std::vector<Placement>& placements,
   if (finite && !current_lin_.fresh) own = linearizeCapped(placements, current_, current_lin_);
   if (own) {  // a run from the estimate (the noise re-estimated) starts from here
     prepared_of_ = &placements;
-    prepared_probe_ = plan_->noise.probe;
+    prepared_probe_ = builder_.noise().probe;
   }
   summary.final_cost = current_lin_.cost;
   out.parameters = current_.p;

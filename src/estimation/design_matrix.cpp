@@ -14,7 +14,7 @@
 namespace artcal {
 
 DesignMatrixBuilder::DesignMatrixBuilder(const Machine& machine, const Noise& noise)
-    : machine_(&machine), noise_(&noise) {}
+    : machine_(&machine), noise_(noise) {}
 
 Eigen::MatrixXd DesignMatrixBuilder::probePositions(const std::vector<Measurement>& measurements,
                                                     const Eigen::VectorXd& p) const {
@@ -83,8 +83,8 @@ void DesignMatrixBuilder::build(const Artifact& artifact,
   block.A_c.setZero(rows, n_c);
   if (with_residuals) block.e.resize(rows);
   // An instrument's own noise adds in quadrature to the probe's (instruments.md).
-  const double sigma_p2 = readingPointVariance(noise_->probe, artifact.noise);
-  const double sigma_angle2 = readingAngleVariance(noise_->probe, noise_->estimate_probe,
+  const double sigma_p2 = readingPointVariance(noise_.probe, artifact.noise);
+  const double sigma_angle2 = readingAngleVariance(noise_.probe, noise_.estimate_probe,
                                                    artifact.noise, artifact.noise_angle);
   J_r_.resize(k, n_r);
   for (std::size_t i = 0; i < measurements.size(); ++i) {
@@ -156,9 +156,9 @@ DesignMatrixBuilder::Small DesignMatrixBuilder::planeReading(
   }
   if (with_residuals) block.e.segment(row, n) = plane_rows_.residual;
   Small sigma;
-  readingCovariance(noise_->encoder, plane_rows_.J_q,
-                    readingPointVariance(noise_->probe, artifact.noise), 1,
-                    readingAngleVariance(noise_->probe, noise_->estimate_probe, artifact.noise,
+  readingCovariance(noise_.encoder, plane_rows_.J_q,
+                    readingPointVariance(noise_.probe, artifact.noise), 1,
+                    readingAngleVariance(noise_.probe, noise_.estimate_probe, artifact.noise,
                                          artifact.noise_angle),
                     sigma);
   return Eigen::LLT<Small>(sigma).matrixL();
@@ -204,7 +204,7 @@ DesignMatrixBuilder::Small DesignMatrixBuilder::readingFactor(
   J_valued_q_.topRows(k).noalias() = R_valued.lazyProduct(J_x_q_);
   J_valued_q_.bottomRows(3).noalias() = orientation_factor_ * J_w_q_;
   Small sigma;
-  readingCovariance(noise_->encoder, J_valued_q_, sigma_p2, k, sigma_angle2, sigma);
+  readingCovariance(noise_.encoder, J_valued_q_, sigma_p2, k, sigma_angle2, sigma);
   return Eigen::LLT<Small>(sigma).matrixL();
 }
 
@@ -214,7 +214,7 @@ DesignMatrixBuilder::Small DesignMatrixBuilder::pointFactor(
     const Eigen::Ref<const Eigen::MatrixXd>& R_valued, int k, double sigma_p2) {
   const int d = static_cast<int>(J_x_q_.rows());
   const int n_q = static_cast<int>(J_x_q_.cols());
-  const Eigen::VectorXd& encoder = noise_->encoder;
+  const Eigen::VectorXd& encoder = noise_.encoder;
   // J_valued_q = R_valued J_x_q, then (J_valued_q Sigma_q) J_valued_q^T.
   J_valued_q_.resize(k, n_q);
   for (int l = 0; l < n_q; ++l) {
@@ -255,7 +255,7 @@ void DesignMatrixBuilder::misfits(const Artifact& artifact,
   // A pose's orientation rows enter when they carry a share of s_p^2 (reading_noise.hpp), scaled
   // by 1/sqrt(share) so that s_p^2 adds to every row alike (Calibrator::misfits).
   const double angle_share =
-      angleVariancePerProbeVariance(noise_->estimate_probe, artifact.noise, artifact.noise_angle);
+      angleVariancePerProbeVariance(noise_.estimate_probe, artifact.noise, artifact.noise_angle);
   const bool pose_rows = artifact.measures_pose && angle_share > 0.0;
   Eigen::VectorXd x;
   Eigen::Matrix3d R;
@@ -269,7 +269,7 @@ void DesignMatrixBuilder::misfits(const Artifact& artifact,
       planeRows(artifact, *machine_, p, m, r, c, true, plane_rows, plane_scratch);
       const int kept = tilt_rows ? plane_rows.rows : 1;
       ReadingMisfit misfit;
-      readingCovariance(noise_->encoder, plane_rows.J_q.topRows(kept),
+      readingCovariance(noise_.encoder, plane_rows.J_q.topRows(kept),
                         readingPointVariance(0.0, artifact.noise), 1,
                         artifact.noise_angle * artifact.noise_angle, misfit.encoder_covariance);
       misfit.residual = plane_rows.residual.head(kept);
@@ -292,7 +292,7 @@ void DesignMatrixBuilder::misfits(const Artifact& artifact,
     // An instrument's stated noise is known: it joins the part the probe-noise estimate keeps.
     if (!pose_rows) {
       misfit.residual = point_residual;
-      readingCovariance(noise_->encoder, J_valued_q, readingPointVariance(0.0, artifact.noise),
+      readingCovariance(noise_.encoder, J_valued_q, readingPointVariance(0.0, artifact.noise),
                         misfit.encoder_covariance);
       out.push_back(std::move(misfit));
       continue;
@@ -302,7 +302,7 @@ void DesignMatrixBuilder::misfits(const Artifact& artifact,
     Eigen::MatrixXd J_q(k + 3, J_x_q.cols());
     J_q.topRows(k) = J_valued_q;
     J_q.bottomRows(3) = J_e_w * r.R * J_w_q;
-    readingCovariance(noise_->encoder, J_q, readingPointVariance(0.0, artifact.noise), k,
+    readingCovariance(noise_.encoder, J_q, readingPointVariance(0.0, artifact.noise), k,
                       artifact.noise_angle * artifact.noise_angle, misfit.encoder_covariance);
     const double unscale = 1.0 / std::sqrt(angle_share);
     misfit.residual.resize(k + 3);

@@ -101,7 +101,7 @@ TEST(CalibratorReuse, RunAfterANewProbeNoiseEqualsAFreshCalibrator) {
   estimated.name += " (probe estimated)";
   for (const Plan& original : {frontCenter(), poseTracker(), estimated}) {
     SCOPED_TRACE(original.name);
-    Plan reusing = original;
+    const Plan reusing = original;
     Calibrator calibrator(reusing);
     const Calibration first = calibrator.run(reusing.placements);
     ASSERT_TRUE(first.summary.converged());
@@ -109,11 +109,12 @@ TEST(CalibratorReuse, RunAfterANewProbeNoiseEqualsAFreshCalibrator) {
     state.p = first.parameters;
     state.c = first.systematic;
     state.poses = first.poses;
-    reusing.noise.probe *= 2.5;  // the calibrator whitens with its plan's noise
+    calibrator.setProbeNoise(2.5 * original.noise.probe);  // the calibrator's own noise
+    EXPECT_EQ(reusing.noise.probe, original.noise.probe);  // the plan's is not touched
     const Calibration reused = calibrator.run(reusing.placements, state);
 
     Plan fresh = original;
-    fresh.noise.probe = reusing.noise.probe;
+    fresh.noise.probe = 2.5 * original.noise.probe;
     const Calibration rebuilt = Calibrator(fresh).run(fresh.placements, state);
     ASSERT_TRUE(rebuilt.summary.converged());
     EXPECT_TRUE(reused.summary.converged());

@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <utility>
+
 #include <Eigen/Dense>
 #include <cmath>
 #include <map>
@@ -475,6 +477,36 @@ TEST_F(MukcaReadings, PandaLeaveOneOutBeatsTheAuthors) {
     mae += calibrated.mae / static_cast<double>(positions.size());
   }
   EXPECT_LT(mae, 0.349);
+}
+
+// The plan stays as given through a whole calibration (issue 33): calibrateReadings(const Plan&)
+// returns the plan as it decided, the noise it used (the estimate) and its kept set, and the
+// calibration equals the one of the overload that updates its plan, bit for bit. Readings of the
+// MUKCa Panda's front_center (the weak rule holds parameters there) with the noise estimated.
+TEST_F(MukcaReadings, TheGivenPlanIsUnchangedAndTheRunSaysWhatItDecided) {
+  Plan given = subset(imported("panda_2", "panda.urdf", "panda_link0"), "front",
+                      [](const std::string& name) { return name == "front_center"; });
+  given.noise.probe = 0.1;
+  given.noise.estimate_probe = true;
+  const Plan before = given;
+  const CalibrationRun run = calibrateReadings(std::as_const(given));
+  ASSERT_TRUE(run.calibration.summary.converged());
+  EXPECT_EQ(given.noise.probe, before.noise.probe);
+  EXPECT_EQ(given.machine.calibrated, before.machine.calibrated);
+  ASSERT_TRUE(given.calibrate_resolution && before.calibrate_resolution);
+  EXPECT_EQ(given.calibrate_resolution->weak, before.calibrate_resolution->weak);
+  ASSERT_TRUE(run.calibration.noise_estimate);
+  EXPECT_EQ(run.probeNoise(), run.calibration.noise_estimate->probe);
+  EXPECT_NE(run.probeNoise(), before.noise.probe);
+  EXPECT_LT(run.kept().size(), before.machine.calibrated.size());  // weak directions held
+  EXPECT_EQ(run.kept(), run.decided.calibrate_resolution->kept);
+
+  Plan updated = before;
+  const Calibration same = calibrateReadings(updated);
+  EXPECT_EQ(same.parameters, run.calibration.parameters);
+  EXPECT_EQ(same.chi2, run.calibration.chi2);
+  EXPECT_EQ(updated.machine.calibrated, run.kept());
+  EXPECT_EQ(updated.noise.probe, run.probeNoise());
 }
 
 // Convergence does not depend on the stated noise: the Gen3 lite (scatter 1-2.5 mm) with its

@@ -30,10 +30,30 @@ namespace artcal {
 /// chi2/dof below this is no real probe's: the readings are consistent to rounding.
 inline constexpr double kRoundingChi2PerDof = 1e-8;
 
-/// Calibrates `plan`'s readings as calibratePlan does, with the weak-direction rule and the noise
-/// estimate above. `plan` is updated: machine.calibrated loses the weakly determined parameters
-/// (recorded in calibrate_resolution->weak) and noise.probe becomes the estimate, so that every
-/// output of the calibration names what was estimated and with which noise.
+/// A calibration of measured readings and what it decided. `decided` is the plan as calibrated:
+/// machine.calibrated without the parameters held at nominal (the weakly determined ones,
+/// recorded in calibrate_resolution->weak, and those the held-out model choice left out),
+/// calibrate_resolution->kept the same set, noise.probe the s_p the estimate was computed with
+/// (the variance component when the plan says "estimate"; its estimate and u also in
+/// calibration.noise_estimate). Every output of the calibration (the tables, the machine file,
+/// verify, the report, Python) reads these, so that it names what was estimated and with which
+/// noise.
+struct CalibrationRun {
+  Calibration calibration;
+  Plan decided;
+
+  /// The calibrated parameters' indices (into the machine's parameters), in calibration order.
+  const std::vector<int>& kept() const { return decided.machine.calibrated; }
+  /// The probe noise s_p (mm) the calibration whitened the readings with.
+  double probeNoise() const { return decided.noise.probe; }
+};
+
+/// Calibrates `plan`'s readings as calibratePlan does, with the weak-direction rule, the plausible
+/// minimum, the held-out model choice and the noise estimate above. `plan` is not changed (the
+/// calibrator owns the noise it re-estimates); the decisions are in the result.
+CalibrationRun calibrateReadings(const Plan& plan, const CalibrationOptions& options = {});
+
+/// The same, for callers that keep one plan: `plan` becomes the run's `decided` plan.
 Calibration calibrateReadings(Plan& plan, const CalibrationOptions& options = {});
 
 /// The probe noise s_p (mm) that makes chi2 = dof at the calibration's estimate, the encoder

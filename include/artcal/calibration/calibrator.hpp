@@ -201,6 +201,12 @@ class Calibrator {
   /// another converged (calibrate_readings.hpp: the noise re-estimated).
   Calibration run(const std::vector<Placement>& placements, const CalibrationState& start);
 
+  /// The probe noise s_p (mm) the readings are whitened with: the plan's when constructed.
+  double probeNoise() const { return builder_.noise().probe; }
+  /// Whiten with s_p = `probe` (mm) from the next linearisation on (the variance component
+  /// calibrate_readings.hpp estimates). The plan is not touched: the calibrator owns its noise.
+  void setProbeNoise(double probe) { builder_.setProbeNoise(probe); }
+
   /// The starting state: p = start, c = 0, each r_j fitted (Umeyama) at `start`.
   CalibrationState initialState(const std::vector<Placement>& placements,
                                 const Eigen::VectorXd& start) const;

@@ -58,6 +58,12 @@ class DesignMatrixBuilder {
  public:
   explicit DesignMatrixBuilder(const Machine& machine, const Noise& noise);
 
+  /// The noise the blocks are whitened with (a copy of the plan's when built).
+  const Noise& noise() const { return noise_; }
+  /// A new probe noise s_p (mm) for the blocks built from here on (the variance component a
+  /// calibration estimates, calibrate_readings.hpp); the plan it came from is not touched.
+  void setProbeNoise(double probe) { noise_.probe = probe; }
+
   /// The block of one placement at parameters `p` (full vector) and artifact pose `r`.
   /// `c` holds the artifact's systematic errors (may be empty: zero).
   /// `held`: whiten with these factors instead of the ones at p; `record`: receives the factors
@@ -91,7 +97,7 @@ class DesignMatrixBuilder {
                           const Small& L);
 
   const Machine* machine_;
-  const Noise* noise_;
+  Noise noise_;  ///< its own copy: a calibration's re-estimated probe noise is set here
   Eigen::VectorXd x_;
   Eigen::MatrixXd J_x_p_, J_x_q_, J_w_p_, J_w_q_, J_valued_q_, J_r_;
   Eigen::Matrix3d R_tip_, orientation_factor_;
