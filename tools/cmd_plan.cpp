@@ -25,7 +25,12 @@ json measurementEntry(const Machine& machine, const Measurement& m) {
   for (int i = 0; i < m.joints.size(); ++i)
     joints.push_back(toFileUnit(jointQuantity(machine.mechanism->jointKind(i)), m.joints[i]));
   json entry = {{"feature", m.feature}, {"joints", joints}};
-  if (m.stylus != 0) entry["stylus"] = m.stylus;
+  // As a plan file names it: a chain's tip by its name (docs/urdf.md), a stylus by its index.
+  if (const std::vector<std::string> tips = machine.mechanism->stylusNames(); !tips.empty()) {
+    entry["tip"] = tips[static_cast<std::size_t>(m.stylus)];
+  } else if (m.stylus != 0) {
+    entry["stylus"] = m.stylus;
+  }
   return entry;
 }
 

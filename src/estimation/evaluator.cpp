@@ -178,6 +178,16 @@ Evaluation evaluatePlan(const Plan& plan, const EvaluateOptions& options) {
   const TipEvaluator tip(plan.machine, plan.noise, evaluation.workspace);
   evaluation.tip = tip.summarize(evaluation.covariance->V);
   evaluation.workspace_total = totalPerConfiguration(tip, evaluation.covariance->V);
+  // Several named tips (docs/urdf.md): each tip at the same configurations, one V_p.
+  const std::vector<std::string> tip_names = plan.machine.mechanism->stylusNames();
+  if (tip_names.size() > 1) {
+    for (std::size_t t = 0; t < tip_names.size(); ++t) {
+      const TipEvaluator of_tip(plan.machine, plan.noise, evaluation.workspace,
+                                static_cast<int>(t));
+      evaluation.tips.push_back(
+          {tip_names[t], of_tip.summarize(evaluation.covariance->V), of_tip.movingParameters()});
+    }
+  }
   evaluation.profile =
       reachProfile(plan.machine, plan.noise, evaluation.covariance->V, options.profile_steps);
   return evaluation;

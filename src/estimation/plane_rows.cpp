@@ -20,7 +20,8 @@ void planeRows(const Artifact& artifact, const Machine& machine, const Eigen::Ve
   Eigen::MatrixXd* J_x_q = with_jacobians ? &s.J_x_q : nullptr;
   if (plane.flush) {
     forwardPoseOrThrow(*machine.mechanism, p, m.joints, s.x, s.R_tip, J_x_p, J_x_q,
-                       with_jacobians ? &s.J_w_p : nullptr, with_jacobians ? &s.J_w_q : nullptr);
+                       with_jacobians ? &s.J_w_p : nullptr, with_jacobians ? &s.J_w_q : nullptr,
+                       m.stylus);
   } else {
     forwardOrThrow(*machine.mechanism, p, m.joints, s.x, J_x_p, J_x_q, m.stylus);
   }

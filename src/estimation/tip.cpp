@@ -160,7 +160,7 @@ std::vector<Eigen::VectorXd> workspaceConfigurations(const Machine& machine,
 }
 
 TipEvaluator::TipEvaluator(const Machine& machine, const Noise& noise,
-                           std::vector<Eigen::VectorXd> configurations)
+                           std::vector<Eigen::VectorXd> configurations, int stylus)
     : dimension_(machine.dimension()), configurations_(std::move(configurations)) {
   const int n_p = machine.calibratedCount();
   const int count = size();
@@ -171,7 +171,7 @@ TipEvaluator::TipEvaluator(const Machine& machine, const Noise& noise,
   const Eigen::VectorXd sigma_q2 = noise.encoder.array().square();
   for (int g = 0; g < count; ++g) {
     forwardOrThrow(*machine.mechanism, machine.nominal,
-                   configurations_[static_cast<std::size_t>(g)], x, &J_x_p, &J_x_q);
+                   configurations_[static_cast<std::size_t>(g)], x, &J_x_p, &J_x_q, stylus);
     for (int j = 0; j < n_p; ++j) {
       J_p_.block(g * dimension_, j, dimension_, 1) = J_x_p.col(machine.calibrated[j]);
     }
@@ -192,6 +192,13 @@ TipEvaluator::TipEvaluator(const Machine& machine, const Noise& noise,
     gram_constant_.resize(0);
   }
   if (blocked) preparePanels(n_p);
+}
+
+std::vector<int> TipEvaluator::movingParameters() const {
+  std::vector<int> out;
+  for (int k = 0; k < J_p_.cols(); ++k)
+    if (J_p_.col(k).squaredNorm() > 0.0) out.push_back(k);
+  return out;
 }
 
 void TipEvaluator::preparePanels(int n_p) {

@@ -18,8 +18,9 @@ void forwardOrThrow(const Mechanism& mechanism, const Eigen::VectorXd& p, const 
 void forwardPoseOrThrow(const Mechanism& mechanism, const Eigen::VectorXd& p,
                         const Eigen::VectorXd& q, Eigen::VectorXd& x, Eigen::Matrix3d& R,
                         Eigen::MatrixXd* J_x_p, Eigen::MatrixXd* J_x_q, Eigen::MatrixXd* J_w_p,
-                        Eigen::MatrixXd* J_w_q) {
-  const ForwardStatus status = mechanism.forwardPose(p, q, x, R, J_x_p, J_x_q, J_w_p, J_w_q);
+                        Eigen::MatrixXd* J_w_q, int stylus) {
+  const ForwardStatus status =
+      mechanism.forwardStylusPose(stylus, p, q, x, R, J_x_p, J_x_q, J_w_p, J_w_q);
   if (status != ForwardStatus::Ok) throw KinematicsError(forwardStatusName(status));
 }
 

@@ -28,7 +28,7 @@ std::vector<std::vector<std::vector<Measurement>>> plannedReadings(const Plan& p
           artifact.kind == ArtifactKind::Plane
               ? planeTouches(reading_machine, artifact,
                              poseTransform(machine.dimension(), *placement.pose), request.feature,
-                             request.postures, rng)
+                             request.postures, rng, request.stylus)
               : featureReadings(reading_machine, request.feature, features.col(request.feature),
                                 request.postures, rng, request.stylus);
       if (static_cast<int>(readings.size()) < request.postures) {

@@ -1,5 +1,6 @@
 #include "artcal/planning/plane_touches.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -10,22 +11,24 @@ namespace artcal {
 
 std::vector<Measurement> planeTouches(const Machine& reading_machine, const Artifact& artifact,
                                       const RigidTransform& placed, int face, int count,
-                                      std::mt19937_64& rng) {
+                                      std::mt19937_64& rng, int stylus) {
   const PlaneGeometry& plane = artifact.plane;
   const PlaneFace& the_face = plane.faces.at(static_cast<std::size_t>(face));
   const RigidTransform to_machine = placed.inverse();
   std::uniform_real_distribution<double> offset(-plane.extent, plane.extent);
   std::vector<Measurement> out;
   constexpr int kAttemptsPerTouch = 40;
+  IkOptions ik;
+  ik.stylus = std::max(stylus, 0);
   for (int attempt = 0; attempt < kAttemptsPerTouch * count && static_cast<int>(out.size()) < count;
        ++attempt) {
     Eigen::VectorXd W = artifact.features.col(face);
     for (int k = 0; k < artifact.dimension; ++k)
       if (k != the_face.axis) W[k] += offset(rng);
     const std::vector<Eigen::VectorXd> postures =
-        posturesFor(reading_machine, reading_machine.nominal, to_machine.apply(W), 1, rng);
+        posturesFor(reading_machine, reading_machine.nominal, to_machine.apply(W), 1, rng, ik);
     if (postures.empty()) continue;
-    Measurement m{face, postures.front()};
+    Measurement m{face, postures.front(), ik.stylus};
     if (plane.flush) {
       auto q = touchPlane(artifact, reading_machine, reading_machine.nominal, m, placed,
                           Eigen::VectorXd(), Eigen::VectorXd::Zero(3));
@@ -40,7 +43,8 @@ std::vector<Measurement> planeTouches(const Machine& reading_machine, const Arti
       // The tool axis must point into the face (not out of the material).
       Eigen::VectorXd x;
       Eigen::Matrix3d R;
-      forwardPoseOrThrow(*reading_machine.mechanism, reading_machine.nominal, m.joints, x, R);
+      forwardPoseOrThrow(*reading_machine.mechanism, reading_machine.nominal, m.joints, x, R,
+                         nullptr, nullptr, nullptr, nullptr, m.stylus);
       const Eigen::Vector3d v = placed.R * (R * plane.tool_axis);
       if (the_face.sign * v[the_face.axis] > 0.0) continue;
       // Still on the face's planned part.

@@ -86,8 +86,15 @@ Procedure operatorProcedure(const Plan& plan) {
     std::map<int, int> postures;
     for (std::size_t k = 0; k < placement.measurements.size(); ++k) {
       const Measurement& m = placement.measurements[k];
+      // A plane's touch lands anywhere on its face (docs/planes.md): its target is the planned
+      // point itself, the nominal probe at the planned joints, not the face's middle.
+      Eigen::VectorXd touch;
+      const bool touched =
+          artifact.kind == ArtifactKind::Plane &&
+          plan.machine.mechanism->forwardStylus(m.stylus, plan.machine.nominal, m.joints, touch) ==
+              ForwardStatus::Ok;
       ProcedureReading reading =
-          targetOf(plan, m, features.col(m.feature), readingLocation(plan, j, k));
+          targetOf(plan, m, touched ? touch : features.col(m.feature), readingLocation(plan, j, k));
       reading.posture = postures[m.feature]++;
       out.readings.push_back(std::move(reading));
     }

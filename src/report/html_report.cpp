@@ -564,7 +564,19 @@ void writeTipSummary(std::ostream& out, const Plan& plan, const json& ev) {
   out << "</td></tr>\n<tr><td>mean over the workspace</td>"
       << numberCell(ev, "/tip/mean", 1e3, "%.3f") << "<td></td><td></td><td></td></tr>\n"
       << "<tr><td>root mean square</td>" << numberCell(ev, "/tip/rms", 1e3, "%.3f")
-      << "<td></td><td></td><td></td></tr>\n</table>\n";
+      << "<td></td><td></td><td></td></tr>\n";
+  // A machine with several tips: each tip's worst at the same configurations (the rows above
+  // are the first tip's).
+  if (ev.contains("tips")) {
+    for (std::size_t t = 0; t < ev.at("tips").size(); ++t) {
+      const std::string base = format("/tips/%zu/tip/worst/", t);
+      out << "<tr><td>worst of tip " << svg::escape(ev.at("tips")[t].at("name").get<std::string>())
+          << "</td>" << numberCell(ev, base + "total", 1e3, "%.3f")
+          << numberCell(ev, base + "kinematic", 1e3, "%.3f")
+          << numberCell(ev, base + "encoder", 1e3, "%.3f") << "<td></td></tr>\n";
+    }
+  }
+  out << "</table>\n";
 }
 
 void writeProfileTable(std::ostream& out, const json& ev) {

@@ -126,6 +126,17 @@ json evaluationToJson(const Plan& plan, const Evaluation& ev) {
     out["tip"]["dropped"] = {{"unreachable", ev.workspace_drops.unreachable},
                              {"forward_failed", ev.workspace_drops.failed}};
   }
+  if (!ev.tips.empty()) {
+    json tips = json::array();
+    for (const NamedTipSummary& named : ev.tips) {
+      json names = json::array();
+      for (const int k : named.calibrated) names.push_back(machine.calibratedInfo(k).name);
+      tips.push_back({{"name", named.name},
+                      {"tip", tipToJson(machine, named.tip, ev.workspace)},
+                      {"parameters", names}});
+    }
+    out["tips"] = tips;
+  }
   if (!ev.profile.empty()) {
     json profile = json::array();
     for (const ProfilePoint& p : ev.profile) {
@@ -309,6 +320,17 @@ std::string evaluationTable(const Plan& plan, const Evaluation& ev) {
           "  dropped %d samples: %d unreachable within the joint limits, %d forward "
           "kinematics failed\n",
           ev.workspace_drops.total(), ev.workspace_drops.unreachable, ev.workspace_drops.failed);
+    }
+  }
+  if (!ev.tips.empty()) {
+    out << "\nTip uncertainty per tip, at the same configurations (um)\n";
+    for (const NamedTipSummary& named : ev.tips) {
+      out << format(
+          "  %s: worst S = %.2f (S_m %.2f, S_q %.2f), mean %.2f, rms %.2f; moved by %zu "
+          "of the calibrated parameters\n",
+          named.name.c_str(), named.tip.worst.total * 1e3, named.tip.worst.kinematic * 1e3,
+          named.tip.worst.encoder * 1e3, named.tip.mean * 1e3, named.tip.rms * 1e3,
+          named.calibrated.size());
     }
   }
   if (!ev.profile.empty()) {

@@ -155,6 +155,55 @@ TEST(Plane, FlushContactRowsMatchCentralDifferences) {
   expectRowsMatchCentralDifferences(plan);
 }
 
+// A machine with two tips (the humanoid of plans/planes/humanoid-table.layout.json, both hands
+// on the table, flush): each hand's flush touches are planned, and their rows taken, through
+// that hand's own frame. The rows' derivatives hold for either tip, and a planned touch of either
+// hand lies flush (its tilts zero): read through the other hand's frame it would not.
+TEST(Plane, FlushContactRowsOfEachTipUseThatTipsFrame) {
+  std::ifstream in(test_support::planFile("planes/humanoid-table.layout.json"));
+  nlohmann::json document = nlohmann::json::parse(in);
+  document["artifacts"] = {{"table",
+                            {{"type", "plane"},
+                             {"measures", "flush"},
+                             {"axis", {0, 0, -1}},
+                             {"flatness", 0.01},
+                             {"u_tilt", 0.01},
+                             {"extent", 150.0}}}};
+  nlohmann::json placements = nlohmann::json::array();
+  for (nlohmann::json placement : document["placements"]) {
+    if (placement["artifact"] != "table") continue;
+    for (auto& request : placement["measurements"]) request["postures"] = 3;
+    placements.push_back(placement);
+  }
+  document["placements"] = placements;
+  document["machine"]["calibrate"] = "identifiable";
+  const Plan plan = completed(document, 3);
+  const Machine& machine = plan.machine;
+  int by_tip[2] = {0, 0};
+  PlaneRows rows;
+  PlaneRowsScratch scratch;
+  for (const Placement& placement : plan.placements) {
+    const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
+    const RigidTransform r = poseTransform(3, *placement.pose);
+    const Eigen::VectorXd c = Eigen::VectorXd::Zero(artifact.systematicCount());
+    for (const Measurement& m : placement.measurements) {
+      ASSERT_GE(m.stylus, 0);
+      ASSERT_LE(m.stylus, 1);
+      ++by_tip[m.stylus];
+      planeRows(artifact, machine, machine.nominal, m, r, c, false, rows, scratch);
+      ASSERT_EQ(rows.residual.size(), 3);
+      EXPECT_LT(rows.residual.tail(2).norm(), 1e-6) << "tip " << m.stylus;
+      Measurement other = m;
+      other.stylus = 1 - m.stylus;
+      planeRows(artifact, machine, machine.nominal, other, r, c, false, rows, scratch);
+      EXPECT_GT(rows.residual.tail(2).norm(), 1e-3) << "tip " << m.stylus;
+    }
+  }
+  EXPECT_EQ(by_tip[0], 9);
+  EXPECT_EQ(by_tip[1], 9);
+  expectRowsMatchCentralDifferences(plan);
+}
+
 // ---- the length scale --------------------------------------------------------------------------
 
 // The surviving fraction (method.md section 5) of the machine's change of scale: every calibrated

@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "artcal/estimation/identifiability_result.hpp"
@@ -31,6 +32,15 @@ struct TipSummary {
   double rms = 0.0;      ///< sqrt(mean of S^2): the I criterion's root
 };
 
+/// One tip of a machine with several named tips (a chain's "tips", docs/urdf.md): its tip
+/// uncertainty over the workspace configurations every tip is evaluated at, and the calibrated
+/// parameters that move it, whose rows and columns of V_p are its covariance.
+struct NamedTipSummary {
+  std::string name;
+  TipSummary tip;
+  std::vector<int> calibrated;  ///< indices into the machine's calibrated parameters
+};
+
 /// One row of the reach profile: the worst branch at distance `reach` from the base.
 struct ProfilePoint {
   double reach = 0.0;
@@ -53,7 +63,10 @@ struct Evaluation {
   Eigen::MatrixXd information;                    ///< of p, internal units
   Eigen::VectorXd unreduced_diagonal;             ///< the rank test's scale (identifiability.hpp)
   std::optional<ParameterCovariance> covariance;  ///< absent when not identifiable
-  std::optional<TipSummary> tip;
+  std::optional<TipSummary> tip;                  ///< the first tip's when the machine has several
+  /// Per tip, in the machine's order, when it names two or more (tips[0].tip equals `tip`);
+  /// empty otherwise.
+  std::vector<NamedTipSummary> tips;
   std::vector<ProfilePoint> profile;  ///< planar2r only
   /// Per placement, its artifact's features in the machine frame (columns, mm): x = R^T (W - t)
   /// with r_j the placement's pose or the rigid fit to its nominal readings, the r_j the

@@ -35,8 +35,9 @@ std::vector<Eigen::VectorXd> workspaceConfigurations(const Machine& machine,
 
 class TipEvaluator {
  public:
+  /// The tip uncertainty of stylus `stylus` (a chain's tip, Mechanism::forwardStylus).
   TipEvaluator(const Machine& machine, const Noise& noise,
-               std::vector<Eigen::VectorXd> configurations);
+               std::vector<Eigen::VectorXd> configurations, int stylus = 0);
 
   int size() const { return static_cast<int>(configurations_.size()); }
   const std::vector<Eigen::VectorXd>& configurations() const { return configurations_; }
@@ -44,6 +45,9 @@ class TipEvaluator {
   int factorRank() const { return static_cast<int>(factor_coefficients_.rows()); }
   /// S_q^2 per configuration.
   const Eigen::VectorXd& encoderVariance() const { return S_q2_; }
+  /// The calibrated parameters (indices into machine.calibrated) that move the tip at some
+  /// configuration: the columns of J_p that are not zero.
+  std::vector<int> movingParameters() const;
 
   /// S_m^2 per configuration for a parameter covariance V_p (N(p) x N(p)).
   void kinematicVariance(const Eigen::MatrixXd& V_p, Eigen::VectorXd& S_m2) const;

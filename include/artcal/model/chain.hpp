@@ -113,6 +113,15 @@ class Chain final : public Mechanism {
                             Eigen::Matrix3d& R, Eigen::MatrixXd* J_x_p = nullptr,
                             Eigen::MatrixXd* J_x_q = nullptr, Eigen::MatrixXd* J_w_p = nullptr,
                             Eigen::MatrixXd* J_w_q = nullptr) const override;
+  /// forwardTipPose(stylus, ...): the tip frame of tip `stylus`.
+  ForwardStatus forwardStylusPose(int stylus, const Eigen::VectorXd& p, const Eigen::VectorXd& q,
+                                  Eigen::VectorXd& x, Eigen::Matrix3d& R,
+                                  Eigen::MatrixXd* J_x_p = nullptr,
+                                  Eigen::MatrixXd* J_x_q = nullptr,
+                                  Eigen::MatrixXd* J_w_p = nullptr,
+                                  Eigen::MatrixXd* J_w_q = nullptr) const override {
+    return forwardTipPose(stylus, p, q, x, R, J_x_p, J_x_q, J_w_p, J_w_q);
+  }
   /// The base, each joint frame's origin in turn, the probe (for drawings).
   std::vector<Eigen::VectorXd> skeleton(const Eigen::VectorXd& p,
                                         const Eigen::VectorXd& q) const override;

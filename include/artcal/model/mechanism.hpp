@@ -95,6 +95,15 @@ class Mechanism {
       const Eigen::VectorXd& p, const Eigen::VectorXd& q, Eigen::VectorXd& x, Eigen::Matrix3d& R,
       Eigen::MatrixXd* J_x_p = nullptr, Eigen::MatrixXd* J_x_q = nullptr,
       Eigen::MatrixXd* J_w_p = nullptr, Eigen::MatrixXd* J_w_q = nullptr) const;
+  /// forwardPose() through stylus `stylus` (a chain's tip, docs/urdf.md); models with one
+  /// probe frame ignore it.
+  [[nodiscard]] virtual ForwardStatus forwardStylusPose(
+      int stylus, const Eigen::VectorXd& p, const Eigen::VectorXd& q, Eigen::VectorXd& x,
+      Eigen::Matrix3d& R, Eigen::MatrixXd* J_x_p = nullptr, Eigen::MatrixXd* J_x_q = nullptr,
+      Eigen::MatrixXd* J_w_p = nullptr, Eigen::MatrixXd* J_w_q = nullptr) const {
+    (void)stylus;
+    return forwardPose(p, q, x, R, J_x_p, J_x_q, J_w_p, J_w_q);
+  }
 
   int parameterCount() const { return static_cast<int>(parameters().size()); }
   /// Index of a parameter by name, or -1.
@@ -151,10 +160,11 @@ using MechanismPtr = std::shared_ptr<const Mechanism>;
 void forwardOrThrow(const Mechanism& mechanism, const Eigen::VectorXd& p, const Eigen::VectorXd& q,
                     Eigen::VectorXd& x, Eigen::MatrixXd* J_x_p = nullptr,
                     Eigen::MatrixXd* J_x_q = nullptr, int stylus = 0);
-/// forwardPose() likewise: a failure raises KinematicsError.
+/// forwardStylusPose() likewise: a failure raises KinematicsError.
 void forwardPoseOrThrow(const Mechanism& mechanism, const Eigen::VectorXd& p,
                         const Eigen::VectorXd& q, Eigen::VectorXd& x, Eigen::Matrix3d& R,
                         Eigen::MatrixXd* J_x_p = nullptr, Eigen::MatrixXd* J_x_q = nullptr,
-                        Eigen::MatrixXd* J_w_p = nullptr, Eigen::MatrixXd* J_w_q = nullptr);
+                        Eigen::MatrixXd* J_w_p = nullptr, Eigen::MatrixXd* J_w_q = nullptr,
+                        int stylus = 0);
 
 }  // namespace artcal

@@ -13,9 +13,10 @@
 namespace artcal {
 
 /// Up to `count` touches of face `face` of `artifact` placed at `placed` (artifact from machine)
-/// by `reading_machine` at its nominal parameters, within its joint limits.
+/// by `reading_machine` at its nominal parameters, within its joint limits, each by tip (stylus)
+/// `stylus` (-1: the first).
 std::vector<Measurement> planeTouches(const Machine& reading_machine, const Artifact& artifact,
                                       const RigidTransform& placed, int face, int count,
-                                      std::mt19937_64& rng);
+                                      std::mt19937_64& rng, int stylus = -1);
 
 }  // namespace artcal
