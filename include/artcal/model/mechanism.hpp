@@ -138,6 +138,12 @@ class Mechanism {
   /// E_<error>0<axis> (E_X0C, E_A0C, ...; docs/five-axis.md): evaluate and calibrate add the
   /// engineer's table (u in urad / um, the confounding index, the controller table).
   virtual bool hasLocationErrors() const { return false; }
+  /// The joints a probing cycle commands (a machine tool's rotary axes, docs/five-axis.md): a
+  /// planned reading holds them at their planned values and the other joints are solved for the
+  /// point (inverse_kinematics.hpp, solveHoldingJoints); the planner chooses them as design
+  /// variables (design_space.hpp) and `simulate` reads them exactly as planned. Empty for the
+  /// others (every joint solved).
+  virtual std::vector<int> commandedJoints() const { return {}; }
   /// Points to draw the mechanism by, from its base to the probe (e.g. joint-frame origins),
   /// each of dimension(); empty when the model is not drawn (the report then draws the probe
   /// positions only).
