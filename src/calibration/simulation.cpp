@@ -240,6 +240,9 @@ SimulatedRun Simulator::simulate(const Eigen::VectorXd& p_true, NormalSource& no
   run.placements = plan.placements;
   const int d = machine.dimension();
   Eigen::VectorXd target(d);
+  // A probing cycle commands these joints (a machine tool's rotary axes): they read as planned.
+  const std::vector<int> commanded = machine.mechanism->commandedJoints();
+  Eigen::VectorXd delta(machine.jointCount());
   for (std::size_t j = 0; j < run.placements.size(); ++j) {
     Placement& placement = run.placements[j];
     const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
@@ -258,15 +261,35 @@ SimulatedRun Simulator::simulate(const Eigen::VectorXd& p_true, NormalSource& no
       for (int k = 0; k < d; ++k) target[k] += scale * plan.noise.probe * normal();
       IkOptions ik = options_.ik;
       ik.stylus = m.stylus;
+      // The joints' deviates (drawn before the solve; the draw order is unchanged): each reads
+      // its true value plus its deviate.
+      for (int k = 0; k < delta.size(); ++k) delta[k] = scale * plan.noise.encoder[k] * normal();
+      if (!commanded.empty()) {
+        // A commanded joint reads its planned value exactly and truly sits at that value less
+        // its deviate; the other joints are solved there and read with their deviates.
+        Eigen::VectorXd q0 = m.joints;
+        for (int k : commanded) q0[k] -= delta[k];
+        std::optional<Eigen::VectorXd> q =
+            solveHoldingJoints(machine, p_true, target, q0, commanded, ik);
+        if (!q) {
+          const ReadingLocation location = readingLocation(plan, j, i);
+          throw RunError(location.file, location.where,
+                         "the simulated machine cannot reach this reading's point with its "
+                         "commanded axes at their planned positions (a slide would leave its "
+                         "limits: plan the readings farther inside them, design.joint_margin)");
+        }
+        *q += delta;
+        for (int k : commanded) (*q)[k] = m.joints[k];
+        m.joints = *q;
+        continue;
+      }
       SimulatedReading reading = simulatedReading(machine, p_true, target, m.joints, ik);
       if (!reading.q) {
         const ReadingLocation location = readingLocation(plan, j, i);
         throw RunError(location.file, location.where,
                        "the simulated machine cannot reach this reading's point: " + reading.why);
       }
-      Eigen::VectorXd& q = *reading.q;
-      for (int k = 0; k < q.size(); ++k) q[k] += scale * plan.noise.encoder[k] * normal();
-      m.joints = q;
+      m.joints = *reading.q + delta;
     }
   }
   return run;

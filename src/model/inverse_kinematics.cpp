@@ -1,6 +1,8 @@
 #include "artcal/model/inverse_kinematics.hpp"
 
 #include <Eigen/Cholesky>
+#include <Eigen/QR>
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -143,6 +145,44 @@ std::optional<Eigen::VectorXd> solveInverseKinematics(const Machine& machine,
     }
   }
   if (error.norm() > std::max(options.tolerance, 1e-9)) return std::nullopt;
+  return q;
+}
+
+std::optional<Eigen::VectorXd> solveHoldingJoints(const Machine& machine, const Eigen::VectorXd& p,
+                                                  const Eigen::VectorXd& target,
+                                                  const Eigen::VectorXd& q0,
+                                                  const std::vector<int>& held,
+                                                  const IkOptions& options) {
+  const Mechanism& mech = *machine.mechanism;
+  const int n = machine.jointCount();
+  std::vector<int> free;
+  for (int i = 0; i < n; ++i)
+    if (std::find(held.begin(), held.end(), i) == held.end()) free.push_back(i);
+  const int f = static_cast<int>(free.size());
+  Eigen::VectorXd q = q0, x;
+  Eigen::MatrixXd J, J_free(mech.dimension(), f);
+  for (int it = 0; it <= options.max_iterations; ++it) {
+    if (mech.forwardStylus(options.stylus, p, q, x, nullptr, &J) != ForwardStatus::Ok)
+      return std::nullopt;
+    const Eigen::VectorXd error = target - x;
+    if (!error.allFinite()) return std::nullopt;
+    if (error.norm() <= options.tolerance) break;
+    if (it == options.max_iterations || f == 0) return std::nullopt;
+    for (int k = 0; k < f; ++k) J_free.col(k) = J.col(free[static_cast<std::size_t>(k)]);
+    // The least-squares (minimum-norm when the free joints are redundant) Gauss-Newton step.
+    const Eigen::VectorXd step = J_free.completeOrthogonalDecomposition().solve(error);
+    for (int k = 0; k < f; ++k) q[free[static_cast<std::size_t>(k)]] += step[k];
+  }
+  // The free joints within the limits (a revolute one wraps by whole turns when it can).
+  constexpr double kTurn = 2 * std::numbers::pi;
+  for (int i : free) {
+    const auto [lo, hi] = machine.joint_limits[static_cast<std::size_t>(i)];
+    if (mech.jointKind(i) == JointKind::Revolute && (q[i] < lo || q[i] > hi)) {
+      const double wrapped = lo + std::fmod(std::fmod(q[i] - lo, kTurn) + kTurn, kTurn);
+      if (wrapped <= hi) q[i] = wrapped;
+    }
+    if (q[i] < lo || q[i] > hi) return std::nullopt;
+  }
   return q;
 }
 

@@ -74,6 +74,11 @@ MachineTool::MachineTool(MachineToolConfiguration configuration, double pivot_le
   parameters_.push_back({"L", Quantity::Length});
 }
 
+std::vector<std::string> MachineTool::jointLabels() const {
+  const std::string rotary = rotaryNames();
+  return {"X", "Y", "Z", rotary.substr(0, 1), rotary.substr(1, 1)};
+}
+
 std::string MachineTool::rotaryNames() const {
   return configuration_ == MachineToolConfiguration::TrunnionAC ? "AC" : "BC";
 }

@@ -8,6 +8,13 @@ std::string forwardStatusName(ForwardStatus status) {
   return nameOf(kForwardStatusNames, status);
 }
 
+std::string jointLabel(const Mechanism& mechanism, int joint) {
+  const std::vector<std::string> labels = mechanism.jointLabels();
+  if (joint >= 0 && joint < static_cast<int>(labels.size()))
+    return labels[static_cast<std::size_t>(joint)];
+  return "q" + std::to_string(joint + 1);
+}
+
 void forwardOrThrow(const Mechanism& mechanism, const Eigen::VectorXd& p, const Eigen::VectorXd& q,
                     Eigen::VectorXd& x, Eigen::MatrixXd* J_x_p, Eigen::MatrixXd* J_x_q,
                     int stylus) {

@@ -81,6 +81,7 @@ DesignSpace::DesignSpace(const Plan& plan) : plan_(&plan) {
                          " postures per point, got " + std::to_string(spec.postures));
   }
   has_roll_ = dimension() == 3 && artifact().kind == ArtifactKind::BallPlate;
+  if (artifact().translatesOnly()) commanded_ = plan.machine.mechanism->commandedJoints();
   const auto [lo, hi] = regionExtent(spec.region, dimension());
   if ((lo.array() > hi.array()).any()) {
     throw InputError(plan.source, "/design/region", "the region is empty");
@@ -89,6 +90,17 @@ DesignSpace::DesignSpace(const Plan& plan) : plan_(&plan) {
   upper_ = Eigen::VectorXd::Constant(poseSize(), kAngleBound);
   lower_.head(dimension()) = lo;
   upper_.head(dimension()) = hi;
+  // Commanded joints: within the reading machine's limits.
+  const int c = static_cast<int>(commanded_.size());
+  for (int k = 0; k < spec.postures; ++k) {
+    for (int j = 0; j < c; ++j) {
+      const auto [joint_lo, joint_hi] =
+          reading_machine_
+              .joint_limits[static_cast<std::size_t>(commanded_[static_cast<std::size_t>(j)])];
+      lower_[dimension() + k * c + j] = joint_lo;
+      upper_[dimension() + k * c + j] = joint_hi;
+    }
+  }
 }
 
 const Artifact& DesignSpace::artifact() const {
@@ -96,6 +108,8 @@ const Artifact& DesignSpace::artifact() const {
 }
 
 int DesignSpace::poseSize() const {
+  if (!commanded_.empty())
+    return dimension() + design().postures * static_cast<int>(commanded_.size());
   return dimension() == 2 ? 3 : (has_roll_ ? 6 : 5);
 }
 
@@ -104,6 +118,13 @@ Eigen::VectorXd DesignSpace::initialSteps() const {
   Eigen::VectorXd steps = Eigen::VectorXd::Constant(poseSize(), 0.2);
   steps.head(dimension()) =
       (0.1 * (upper_ - lower_).head(dimension())).cwiseMin(50.0).cwiseMax(1.0);
+  // Commanded prismatic joints as the centre; revolute ones 0.2 rad as the angles.
+  const int c = static_cast<int>(commanded_.size());
+  for (int i = dimension(); c > 0 && i < poseSize(); ++i) {
+    const int joint = commanded_[static_cast<std::size_t>((i - dimension()) % c)];
+    if (plan_->machine.mechanism->jointKind(joint) == JointKind::Prismatic)
+      steps[i] = std::clamp(0.1 * (upper_[i] - lower_[i]), 1.0, 50.0);
+  }
   return steps;
 }
 
@@ -117,6 +138,7 @@ Eigen::Vector3d directionOf(double azimuth, double elevation) {
 }  // namespace
 
 RigidTransform DesignSpace::transformOf(const Eigen::VectorXd& v) const {
+  if (!commanded_.empty()) return placeSpatial(v.head<3>(), Eigen::Vector3d::UnitX(), 0.0);
   if (dimension() == 2) return placePlanar(v.head<2>(), v[2]);
   return placeSpatial(v.head<3>(), directionOf(v[3], v[4]), has_roll_ ? v[5] : 0.0);
 }
@@ -124,6 +146,7 @@ RigidTransform DesignSpace::transformOf(const Eigen::VectorXd& v) const {
 Pose DesignSpace::poseOf(const Eigen::VectorXd& v) const {
   Pose pose;
   pose.center = v.head(dimension());
+  if (!commanded_.empty()) return pose;  // a sphere: its centre only
   if (dimension() == 2) {
     pose.angle = std::remainder(v[2], 2 * kPi);
   } else {
@@ -164,6 +187,11 @@ Eigen::VectorXd DesignSpace::randomPose(std::mt19937_64& rng) const {
   Eigen::VectorXd v(poseSize());
   for (int i = 0; i < dimension(); ++i)
     v[i] = lower_[i] + (upper_[i] - lower_[i]) * unitUniform(rng);
+  if (!commanded_.empty()) {
+    for (int i = dimension(); i < poseSize(); ++i)
+      v[i] = lower_[i] + (upper_[i] - lower_[i]) * unitUniform(rng);
+    return v;
+  }
   if (dimension() == 2) {
     v[2] = kPi * (2 * unitUniform(rng) - 1);
   } else {
@@ -215,8 +243,38 @@ std::vector<Measurement> featureReadings(const Machine& reading_machine, int fea
   return out;
 }
 
+std::optional<Placement> DesignSpace::commandedPlacement(const Eigen::VectorXd& v) const {
+  if (regionViolation(v) > 0.0) return std::nullopt;
+  const Eigen::MatrixXd x = featurePositions(v);
+  const Machine& machine = reading_machine_;
+  Placement placement;
+  placement.artifact = design().artifact;
+  placement.pose = poseOf(v);
+  const int c = static_cast<int>(commanded_.size());
+  // The free joints start at the middle of their limits; the commanded ones are the pose's.
+  Eigen::VectorXd q0(machine.jointCount());
+  for (int i = 0; i < q0.size(); ++i) {
+    const auto [lo, hi] = machine.joint_limits[static_cast<std::size_t>(i)];
+    q0[i] = 0.5 * (lo + hi);
+  }
+  for (int i = 0; i < x.cols(); ++i) {
+    for (int k = 0; k < design().postures; ++k) {
+      for (int j = 0; j < c; ++j) {
+        const int at = dimension() + k * c + j;
+        if (v[at] < lower_[at] || v[at] > upper_[at]) return std::nullopt;
+        q0[commanded_[static_cast<std::size_t>(j)]] = v[at];
+      }
+      auto q = solveHoldingJoints(machine, machine.nominal, x.col(i), q0, commanded_);
+      if (!q) return std::nullopt;
+      placement.measurements.push_back({i, std::move(*q)});
+    }
+  }
+  return placement;
+}
+
 std::optional<Placement> DesignSpace::placeWithNewPostures(const Eigen::VectorXd& v,
                                                            std::mt19937_64& rng) const {
+  if (!commanded_.empty()) return commandedPlacement(v);
   if (regionViolation(v) > 0.0) return std::nullopt;
   const Eigen::MatrixXd x = featurePositions(v);
   Placement placement;
@@ -237,6 +295,7 @@ std::optional<Placement> DesignSpace::placeWithNewPostures(const Eigen::VectorXd
 
 std::optional<Placement> DesignSpace::movePlacement(const Placement& previous,
                                                     const Eigen::VectorXd& v) const {
+  if (!commanded_.empty()) return commandedPlacement(v);
   if (regionViolation(v) > 0.0) return std::nullopt;
   const Eigen::MatrixXd x = featurePositions(v);
   Placement placement;

@@ -58,7 +58,12 @@ ProcedureReading targetOf(const Plan& plan, const Measurement& m, const Eigen::V
   IkOptions options;
   options.stylus = m.stylus;
   options.max_iterations = 500;
-  const auto solved = solveInverseKinematics(machine, machine.nominal, position, m.joints, options);
+  // A machine tool's rotary axes are commanded: the slides are solved at the planned positions.
+  const std::vector<int> commanded = machine.mechanism->commandedJoints();
+  const auto solved =
+      commanded.empty()
+          ? solveInverseKinematics(machine, machine.nominal, position, m.joints, options)
+          : solveHoldingJoints(machine, machine.nominal, position, m.joints, commanded, options);
   if (!solved) {
     throw RunError(where.file, where.where,
                    "no joint values within the limits put the probe on feature " +

@@ -546,6 +546,62 @@ void writeParameters(std::ostream& out, const json& ev) {
   out << "</table>\n";
 }
 
+/// A machine tool's location errors (ISO 230-7; evaluate --json "location_errors", or the
+/// calibration's with its estimates): u in um / urad and the confounding index F.
+void writeLocationErrors(std::ostream& out, const json& source, const std::string& prefix) {
+  if (!source.contains("location_errors")) return;
+  const json& errors = source.at("location_errors");
+  const bool estimates = !errors.empty() && errors[0].contains("estimate_fine");
+  out << "<h3>Location errors (ISO 230-7)</h3>\n<p>Each calibrated location error by its axis, "
+         "with its standard uncertainty u in "
+      << kMicro
+      << " (offsets) or \xC2\xB5rad (orientations, zeros, squareness) and its confounding index F "
+         "= u / u(alone) (u "
+         "were every other calibrated parameter known): F &#8805; 1; F &#8804; 2: well "
+         "separated.</p>\n<table>\n<tr><th>name</th><th>axis</th><th>kind</th>"
+      << (estimates ? "<th>estimate</th>" : "") << "<th>u</th><th>unit</th><th>F</th></tr>\n";
+  for (std::size_t k = 0; k < errors.size(); ++k) {
+    const json& e = errors[k];
+    const std::string base = format("/location_errors/%zu/", k);
+    out << "<tr><td>" << svg::escape(e.at("name").get<std::string>()) << "</td><td>"
+        << svg::escape(e.at("axis").get<std::string>()) << "</td><td>"
+        << svg::escape(e.at("kind").get<std::string>()) << "</td>";
+    if (estimates) out << numberCell(source, base + "estimate_fine", 1, "%+.2f", prefix);
+    out << numberCell(source, base + "u_fine", 1, "%.2f", prefix) << "<td>"
+        << (e.at("unit_fine") == "um" ? kMicro : "\xC2\xB5rad") << "</td>"
+        << numberCell(source, base + "confounding_index", 1, "%.2f", prefix) << "</tr>\n";
+  }
+  out << "</table>\n";
+}
+
+/// A calibrated machine tool's controller table (calibrate --json "controller_table").
+void writeControllerTable(std::ostream& out, const json& cal, const std::string& prefix) {
+  if (!cal.contains("controller_table")) return;
+  const json& table = cal.at("controller_table");
+  out << "<h3>Controller table</h3>\n<p>One row per axis: its offsets (mm) and orientation "
+         "errors (deg) as identified, the "
+      << svg::escape(table.value("sign", std::string("actual location of each axis")))
+      << "; a controller that asks for corrections takes them with the opposite sign.</p>\n"
+         "<table>\n<tr><th>axis</th><th>X / mm</th><th>Y / mm</th><th>Z / mm</th>"
+         "<th>A / deg</th><th>B / deg</th><th>C / deg</th></tr>\n";
+  const json& axes = table.at("axes");
+  for (std::size_t i = 0; i < axes.size(); ++i) {
+    const std::string base = format("/controller_table/axes/%zu/", i);
+    out << "<tr><td>" << svg::escape(axes[i].at("axis").get<std::string>()) << "</td>";
+    for (const char* c : {"X", "Y", "Z"})
+      out << numberCell(cal, base + "offset_mm/" + c, 1, "%+.4f", prefix);
+    for (const char* c : {"A", "B", "C"})
+      out << numberCell(cal, base + "orientation_deg/" + c, 1, "%+.6f", prefix);
+    out << "</tr>\n";
+  }
+  out << "</table>\n";
+  if (table.contains("tool_length_mm")) {
+    out << "<p>Tool length L: <span data-field=\"" << prefix << "/controller_table/tool_length_mm"
+        << "\" data-value=\"" << exact(table.at("tool_length_mm").get<double>()) << "\">"
+        << format("%.4f", table.at("tool_length_mm").get<double>()) << "</span> mm</p>\n";
+  }
+}
+
 void writeTipSummary(std::ostream& out, const Plan& plan, const json& ev) {
   if (!ev.contains("tip")) return;
   out << "<table>\n<tr><th>tip uncertainty (" << kMicro << ")</th><th>S</th><th>S_m</th>"
@@ -951,6 +1007,8 @@ void writeCalibration(std::ostream& out, const ReportInput& in,
     out << "</tr>\n";
   }
   out << "</table>\n";
+  writeLocationErrors(out, cal, prefix);
+  writeControllerTable(out, cal, prefix);
   writeCalibrationWarnings(out, cal);
   writeFigures(out, figures, "residuals");
   writeFlagged(out, cal);
@@ -1094,6 +1152,7 @@ std::string htmlReport(const ReportInput& in, const std::vector<ReportFigure>& f
   writeFigures(out, figures, "layout");
   writeDesign(out, in);
   writeParameters(out, ev);
+  writeLocationErrors(out, ev, "");
   if (!in.evaluation.identifiable()) {
     out << "<p>No uncertainties: the plan does not identify every calibrated parameter.</p>\n";
   }

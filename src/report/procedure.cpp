@@ -30,7 +30,10 @@ std::string jointUnit(const Machine& machine, int joint) {
 std::string poseText(const Plan& plan, const ProcedurePlacement& placement) {
   const Pose& pose = placement.pose;
   std::string out = "centre " + vectorText(pose.center, 3) + " mm";
-  if (plan.machine.dimension() == 2) {
+  const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
+  if (artifact.translatesOnly()) {  // a sphere: its centre is all there is
+    out += " (the sphere's centre in the workpiece frame)";
+  } else if (plan.machine.dimension() == 2) {
     out += ", angle " + fixed(radToDeg(pose.angle), 3) + " deg";
   } else {
     out += ", direction " + vectorText(pose.direction.normalized(), 4) + ", roll " +
@@ -111,7 +114,8 @@ std::string procedureTable(const Plan& plan, const Procedure& procedure) {
     text += std::string(machine.dimension() == 2 ? 6 : 16, ' ');
     for (int i = 0; i < machine.jointCount(); ++i) {
       char column[48];
-      std::snprintf(column, sizeof column, "%9s%d %-3s", "q", i + 1, jointUnit(machine, i).c_str());
+      std::snprintf(column, sizeof column, "%10s %-3s", jointLabel(*machine.mechanism, i).c_str(),
+                    jointUnit(machine, i).c_str());
       text += column;
     }
     return text;
@@ -172,7 +176,7 @@ std::string procedureCsv(const Plan& plan, const Procedure& procedure) {
   out << "placement,artifact,reading,feature,posture,stylus";
   for (int d = 0; d < machine.dimension(); ++d) out << "," << axes[d] << "_mm";
   for (int i = 0; i < machine.jointCount(); ++i)
-    out << ",q" << i + 1 << "_" << jointUnit(machine, i);
+    out << "," << jointLabel(*machine.mechanism, i) << "_" << jointUnit(machine, i);
   out << "\n";
   char number[40];
   for (std::size_t j = 0; j < procedure.placements.size(); ++j) {

@@ -141,8 +141,8 @@ void writeReadingsTable(std::ostream& out, const Plan& plan, const ProcedurePlac
       << (styli ? "<th>stylus</th>" : "");
   for (int d = 0; d < machine.dimension(); ++d) out << "<th>" << axes[d] << " / mm</th>";
   for (int i = 0; i < machine.jointCount(); ++i) {
-    out << "<th>q" << i + 1 << " / " << unitName(jointQuantity(machine.mechanism->jointKind(i)))
-        << "</th>";
+    out << "<th>" << jointLabel(*machine.mechanism, i) << " / "
+        << unitName(jointQuantity(machine.mechanism->jointKind(i))) << "</th>";
   }
   out << "</tr>\n";
   for (std::size_t k = 0; k < placement.readings.size(); ++k) {
@@ -166,7 +166,10 @@ std::string poseLine(const Plan& plan, const ProcedurePlacement& placement) {
   std::string out = "centre (";
   for (int d = 0; d < pose.center.size(); ++d) out += (d ? ", " : "") + number(pose.center[d], 3);
   out += ") mm";
-  if (plan.machine.dimension() == 2) {
+  const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
+  if (artifact.translatesOnly()) {  // a sphere: its centre is all there is
+    out += " (the sphere's centre in the workpiece frame)";
+  } else if (plan.machine.dimension() == 2) {
     out += ", angle " + number(radToDeg(pose.angle), 3) + " deg";
   } else {
     const Eigen::Vector3d d = pose.direction.normalized();

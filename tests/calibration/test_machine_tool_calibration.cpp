@@ -68,6 +68,47 @@ TEST(MachineToolCalibration, RecoversTypicalLocationErrorsWithinThreeU) {
     EXPECT_GE(result.covariance->confounding[k], 1.0 - 1e-9);
 }
 
+// A probing cycle commands the rotary axes: the simulated readings hold them exactly as planned
+// and the slides are where the true machine's probe sits at the sphere's centre. Noise-free, the
+// true forward kinematics at the simulated readings lands on the centre the nominal machine's
+// planned readings give (their mean); with noise the rotary readings are still the planned ones.
+TEST(MachineToolCalibration, SimulatedProbingHoldsTheCommandedRotaryPositions) {
+  const Plan plan = trunnionPlan();
+  const Machine& machine = plan.machine;
+  const Eigen::VectorXd truth = typicalTruth(machine, 5);
+  for (const double scale : {0.0, 1.0}) {
+    SimulationOptions options;
+    options.noise_scale = scale;
+    const Simulator simulator(plan, options);
+    NormalSource normal(3);
+    const SimulatedRun run = simulator.simulate(truth, normal);
+    double largest_move = 0.0;
+    for (std::size_t j = 0; j < plan.placements.size(); ++j) {
+      const auto& planned = plan.placements[j].measurements;
+      const auto& read = run.placements[j].measurements;
+      ASSERT_EQ(read.size(), planned.size());
+      Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+      for (const Measurement& m : planned) {
+        Eigen::VectorXd x;
+        forwardOrThrow(*machine.mechanism, machine.nominal, m.joints, x);
+        centre += x / static_cast<double>(planned.size());
+      }
+      for (std::size_t k = 0; k < planned.size(); ++k) {
+        EXPECT_EQ(read[k].joints[3], planned[k].joints[3]);
+        EXPECT_EQ(read[k].joints[4], planned[k].joints[4]);
+        largest_move = std::max(
+            largest_move,
+            (read[k].joints.head<3>() - planned[k].joints.head<3>()).lpNorm<Eigen::Infinity>());
+        if (scale > 0.0) continue;
+        Eigen::VectorXd x;
+        forwardOrThrow(*machine.mechanism, truth, read[k].joints, x);
+        EXPECT_LT((x - centre).norm(), 1e-9) << j << " " << k;
+      }
+    }
+    EXPECT_GT(largest_move, 0.01);  // the location errors move the slides (mm)
+  }
+}
+
 TEST(MachineToolCalibration, ConfirmConfirmsThePrediction) {
   ConfirmationOptions options;
   options.trials = 120;

@@ -356,8 +356,9 @@ TEST(Optimizer, SerialArmResultIsFeasible) {
 // The optimized plans in plans/ (written by `artcal optimize plans/NAME.spec.json`)
 
 TEST(OptimizedPlans, ReadingsFeasibleAndPredictedReproduced) {
-  for (const char* name : {"seed-2r-5bars", "seed-2r-20bars", "aacmm-4bars-3postures",
-                           "cmm-plate-2styli", "hexapod-10bars"}) {
+  for (const char* name :
+       {"seed-2r-5bars", "seed-2r-20bars", "aacmm-4bars-3postures", "cmm-plate-2styli",
+        "hexapod-10bars", "machine-tool-trunnion-8probings", "machine-tool-head-table-8probings"}) {
     SCOPED_TRACE(name);
     const std::string path = test_support::planFile(std::string(name) + "-optimized.json");
     const nlohmann::json document = readJsonFile(path);

@@ -133,6 +133,42 @@ TEST(Procedure, EveryReadingOfEveryPlanLandsOnItsPlacedFeature) {
   for (const std::string& path : plans) expectReadingsOnFeatures(path);
 }
 
+// A machine tool's probing cycle commands the rotary axes: the procedure keeps them where the
+// plan has them (C at 240 deg stays 240, not its -120 deg twin) and solves the slides; the table
+// names the axes X, Y, Z, A, C and a sphere's placement by its centre alone.
+TEST(Procedure, AMachineToolsRotaryPositionsAreThePlannedOnes) {
+  const std::string path = test_support::planFile("machine-tool-trunnion-2spheres.json");
+  const json document = readJsonFile(path);
+  const auto run = runCli("procedure --json " + path);
+  ASSERT_EQ(run.status, 0);
+  const json procedure = json::parse(run.out);
+  int at240 = 0;
+  for (std::size_t j = 0; j < document["placements"].size(); ++j) {
+    const json& planned = document["placements"][j]["measurements"];
+    const json& listed = procedure["placements"][j]["readings"];
+    ASSERT_EQ(listed.size(), planned.size());
+    for (std::size_t k = 0; k < planned.size(); ++k) {
+      for (int axis = 0; axis < 5; ++axis) {
+        EXPECT_NEAR(listed[k]["joints"][axis].get<double>(),
+                    planned[k]["joints"][axis].get<double>(), 1e-9)
+            << j << " " << k << " " << axis;
+      }
+      at240 += planned[k]["joints"][4].get<double>() == 240.0;
+    }
+  }
+  EXPECT_EQ(at240, 6);
+  const auto text = runCli("procedure " + path);
+  ASSERT_EQ(text.status, 0);
+  EXPECT_NE(text.out.find("         X mm          Y mm          Z mm          A deg         C deg"),
+            std::string::npos)
+      << text.out;
+  EXPECT_NE(text.out.find("centre [150.000, 0.000, 50.000] mm (the sphere's centre in the "
+                          "workpiece frame)"),
+            std::string::npos);
+  EXPECT_EQ(text.out.find("direction"), std::string::npos);
+  EXPECT_EQ(text.out.find("nan"), std::string::npos);
+}
+
 // A reading off its feature sends the procedure through the inverse kinematics, which must put
 // the reading's OWN stylus on the feature: the CMM plan with two styli, every reading moved by
 // 0.02 mm along each axis. The target and the planned offset are checked against the forward

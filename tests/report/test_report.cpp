@@ -19,10 +19,11 @@
 #include <sstream>
 #include <tuple>
 
-#include "artcal/internal.hpp"
 #include "artcal/estimation/error_functions.hpp"
+#include "artcal/internal.hpp"
 #include "artcal/model/cartesian.hpp"
 #include "artcal/report/cartesian_report.hpp"
+#include "artcal/report/text_format.hpp"
 #include "test_paths.hpp"
 
 namespace artcal {
@@ -898,6 +899,51 @@ TEST_F(ReportCli, SimulatedReadingsShowEstimateMinusTruthInU) {
     std::snprintf(cell, sizeof cell, "<td class=\"num\">%+.2f</td>", z);
     EXPECT_NE(html.find(cell), std::string::npos) << p["name"] << " " << cell;
   }
+}
+
+// A machine tool (docs/five-axis.md): the report names the location errors with u in um / urad
+// and F, and after a calibration the controller table, each number the one calibrate --json gives
+// (data-field pointers), and no NaN anywhere.
+TEST_F(ReportCli, MachineToolShowsLocationErrorsAndTheControllerTable) {
+  const fs::path truth = dir_ / "truth.json", simulated = dir_ / "sim.json",
+                 html_path = dir_ / "r.html";
+  std::ofstream(truth) << R"({"parameters": {"E_X0C": -0.04, "E_Y0A": 0.03, "E_B0A": 0.002}})";
+  const std::string plan = test_support::planFile("machine-tool-trunnion-2spheres.json");
+  ASSERT_EQ(run("simulate \"" + plan + "\" --truth \"" + truth.string() + "\" --seed 4 -o \"" +
+                simulated.string() + "\"")
+                .status,
+            0);
+  ASSERT_EQ(run("report \"" + simulated.string() + "\" -o \"" + html_path.string() + "\"").status,
+            0);
+  const json cal = json::parse(run("calibrate --json \"" + simulated.string() + "\"").out);
+  const std::string html = slurp(html_path);
+  EXPECT_EQ(html.find("nan"), std::string::npos);
+  EXPECT_EQ(html.find("NaN"), std::string::npos);
+  EXPECT_NE(html.find("<h3>Location errors (ISO 230-7)</h3>"), std::string::npos);
+  EXPECT_NE(html.find("<h3>Controller table</h3>"), std::string::npos);
+  // E_X0C's estimate (um) in the calibration's table, the C row's X offset in the controller's.
+  const json& errors = cal.at("location_errors");
+  ASSERT_EQ(errors.size(), 11u);
+  for (std::size_t k = 0; k < errors.size(); ++k) {
+    if (errors[k]["name"] != "E_X0C") continue;
+    char cell[160];
+    std::snprintf(cell, sizeof cell,
+                  "data-field=\"/calibration/location_errors/%zu/estimate_fine\" "
+                  "data-value=\"%s\">%+.2f</td>",
+                  k, report_text::exact(errors[k]["estimate_fine"].get<double>()).c_str(),
+                  errors[k]["estimate_fine"].get<double>());
+    EXPECT_NE(html.find(cell), std::string::npos) << cell;
+    EXPECT_NEAR(errors[k]["estimate_fine"].get<double>(), -40.0,
+                3.0 * errors[k]["u_fine"].get<double>());
+  }
+  const json& axes = cal.at("controller_table").at("axes");
+  for (std::size_t i = 0; i < axes.size(); ++i) {
+    const std::string field =
+        "data-field=\"/calibration/controller_table/axes/" + std::to_string(i) + "/offset_mm/X\"";
+    EXPECT_NE(html.find(field), std::string::npos) << field;
+  }
+  // The procedure's columns are the machine's axes.
+  EXPECT_NE(html.find("<th>A / deg</th><th>C / deg</th>"), std::string::npos);
 }
 
 /// A planar 2R plan with `count` ball-bar placements spread over the reach annulus, readings by

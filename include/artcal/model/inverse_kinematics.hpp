@@ -52,6 +52,17 @@ std::vector<Eigen::VectorXd> posturesFor(const Machine& machine, const Eigen::Ve
                                          const Eigen::VectorXd& target, int count,
                                          std::mt19937_64& rng, const IkOptions& options = {});
 
+/// The joints `held` kept at their values in q0 and the others solved (Gauss-Newton on the free
+/// joints' columns of J_x_q) so that the probe sits on `target`; std::nullopt when the free joints
+/// cannot reach it (|f - target| above options.tolerance after options.max_iterations) or a joint
+/// ends outside the machine's limits (a revolute free joint with a full turn of range wraps). A
+/// machine tool's slides at commanded rotary positions: f is affine in them, one step solves it.
+std::optional<Eigen::VectorXd> solveHoldingJoints(const Machine& machine, const Eigen::VectorXd& p,
+                                                  const Eigen::VectorXd& target,
+                                                  const Eigen::VectorXd& q0,
+                                                  const std::vector<int>& held,
+                                                  const IkOptions& options = {});
+
 /// Puts q inside the joint limits: revolute joints with at least a full turn wrap, others clamp.
 void applyJointLimits(const Machine& machine, Eigen::VectorXd& q);
 

@@ -56,6 +56,10 @@ class MachineTool final : public Mechanism {
                         Eigen::MatrixXd* J_x_p = nullptr,
                         Eigen::MatrixXd* J_x_q = nullptr) const override;
   bool hasLocationErrors() const override { return true; }
+  /// The rotary axes (joints 3, 4): a probing cycle commands them, the slides go to the sphere.
+  std::vector<int> commandedJoints() const override { return {3, 4}; }
+  /// X, Y, Z and the rotary axes' letters (A, C or B, C).
+  std::vector<std::string> jointLabels() const override;
   /// Points for drawings: the table's pivot, the spindle nose and the tip (workpiece frame).
   std::vector<Eigen::VectorXd> skeleton(const Eigen::VectorXd& p,
                                         const Eigen::VectorXd& q) const override;

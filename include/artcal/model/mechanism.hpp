@@ -147,6 +147,15 @@ class Mechanism {
   /// E_<error>0<axis> (E_X0C, E_A0C, ...; docs/five-axis.md): evaluate and calibrate add the
   /// engineer's table (u in urad / um, the confounding index, the controller table).
   virtual bool hasLocationErrors() const { return false; }
+  /// The joints a probing cycle commands (a machine tool's rotary axes, docs/five-axis.md): a
+  /// planned reading holds them at their planned values and the other joints are solved for the
+  /// point (inverse_kinematics.hpp, solveHoldingJoints); the planner chooses them as design
+  /// variables (design_space.hpp) and `simulate` reads them exactly as planned. Empty for the
+  /// others (every joint solved).
+  virtual std::vector<int> commandedJoints() const { return {}; }
+  /// The names an operator reads the joints by in a procedure (a machine tool's axis letters X,
+  /// Y, Z, A, C); empty: q1, q2, ... (jointLabel).
+  virtual std::vector<std::string> jointLabels() const { return {}; }
   /// Points to draw the mechanism by, from its base to the probe (e.g. joint-frame origins),
   /// each of dimension(); empty when the model is not drawn (the report then draws the probe
   /// positions only).
@@ -155,6 +164,9 @@ class Mechanism {
 };
 
 using MechanismPtr = std::shared_ptr<const Mechanism>;
+
+/// The operator's name of joint `joint` (from 0): the model's jointLabels(), or "q1", "q2", ...
+std::string jointLabel(const Mechanism& mechanism, int joint);
 
 /// forward() for callers with no way to go on without x: a failure raises KinematicsError.
 void forwardOrThrow(const Mechanism& mechanism, const Eigen::VectorXd& p, const Eigen::VectorXd& q,

@@ -16,6 +16,12 @@
 // Every planned reading stays `design.joint_margin` inside the joint limits (default 2 deg /
 // 1 mm; joints that wrap, a full turn of range or more, need none): a real machine, a little off
 // its nominal parameters, must reach every planned point too (`artcal simulate`, `confirm`).
+//
+// Commanded joints (Mechanism::commandedJoints, a machine tool's rotary axes probing a sphere,
+// docs/five-axis.md): the pose vector is (centre x, y, z, then each posture's commanded joint
+// values in order), so the search chooses the sphere's place and the rotary positions; each
+// reading holds those joints and solves the others (solveHoldingJoints). No direction: a sphere's
+// centre is all a probing sees.
 
 #include <Eigen/Core>
 #include <optional>
@@ -85,12 +91,17 @@ class DesignSpace {
   /// std::nullopt when none works.
   std::optional<std::pair<Eigen::VectorXd, Placement>> randomPlacement(std::mt19937_64& rng,
                                                                        int attempts) const;
+  /// The commanded joints the pose vector carries per posture (empty: the usual pose vector).
+  const std::vector<int>& commandedJoints() const { return commanded_; }
 
  private:
+  /// Commanded mode: the placement at pose v, each posture's readings from its commanded values.
+  std::optional<Placement> commandedPlacement(const Eigen::VectorXd& v) const;
   const Plan* plan_;
   Machine reading_machine_;
   Eigen::VectorXd lower_, upper_;
   bool has_roll_ = false;
+  std::vector<int> commanded_;
 };
 
 }  // namespace artcal
