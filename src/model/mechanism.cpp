@@ -12,7 +12,9 @@ std::string jointLabel(const Mechanism& mechanism, int joint) {
   const std::vector<std::string> labels = mechanism.jointLabels();
   if (joint >= 0 && joint < static_cast<int>(labels.size()))
     return labels[static_cast<std::size_t>(joint)];
-  return "q" + std::to_string(joint + 1);
+  std::string label = "q";  // appended, not "q" + ...: GCC 12's -Wrestrict false positive
+  label += std::to_string(joint + 1);
+  return label;
 }
 
 void forwardOrThrow(const Mechanism& mechanism, const Eigen::VectorXd& p, const Eigen::VectorXd& q,
