@@ -197,10 +197,10 @@ Calibration followedBy(const Calibration& earlier, Calibration next) {
 
 // Calibrates at the calibrator's noise (the plan's when it was made, its calibrated set as now);
 // with `"probe": "estimate"`, sets the calibrator's probe noise to the variance component that
-// gives chi2 = dof and calibrates again until it settles. The plan is not touched: the caller
-// records the noise used (calibrator.probeNoise()).
-Calibration calibrateWithNoise(const Plan& plan, Calibrator& calibrator,
-                               const CalibrationState& start) {
+// gives chi2 = dof and calibrates again until it settles. The calibrator owns the noise it
+// whitens with while it runs; `plan` (the run's working copy, calibrateReadings) records the noise
+// used once it is done, for the calibrators made from it afterwards and for the run's result.
+Calibration calibrateWithNoise(Plan& plan, Calibrator& calibrator, const CalibrationState& start) {
   Calibration calibration = calibrator.run(plan.placements, start);
   if (!plan.noise.estimate_probe) return calibration;
   NoiseEstimate estimate;
@@ -231,6 +231,7 @@ Calibration calibrateWithNoise(const Plan& plan, Calibrator& calibrator,
     estimate.u = calibration.dof > 0 ? estimate.probe / std::sqrt(2.0 * calibration.dof) : 0.0;
   }
   calibration.noise_estimate = estimate;
+  plan.noise.probe = estimate.probe;
   return calibration;
 }
 
@@ -382,7 +383,6 @@ Calibration calibrateAsListed(Plan& plan, const CalibrationOptions& options) {
     }
   }
   Calibration calibration = calibrateWithNoise(plan, *calibrator, start);
-  plan.noise.probe = calibrator->probeNoise();  // the noise used, for what follows and the run
   // ... and again at the estimate, the newly held parameters back at nominal.
   for (int round = 0; resolve && round < kMaxWeakRounds && calibration.summary.converged();
        ++round) {
@@ -392,7 +392,6 @@ Calibration calibrateAsListed(Plan& plan, const CalibrationOptions& options) {
         plan.placements, plan.machine.withCalibrated(
                              nominal, plan.machine.calibratedValues(calibration.parameters)));
     calibration = followedBy(calibration, calibrateWithNoise(plan, *calibrator, start));
-    plan.noise.probe = calibrator->probeNoise();
   }
   if (plan.noise.estimate_probe && calibration.dof == 0) {
     // No redundancy: the "estimate" would be the starting value (docs/hardening.md).
@@ -425,7 +424,6 @@ Calibration withModelChoice(Plan& plan, const CalibrationOptions& options,
     Calibrator narrowed(plan, options);
     Calibration chosen =
         followedBy(calibration, calibrateWithNoise(plan, narrowed, outcome->chosen_state));
-    plan.noise.probe = narrowed.probeNoise();
     chosen.minimum = std::move(calibration.minimum);
     nearestTurn(plan, chosen);
     addWarnings(plan, chosen);
