@@ -351,6 +351,23 @@ class ReportCli : public ::testing::Test {
 
   static std::string data(const std::string& name) { return test_support::testDataFile(name); }
 
+  /// The readings of `plan` simulated (seed 4) with the parameters `truth` (a JSON object of name
+  /// and value), reported: the report's HTML and calibrate --json of the same readings.
+  std::pair<std::string, json> reportOfSimulated(const std::string& plan,
+                                                 const std::string& truth) const {
+    const fs::path truth_file = dir_ / "truth.json", simulated = dir_ / "sim.json",
+                   html_path = dir_ / "r.html";
+    std::ofstream(truth_file) << R"({"parameters": )" << truth << "}";
+    EXPECT_EQ(run("simulate \"" + plan + "\" --truth \"" + truth_file.string() +
+                  "\" --seed 4 -o \"" + simulated.string() + "\"")
+                  .status,
+              0);
+    EXPECT_EQ(run("report \"" + simulated.string() + "\" -o \"" + html_path.string() + "\"").status,
+              0);
+    return {slurp(html_path),
+            json::parse(run("calibrate --json \"" + simulated.string() + "\"").out)};
+  }
+
   /// verify --json of `held` with the nominal machine and with the machine calibrate
   /// --write-machine writes to `cal` from `trained`.
   std::pair<json, json> verifiedNominalAndCalibrated(const fs::path& trained, const fs::path& held,
@@ -879,17 +896,9 @@ TEST_F(ReportCli, CalibrationOnlyWhenAskedOrSimulated) {
 
 // Readings simulated with a known truth: each estimate is shown against it, in its u.
 TEST_F(ReportCli, SimulatedReadingsShowEstimateMinusTruthInU) {
-  const fs::path truth = dir_ / "truth.json", simulated = dir_ / "sim.json",
-                 html_path = dir_ / "r.html";
-  std::ofstream(truth) << R"({"parameters": {"l1": 150.02, "l2": 99.99, "dt2": 0.01}})";
-  ASSERT_EQ(run("simulate \"" + data("ref-2r-calibrate.json") + "\" --truth \"" + truth.string() +
-                "\" --seed 4 -o \"" + simulated.string() + "\"")
-                .status,
-            0);
-  ASSERT_EQ(run("report \"" + simulated.string() + "\" -o \"" + html_path.string() + "\"").status,
-            0);
-  const json cal = json::parse(run("calibrate --json \"" + simulated.string() + "\"").out);
-  const std::string html = slurp(html_path);
+  const auto [html, cal] = reportOfSimulated(data("ref-2r-calibrate.json"),
+                                             R"({"l1": 150.02, "l2": 99.99, "dt2": 0.01})");
+  ASSERT_FALSE(HasFailure());
   EXPECT_NE(html.find("<th>(estimate - truth) / u</th>"), std::string::npos);
   const double truths[] = {150.02, 99.99, 0.01};
   for (std::size_t k = 0; k < 3; ++k) {
@@ -905,18 +914,10 @@ TEST_F(ReportCli, SimulatedReadingsShowEstimateMinusTruthInU) {
 // and F, and after a calibration the controller table, each number the one calibrate --json gives
 // (data-field pointers), and no NaN anywhere.
 TEST_F(ReportCli, MachineToolShowsLocationErrorsAndTheControllerTable) {
-  const fs::path truth = dir_ / "truth.json", simulated = dir_ / "sim.json",
-                 html_path = dir_ / "r.html";
-  std::ofstream(truth) << R"({"parameters": {"E_X0C": -0.04, "E_Y0A": 0.03, "E_B0A": 0.002}})";
-  const std::string plan = test_support::planFile("machine-tool-trunnion-2spheres.json");
-  ASSERT_EQ(run("simulate \"" + plan + "\" --truth \"" + truth.string() + "\" --seed 4 -o \"" +
-                simulated.string() + "\"")
-                .status,
-            0);
-  ASSERT_EQ(run("report \"" + simulated.string() + "\" -o \"" + html_path.string() + "\"").status,
-            0);
-  const json cal = json::parse(run("calibrate --json \"" + simulated.string() + "\"").out);
-  const std::string html = slurp(html_path);
+  const auto [html, cal] =
+      reportOfSimulated(test_support::planFile("machine-tool-trunnion-2spheres.json"),
+                        R"({"E_X0C": -0.04, "E_Y0A": 0.03, "E_B0A": 0.002})");
+  ASSERT_FALSE(HasFailure());
   EXPECT_EQ(html.find("nan"), std::string::npos);
   EXPECT_EQ(html.find("NaN"), std::string::npos);
   EXPECT_NE(html.find("<h3>Location errors (ISO 230-7)</h3>"), std::string::npos);
