@@ -419,8 +419,14 @@ Calibration withModelChoice(Plan& plan, const CalibrationOptions& options,
   if (!outcome) return calibration;
   const ModelChoice& choice = outcome->choice;
   if (choice.chosen != 0) {
-    plan.machine.calibrated = choice.candidates[static_cast<std::size_t>(choice.chosen)].kept;
+    const ModelChoiceCandidate& chosen_set =
+        choice.candidates[static_cast<std::size_t>(choice.chosen)];
+    plan.machine.calibrated = chosen_set.kept;
     plan.calibrate_resolution->kept = plan.machine.calibrated;
+    if (!chosen_set.restored.empty()) {  // no longer held: calibrated again
+      plan.calibrate_resolution->weak.clear();
+      plan.calibrate_resolution->weak_fraction.clear();
+    }
     Calibrator narrowed(plan, options);
     Calibration chosen =
         followedBy(calibration, calibrateWithNoise(plan, narrowed, outcome->chosen_state));

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <numeric>
 
+#include "artcal/calibration/corrections.hpp"
 #include "artcal/estimation/normal_matrix.hpp"
 
 namespace artcal {
@@ -96,6 +97,18 @@ bool clearlyBetter(const ModelChoiceCandidate& candidate, const ModelChoiceCandi
   return signTestLevel(lower, folds) <= kSignificance;
 }
 
+// Whether the candidate with the weak directions restored holds better than the rank rule's set
+// (see the header): converged, plausible, a lower held-out error (the left-out placements'
+// pooled, or Cp's with one placement) and, with placements left out, lower in most of them.
+bool restoresBetter(const ModelChoiceCandidate& candidate, const ModelChoiceCandidate& reference) {
+  if (!candidate.converged || candidate.implausible) return false;
+  if (!(candidate.observed < reference.observed)) return false;
+  std::size_t lower = 0;
+  for (std::size_t j = 0; j < candidate.fold_observed.size(); ++j)
+    if (candidate.fold_observed[j] < reference.fold_observed[j]) ++lower;
+  return 2 * lower > candidate.fold_observed.size() || candidate.fold_observed.empty();
+}
+
 std::string percent(double value) {
   char text[32];
   std::snprintf(text, sizeof text, "%.1f %%", 100.0 * value);
@@ -156,9 +169,8 @@ std::optional<ModelChoiceOutcome> chooseKeptSet(Plan& plan, const CalibrationOpt
   const auto order = removalOrder(information, kMaxRemoved);
   ModelChoiceOutcome outcome;
   ModelChoice& choice = outcome.choice;
-  choice.rule = static_cast<int>(plan.placements.size()) >= kMinFolds
-                    ? ModelChoiceRule::CrossValidation
-                    : ModelChoiceRule::InformationCriterion;
+  choice.rule = plan.placements.size() >= 2 ? ModelChoiceRule::CrossValidation
+                                            : ModelChoiceRule::InformationCriterion;
   choice.folds = choice.rule == ModelChoiceRule::CrossValidation
                      ? static_cast<int>(plan.placements.size())
                      : 0;
@@ -221,6 +233,33 @@ std::optional<ModelChoiceOutcome> chooseKeptSet(Plan& plan, const CalibrationOpt
     choice.candidates.push_back(std::move(candidate));
   }
   plan.machine.calibrated = rank_set;
+
+  // The rank rule's set with the directions the weak-direction rule held calibrated again, from
+  // the rank rule's estimate (where they are at nominal).
+  const std::vector<int> weak =
+      plan.calibrate_resolution ? plan.calibrate_resolution->weak : std::vector<int>{};
+  if (!weak.empty()) {
+    ModelChoiceCandidate candidate;
+    candidate.restored = weak;
+    candidate.kept = rank_set;
+    candidate.kept.insert(candidate.kept.end(), weak.begin(), weak.end());
+    std::sort(candidate.kept.begin(), candidate.kept.end());
+    candidate.size = static_cast<int>(candidate.kept.size());
+    plan.machine.calibrated = candidate.kept;
+    Calibrator fitter(plan, quick);
+    const Calibration fit = fitter.run(
+        plan.placements, {calibration.parameters, calibration.systematic, calibration.poses});
+    candidate.implausible =
+        !implausibleCorrections(plan.machine, plan.machine.nominal, fit.parameters).empty();
+    if (fit.summary.converged()) {
+      judge(fitter.linearization(), fit, candidate);
+    } else {
+      candidate.chi2_per_dof = fit.chi2_per_dof;
+    }
+    plan.machine.calibrated = rank_set;
+    states.push_back({fit.parameters, fit.systematic, fit.poses});
+    choice.candidates.push_back(std::move(candidate));
+  }
   if (choice.candidates.size() == 1) return std::nullopt;
 
   // The smallest held-out error among the candidates clearly better than the rank rule's set.
@@ -228,7 +267,9 @@ std::optional<ModelChoiceOutcome> chooseKeptSet(Plan& plan, const CalibrationOpt
   choice.chosen = 0;
   for (std::size_t i = 1; i < choice.candidates.size(); ++i) {
     const ModelChoiceCandidate& c = choice.candidates[i];
-    if (!clearlyBetter(c, reference, choice.rule)) continue;
+    const bool better = c.restored.empty() ? clearlyBetter(c, reference, choice.rule)
+                                           : restoresBetter(c, reference);
+    if (!better) continue;
     if (choice.chosen == 0 || c.observed < choice.candidates[choice.chosen].observed)
       choice.chosen = static_cast<int>(i);
   }
@@ -236,20 +277,29 @@ std::optional<ModelChoiceOutcome> chooseKeptSet(Plan& plan, const CalibrationOpt
   const std::string rule = nameOf(kModelChoiceRuleNames, choice.rule);
   if (choice.chosen == 0) {
     choice.decided_by = "rank rule";
+    const std::string restored =
+        weak.empty()
+            ? std::string()
+            : "; the weak directions restored are not better held out" +
+                  std::string(
+                      choice.rule == ModelChoiceRule::CrossValidation ? "" : " by Cp's estimate");
     choice.reason =
-        choice.rule == ModelChoiceRule::CrossValidation
-            ? "no smaller candidate is clearly better held out (lower pooled error and lower in "
-              "so many of the " +
-                  std::to_string(choice.folds) + " folds that chance gives it at most " +
-                  percent(kSignificance) + ")"
-            : "fewer than " + std::to_string(kMinFolds) +
-                  " placements: no held-out test can show a smaller set better (Cp shown for "
-                  "information only)";
+        (choice.folds >= kMinFolds
+             ? "no smaller candidate is clearly better held out (lower pooled error and lower in "
+               "so many of the " +
+                   std::to_string(choice.folds) + " folds that chance gives it at most " +
+                   percent(kSignificance) + ")"
+             : "fewer than " + std::to_string(kMinFolds) +
+                   " placements: no held-out test can show a smaller set clearly better") +
+        restored;
   } else {
     const ModelChoiceCandidate& c = choice.candidates[static_cast<std::size_t>(choice.chosen)];
     choice.decided_by = rule;
-    choice.reason = "held-out error " + percent(1.0 - c.observed / reference.observed) +
-                    " lower than the rank rule's set";
+    choice.reason =
+        "held-out error " + percent(1.0 - c.observed / reference.observed) + " lower " +
+        (c.restored.empty() ? std::string("than the rank rule's set")
+                            : "with the weak directions calibrated again than with the rank "
+                              "rule's set, which holds them at nominal");
     outcome.chosen_state = states[static_cast<std::size_t>(choice.chosen)];
   }
   return outcome;

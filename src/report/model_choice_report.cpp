@@ -34,11 +34,15 @@ json modelChoiceToJson(const Plan& plan, const ModelChoice& choice) {
   for (const ModelChoiceCandidate& c : choice.candidates) {
     json folds = json::array();
     for (const double f : c.fold_observed) folds.push_back(finiteOrNull(f));
+    json restored = json::array();
+    for (const int r : c.restored) restored.push_back(parameterName(plan, r));
     candidates.push_back(
         {{"size", c.size},
          {"held_at_nominal", c.removed >= 0 ? json(parameterName(plan, c.removed)) : json(nullptr)},
          {"surviving_fraction", c.removed >= 0 ? finiteOrNull(c.removed_fraction) : json(nullptr)},
+         {"restored", restored},
          {"converged", c.converged},
+         {"implausible", c.implausible},
          {"chi2_per_dof", finiteOrNull(c.chi2_per_dof)},
          {"predicted", finiteOrNull(c.predicted)},
          {"observed", finiteOrNull(c.observed)},
@@ -64,20 +68,23 @@ std::string modelChoiceTable(const Plan& plan, const ModelChoice& choice) {
   const bool cv = choice.rule == ModelChoiceRule::CrossValidation;
   out << (cv ? "held out: each of the " + std::to_string(choice.folds) +
                    " placements left out in turn (observed: its readings, not fitted)"
-             : std::string("too few placements to leave one out: Mallows' Cp (observed: Cp's "
-                           "estimate, for information)"))
+             : std::string("one placement, none to leave out: Mallows' Cp (observed: Cp's "
+                           "estimate)"))
       << "; chi2 per degree of freedom (1), rms in mm\n";
-  std::size_t width = 15;
-  for (const json& c : document["candidates"]) {
-    if (c["held_at_nominal"].is_string())
-      width = std::max(width, c["held_at_nominal"].get<std::string>().size());
-  }
-  out << "size  " << std::string("held at nominal").append(width - 15, ' ')
+  std::size_t width = 28;
+  // The parameter a candidate holds at nominal, or "+ ..." the ones it calibrates again.
+  auto label = [](const json& c) {
+    if (c["held_at_nominal"].is_string()) return c["held_at_nominal"].get<std::string>();
+    if (c["restored"].empty()) return std::string("(rank rule)");
+    std::string out = "+";
+    for (const json& name : c["restored"]) out.append(" ").append(name.get<std::string>());
+    return out;
+  };
+  for (const json& c : document["candidates"]) width = std::max(width, label(c).size());
+  out << "size  " << std::string("held at nominal (+ restored)").append(width - 28, ' ')
       << "  fraction  chi2/dof  predicted  observed  predicted_rms  observed_rms  chosen\n";
   for (const json& c : document["candidates"]) {
-    const std::string held = c["held_at_nominal"].is_string()
-                                 ? c["held_at_nominal"].get<std::string>()
-                                 : std::string("(rank rule)");
+    const std::string held = label(c);
     out << report_text::format("%4d  ", c["size"].get<int>()) << held
         << std::string(width - held.size(), ' ') << "  "
         << report_text::format("%8s", cell(c["surviving_fraction"], "%.1e").c_str())
@@ -87,9 +94,15 @@ std::string modelChoiceTable(const Plan& plan, const ModelChoice& choice) {
         << report_text::format("  %13s", cell(c["predicted_rms_mm"], "%.4f").c_str())
         << report_text::format("  %12s", cell(c["observed_rms_mm"], "%.4f").c_str())
         << (c["chosen"].get<bool>() ? "  *" : "")
-        << (c["converged"].get<bool>() ? "" : "  (not converged)") << "\n";
+        << (c["converged"].get<bool>() ? "" : "  (not converged)")
+        << (c["implausible"].get<bool>() ? "  (implausible correction)" : "") << "\n";
   }
-  if (choice.chosen > 0) {
+  const ModelChoiceCandidate& chosen = choice.candidates[static_cast<std::size_t>(choice.chosen)];
+  if (!chosen.restored.empty()) {
+    out << "calibrated again by the held-out choice (the weak-direction rule had held them):";
+    for (const int r : chosen.restored) out << " " << parameterName(plan, r);
+    out << "\n";
+  } else if (choice.chosen > 0) {
     out << "held at nominal by the held-out choice:";
     for (int i = 1; i <= choice.chosen; ++i)
       out << " " << parameterName(plan, choice.candidates[static_cast<std::size_t>(i)].removed);

@@ -17,8 +17,15 @@ def test_calibrate_reports_the_held_out_choice():
     candidates = choice["candidates"]
     assert candidates[0]["held_at_nominal"] is None
     assert candidates[0]["size"] == choice["rank_rule_size"]
-    assert [c["size"] for c in candidates] == list(
-        range(choice["rank_rule_size"], choice["rank_rule_size"] - len(candidates), -1))
+    # Nested smaller sets, then (where the weak-direction rule held any) the rank rule's set with
+    # them calibrated again.
+    nested = [c for c in candidates if not c["restored"]]
+    assert [c["size"] for c in nested] == list(
+        range(choice["rank_rule_size"], choice["rank_rule_size"] - len(nested), -1))
+    for c in candidates:
+        if c["restored"]:
+            assert c["size"] == choice["rank_rule_size"] + len(c["restored"])
+            assert c["held_at_nominal"] is None
     assert sum(c["chosen"] for c in candidates) == 1
     chosen = next(c for c in candidates if c["chosen"])
     # The calibrated parameters are the chosen candidate's.

@@ -10,19 +10,27 @@
 // below kCandidateFraction are candidates for removal, at most kMaxRemoved of them. Each candidate
 // is fitted to every reading from the rank rule's estimate (a warm start).
 //
-// Judged on held-out readings: with kMinFolds placements (stations) or more, leave one placement
-// out. Each fold is one Gauss-Newton step from the candidate's estimate with the placement's
-// reduced normal terms removed (N - N_j, b - b_j: exact for a linear model, from the blocks the
+// Judged on held-out readings: with 2 placements (stations) or more, leave one placement out.
+// Each fold is one Gauss-Newton step from the candidate's estimate with the placement's reduced
+// normal terms removed (N - N_j, b - b_j: exact for a linear model, from the blocks the
 // calibrator already built), and the left-out placement's misfit after its own rigid motion is
 // re-fitted: q_j = c_j - 2 b_j^T dg + dg^T N_j dg, per its degrees of freedom (held-out chi2/dof).
 // Predicted for readings that scatter as the fit's own: chi2/dof (1 + tr(N_j (N - N_j)^-1) /
-// dof_j), pooled. With fewer placements the table shows Mallows' Cp with the rank rule's scatter,
-// (chi2_k + 2 k s^2) / (dof_k + k), for information only: no held-out readings, no change.
+// dof_j), pooled. With one placement the table shows Mallows' Cp with the rank rule's scatter,
+// (chi2_k + 2 k s^2) / (dof_k + k).
 //
-// The default stays unless a smaller candidate is clearly better: a lower pooled held-out error,
-// and lower in so many folds that a candidate no better would be so in at most kSignificance of
-// cases (one-sided sign test over the folds: all 5 of 5, all 7 of 7, 7 of 8, 8 of 9, ...). The
-// chosen one is the lowest pooled error among those.
+// A smaller candidate replaces the rank rule's set only when it is clearly better: a lower
+// pooled held-out error, and lower in so many folds that a candidate no better would be so in at
+// most kSignificance of cases (one-sided sign test over the folds: all 5 of 5, all 7 of 7, 7 of 8,
+// 8 of 9, ...; never with fewer than kMinFolds placements). The chosen one is the lowest pooled
+// error among those.
+//
+// One more candidate where the weak-direction rule held parameters (surviving fraction below
+// kWeakInformationTolerance: a numerical guard, not a test of the readings): the rank rule's set
+// with them calibrated again. It is the set the information determines, so it is judged the
+// other way round: taken when converged, plausible (no correction flagged, corrections.hpp) and
+// lower held out, pooled and in more than half of the folds, or by Cp with one placement (AIC:
+// the chi2 falls by more than 2 s^2 per parameter restored).
 
 #include <optional>
 
@@ -37,7 +45,7 @@ namespace artcal {
 inline constexpr double kCandidateFraction = 1e-2;
 /// At most this many parameters removed (candidates beyond the rank rule's set).
 inline constexpr int kMaxRemoved = 6;
-/// Leave-one-placement-out with at least this many placements (a sign test over fewer folds can
+/// A smaller set is taken with at least this many placements (a sign test over fewer folds can
 /// never reach kSignificance).
 inline constexpr int kMinFolds = 5;
 /// The sign test's level: how often chance may make a candidate look better in the folds.

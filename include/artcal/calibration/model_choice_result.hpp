@@ -20,7 +20,7 @@ inline constexpr EnumNames<ModelChoiceMode, 2> kModelChoiceModeNames{
 
 /// The rule that judged the candidates.
 enum class ModelChoiceRule {
-  CrossValidation,       ///< leave one placement (station) out, 3 placements or more
+  CrossValidation,       ///< leave one placement (station) out, 2 placements or more
   InformationCriterion,  ///< Mallows' Cp, fewer placements
 };
 
@@ -36,6 +36,11 @@ struct ModelChoiceCandidate {
   /// its surviving fraction of information in that larger set; -1 and 0 for the rank rule's set.
   int removed = -1;
   double removed_fraction = 0.0;
+  /// The parameters the weak-direction rule held at nominal that this candidate calibrates again
+  /// (model indices; empty but for the one candidate of the rank rule's set with them restored).
+  std::vector<int> restored;
+  /// Its fit corrects a parameter beyond the plausibility rule (corrections.hpp): never chosen.
+  bool implausible = false;
   std::vector<int> kept;  ///< model parameter indices
   bool converged = false;
   double chi2_per_dof = 0.0;  ///< of its fit to every reading
