@@ -69,7 +69,8 @@ void planeRows(const Artifact& artifact, const Machine& machine, const Eigen::Ve
 std::optional<Eigen::VectorXd> touchPlane(const Artifact& artifact, const Machine& machine,
                                           const Eigen::VectorXd& p, const Measurement& m,
                                           const RigidTransform& r, const Eigen::VectorXd& c,
-                                          const Eigen::VectorXd& offsets) {
+                                          const Eigen::VectorXd& offsets,
+                                          const std::optional<Eigen::Vector3d>& at) {
   // The joint Jacobian of the rows does not depend on which parameters are calibrated: a
   // machine with none calibrated gives J_q alone.
   Machine joints_only = machine;
@@ -77,18 +78,53 @@ std::optional<Eigen::VectorXd> touchPlane(const Artifact& artifact, const Machin
   Measurement reading = m;
   PlaneRows rows;
   PlaneRowsScratch scratch;
+  const PlaneGeometry& plane = artifact.plane;
+  const PlaneFace& face = plane.faces.at(static_cast<std::size_t>(m.feature));
+  // A flush touch has one more row: the tool axis's component along the face's normal against
+  // the one the tilts leave, pointing into the face. The two tilt rows alone are zero with the
+  // tool pointing out of the material too, and flat (their Jacobian loses rank) where the tool
+  // lies along the face; with this row the cost |v - v*|^2 has one minimum on the sphere.
+  double into_face = 0.0;
+  if (plane.flush) {
+    const double tilt2 =
+        offsets.size() >= 3 ? offsets[1] * offsets[1] + offsets[2] * offsets[2] : 0.0;
+    into_face = -face.sign * std::sqrt(std::max(0.0, 1.0 - tilt2));
+  }
   // Steps of at most kLargestStep (rad or mm) per joint: a full Newton step from a tilted tool can
   // swing the arm far round (and out of its limits) before it settles.
   constexpr double kLargestStep = 0.1;
+  Eigen::VectorXd e;
+  Eigen::MatrixXd J;
   for (int iteration = 0; iteration < 200; ++iteration) {
     planeRows(artifact, joints_only, p, reading, r, c, true, rows, scratch);
-    const Eigen::VectorXd e = rows.residual - offsets.head(rows.rows);
+    const int n = rows.rows + (plane.flush ? 1 : 0) + (at ? 2 : 0);
+    e.resize(n);
+    J.resize(n, rows.J_q.cols());
+    e.head(rows.rows) = rows.residual - offsets.head(rows.rows);
+    J.topRows(rows.rows) = rows.J_q;
+    if (plane.flush) {
+      const Eigen::Vector3d u = scratch.R_tip * plane.tool_axis;
+      const Eigen::Vector3d v = r.R * u;
+      Eigen::Matrix3d skew_u;
+      skew_u << 0, -u[2], u[1], u[2], 0, -u[0], -u[1], u[0], 0;
+      e[rows.rows] = v[face.axis] - into_face;
+      J.row(rows.rows) = (-r.R * skew_u).row(face.axis) * scratch.J_w_q;
+    }
+    if (at) {  // the touch's place on the face: its two in-plane coordinates
+      const Eigen::Vector3d W = r.apply(scratch.x);
+      for (int k = 1; k <= 2; ++k) {
+        const int axis = (face.axis + k) % 3;
+        e[n - 3 + k] = W[axis] - (*at)[axis];
+        J.row(n - 3 + k) = r.R.row(axis) * scratch.J_x_q;
+      }
+    }
     if (e.cwiseAbs().maxCoeff() < 1e-12) return reading.joints;
-    // Minimum-norm step: J_q^T (J_q J_q^T)^-1 e (the machine moves as little as it can).
-    const Eigen::MatrixXd JJt = rows.J_q * rows.J_q.transpose();
+    // Minimum-norm step, damped (the direction rows have rank 2): J^T (J J^T + mu I)^-1 e.
+    Eigen::MatrixXd JJt = J * J.transpose();
+    JJt.diagonal().array() += 1e-12 * std::max(JJt.trace(), 1e-300);
     const Eigen::LDLT<Eigen::MatrixXd> ldlt(JJt);
     if (ldlt.info() != Eigen::Success) return std::nullopt;
-    Eigen::VectorXd step = rows.J_q.transpose() * ldlt.solve(e);
+    Eigen::VectorXd step = J.transpose() * ldlt.solve(e);
     if (!step.allFinite()) return std::nullopt;
     const double largest = step.cwiseAbs().maxCoeff();
     if (largest > kLargestStep) step *= kLargestStep / largest;

@@ -311,16 +311,18 @@ std::optional<Placement> DesignSpace::movePlacement(const Placement& previous,
     options.stylus = m.stylus;
     // A plane's touch keeps its point on the face (artifact frame) as the face moves.
     Eigen::VectorXd target = x.col(m.feature);
+    Eigen::Vector3d on_face = Eigen::Vector3d::Zero();  // artifact frame
     if (plane) {
       forwardOrThrow(*reading_machine_.mechanism, reading_machine_.nominal, m.joints, target,
                      nullptr, nullptr, m.stylus);
-      target = after.inverse().apply(before.apply(target));
+      on_face = before.apply(target);
+      target = after.inverse().apply(on_face);
     }
     auto q = solveInverseKinematics(reading_machine_, reading_machine_.nominal, target, m.joints,
                                     options);
     if (q && plane && artifact().plane.flush) {
       q = touchPlane(artifact(), reading_machine_, reading_machine_.nominal, {m.feature, *q}, after,
-                     Eigen::VectorXd(), Eigen::VectorXd::Zero(3));
+                     Eigen::VectorXd(), Eigen::VectorXd::Zero(3), on_face);
       if (q && !reading_machine_.withinLimits(*q)) q.reset();
     }
     if (!q) return std::nullopt;

@@ -31,7 +31,7 @@ std::vector<Measurement> planeTouches(const Machine& reading_machine, const Arti
     Measurement m{face, postures.front(), ik.stylus};
     if (plane.flush) {
       auto q = touchPlane(artifact, reading_machine, reading_machine.nominal, m, placed,
-                          Eigen::VectorXd(), Eigen::VectorXd::Zero(3));
+                          Eigen::VectorXd(), Eigen::VectorXd::Zero(3), Eigen::Vector3d(W));
       if (!q) continue;
       // A revolute joint turned by whole turns reads the same configuration.
       for (int i = 0; i < q->size(); ++i) {

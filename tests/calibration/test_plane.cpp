@@ -393,5 +393,45 @@ TEST(Plane, BadPlanesAreRefusedNamingTheField) {
   EXPECT_NE(refusal(no_pose).find("/placements/0/pose"), std::string::npos);
 }
 
+// plans/planes/arm6-flush.layout.json: every contact request is met (before, the wall's 20 and the
+// gauge block's far face found none: from a posture that only reaches the point, the two tilt
+// rows alone are flat where the tool lies along the face and zero with it pointing out of the
+// material too), and each planned table contact lies flush, checked here from the layout's own
+// numbers: the stylus end on the plane through the pose's centre, the tool axis (the last frame's
+// x) equal to minus the pose's direction, the contact within the face's extent of its centre.
+TEST(Plane, PlannedFlushContactsLieFlushWithTheToolPointingIntoTheFace) {
+  std::ifstream in(test_support::planFile("planes/arm6-flush.layout.json"));
+  const nlohmann::json document = nlohmann::json::parse(in);
+  const Plan plan = completed(document, 5);
+  ASSERT_EQ(plan.placements.size(), document["placements"].size());
+  for (std::size_t j = 0; j < plan.placements.size(); ++j) {
+    const nlohmann::json& layout = document["placements"][j];
+    int requested = 0;
+    for (const auto& request : layout["measurements"]) requested += request["postures"].get<int>();
+    ASSERT_EQ(static_cast<int>(plan.placements[j].measurements.size()), requested) << j;
+    if (layout["artifact"] != "table") continue;
+    const auto& pose = layout["pose"];
+    const Eigen::Vector3d center(pose["center"][0].get<double>(), pose["center"][1].get<double>(),
+                                 pose["center"][2].get<double>());
+    const Eigen::Vector3d normal =
+        Eigen::Vector3d(pose["direction"][0].get<double>(), pose["direction"][1].get<double>(),
+                        pose["direction"][2].get<double>())
+            .normalized();
+    const double extent = document["artifacts"]["table"]["extent"].get<double>();
+    for (const Measurement& m : plan.placements[j].measurements) {
+      Eigen::VectorXd x;
+      Eigen::Matrix3d R;
+      forwardPoseOrThrow(*plan.machine.mechanism, plan.machine.nominal, m.joints, x, R, nullptr,
+                         nullptr, nullptr, nullptr, m.stylus);
+      const Eigen::Vector3d tip = x.head<3>();
+      EXPECT_NEAR((tip - center).dot(normal), 0.0, 1e-9) << j;
+      EXPECT_NEAR((R * Eigen::Vector3d::UnitX()).dot(normal), -1.0, 1e-12) << j;
+      const Eigen::Vector3d along = (tip - center) - (tip - center).dot(normal) * normal;
+      EXPECT_LE(along.cwiseAbs().maxCoeff(), 1.5 * extent * std::sqrt(2.0)) << j;
+      EXPECT_TRUE(plan.machine.withinLimits(m.joints)) << j;
+    }
+  }
+}
+
 }  // namespace plane_test
 }  // namespace artcal

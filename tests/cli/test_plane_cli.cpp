@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>
+#include <cstdio>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
@@ -91,6 +92,67 @@ TEST_F(PlaneCli, ProcedureListsEachTouchAtItsPlannedPointOnTheFace) {
     }
   }
   EXPECT_EQ(touches, 90);
+}
+
+// import-readings of plane touches as a user holds them: one folder per placement with its
+// pose.json and a feature_0.csv of joints whose header names them, the machine and the plane in
+// files of their own. The flush table touches of plans/planes/arm6-flush.json, simulated for a
+// machine off nominal, written out so and imported, calibrate to the estimates of the same
+// readings given in the plan itself (same poses, same joints: to 1e-9).
+TEST_F(PlaneCli, ImportedFlushTouchesCalibrateAsTheSamePlan) {
+  const std::string truth =
+      write("truth.json", R"({"parameters": {"j2.a": 0.2, "j3.theta": 0.02, "j5.d": 600.3}})");
+  const std::string simulated = path("simulated.json");
+  ASSERT_EQ(runCli("simulate " + planFile("planes/arm6-flush.json") + " --truth " + truth +
+                   " --seed 3 -o " + simulated)
+                .status,
+            0);
+  nlohmann::json plan = readJson(simulated);
+  nlohmann::json tables = nlohmann::json::array();
+  for (const nlohmann::json& placement : plan["placements"]) {
+    if (placement["artifact"] != "table") continue;
+    tables.push_back(placement);
+    const std::string folder =
+        "touches/" + std::to_string(tables.size()) + "_" + placement["name"].get<std::string>();
+    write(folder + "/pose.json", placement["pose"].dump());
+    std::string csv = "j1 deg,j2 deg,j3 deg,j4 deg,j5 deg,j6 deg\n";
+    for (const nlohmann::json& m : placement["measurements"]) {
+      ASSERT_EQ(m["feature"], 0);
+      for (std::size_t i = 0; i < m["joints"].size(); ++i) {
+        char value[40];
+        std::snprintf(value, sizeof value, "%.17g", m["joints"][i].get<double>());
+        csv += (i ? "," : "") + std::string(value);
+      }
+      csv += "\n";
+    }
+    write(folder + "/feature_0.csv", csv);
+  }
+  ASSERT_EQ(tables.size(), 3u);
+  plan["placements"] = tables;
+  plan["artifacts"] = {{"table", plan["artifacts"]["table"]}};
+  const std::string given = write("given.json", plan.dump());
+  const std::string machine =
+      write("machine.json", nlohmann::json{{"machine", plan["machine"]}}.dump());
+  const std::string artifact = write("table.json", plan["artifacts"].dump());
+  const std::string imported = path("imported.json");
+  const auto import =
+      runCli("import-readings " + path("touches") + " --machine " + machine + " --artifact " +
+             artifact + " --keep-calibrate --probe 0.01 --encoder 0.0005 -o " + imported);
+  ASSERT_EQ(import.status, 0) << import.out;
+  const auto a = runCli("calibrate --json " + given);
+  const auto b = runCli("calibrate --json " + imported);
+  ASSERT_EQ(a.status, 0) << a.out;
+  ASSERT_EQ(b.status, 0) << b.out;
+  const nlohmann::json from_plan = nlohmann::json::parse(a.out);
+  const nlohmann::json from_files = nlohmann::json::parse(b.out);
+  EXPECT_NEAR(from_files["chi2"].get<double>(), from_plan["chi2"].get<double>(),
+              1e-9 * from_plan["chi2"].get<double>());
+  ASSERT_EQ(from_files["parameters"].size(), from_plan["parameters"].size());
+  for (std::size_t i = 0; i < from_plan["parameters"].size(); ++i) {
+    EXPECT_EQ(from_files["parameters"][i]["name"], from_plan["parameters"][i]["name"]);
+    EXPECT_NEAR(from_files["parameters"][i]["estimate"].get<double>(),
+                from_plan["parameters"][i]["estimate"].get<double>(), 1e-9);
+  }
 }
 
 }  // namespace plane_cli_test

@@ -45,11 +45,14 @@ void planeRows(const Artifact& artifact, const Machine& machine, const Eigen::Ve
 /// The machine-frame point and tip orientation at which the machine with parameters p touches
 /// face `feature` of the placed plane (R_r, t_r) nearest to where joints q put it: the joints
 /// that make every row of reading m zero (plus `offsets`, the drawn noise of each row), by
-/// minimum-norm Gauss-Newton from q, steps capped at 0.1 rad (mm) per joint. std::nullopt when
-/// it does not converge.
+/// minimum-norm Gauss-Newton from q, steps capped at 0.1 rad (mm) per joint. A flush touch has
+/// the tool axis pointing into the face (one more row: its component along the normal). `at`
+/// (artifact frame): the touch also keeps that point's two in-plane coordinates (planning a
+/// touch of a small face). std::nullopt when it does not converge.
 std::optional<Eigen::VectorXd> touchPlane(const Artifact& artifact, const Machine& machine,
                                           const Eigen::VectorXd& p, const Measurement& m,
                                           const RigidTransform& r, const Eigen::VectorXd& c,
-                                          const Eigen::VectorXd& offsets);
+                                          const Eigen::VectorXd& offsets,
+                                          const std::optional<Eigen::Vector3d>& at = std::nullopt);
 
 }  // namespace artcal
