@@ -143,9 +143,11 @@ PlacementVerification verifyTouches(const Plan& plan, int index, const Eigen::Ve
   PlaneRows rows;
   PlaneRowsScratch scratch;
   const double own = readingPointVariance(plan.noise.probe, artifact.noise);
+  Eigen::MatrixXd points(plan.machine.dimension(), count);
   for (int i = 0; i < count; ++i) {
     planeRows(artifact, machine, p, placement.measurements[static_cast<std::size_t>(i)], out.pose,
               Eigen::VectorXd(), true, rows, scratch);
+    points.col(i) = scratch.x;
     out.residuals[i] = std::abs(rows.residual[0]);
     J_p.row(i) = rows.J_p.row(0);
     J_r.row(i) = rows.J_r.row(0);
@@ -158,7 +160,32 @@ PlacementVerification verifyTouches(const Plan& plan, int index, const Eigen::Ve
       J_r * Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd>(J_r).pseudoInverse();
   Eigen::MatrixXd C = variance.asDiagonal();
   if (uncertainty) C += J_p * uncertainty->V * J_p.transpose();
-  predicted_sum += (P * C * P.transpose()).trace();
+  const Eigen::MatrixXd predicted = P * C * P.transpose();
+  predicted_sum += predicted.trace();
+  // Per face: its touches' distances (the deviation of a touch is its distance from the face).
+  std::map<int, std::vector<int>> faces;
+  for (int i = 0; i < count; ++i)
+    faces[placement.measurements[static_cast<std::size_t>(i)].feature].push_back(i);
+  for (const auto& [feature, touches] : faces) {
+    FeatureSpread spread;
+    spread.feature = feature;
+    spread.postures = static_cast<int>(touches.size());
+    spread.mean = Eigen::VectorXd::Zero(plan.machine.dimension());
+    double sum = 0.0, sum2 = 0.0, expected = 0.0;
+    for (const int i : touches) {
+      spread.mean += points.col(i) / spread.postures;
+      sum += out.residuals[i];
+      sum2 += out.residuals[i] * out.residuals[i];
+      expected += predicted(i, i);
+    }
+    spread.spread_mean = sum / spread.postures;
+    spread.spread_rms = std::sqrt(sum2 / spread.postures);
+    spread.predicted_spread_rms = std::sqrt(std::max(0.0, expected) / spread.postures);
+    if (uncertainty)
+      spread.predicted_spread_rms_posterior =
+          spread.predicted_spread_rms * uncertainty->birge_ratio;
+    out.features.push_back(std::move(spread));
+  }
   out.residual_rms = count > 0 ? std::sqrt(out.residuals.squaredNorm() / count) : 0.0;
   out.residual_max = count > 0 ? out.residuals.maxCoeff() : 0.0;
   return out;

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -153,6 +154,55 @@ TEST_F(PlaneCli, ImportedFlushTouchesCalibrateAsTheSamePlan) {
     EXPECT_NEAR(from_files["parameters"][i]["estimate"].get<double>(),
                 from_plan["parameters"][i]["estimate"].get<double>(), 1e-9);
   }
+}
+
+// verify of plane touches lists each placement's faces (it listed none): per face the touches'
+// count, their distances' mean and rms, which pooled over every face of every placement give the
+// all-placements figures, and the predicted rms, whose pooled square is the predicted total; the
+// mean touched point of a table face lies on that table (its pose's plane, the stylus's end).
+TEST_F(PlaneCli, VerifyListsEachFaceOfEachPlacement) {
+  const std::string plan_file = planFile("planes/arm6-flush.json");
+  const std::string machine = path("cal.json");
+  const std::string truth =
+      write("truth.json", R"({"parameters": {"j2.a": 0.2, "j3.theta": 0.02, "j5.d": 600.3}})");
+  ASSERT_EQ(
+      runCli("simulate " + plan_file + " --truth " + truth + " --seed 1 -o " + path("sim.json"))
+          .status,
+      0);
+  ASSERT_EQ(
+      runCli("simulate " + plan_file + " --truth " + truth + " --seed 2 -o " + path("sim2.json"))
+          .status,
+      0);
+  ASSERT_EQ(runCli("calibrate " + path("sim.json") + " --write-machine " + machine).status, 0);
+  const auto run = runCli("verify --json " + path("sim2.json") + " --machine " + machine);
+  ASSERT_EQ(run.status, 0) << run.out;
+  const nlohmann::json verify = nlohmann::json::parse(run.out)["verify"];
+  const nlohmann::json plan = readJson(plan_file);
+  int touches = 0;
+  double sum = 0.0, sum2 = 0.0, predicted2 = 0.0;
+  for (std::size_t j = 0; j < plan["placements"].size(); ++j) {
+    const nlohmann::json& faces = verify["placements"][j]["features"];
+    ASSERT_FALSE(faces.empty()) << j;
+    int in_placement = 0;
+    for (const nlohmann::json& face : faces) {
+      const int n = face["postures"].get<int>();
+      in_placement += n;
+      sum += n * face["spread_mean"].get<double>();
+      sum2 += n * std::pow(face["spread_rms"].get<double>(), 2);
+      predicted2 += n * std::pow(face["predicted_spread_rms"].get<double>(), 2);
+    }
+    EXPECT_EQ(in_placement, static_cast<int>(plan["placements"][j]["measurements"].size()));
+    touches += in_placement;
+    const nlohmann::json& pose = plan["placements"][j]["pose"];
+    if (plan["placements"][j]["artifact"] != "table") continue;
+    const Eigen::Vector3d normal = vector3(pose["direction"]).normalized();
+    EXPECT_NEAR((vector3(faces[0]["mean_position"]) - vector3(pose["center"])).dot(normal), 0.0,
+                0.05)
+        << j;
+  }
+  EXPECT_NEAR(sum / touches, verify["spread_mean"].get<double>(), 1e-12);
+  EXPECT_NEAR(std::sqrt(sum2 / touches), verify["spread_rms"].get<double>(), 1e-12);
+  EXPECT_NEAR(std::sqrt(predicted2 / touches), verify["predicted_spread_rms"].get<double>(), 1e-12);
 }
 
 }  // namespace plane_cli_test
