@@ -47,6 +47,11 @@ BLOCKS = {
         ("bench_cartesian", "Cartesian12Plates2Styli",
          "Cartesian CMM, 12 plates, 2 styli", "2 ms"),
         ("bench_hexapod", "Evaluate30Placements", "hexapod, 30 placements", ""),
+        ("bench_plane", "PlaneEvaluate100Touches",
+         "6-axis arm, 100 plane touches (3 tables, a gauge block), 10 000 configurations",
+         "1.5 x ball bar"),
+        ("bench_plane", "BallBarEvaluate100Readings",
+         "the same arm, a ball bar plan of 100 readings, 10 000 configurations", ""),
     ]),
     "calibrate": ("docs/speed.md", [
         ("bench_calibrator", "BM_CalibrateSixAxis100Placements",
