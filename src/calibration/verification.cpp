@@ -149,7 +149,7 @@ PlacementVerification verifyTouches(const Plan& plan, int index, const Eigen::Ve
               Eigen::VectorXd(), true, rows, scratch);
     points.col(i) = scratch.x;
     out.residuals[i] = std::abs(rows.residual[0]);
-    J_p.row(i) = rows.J_p.row(0);
+    if (J_p.cols() > 0) J_p.row(i) = rows.J_p.row(0);  // none calibrated: the nominal machine
     J_r.row(i) = rows.J_r.row(0);
     const auto sigma_q2 = plan.noise.encoder.array().square().matrix();
     variance[i] = rows.J_q.row(0).transpose().array().square().matrix().dot(sigma_q2) + own;
