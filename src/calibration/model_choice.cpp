@@ -82,19 +82,22 @@ double signTestLevel(int lower, int folds) {
   return tail / std::pow(2.0, folds);
 }
 
+// In how many of the folds `candidate`'s held-out error is below `reference`'s.
+int foldsLower(const ModelChoiceCandidate& candidate, const ModelChoiceCandidate& reference) {
+  int lower = 0;
+  for (std::size_t j = 0; j < candidate.fold_observed.size(); ++j)
+    if (candidate.fold_observed[j] < reference.fold_observed[j]) ++lower;
+  return lower;
+}
+
 // Whether `candidate` is clearly better held out than `reference` (see the header): a lower
 // pooled error, lower in so many folds that chance gives it at most kSignificance.
 bool clearlyBetter(const ModelChoiceCandidate& candidate, const ModelChoiceCandidate& reference,
                    ModelChoiceRule rule) {
   if (!candidate.converged || rule != ModelChoiceRule::CrossValidation) return false;
   if (!(candidate.observed < reference.observed)) return false;
-  int lower = 0;
   const auto folds = static_cast<int>(candidate.fold_observed.size());
-  for (int j = 0; j < folds; ++j) {
-    const auto k = static_cast<std::size_t>(j);
-    if (candidate.fold_observed[k] < reference.fold_observed[k]) ++lower;
-  }
-  return signTestLevel(lower, folds) <= kSignificance;
+  return signTestLevel(foldsLower(candidate, reference), folds) <= kSignificance;
 }
 
 // Whether the candidate with the weak directions restored holds better than the rank rule's set
@@ -103,10 +106,8 @@ bool clearlyBetter(const ModelChoiceCandidate& candidate, const ModelChoiceCandi
 bool restoresBetter(const ModelChoiceCandidate& candidate, const ModelChoiceCandidate& reference) {
   if (!candidate.converged || candidate.implausible) return false;
   if (!(candidate.observed < reference.observed)) return false;
-  std::size_t lower = 0;
-  for (std::size_t j = 0; j < candidate.fold_observed.size(); ++j)
-    if (candidate.fold_observed[j] < reference.fold_observed[j]) ++lower;
-  return 2 * lower > candidate.fold_observed.size() || candidate.fold_observed.empty();
+  const auto folds = static_cast<int>(candidate.fold_observed.size());
+  return folds == 0 || 2 * foldsLower(candidate, reference) > folds;
 }
 
 std::string percent(double value) {
@@ -202,9 +203,28 @@ std::optional<ModelChoiceOutcome> chooseKeptSet(Plan& plan, const CalibrationOpt
   choice.candidates.push_back(std::move(first));
 
   std::vector<CalibrationState> states(1);
-  std::vector<bool> removed(rank_set.size(), false);
   CalibrationOptions quick = options;
   quick.details = false;
+  // Fits a candidate's kept set to every reading from `start`, judges it (a fit that does not
+  // converge is judged no further: never chosen) and records it with the state it ended at.
+  auto fitCandidate = [&](ModelChoiceCandidate candidate, const CalibrationState& start) {
+    plan.machine.calibrated = candidate.kept;
+    Calibrator fitter(plan, quick);
+    const Calibration fit = fitter.run(plan.placements, start);
+    if (!candidate.restored.empty())
+      candidate.implausible =
+          !implausibleCorrections(plan.machine, plan.machine.nominal, fit.parameters).empty();
+    if (fit.summary.converged()) {
+      judge(fitter.linearization(), fit, candidate);
+    } else {
+      candidate.chi2_per_dof = fit.chi2_per_dof;
+    }
+    plan.machine.calibrated = rank_set;
+    states.push_back({fit.parameters, fit.systematic, fit.poses});
+    choice.candidates.push_back(std::move(candidate));
+  };
+
+  std::vector<bool> removed(rank_set.size(), false);
   for (const auto& [position, fraction] : order) {
     removed[static_cast<std::size_t>(position)] = true;
     ModelChoiceCandidate candidate;
@@ -221,18 +241,8 @@ std::optional<ModelChoiceOutcome> chooseKeptSet(Plan& plan, const CalibrationOpt
     }
     start.c = calibration.systematic;
     start.poses = calibration.poses;
-    plan.machine.calibrated = candidate.kept;
-    Calibrator fitter(plan, quick);
-    const Calibration fit = fitter.run(plan.placements, start);
-    if (fit.summary.converged()) {
-      judge(fitter.linearization(), fit, candidate);
-    } else {
-      candidate.chi2_per_dof = fit.chi2_per_dof;  // judged no further: never chosen
-    }
-    states.push_back({fit.parameters, fit.systematic, fit.poses});
-    choice.candidates.push_back(std::move(candidate));
+    fitCandidate(std::move(candidate), start);
   }
-  plan.machine.calibrated = rank_set;
 
   // The rank rule's set with the directions the weak-direction rule held calibrated again, from
   // the rank rule's estimate (where they are at nominal).
@@ -245,20 +255,8 @@ std::optional<ModelChoiceOutcome> chooseKeptSet(Plan& plan, const CalibrationOpt
     candidate.kept.insert(candidate.kept.end(), weak.begin(), weak.end());
     std::sort(candidate.kept.begin(), candidate.kept.end());
     candidate.size = static_cast<int>(candidate.kept.size());
-    plan.machine.calibrated = candidate.kept;
-    Calibrator fitter(plan, quick);
-    const Calibration fit = fitter.run(
-        plan.placements, {calibration.parameters, calibration.systematic, calibration.poses});
-    candidate.implausible =
-        !implausibleCorrections(plan.machine, plan.machine.nominal, fit.parameters).empty();
-    if (fit.summary.converged()) {
-      judge(fitter.linearization(), fit, candidate);
-    } else {
-      candidate.chi2_per_dof = fit.chi2_per_dof;
-    }
-    plan.machine.calibrated = rank_set;
-    states.push_back({fit.parameters, fit.systematic, fit.poses});
-    choice.candidates.push_back(std::move(candidate));
+    fitCandidate(std::move(candidate),
+                 {calibration.parameters, calibration.systematic, calibration.poses});
   }
   if (choice.candidates.size() == 1) return std::nullopt;
 

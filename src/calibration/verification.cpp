@@ -121,6 +121,24 @@ double artifactDistanceVariance(const Artifact& artifact, int a, int b) {
   return variance;
 }
 
+// A feature's spread from its readings' deviations (`readings`: indices into `deviations`, mm)
+// and the sum of their predicted squared deviations (mm^2).
+void setSpread(FeatureSpread& spread, const Eigen::VectorXd& deviations,
+               const std::vector<int>& readings, double predicted,
+               const std::optional<ParameterUncertainty>& uncertainty) {
+  spread.postures = static_cast<int>(readings.size());
+  double sum = 0.0, sum2 = 0.0;
+  for (const int i : readings) {
+    sum += deviations[i];
+    sum2 += deviations[i] * deviations[i];
+  }
+  spread.spread_mean = sum / spread.postures;
+  spread.spread_rms = std::sqrt(sum2 / spread.postures);
+  spread.predicted_spread_rms = std::sqrt(predicted / spread.postures);
+  if (uncertainty)
+    spread.predicted_spread_rms_posterior = spread.predicted_spread_rms * uncertainty->birge_ratio;
+}
+
 // A plane's touches (docs/planes.md): the placement fitted with p held, each touch's distance
 // from its face is both its residual and its deviation; predicted, the sum over touches of
 // E d_i^2 = tr(P (J_p V J_p^T + Sigma) P), P = I - J_r J_r^+ the part the fitted placement
@@ -169,21 +187,13 @@ PlacementVerification verifyTouches(const Plan& plan, int index, const Eigen::Ve
   for (const auto& [feature, touches] : faces) {
     FeatureSpread spread;
     spread.feature = feature;
-    spread.postures = static_cast<int>(touches.size());
     spread.mean = Eigen::VectorXd::Zero(plan.machine.dimension());
-    double sum = 0.0, sum2 = 0.0, expected = 0.0;
+    double expected = 0.0;
     for (const int i : touches) {
-      spread.mean += points.col(i) / spread.postures;
-      sum += out.residuals[i];
-      sum2 += out.residuals[i] * out.residuals[i];
+      spread.mean += points.col(i) / static_cast<double>(touches.size());
       expected += predicted(i, i);
     }
-    spread.spread_mean = sum / spread.postures;
-    spread.spread_rms = std::sqrt(sum2 / spread.postures);
-    spread.predicted_spread_rms = std::sqrt(std::max(0.0, expected) / spread.postures);
-    if (uncertainty)
-      spread.predicted_spread_rms_posterior =
-          spread.predicted_spread_rms * uncertainty->birge_ratio;
+    setSpread(spread, out.residuals, touches, std::max(0.0, expected), uncertainty);
     out.features.push_back(std::move(spread));
   }
   out.residual_rms = count > 0 ? std::sqrt(out.residuals.squaredNorm() / count) : 0.0;
@@ -216,24 +226,13 @@ PlacementVerification verifyPlacement(const Plan& plan, int index, const Eigen::
   for (const auto& [feature, acc] : features) {
     FeatureSpread spread;
     spread.feature = feature;
-    spread.postures = static_cast<int>(acc.readings.size());
     spread.mean = Eigen::VectorXd::Zero(plan.machine.dimension());
-    for (int i : acc.readings) spread.mean += models[i].x / spread.postures;
-    double sum = 0.0, sum2 = 0.0;
-    for (int i : acc.readings) {
-      const double distance = (models[i].x - spread.mean).norm();
-      out.deviations[i] = distance;
-      sum += distance;
-      sum2 += distance * distance;
-    }
-    spread.spread_mean = sum / spread.postures;
-    spread.spread_rms = std::sqrt(sum2 / spread.postures);
+    const auto postures = static_cast<double>(acc.readings.size());
+    for (int i : acc.readings) spread.mean += models[i].x / postures;
+    for (int i : acc.readings) out.deviations[i] = (models[i].x - spread.mean).norm();
     const double predicted = predictedSquaredDeviations(models, acc.readings, uncertainty);
     predicted_sum += predicted;
-    spread.predicted_spread_rms = std::sqrt(predicted / spread.postures);
-    if (uncertainty)
-      spread.predicted_spread_rms_posterior =
-          spread.predicted_spread_rms * uncertainty->birge_ratio;
+    setSpread(spread, out.deviations, acc.readings, predicted, uncertainty);
     out.features.push_back(std::move(spread));
   }
   for (std::size_t a = 0; a < out.features.size(); ++a) {

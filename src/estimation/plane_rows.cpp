@@ -4,6 +4,8 @@
 #include <cmath>
 #include <optional>
 
+#include "artcal/model/frame_turns.hpp"
+
 namespace artcal {
 
 void planeRows(const Artifact& artifact, const Machine& machine, const Eigen::VectorXd& p,
@@ -46,9 +48,7 @@ void planeRows(const Artifact& artifact, const Machine& machine, const Eigen::Ve
   artifact.fullRigidJacobian(W, out.J_r.topRows(1), m.feature);
   if (!plane.flush) return;
   // d(R z) = w x (R z) for a turn w of the tip frame: -[u]x w; then into the artifact frame.
-  Eigen::Matrix3d skew_u;
-  skew_u << 0, -u[2], u[1], u[2], 0, -u[0], -u[1], u[0], 0;
-  const Eigen::Matrix3d turn = -r.R * skew_u;  // dv/dw
+  const Eigen::Matrix3d turn = -r.R * skew(u);  // dv/dw
   Eigen::Matrix<double, 2, 3> tilt_rows;
   tilt_rows.row(0) = turn.row(b);
   tilt_rows.row(1) = turn.row(bc);
@@ -105,10 +105,8 @@ std::optional<Eigen::VectorXd> touchPlane(const Artifact& artifact, const Machin
     if (plane.flush) {
       const Eigen::Vector3d u = scratch.R_tip * plane.tool_axis;
       const Eigen::Vector3d v = r.R * u;
-      Eigen::Matrix3d skew_u;
-      skew_u << 0, -u[2], u[1], u[2], 0, -u[0], -u[1], u[0], 0;
       e[rows.rows] = v[face.axis] - into_face;
-      J.row(rows.rows) = (-r.R * skew_u).row(face.axis) * scratch.J_w_q;
+      J.row(rows.rows) = (-r.R * skew(u)).row(face.axis) * scratch.J_w_q;
     }
     if (at) {  // the touch's place on the face: its two in-plane coordinates
       const Eigen::Vector3d W = r.apply(scratch.x);
