@@ -16,6 +16,7 @@ namespace {
 struct ImportReadingsArguments {
   ReadingsImport import;
   std::vector<std::string> holds;  ///< JOINT=VALUE
+  std::vector<std::string> tip_of;  ///< PLACEMENT=TIP
   std::string probe = "0.1";
   std::string output = kStandardOutput;
 };
@@ -38,15 +39,25 @@ void addImportReadingsCommand(CLI::App& app, Action& action) {
       "import-readings",
       "a plan from a folder of CSV readings (one sub-folder per placement, one file per feature) "
       "and a machine or URDF");
-  cmd->add_option("DIR", in.folder,
-                  "folder of placement sub-folders (hole_<k>.csv, feature_<k>.csv)")
+  cmd->add_option("DIR", in.inputs,
+                  "folder of placement sub-folders (hole_<k>.csv, feature_<k>.csv), or CSV files "
+                  "of one placement each (a plane's touches, named after the file)")
       ->required();
   auto* machine = cmd->add_option("--machine", in.machine_file, "machine file (import-urdf -o)");
   auto* urdf =
       cmd->add_option("--urdf", in.urdf, "robot description (URDF), with --base and --tip");
   machine->excludes(urdf);
   cmd->add_option("--base", in.base, "URDF link the chain starts from")->needs(urdf);
-  cmd->add_option("--tip", in.tip, "URDF link whose origin is the probe centre")->needs(urdf);
+  cmd->add_option("--tip", in.tips,
+                  "URDF link whose origin is the probe centre; repeated: one machine with several "
+                  "tips (then --tip-of says which touched in each placement)")
+      ->needs(urdf)
+      ->expected(1)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  cmd->add_option("--tip-of", args->tip_of,
+                  "PLACEMENT=TIP: the tip that touched in this placement (a folder's or a file's "
+                  "name), for a machine with several tips; repeat for each placement")
+      ->type_name("PLACEMENT=TIP");
   auto* bar =
       cmd->add_option("--ball-bar", in.ball_bar, "the artifact: a ball bar of this length, mm")
           ->check(positiveNumber());
@@ -113,10 +124,12 @@ void addImportReadingsCommand(CLI::App& app, Action& action) {
   cmd->add_option("-o,--output", args->output, "plan file to write (- for stdout)")
       ->capture_default_str();
   cmd->callback([&action, args, probe] {
-    const ReadingsImport& given = args->import;
+    ReadingsImport& given = args->import;
+    given.tip = given.tips.size() == 1 ? given.tips.front() : std::string();
+    if (given.tips.size() == 1) given.tips.clear();
     if (given.machine_file.empty() && given.urdf.empty())
       throw CLI::ValidationError("import-readings", "needs --machine or --urdf");
-    if (!given.urdf.empty() && (given.base.empty() || given.tip.empty()))
+    if (!given.urdf.empty() && (given.base.empty() || (given.tip.empty() && given.tips.empty())))
       throw CLI::ValidationError("import-readings", "--urdf needs --base and --tip");
     if (!given.ball_bar && given.artifact_file.empty() && !given.instrument)
       throw CLI::ValidationError("import-readings", "needs --ball-bar, --artifact or --instrument");
@@ -140,6 +153,13 @@ void addImportReadingsCommand(CLI::App& app, Action& action) {
           throw InputError("--hold", hold, "expected JOINT=VALUE (deg, or mm), e.g. tool_joint=0");
         }
         import.holds.emplace_back(hold.substr(0, equals), value);
+      }
+      import.tip_of.clear();
+      for (const std::string& pair : args->tip_of) {
+        const auto equals = pair.find('=');
+        if (equals == std::string::npos || equals == 0 || equals + 1 == pair.size())
+          throw InputError("--tip-of", pair, "expected PLACEMENT=TIP, e.g. left=gripper_left_link");
+        import.tip_of.emplace_back(pair.substr(0, equals), pair.substr(equals + 1));
       }
       import.probe = probeValue(args->probe);
       import.output = args->output;

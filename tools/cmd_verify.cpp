@@ -17,7 +17,8 @@ namespace artcal::cli {
 namespace {
 
 struct VerifyArguments {
-  std::string plan, machine, frame_of;
+  std::string plan, machine;
+  std::vector<std::string> frame_of;
   int outliers = 5;
   bool json = false;
 };
@@ -92,8 +93,11 @@ void addVerifyCommand(CLI::App& app, Action& action) {
   cmd->add_option("--frame-of", args->frame_of,
                   "also score every placement of this calibrated placement's artifact in the "
                   "frame the calibration estimated for it (the instrument or the artifact did not "
-                  "move since); without it, a placement named as one of the calibration's is")
-      ->needs("--machine");
+                  "move since); HELD=CALIBRATED (repeatable): placement HELD in the frame of "
+                  "CALIBRATED; without it, a placement named as one of the calibration's is")
+      ->needs("--machine")
+      ->expected(1)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   cmd->add_option("--outliers", args->outliers,
                   "how many of the readings farthest from their feature's mean to list")
       ->check(nonNegativeNumber())

@@ -1,5 +1,6 @@
 #include "artcal/calibration/verification.hpp"
 
+#include <Eigen/Geometry>
 #include <Eigen/QR>
 #include <cmath>
 #include <map>
@@ -139,6 +140,70 @@ void setSpread(FeatureSpread& spread, const Eigen::VectorXd& deviations,
     spread.predicted_spread_rms_posterior = spread.predicted_spread_rms * uncertainty->birge_ratio;
 }
 
+/// Sums of squares of flush touches' height and tilts, and their count.
+struct FlushSums {
+  int touches = 0;
+  double height2 = 0.0, roll2 = 0.0, pitch2 = 0.0;
+
+  void add(const FlushSums& other) {
+    touches += other.touches;
+    height2 += other.height2;
+    roll2 += other.roll2;
+    pitch2 += other.pitch2;
+  }
+  std::optional<FlushFigures> figures() const {
+    if (touches == 0) return std::nullopt;
+    const double n = touches;
+    return FlushFigures{touches, std::sqrt(height2 / n), std::sqrt(roll2 / n),
+                        std::sqrt(pitch2 / n)};
+  }
+};
+
+FlushSums sumsOf(const FlushFigures& f) {
+  const double n = f.touches;
+  return {f.touches, n * f.height_rms * f.height_rms, n * f.roll_rms * f.roll_rms,
+          n * f.pitch_rms * f.pitch_rms};
+}
+
+// A flush touch's tilts (rad): the tool axis u (machine frame) against the inward normal -n of
+// the face, about the face's in-plane axes nearest the machine's x (roll: u leaning along the
+// face's y) and y (pitch: u leaning along its x).
+void addFlushTouch(double height, const Eigen::Vector3d& u, const Eigen::Vector3d& n,
+                   FlushSums& sums) {
+  Eigen::Vector3d face_x = Eigen::Vector3d::UnitX() - n.x() * n;
+  if (face_x.norm() < 0.1) face_x = Eigen::Vector3d::UnitY() - n.y() * n;  // a face normal to x
+  face_x.normalize();
+  const Eigen::Vector3d face_y = n.cross(face_x);
+  const double down = -u.dot(n);
+  const double roll = std::atan2(u.dot(face_y), down), pitch = std::atan2(u.dot(face_x), down);
+  ++sums.touches;
+  sums.height2 += height * height;
+  sums.roll2 += roll * roll;
+  sums.pitch2 += pitch * pitch;
+}
+
+// The touches of a plane placement scored at placement r (fitted, or the calibration's): each
+// touch's |distance| from its face, mm, and a flush contact's height and tilts.
+Eigen::VectorXd touchDistances(const Plan& plan, const Placement& placement,
+                               const Eigen::VectorXd& p, const RigidTransform& r,
+                               FlushSums& flush) {
+  const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
+  const auto count = static_cast<int>(placement.measurements.size());
+  Eigen::VectorXd out(count);
+  PlaneRows rows;
+  PlaneRowsScratch scratch;
+  for (int i = 0; i < count; ++i) {
+    const Measurement& m = placement.measurements[static_cast<std::size_t>(i)];
+    planeRows(artifact, plan.machine, p, m, r, Eigen::VectorXd(), false, rows, scratch);
+    out[i] = std::abs(rows.residual[0]);
+    if (!artifact.plane.flush) continue;
+    const PlaneFace& face = artifact.plane.faces[static_cast<std::size_t>(m.feature)];
+    const Eigen::Vector3d normal = face.sign * r.R.row(face.axis).transpose();  // machine frame
+    addFlushTouch(rows.residual[0], scratch.R_tip * artifact.plane.tool_axis, normal, flush);
+  }
+  return out;
+}
+
 // A plane's touches (docs/planes.md): the placement fitted with p held, each touch's distance
 // from its face is both its residual and its deviation; predicted, the sum over touches of
 // E d_i^2 = tr(P (J_p V J_p^T + Sigma) P), P = I - J_r J_r^+ the part the fitted placement
@@ -198,6 +263,21 @@ PlacementVerification verifyTouches(const Plan& plan, int index, const Eigen::Ve
   }
   out.residual_rms = count > 0 ? std::sqrt(out.residuals.squaredNorm() / count) : 0.0;
   out.residual_max = count > 0 ? out.residuals.maxCoeff() : 0.0;
+  FlushSums fitted;
+  touchDistances(plan, placement, p, out.pose, fitted);
+  out.flush = fitted.figures();
+  const auto j = static_cast<std::size_t>(index);
+  if (j < options.calibration_frames.size() && options.calibration_frames[j]) {
+    const CalibrationFrame& frame = *options.calibration_frames[j];
+    InFrameResiduals in_frame;
+    in_frame.frame_of = frame.placement;
+    FlushSums sums;
+    in_frame.residuals = touchDistances(plan, placement, p, frame.pose, sums);
+    in_frame.flush = sums.figures();
+    in_frame.residual_rms = count > 0 ? std::sqrt(in_frame.residuals.squaredNorm() / count) : 0.0;
+    in_frame.residual_max = count > 0 ? in_frame.residuals.maxCoeff() : 0.0;
+    out.in_frame = std::move(in_frame);
+  }
   return out;
 }
 
@@ -303,6 +383,7 @@ Verification verifyMachine(const Plan& plan, const Eigen::VectorXd& p,
   double length_sum2 = 0.0, length_sum_abs = 0.0;
   double in_frame_sum2 = 0.0, reregistered_sum2 = 0.0;
   int readings = 0, lengths = 0, in_frame_readings = 0;
+  FlushSums flush, flush_in_frame;
   for (int j = 0; j < static_cast<int>(plan.placements.size()); ++j) {
     out.placements.push_back(verifyPlacement(plan, j, p, starts[static_cast<std::size_t>(j)],
                                              builder, uncertainty, options, predicted_sum));
@@ -311,6 +392,8 @@ Verification verifyMachine(const Plan& plan, const Eigen::VectorXd& p,
     deviation_sum += v.deviations.sum();
     deviation_sum2 += v.deviations.squaredNorm();
     residual_sum2 += v.residuals.squaredNorm();
+    if (v.flush) flush.add(sumsOf(*v.flush));
+    if (v.in_frame && v.in_frame->flush) flush_in_frame.add(sumsOf(*v.in_frame->flush));
     if (v.in_frame) {
       ++out.in_frame_placements;
       in_frame_readings += static_cast<int>(v.residuals.size());
@@ -335,6 +418,8 @@ Verification verifyMachine(const Plan& plan, const Eigen::VectorXd& p,
     out.in_frame_residual_rms = std::sqrt(in_frame_sum2 / in_frame_readings);
     out.reregistered_residual_rms = std::sqrt(reregistered_sum2 / in_frame_readings);
   }
+  out.flush = flush.figures();
+  out.flush_in_frame = flush_in_frame.figures();
   if (lengths > 0) {
     out.length_error_rms = std::sqrt(length_sum2 / lengths);
     out.length_error_mean_abs = length_sum_abs / lengths;

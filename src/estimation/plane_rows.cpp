@@ -133,4 +133,46 @@ std::optional<Eigen::VectorXd> touchPlane(const Artifact& artifact, const Machin
   return std::nullopt;
 }
 
+std::optional<Pose> planePoseFromTouches(const Artifact& artifact, const Machine& machine,
+                                         const Eigen::VectorXd& p,
+                                         const std::vector<Measurement>& touches) {
+  const PlaneGeometry& plane = artifact.plane;
+  if (plane.shape != PlaneShape::Single || machine.dimension() != 3 || touches.empty())
+    return std::nullopt;
+  const Mechanism& mech = *machine.mechanism;
+  const auto n = static_cast<int>(touches.size());
+  Eigen::Matrix3Xd points(3, n);
+  Eigen::Vector3d axis_sum = Eigen::Vector3d::Zero();
+  const bool oriented = mech.hasOrientation();
+  if (plane.flush && !oriented) return std::nullopt;
+  for (int i = 0; i < n; ++i) {
+    const Measurement& m = touches[static_cast<std::size_t>(i)];
+    Eigen::VectorXd x;
+    Eigen::Matrix3d R;
+    const ForwardStatus status = oriented ? mech.forwardStylusPose(m.stylus, p, m.joints, x, R)
+                                          : mech.forwardStylus(m.stylus, p, m.joints, x);
+    if (status != ForwardStatus::Ok) return std::nullopt;
+    if (oriented) axis_sum += R * plane.tool_axis;
+    points.col(i) = x.head<3>();
+  }
+  const Eigen::Vector3d centroid = points.rowwise().mean();
+  Pose pose;
+  pose.center = centroid;
+  if (plane.flush) {  // the tool axis points into the face
+    if (axis_sum.norm() < 0.5 * n) return std::nullopt;  // axes that do not agree on a normal
+    pose.direction = -axis_sum.normalized();
+    return pose;
+  }
+  if (n < 3) return std::nullopt;
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(points.colwise() - centroid, Eigen::ComputeFullU);
+  const Eigen::Vector3d s = svd.singularValues();
+  if (!(s[1] > 1e-6 * s[0])) return std::nullopt;  // on one line (or one point)
+  Eigen::Vector3d normal = svd.matrixU().col(2);
+  const Eigen::Vector3d outward = oriented ? Eigen::Vector3d(-axis_sum) : Eigen::Vector3d(-centroid);
+  if (normal.dot(outward) < 0.0) normal = -normal;
+  pose.direction = normal;
+  pose.center = centroid - plane.radius * normal;  // the ball centres sit rho out
+  return pose;
+}
+
 }  // namespace artcal

@@ -172,6 +172,7 @@ std::vector<Eigen::VectorXd> readJointCsv(const std::string& path,
   std::vector<Eigen::VectorXd> rows;
   std::string_view rest(text);
   bool first_content = true;
+  bool aligned = false;  // the header's names placed on the first row's fields
   for (long line_number = 1; !rest.empty(); ++line_number) {
     const auto newline = rest.find('\n');
     const std::string_view line = trimmed(rest.substr(0, newline));
@@ -187,6 +188,15 @@ std::vector<Eigen::VectorXd> readJointCsv(const std::string& path,
     }
     // Counted before splitting: a line of 200 MB would otherwise become gigabytes of fields.
     const auto count = static_cast<std::size_t>(std::count(line.begin(), line.end(), ',')) + 1;
+    if (by_name && !aligned && count > width && count <= kMaxCsvFields) {
+      // A header shorter than its rows names their last fields: the leading ones (an export's
+      // unnamed labels) are not named (plan-format.md, "Columns by name"; pandas reads one such
+      // field as the index).
+      for (int& f : field_of)
+        if (f >= 0) f += static_cast<int>(count - width);
+      width = count;
+    }
+    aligned = true;
     if (!columns && count != joints) {
       fail("expected " + std::to_string(joints) + " readings, got " + std::to_string(count));
     }

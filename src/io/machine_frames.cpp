@@ -108,4 +108,53 @@ std::vector<std::optional<CalibrationFrame>> framesForPlacements(
   return out;
 }
 
+std::vector<std::optional<CalibrationFrame>> framesForPlacements(
+    const Plan& plan, const std::vector<CalibratedFrame>& frames,
+    const std::vector<std::string>& frame_of, const std::string& source) {
+  std::vector<std::string> names;
+  std::vector<std::pair<std::string, std::string>> pairs;
+  for (const std::string& entry : frame_of) {
+    const auto equals = entry.find('=');
+    if (equals == std::string::npos) {
+      names.push_back(entry);
+    } else if (equals == 0 || equals + 1 == entry.size()) {
+      throw InputError("--frame-of", entry, "expected NAME or HELD=CALIBRATED");
+    } else {
+      pairs.emplace_back(entry.substr(0, equals), entry.substr(equals + 1));
+    }
+  }
+  if (names.size() > 1) {
+    throw InputError("--frame-of", names[1],
+                     "a second calibrated placement for every placement of its artifact: pair "
+                     "each held-out placement with its own as HELD=CALIBRATED");
+  }
+  auto out = framesForPlacements(plan, frames, names.empty() ? std::string() : names.front(),
+                                 source);
+  for (const auto& [held, calibrated] : pairs) {
+    const auto frame = std::find_if(frames.begin(), frames.end(), [&](const CalibratedFrame& f) {
+      return f.placement == calibrated;
+    });
+    if (frame == frames.end())
+      throw InputError(source, "/frames", "no frame of a placement \"" + calibrated + "\"");
+    bool found = false;
+    for (std::size_t j = 0; j < plan.placements.size(); ++j) {
+      if (placementLabel(plan.placements, j) != held) continue;
+      const std::string& id =
+          plan.artifacts[static_cast<std::size_t>(plan.placements[j].artifact)].id;
+      if (id != frame->artifact) {
+        throw InputError("--frame-of", held + "=" + calibrated,
+                         "placement \"" + held + "\" places artifact \"" + id + "\", the frame of \"" +
+                             calibrated + "\" artifact \"" + frame->artifact + "\"");
+      }
+      out[j] = CalibrationFrame{frame->placement, frame->pose};
+      found = true;
+    }
+    if (!found) {
+      throw InputError("--frame-of", held + "=" + calibrated,
+                       "no placement \"" + held + "\" in " + plan.source);
+    }
+  }
+  return out;
+}
+
 }  // namespace artcal

@@ -22,6 +22,7 @@
 
 #include "artcal/core/linear_algebra.hpp"
 #include "artcal/estimation/identifiability.hpp"
+#include "artcal/estimation/plane_rows.hpp"
 #include "artcal/io/acceptance_spec.hpp"
 #include "artcal/io/csv_readings.hpp"
 #include "artcal/io/instrument_codec.hpp"
@@ -565,6 +566,22 @@ void parseStation(const Node& node, const Node& measurements, Plan& plan, Placem
   checkStation(node, machine, placement, label);
 }
 
+// A plane placement without a "pose": where its touches put the plane with the nominal machine
+// (docs/planes.md); refused, naming the placement, when they fix none.
+Pose planePoseOfTouches(const Node& node, const Plan& plan, const Placement& placement) {
+  const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
+  const std::string where = node.pointer() + "/pose";
+  if (!placement.posture_requests.empty())
+    throw InputError(node.source(), where, "missing: postures to plan need where the plane stands");
+  if (auto pose = planePoseFromTouches(artifact, plan.machine, plan.machine.nominal,
+                                       placement.measurements))
+    return *pose;
+  throw InputError(node.source(), where,
+                   "missing, and the touches give none (a single plane in 3-D touched flush, or "
+                   "at 3 or more points not on one line): state where the plane stands, "
+                   "{\"center\": [x, y, z], \"direction\": its outward normal}");
+}
+
 Placement parsePlacement(const Node& node, Plan& plan, CsvFiles& csv_files,
                          bool require_measurements, bool explicit_limits, std::size_t index,
                          std::vector<std::string>& warnings) {
@@ -581,11 +598,12 @@ Placement parsePlacement(const Node& node, Plan& plan, CsvFiles& csv_files,
   if (placement.artifact < 0) artifact.fail("unknown artifact \"" + id + "\"");
   const int dimension = plan.machine.dimension();
   if (const auto pose = node.find("pose")) placement.pose = parsePose(*pose, dimension, warnings);
-  // A plane's touches lie anywhere on its faces: where it stands is the plan's (docs/planes.md).
-  if (!placement.pose &&
-      plan.artifacts[static_cast<std::size_t>(placement.artifact)].kind == ArtifactKind::Plane)
-    node.at("pose");  // raises "missing"
+  // A plane's touches lie anywhere on its faces: where it stands is the plan's pose, or what its
+  // touches give (docs/planes.md).
+  const bool plane =
+      plan.artifacts[static_cast<std::size_t>(placement.artifact)].kind == ArtifactKind::Plane;
   const auto measurements = node.find("measurements");
+  if (!placement.pose && plane && !measurements) node.at("pose");  // raises "missing"
   if (!measurements) {
     if (require_measurements || !placement.pose) node.at("measurements");  // raises "missing"
     return placement;
@@ -627,6 +645,7 @@ Placement parsePlacement(const Node& node, Plan& plan, CsvFiles& csv_files,
     if (status != ForwardStatus::Ok) m.at("joints").fail(forwardStatusName(status));
     placement.measurements.push_back(std::move(measurement));
   }
+  if (plane && !placement.pose) placement.pose = planePoseOfTouches(node, plan, placement);
   return placement;
 }
 

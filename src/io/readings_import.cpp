@@ -243,6 +243,22 @@ std::optional<std::string> headerUnit(std::string field) {
   return std::nullopt;
 }
 
+/// How many more fields the first data row of `file` has than its header (0 when not more): a
+/// header that names the last fields only (csv_readings.hpp).
+std::size_t unnamedLeadingFields(const fs::path& file, std::size_t header_fields) {
+  const std::string text = readInputFile(file.string());
+  std::size_t start = text.find('\n');
+  while (start != std::string::npos && start + 1 < text.size()) {
+    const std::size_t end = text.find('\n', start + 1);
+    const std::string line = text.substr(start + 1, end - start - 1);
+    start = end;
+    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+    const auto fields = static_cast<std::size_t>(std::count(line.begin(), line.end(), ',')) + 1;
+    return fields > header_fields ? fields - header_fields : 0;
+  }
+  return 0;
+}
+
 /// The header's fields of a CSV file (its first line split at commas).
 std::vector<std::string> headerFields(const fs::path& file) {
   const std::string header = firstLine(file);
@@ -406,6 +422,7 @@ std::vector<std::string> headerMarkers(const std::vector<std::string>& bases) {
 struct NamedColumns {
   std::vector<json> entries;  ///< one per marker read (an artifact's file: one)
   std::vector<std::string> ignored;
+  std::string note;  ///< a warning: the header names the rows' last fields only
 };
 
 /// The one unit word of `fields` (all naming one, or none) of the allowed ones; "" when none
@@ -630,7 +647,13 @@ std::optional<NamedColumns> namedColumns(const fs::path& file, const MachineRead
     }
   }
   for (std::size_t f = 0; f < fields.size(); ++f)
-    if (!used[f]) out.ignored.push_back(trimmedField(fields[f]));
+    if (!used[f] && !trimmedField(fields[f]).empty()) out.ignored.push_back(trimmedField(fields[f]));
+  if (const std::size_t unnamed = unnamedLeadingFields(file, fields.size()); unnamed > 0) {
+    out.note = file.string() + ": its rows have " + std::to_string(unnamed) +
+               " more fields than its header, which names their last " +
+               std::to_string(fields.size()) + ": read so (the first " +
+               std::to_string(unnamed) + " unnamed, an export's labels)";
+  }
   return out;
 }
 
@@ -848,13 +871,14 @@ json stationPlacements(const fs::path& dir, const ReadingsImport& import,
 /// whose header names its columns or with joints held, its "columns".
 json featureEntry(const FeatureFile& file, const ReadingsImport& import,
                   const fs::path& plan_folder, const MachineReadings& machine,
-                  std::vector<std::string>& ignored) {
+                  std::vector<std::string>& ignored, std::vector<std::string>& notes) {
   const fs::path relative =
       fs::absolute(file.path).lexically_normal().lexically_relative(plan_folder);
   json entry = {{"feature", file.feature}, {"csv", relative.generic_string()}};
   if (auto named = namedColumns(file.path, machine, import, false, false)) {
     entry.update(named->entries.front());
     ignored.insert(ignored.end(), named->ignored.begin(), named->ignored.end());
+    if (!named->note.empty()) notes.push_back(named->note);
     return entry;
   }
   entry["unit"] = file.unit.empty() ? unitFromHeader(file.path) : file.unit;
@@ -935,7 +959,8 @@ json machineBlock(const ReadingsImport& import) {
     if (!import.keep_calibrate) machine["calibrate"] = "identifiable";
     return import.markers.size() > 1 ? withMarkerTips(machine, import.markers) : machine;
   }
-  json machine = importUrdf(import.urdf, import.base, import.tip);
+  json machine = import.tips.size() > 1 ? importUrdf(import.urdf, import.base, import.tips)
+                                         : importUrdf(import.urdf, import.base, import.tip);
   machine["calibrate"] = "identifiable";
   return import.markers.size() > 1 ? withMarkerTips(machine, import.markers) : machine;
 }
@@ -987,6 +1012,89 @@ std::vector<fs::path> placementFolders(const fs::path& dir, const std::string& u
                      "or feature_<k>.csv files");
   }
   return out;
+}
+
+/// One placement of the import: its name, its feature files and the folder's pose.json (a
+/// plane's placement), if any.
+struct PlacementSource {
+  std::string name;
+  std::vector<FeatureFile> files;
+  fs::path pose;  ///< empty: none
+};
+
+/// The inputs of the import: DIR, or CSV files.
+std::vector<std::string> importInputs(const ReadingsImport& import) {
+  return import.inputs.empty() ? std::vector<std::string>{import.folder} : import.inputs;
+}
+
+/// True when the import reads CSV files given one by one (not a folder).
+bool filesGiven(const ReadingsImport& import) {
+  const std::vector<std::string> inputs = importInputs(import);
+  std::error_code ec;
+  return inputs.size() > 1 || !fs::is_directory(inputs.front(), ec);
+}
+
+/// The placements of the import: DIR's placement folders, or one per CSV file given (named after
+/// the file, its rows feature 0's readings).
+std::vector<PlacementSource> placementSources(const ReadingsImport& import) {
+  std::vector<PlacementSource> out;
+  if (!filesGiven(import)) {
+    const fs::path dir = fs::path(import.folder.empty() ? import.inputs.front() : import.folder);
+    for (const fs::path& folder : placementFolders(dir.lexically_normal(), import.unit)) {
+      PlacementSource source{folderName(folder), featureFiles(folder, import.unit), {}};
+      if (const fs::path pose = folder / "pose.json"; fs::exists(pose)) source.pose = pose;
+      out.push_back(std::move(source));
+    }
+    return out;
+  }
+  std::set<std::string> names;
+  for (const std::string& input : importInputs(import)) {
+    const fs::path path = fs::path(input).lexically_normal();
+    std::error_code ec;
+    if (!csvName(path) || !fs::is_regular_file(path, ec)) {
+      throw InputError(input, "",
+                       "expected a folder of placement sub-folders, or CSV files of one placement "
+                       "each (*.csv)");
+    }
+    const std::string name = path.stem().string();
+    if (!names.insert(name).second)
+      throw InputError(input, "", "a second file named " + name + ".csv: placements need names "
+                                  "of their own; rename one");
+    out.push_back({name, {FeatureFile{0, path, import.unit}}, {}});
+  }
+  return out;
+}
+
+/// The tip names of a machine block with several tips ("tips"); empty for one tip.
+std::vector<std::string> machineTipNames(const json& machine) {
+  std::vector<std::string> out;
+  if (const auto tips = machine.find("tips"); tips != machine.end() && tips->is_array())
+    for (const json& tip : *tips)
+      if (tip.is_object() && tip.contains("name") && tip["name"].is_string())
+        out.push_back(tip["name"].get<std::string>());
+  return out.size() > 1 ? out : std::vector<std::string>{};
+}
+
+/// Which tip touched in placement `name` of a machine with several `tips` (--tip-of); std::nullopt
+/// for a machine of one tip. InputError when several tips leave it unsaid, or --tip-of names no
+/// tip of the machine.
+std::optional<std::string> placementTip(const ReadingsImport& import,
+                                        const std::vector<std::string>& tips,
+                                        const std::string& name) {
+  if (tips.empty()) return std::nullopt;
+  std::string listed;
+  for (const std::string& tip : tips) listed += (listed.empty() ? "" : ", ") + tip;
+  for (const auto& [placement, tip] : import.tip_of) {
+    if (placement != name) continue;
+    if (std::find(tips.begin(), tips.end(), tip) == tips.end())
+      throw InputError("--tip-of", placement + "=" + tip,
+                       "not a tip of the machine (its tips: " + listed + ")");
+    return tip;
+  }
+  throw InputError(name, "",
+                   "which tip touched in this placement? The machine has " +
+                       std::to_string(tips.size()) + " (" + listed + "): add --tip-of " + name +
+                       "=TIP");
 }
 
 /// Largest revolute range a widened limit may reach, deg: beyond it a reading is taken for one
@@ -1094,7 +1202,9 @@ ImportedPlan importReadings(const ReadingsImport& import) {
         import.unit, "",
         "unknown unit (expected deg, rad, mm, m, or an angle and a length unit as rad+m)");
   }
-  const fs::path dir = fs::path(import.folder).lexically_normal();
+  const std::vector<std::string> inputs = importInputs(import);
+  const bool files_given = filesGiven(import);
+  const fs::path dir = fs::path(inputs.front()).lexically_normal();
   const bool to_stdout = import.output.empty() || import.output == kStandardOutput;
   const fs::path output_folder = to_stdout ? fs::path() : fs::path(import.output).parent_path();
   const fs::path plan_folder = fs::absolute(output_folder.empty() ? fs::path(".") : output_folder);
@@ -1111,43 +1221,63 @@ ImportedPlan importReadings(const ReadingsImport& import) {
   json placements = json::array();
   const MachineReadings readings = machineReadings(machine, artifacts, source, import);
   std::vector<std::string> ignored;  // columns of header-named files not read
+  std::vector<std::string> notes;    // headers naming their rows' last fields only
+  if (instrument && files_given) {
+    throw InputError(inputs.front(), "",
+                     "an instrument's readings are read from a folder (one CSV file or sub-folder "
+                     "per station): give the folder");
+  }
   if (instrument) {
     const auto measures = artifact.find("measures");
     const bool pose = measures != artifact.end() && *measures == "pose";
     placements = stationPlacements(dir, import, plan_folder, artifact_id, readings, pose, ignored);
   }
-  for (const fs::path& folder :
-       instrument ? std::vector<fs::path>{} : placementFolders(dir, import.unit)) {
+  const std::vector<std::string> tips = machineTipNames(machine);
+  const std::vector<PlacementSource> sources =
+      instrument ? std::vector<PlacementSource>{} : placementSources(import);
+  for (const auto& [placement, tip] : import.tip_of) {
+    if (std::none_of(sources.begin(), sources.end(),
+                     [&](const PlacementSource& s) { return s.name == placement; }))
+      throw InputError("--tip-of", placement + "=" + tip, "no placement of that name");
+  }
+  for (const PlacementSource& source : sources) {
+    const std::optional<std::string> tip = placementTip(import, tips, source.name);
     json measurements = json::array();
-    for (const FeatureFile& file : featureFiles(folder, import.unit)) {
+    for (const FeatureFile& file : source.files) {
       if (import.ball_bar && file.feature > 1) {
         throw InputError(file.path.string(), "",
                          "feature " + std::to_string(file.feature) +
                              " of a ball bar, whose features are 0 and 1: rename the file or "
                              "move it out of the folder");
       }
-      measurements.push_back(featureEntry(file, import, plan_folder, readings, ignored));
+      measurements.push_back(featureEntry(file, import, plan_folder, readings, ignored, notes));
+      if (tip) measurements.back()["tip"] = *tip;
     }
-    const std::string name = folderName(folder);
     placements.push_back(
-        {{"name", name}, {"artifact", artifact_id}, {"measurements", measurements}});
+        {{"name", source.name}, {"artifact", artifact_id}, {"measurements", measurements}});
     // Where the artifact stood (a plane's placement, docs/planes.md): the folder's pose.json,
-    // {"center": [...], "direction": [...], "roll": deg}, checked when the plan is read.
-    if (const fs::path pose = folder / "pose.json"; fs::exists(pose))
-      placements.back()["pose"] = readJsonFile(pose.string());
+    // {"center": [...], "direction": [...], "roll": deg}, checked when the plan is read; without
+    // one a plane's placement is where its touches put it.
+    if (!source.pose.empty()) placements.back()["pose"] = readJsonFile(source.pose.string());
   }
   checkEachFileReadOnce(placements, plan_folder);
-  const std::string plan_name = folderName(dir);
+  const std::string plan_name = !files_given       ? folderName(dir)
+                                : inputs.size() == 1 ? dir.stem().string()
+                                                     : folderName(fs::absolute(dir).parent_path());
+  std::string what;
+  for (const std::string& input : inputs)
+    what += (what.empty() ? "" : ", ") + fs::path(input).lexically_normal().generic_string();
   ImportedPlan out;
   out.plan = {{"format", "artcal-plan/1"},
               {"name", plan_name},
-              {"description", "readings of " + dir.generic_string() + " (artcal import-readings)"},
+              {"description", "readings of " + what + " (artcal import-readings)"},
               {"machine", machine},
               {"noise", {{"probe", import.probe}, {"encoder", import.encoder}}},
               {"artifacts", artifacts},
               {"placements", placements}};
   out.source = source;
-  out.warnings = unreadCsvFiles(dir, placements, plan_folder);
+  if (!files_given) out.warnings = unreadCsvFiles(dir, placements, plan_folder);
+  out.warnings.insert(out.warnings.end(), notes.begin(), notes.end());
   if (!ignored.empty()) {
     std::set<std::string> distinct(ignored.begin(), ignored.end());
     std::string names;

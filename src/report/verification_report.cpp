@@ -27,6 +27,14 @@ json featureToJson(const FeatureSpread& f) {
           {"mean_position", std::vector<double>(f.mean.data(), f.mean.data() + f.mean.size())}};
 }
 
+/// A plane's flush-touch figures: height mm, roll and pitch deg (docs/planes.md, "verify").
+json flushToJson(const FlushFigures& f) {
+  return {{"touches", f.touches},
+          {"height_rms", finiteOrNull(f.height_rms)},
+          {"roll_rms_deg", finiteOrNull(radToDeg(f.roll_rms))},
+          {"pitch_rms_deg", finiteOrNull(radToDeg(f.pitch_rms))}};
+}
+
 json placementToJson(const Plan& plan, const PlacementVerification& v) {
   json features = json::array();
   for (const FeatureSpread& f : v.features) features.push_back(featureToJson(f));
@@ -49,7 +57,9 @@ json placementToJson(const Plan& plan, const PlacementVerification& v) {
     out["in_calibration_frame"] = {{"frame_of", v.in_frame->frame_of},
                                    {"residual_rms", finiteOrNull(v.in_frame->residual_rms)},
                                    {"residual_max", finiteOrNull(v.in_frame->residual_max)}};
+    if (v.in_frame->flush) out["in_calibration_frame"]["flush"] = flushToJson(*v.in_frame->flush);
   }
+  if (v.flush) out["flush"] = flushToJson(*v.flush);
   return out;
 }
 
@@ -67,6 +77,42 @@ std::string label(const Plan& plan, int index, int width) {
   return std::string(static_cast<std::size_t>(std::max(0, width - static_cast<int>(text.size()))),
                      ' ') +
          text;
+}
+
+/// A plane's flush touches per placement: height and tilts with the placement refitted and, where
+/// the calibration's frame scores it, in that frame (the plane stayed where it was).
+std::string flushTable(const Plan& plan, const Verification& verification,
+                       const std::string& heading, int width) {
+  std::ostringstream out;
+  out << "\nflush touches: RMS of the height (mm) and of the tilts (deg) about the face's axes "
+         "nearest the machine's x (roll) and y (pitch)\n"
+      << heading << " touches   height   roll  pitch   in the calibration's frame: height   "
+                    "roll  pitch\n";
+  auto row = [](const FlushFigures& f) {
+    char text[80];
+    std::snprintf(text, sizeof text, " %8.4f %6.3f %6.3f", f.height_rms, radToDeg(f.roll_rms),
+                  radToDeg(f.pitch_rms));
+    return std::string(text);
+  };
+  for (const PlacementVerification& v : verification.placements) {
+    if (!v.flush) continue;
+    char count[16];
+    std::snprintf(count, sizeof count, " %7d", v.flush->touches);
+    out << label(plan, v.index, width) << count << row(*v.flush);
+    if (v.in_frame && v.in_frame->flush)
+      out << "   (" << v.in_frame->frame_of << ")" << row(*v.in_frame->flush);
+    out << "\n";
+  }
+  out << "  all placements: height " << fixed(verification.flush->height_rms, 4) << " mm, roll "
+      << fixed(radToDeg(verification.flush->roll_rms), 3) << " deg, pitch "
+      << fixed(radToDeg(verification.flush->pitch_rms), 3) << " deg";
+  if (verification.flush_in_frame)
+    out << "; in the calibration's frames: height "
+        << fixed(verification.flush_in_frame->height_rms, 4) << " mm, roll "
+        << fixed(radToDeg(verification.flush_in_frame->roll_rms), 3) << " deg, pitch "
+        << fixed(radToDeg(verification.flush_in_frame->pitch_rms), 3) << " deg";
+  out << "\n";
+  return out.str();
 }
 
 /// A reading's place for a person: placement, feature, the how-many-th posture of that feature
@@ -175,7 +221,10 @@ json verificationToJson(const Plan& plan, const Verification& verification,
         {"placements", verification.in_frame_placements},
         {"residual_rms", finiteOrNull(verification.in_frame_residual_rms)},
         {"reregistered_residual_rms", finiteOrNull(verification.reregistered_residual_rms)}};
+    if (verification.flush_in_frame)
+      verify["in_calibration_frame"]["flush"] = flushToJson(*verification.flush_in_frame);
   }
+  if (verification.flush) verify["flush"] = flushToJson(*verification.flush);
   if (nominal) {
     verify["nominal"] = overallFiguresToJson(*nominal);
     verify["worse_than_nominal"] = worseThanNominal(verification, *nominal);
@@ -252,6 +301,7 @@ std::string verificationTable(const Plan& plan, const Verification& verification
       << "  length error mean |e| " << fixed(verification.length_error_mean_abs, 4) << "   rms "
       << fixed(verification.length_error_rms, 4) << "\n"
       << "  residual rms " << fixed(verification.residual_rms, 4) << "\n";
+  if (verification.flush) out << flushTable(plan, verification, heading, width);
   if (verification.in_frame_placements > 0) {
     out << "\nresiduals in the calibration's frame (the placement calibrate estimated, not "
            "refitted: the artifact stayed where it was)\n"

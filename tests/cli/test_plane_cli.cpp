@@ -5,11 +5,14 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "artcal/core/units.hpp"
+#include "artcal/io/plan_io.hpp"
 #include "cli_runner.hpp"
 #include "temp_folder.hpp"
 #include "test_paths.hpp"
@@ -19,6 +22,7 @@ namespace plane_cli_test {
 
 using test_support::planFile;
 using test_support::runCli;
+using test_support::testDataFile;
 
 class PlaneCli : public test_support::TempFolder {
  protected:
@@ -203,6 +207,185 @@ TEST_F(PlaneCli, VerifyListsEachFaceOfEachPlacement) {
   EXPECT_NEAR(sum / touches, verify["spread_mean"].get<double>(), 1e-12);
   EXPECT_NEAR(std::sqrt(sum2 / touches), verify["spread_rms"].get<double>(), 1e-12);
   EXPECT_NEAR(std::sqrt(predicted2 / touches), verify["predicted_spread_rms"].get<double>(), 1e-12);
+}
+
+// A peer's export of flush touches, as its users keep them: one CSV file per session, named
+// columns in rad for every joint of the robot (more than the chain reads), text label fields
+// before them, and a header that in one file leaves those label fields unnamed. Imported the plain
+// way (the files as DIR, two tips with --tip-of, no pose: the touches give the plane), the plan
+// calibrates as the same readings written inline with their poses: the same minimum.
+TEST_F(PlaneCli, PeerExportedTouchesOfTwoHandsImportAsTheSamePlan) {
+  const std::string plan_file = planFile("planes/humanoid-flush.json");
+  const std::string simulated = path("sim.json");
+  ASSERT_EQ(runCli("simulate " + plan_file + " --truth " +
+                   planFile("planes/humanoid-table.truth.json") + " --seed 1 -o " + simulated)
+                .status,
+            0);
+  nlohmann::json plan = readJson(simulated);
+  std::vector<std::string> joints;
+  for (const nlohmann::json& joint : plan["machine"]["joints"])
+    if (joint["type"] != "fixed") joints.push_back(joint["name"]);
+  std::vector<std::string> columns = joints;
+  columns.push_back("head_1_joint");  // a joint the chain does not read
+  std::sort(columns.begin(), columns.end());
+  nlohmann::json inline_placements = nlohmann::json::array();
+  std::string files, tips;
+  for (const nlohmann::json& placement : plan["placements"]) {
+    if (placement["artifact"] != "table") continue;
+    for (const std::string hand : {"left", "right"}) {
+      const std::string tip = "gripper_" + hand + "_base_link";
+      nlohmann::json split = placement;
+      split["measurements"] = nlohmann::json::array();
+      std::string name = placement["name"].get<std::string>() + "_" + hand;
+      std::replace(name.begin(), name.end(), ' ', '_');
+      split["name"] = name;
+      // The left hand's files name the label fields (empty names), the right hand's do not.
+      std::string csv = hand == "left" ? ",,,,joint_names" : "joint_names";
+      for (const std::string& c : columns) csv += "," + c;
+      csv += "\n";
+      for (const nlohmann::json& m : placement["measurements"]) {
+        if (m["tip"] != tip) continue;
+        split["measurements"].push_back(m);
+        csv += "gripper,talos/" + hand + "_gripper,handle,table/contact_1,joint_states";
+        for (const std::string& c : columns) {
+          const auto at = std::find(joints.begin(), joints.end(), c);
+          const double deg =
+              at == joints.end() ? 5.0 : m["joints"][at - joints.begin()].get<double>();
+          char value[40];
+          std::snprintf(value, sizeof value, ",%.17g", deg * M_PI / 180.0);
+          csv += value;
+        }
+        csv += "\n";
+      }
+      inline_placements.push_back(split);
+      files += " " + write("session/" + name + ".csv", csv);
+      tips += " --tip-of " + name + "=" + tip;
+    }
+  }
+  ASSERT_EQ(inline_placements.size(), 6u);
+  plan["placements"] = inline_placements;
+  plan["artifacts"] = {{"table", plan["artifacts"]["table"]}};
+  const std::string given = write("given.json", plan.dump());
+  const std::string artifact = write("table.json", plan["artifacts"].dump());
+  const std::string urdf = " --urdf " + testDataFile("urdf/humanoid-small.urdf") +
+                           " --base left_sole_link --tip gripper_left_base_link --tip "
+                           "gripper_right_base_link";
+  const std::string imported = path("imported.json");
+  const std::string common = "import-readings" + files + urdf + " --artifact " + artifact +
+                             " --unit rad --probe 0.02 --encoder 0.005 -o " + imported;
+  const auto unsaid = runCli(common, test_support::Stderr::Only);
+  EXPECT_EQ(unsaid.status, 2);
+  EXPECT_NE(unsaid.out.find("which tip touched in this placement?"), std::string::npos)
+      << unsaid.out;
+  EXPECT_NE(unsaid.out.find("add --tip-of table_high_left=TIP"), std::string::npos) << unsaid.out;
+  const auto import = runCli(common + tips, test_support::Stderr::Only);
+  ASSERT_EQ(import.status, 0) << import.out;
+  EXPECT_NE(import.out.find("table_high_right.csv: its rows have 4 more fields than its header"),
+            std::string::npos)
+      << import.out;
+  nlohmann::json read = readJson(imported);
+  ASSERT_EQ(read["placements"].size(), 6u);
+  for (const nlohmann::json& placement : read["placements"]) {
+    EXPECT_FALSE(placement.contains("pose"));
+    const std::string name = placement["name"];
+    const std::string hand = name.ends_with("_left") ? "left" : "right";
+    EXPECT_EQ(placement["measurements"][0]["tip"], "gripper_" + hand + "_base_link");
+  }
+  // Without the gauge block some of the plan's parameters are not observed: both choose.
+  plan["machine"]["calibrate"] = "identifiable";
+  write("given.json", plan.dump());
+  const auto a = runCli("calibrate --json " + given);
+  const auto b = runCli("calibrate --json " + imported);
+  ASSERT_EQ(a.status, 0);
+  ASSERT_EQ(b.status, 0);
+  const nlohmann::json from_plan = nlohmann::json::parse(a.out);
+  const nlohmann::json from_files = nlohmann::json::parse(b.out);
+  // The same minimum from two starts (the plan's poses, the touches' planes), to the solver's
+  // stopping tolerance (it stops when the predicted cost change is negligible).
+  EXPECT_NEAR(from_files["chi2"].get<double>(), from_plan["chi2"].get<double>(),
+              1e-5 * from_plan["chi2"].get<double>());
+  ASSERT_EQ(from_files["parameters"].size(), from_plan["parameters"].size());
+  for (std::size_t i = 0; i < from_plan["parameters"].size(); ++i) {
+    const nlohmann::json& p = from_plan["parameters"][i];
+    EXPECT_EQ(from_files["parameters"][i]["name"], p["name"]);
+    EXPECT_NEAR(from_files["parameters"][i]["estimate"].get<double>(), p["estimate"].get<double>(),
+                0.01 * p["u"].get<double>())
+        << p["name"];
+  }
+}
+
+// A placement without a pose is where its touches put the plane; verify's flush figures: with
+// the machine right (the nominal one, readings simulated from it)
+// and no probe or encoder noise, a flush touch's height is 0 and its tilts are the drawn ones,
+// u_tilt each: their RMS over 60 table touches is u_tilt within the Monte-Carlo's spread. Scored
+// in the calibration's frames (--frame-of HELD=CALIBRATED), the same touches give the heights of
+// another session's planes: wrong by the planes' distance, and said so per placement.
+TEST_F(PlaneCli, VerifyGivesFlushTouchesHeightAndTiltsInEitherFrame) {
+  nlohmann::json plan = readJson(planFile("planes/arm6-flush.json"));
+  const double u_tilt = plan["artifacts"]["table"]["u_tilt"].get<double>();
+  plan["noise"] = {{"probe", 1e-6}, {"encoder", 0.0}};
+  plan["artifacts"]["table"]["flatness"] = 0.0;
+  plan["placements"].erase(3);  // the gauge block
+  const std::string quiet = write("quiet.json", plan.dump());
+  const std::string truth = write("truth.json", R"({"parameters": {}})");
+  ASSERT_EQ(
+      runCli("simulate " + quiet + " --truth " + truth + " --seed 4 -o " + path("sim.json")).status,
+      0);
+  // Without its pose each placement is where its touches put it: the plane simulated (a point of
+  // it, its outward normal), to the readings' noise.
+  nlohmann::json no_pose = readJson(path("sim.json"));
+  for (nlohmann::json& placement : no_pose["placements"]) placement.erase("pose");
+  const Plan derived = parsePlan(no_pose, "no-pose.json");
+  for (std::size_t j = 0; j < derived.placements.size(); ++j) {
+    const nlohmann::json& pose = plan["placements"][j]["pose"];
+    const Eigen::Vector3d normal = vector3(pose["direction"]).normalized();
+    const Pose& found = *derived.placements[j].pose;
+    EXPECT_LT((found.direction.normalized() - normal).norm(), 2.0 * degToRad(u_tilt));
+    EXPECT_LT(std::abs(normal.dot(found.center - vector3(pose["center"]))), 1e-4);
+  }
+  const auto run = runCli("verify --json " + path("sim.json"));
+  ASSERT_EQ(run.status, 0) << run.out;
+  const nlohmann::json verify = nlohmann::json::parse(run.out)["verify"];
+  ASSERT_TRUE(verify.contains("flush")) << verify.dump();
+  EXPECT_EQ(verify["flush"]["touches"], 60);
+  EXPECT_LT(verify["flush"]["height_rms"].get<double>(), 1e-4);
+  for (const char* tilt : {"roll_rms_deg", "pitch_rms_deg"}) {
+    EXPECT_GT(verify["flush"][tilt].get<double>(), 0.75 * u_tilt) << tilt;
+    EXPECT_LT(verify["flush"][tilt].get<double>(), 1.25 * u_tilt) << tilt;
+  }
+  double pooled2 = 0.0;
+  for (const nlohmann::json& placement : verify["placements"]) {
+    const double h = placement["flush"]["height_rms"].get<double>();
+    pooled2 += h * h * placement["flush"]["touches"].get<double>();
+  }
+  EXPECT_NEAR(std::sqrt(pooled2 / 60.0), verify["flush"]["height_rms"].get<double>(), 1e-12);
+
+  // The calibration's frames: calibrate the same readings, then score placement "wall" in the
+  // frame of "table" (another plane) and the others, named as the calibration's, in their own.
+  ASSERT_EQ(runCli("calibrate " + path("sim.json") + " --write-machine " + path("cal.json")).status,
+            0);
+  const auto framed = runCli("verify --json " + path("sim.json") + " --machine " +
+                             path("cal.json") + " --frame-of wall=table");
+  ASSERT_EQ(framed.status, 0) << framed.out;
+  const nlohmann::json placements = nlohmann::json::parse(framed.out)["verify"]["placements"];
+  for (const nlohmann::json& placement : placements) {
+    const std::string name = placement["name"];
+    const nlohmann::json& in_frame = placement["in_calibration_frame"];
+    EXPECT_EQ(in_frame["frame_of"], name == "wall" ? "table" : name);
+    const double height = in_frame["flush"]["height_rms"].get<double>();
+    if (name != "wall") {
+      EXPECT_NEAR(height, placement["flush"]["height_rms"].get<double>(), 1e-6);
+    } else {  // the wall's touches against the table's plane: tilted by the angle between them
+      EXPECT_GT(in_frame["flush"]["roll_rms_deg"].get<double>() +
+                    in_frame["flush"]["pitch_rms_deg"].get<double>(),
+                10.0);
+    }
+  }
+  const auto unknown = runCli("verify " + path("sim.json") + " --machine " + path("cal.json") +
+                                  " --frame-of nowhere=table",
+                              test_support::Stderr::Only);
+  EXPECT_EQ(unknown.status, 2);
+  EXPECT_NE(unknown.out.find("no placement \"nowhere\""), std::string::npos) << unknown.out;
 }
 
 }  // namespace plane_cli_test

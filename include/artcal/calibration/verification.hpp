@@ -88,12 +88,23 @@ struct CalibrationFrame {
   RigidTransform pose;
 };
 
+/// A plane's flush touches (docs/planes.md, "verify"): RMS over them of the height (the tool
+/// face's distance from the plane) and of the tool axis's tilts against the plane's normal about
+/// the face's two in-plane axes nearest the machine's x (roll) and y (pitch).
+struct FlushFigures {
+  int touches = 0;
+  double height_rms = 0.0;  ///< mm
+  double roll_rms = 0.0;    ///< rad
+  double pitch_rms = 0.0;   ///< rad
+};
+
 /// A placement's residuals in the calibration's frame (`pose` of the frame, not refitted).
 struct InFrameResiduals {
   std::string frame_of;       ///< the calibration's placement whose frame scored them
   Eigen::VectorXd residuals;  ///< |[R x_i + t - W*_i]_valued| per reading, mm
   double residual_rms = 0.0;
   double residual_max = 0.0;
+  std::optional<FlushFigures> flush;  ///< a plane's flush touches, in that frame
 };
 
 struct PlacementVerification {
@@ -107,6 +118,8 @@ struct PlacementVerification {
   double residual_max = 0.0;
   /// The same residuals in the calibration's frame, when one was given for this placement.
   std::optional<InFrameResiduals> in_frame;
+  /// A plane's flush touches, the placement refitted.
+  std::optional<FlushFigures> flush;
 };
 
 struct Verification {
@@ -128,6 +141,9 @@ struct Verification {
   int in_frame_placements = 0;
   double in_frame_residual_rms = 0.0;
   double reregistered_residual_rms = 0.0;
+  /// Over every placement's flush touches (refitted; and in the calibration's frames, over the
+  /// placements scored in one).
+  std::optional<FlushFigures> flush, flush_in_frame;
 };
 
 struct VerifyOptions {

@@ -55,4 +55,15 @@ std::optional<Eigen::VectorXd> touchPlane(const Artifact& artifact, const Machin
                                           const Eigen::VectorXd& offsets,
                                           const std::optional<Eigen::Vector3d>& at = std::nullopt);
 
+/// Where a single plane stood (a placement without a "pose", docs/planes.md), from its touches
+/// at parameters p: flush touches give the outward normal (minus their mean tool axis) and a
+/// point (their mean tip origin); point touches the least-squares plane through the ball centres
+/// (at least 3, not on one line), moved in by the radius, its outward side the one the tool axis
+/// comes from (or, for a machine with no orientation, the machine origin's side). The in-plane
+/// position and turn are gauges (N(r) = 3): roll 0. std::nullopt for a shape other than a single
+/// plane, a 2-D machine, or touches that fix no plane.
+std::optional<Pose> planePoseFromTouches(const Artifact& artifact, const Machine& machine,
+                                         const Eigen::VectorXd& p,
+                                         const std::vector<Measurement>& touches);
+
 }  // namespace artcal

@@ -44,6 +44,8 @@ std::vector<CsvColumn> parseCsvColumns(const Node& columns, std::size_t count);
 
 /// Largest number of rows read from one CSV file.
 inline constexpr std::size_t kMaxCsvRows = 100'000;
+/// Most fields a row of a file whose header names its columns may have.
+inline constexpr std::size_t kMaxCsvFields = 1024;
 
 /// The readings of `path` in internal units (rad, mm), one vector per row, for joints of the
 /// given kinds. InputError(path, "line N", ...) on any fault; an unreadable or empty file names
@@ -52,7 +54,9 @@ inline constexpr std::size_t kMaxCsvRows = 100'000;
 ///
 /// `columns`, when given (one per entry of `kinds`), selects each reading's field: a file naming
 /// columns by name must start with a header line holding every name selected (once), each row
-/// then has as many fields as the header and the fields not selected are ignored. A fault names the
+/// then has as many fields as the header and the fields not selected are ignored. A header with
+/// fewer fields than the first row names that row's last fields (an export that left its leading
+/// label fields unnamed); every row then has the first row's count. A fault names the
 /// line and the column ("line 12: column 5 (\"panda_joint3\"): not a number").
 ///
 /// `dropouts`, when given, allows rows whose readings from entry `dropouts->first` on (an

@@ -45,4 +45,12 @@ std::vector<std::optional<CalibrationFrame>> framesForPlacements(
     const Plan& plan, const std::vector<CalibratedFrame>& frames, const std::string& frame_of,
     const std::string& source);
 
+/// framesForPlacements with --frame-of's entries: at most one NAME (as above) and any number of
+/// HELD=CALIBRATED pairs, each scoring the held-out placement HELD in the frame of the
+/// calibration's placement CALIBRATED (two planes touched on two days, each with its own
+/// held-out session). InputError naming the entry when a name is unknown or the artifacts differ.
+std::vector<std::optional<CalibrationFrame>> framesForPlacements(
+    const Plan& plan, const std::vector<CalibratedFrame>& frames,
+    const std::vector<std::string>& frame_of, const std::string& source);
+
 }  // namespace artcal

@@ -9,7 +9,8 @@
 //     controller's own pose, is ignored);
 //   - the general layout: `feature_<k>.csv`, whose header names each column's unit as its last
 //     word: `q1_deg, q2_deg, ...`, `joint1 [rad]`, `z (mm)`; units deg, rad, mm or m.
-// A folder whose files are themselves feature files (no sub-folders) is one placement. Sub-folders
+// A folder whose files are themselves feature files (no sub-folders) is one placement; so is each
+// CSV file given instead of DIR (its rows are feature 0's readings). Sub-folders
 // are taken in name order, features in index order. Every fault is an InputError naming the folder
 // or file.
 
@@ -21,11 +22,18 @@
 namespace artcal {
 
 struct ReadingsImport {
-  std::string folder;  ///< DIR
+  std::string folder;  ///< DIR (used when `inputs` is empty)
+  /// DIR, or CSV files of one placement each (named after the file, its rows feature 0's
+  /// readings, a plane's touches: docs/planes.md).
+  std::vector<std::string> inputs;
   /// The machine: a machine block file (import-urdf, calibrate --write-machine) ...
   std::string machine_file;
   /// ... or a URDF chain from `base` to `tip` (imported as import-urdf does).
   std::string urdf, base, tip;
+  /// Several tips of one machine (import-urdf's repeated --tip; `tip` unused then), and which tip
+  /// touched in each placement: placement name -> tip name (a tip of the machine).
+  std::vector<std::string> tips;
+  std::vector<std::pair<std::string, std::string>> tip_of;
   /// The artifact: a ball bar of this length (mm) ...
   std::optional<double> ball_bar;
   double u_length = 0.0;
