@@ -5,6 +5,12 @@
 
 namespace artcal {
 
+std::string artifactTypeName(const Artifact& artifact) {
+  if (artifact.kind == ArtifactKind::Plane && artifact.plane.shape == PlaneShape::TableBall)
+    return "ball_bar (table-spindle)";
+  return artifactKindName(artifact.kind);
+}
+
 std::string artifactKindName(ArtifactKind kind) {
   return nameOf(kArtifactKindNames, kind);
 }
@@ -95,6 +101,7 @@ const RigidOrders& rigidOrders(int dimension, ArtifactKind kind, PlaneShape shap
   // translation along X and the turns that tilt X; a cube corner's faces see every motion.
   if (kind == ArtifactKind::Plane) {
     if (shape == PlaneShape::CubeCorner) return dimension == 2 ? all2 : all3;
+    if (shape == PlaneShape::TableBall) return sphere3;  // a turn about the ball moves nothing
     return dimension == 2 ? gauge2 : gauge3;
   }
   if (dimension == 2) return kind == ArtifactKind::StepGauge ? gauge2 : all2;

@@ -27,6 +27,14 @@ Artifact Artifact::planeArtifact(std::string id, int dimension, PlaneGeometry ge
     case PlaneShape::CubeCorner:
       for (int axis = 0; axis < dimension; ++axis) geometry.faces.push_back({axis, 1.0, 0.0});
       break;
+    case PlaneShape::TableBall:
+      // One "face", the sphere about the table ball (the artifact's origin); the bar's length
+      // error moves it along the bar (docs/method.md section 2).
+      geometry.faces.push_back({0, 1.0, 0.0});
+      if (u_length > 0.0) a.systematic.push_back({0, 0, u_length});
+      a.features = Eigen::MatrixXd::Zero(dimension, 1);
+      a.plane = std::move(geometry);
+      return a;
   }
   // Each face's feature: where the tip's reference point sits when it touches the face's middle
   // (a ball's centre one radius out along the normal; a flush frame's origin on the face).

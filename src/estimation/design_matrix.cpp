@@ -323,7 +323,7 @@ std::vector<RigidTransform> fitPlacements(const Plan& plan,
     const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
     std::set<int> distinct;
     for (const Measurement& m : placement.measurements) distinct.insert(m.feature);
-    if (artifact.translatesOnly() && !placement.measurements.empty()) {
+    if (artifact.kind == ArtifactKind::Sphere && !placement.measurements.empty()) {
       // A sphere: the mean offset of the probed centres from its centre, no rotation.
       const Eigen::MatrixXd machine_points = builder.probePositions(placement.measurements, p);
       RigidTransform shift = RigidTransform::identity(artifact.dimension);

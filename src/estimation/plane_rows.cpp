@@ -4,9 +4,59 @@
 #include <cmath>
 #include <optional>
 
+#include "artcal/core/error.hpp"
 #include "artcal/model/frame_turns.hpp"
 
 namespace artcal {
+
+namespace {
+
+// A table-spindle ball bar's row (five-axis.md section 3): e = |W| - (length + c), W the spindle
+// ball in the table ball's frame (translations only); de = n^T dW, n = W / |W|.
+void tableBallRow(const Artifact& artifact, const Machine& machine, const Eigen::VectorXd& W,
+                  const RigidTransform& r, const Eigen::VectorXd& c, bool with_jacobians,
+                  PlaneRows& out, PlaneRowsScratch& s) {
+  const double distance = W.norm();
+  out.residual[0] = distance - (artifact.plane.length + artifact.feature(0, c)[0]);
+  if (!with_jacobians) return;
+  if (!(distance > 0.0))
+    throw KinematicsError("the spindle's ball is at the table ball's centre: no bar direction");
+  const Eigen::VectorXd n = r.R.transpose() * (W / distance);  // machine frame
+  const int n_p = machine.calibratedCount();
+  out.J_p.resize(1, n_p);
+  for (int j = 0; j < n_p; ++j) out.J_p(0, j) = n.dot(s.J_x_p.col(machine.calibrated[j]));
+  out.J_q = n.transpose() * s.J_x_q;
+  out.J_r.setZero(1, artifact.fullRigidDof());
+  out.J_r.row(0) = (W / distance).transpose();  // the three translations
+}
+
+// Where a table-spindle ball bar's table ball sits: the centre w of the sphere of radius L
+// through the spindle ball's points x_i, by linear least squares on |x_i|^2 - 2 x_i.w + k = L^2
+// (k = |w|^2, then w from the solve; at least 4 points not on one plane or circle).
+std::optional<Pose> tableBallFromReadings(const Machine& machine, const Eigen::VectorXd& p,
+                                          double length, const std::vector<Measurement>& readings) {
+  const auto n = static_cast<int>(readings.size());
+  if (n < 4) return std::nullopt;
+  Eigen::MatrixXd A(n, 4);
+  Eigen::VectorXd b(n);
+  for (int i = 0; i < n; ++i) {
+    const Measurement& m = readings[static_cast<std::size_t>(i)];
+    Eigen::VectorXd x;
+    if (machine.mechanism->forwardStylus(m.stylus, p, m.joints, x) != ForwardStatus::Ok)
+      return std::nullopt;
+    A.row(i) << 2.0 * x[0], 2.0 * x[1], 2.0 * x[2], -1.0;
+    b[i] = x.head<3>().squaredNorm() - length * length;
+  }
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(A, Eigen::ComputeThinU | Eigen::ComputeThinV);
+  const Eigen::VectorXd s = svd.singularValues();
+  if (!(s[3] > 1e-9 * s[0])) return std::nullopt;
+  const Eigen::Vector4d solution = svd.solve(b);
+  Pose pose;
+  pose.center = solution.head<3>();
+  return pose;
+}
+
+}  // namespace
 
 void planeRows(const Artifact& artifact, const Machine& machine, const Eigen::VectorXd& p,
                const Measurement& m, const RigidTransform& r, const Eigen::VectorXd& c,
@@ -28,6 +78,10 @@ void planeRows(const Artifact& artifact, const Machine& machine, const Eigen::Ve
     forwardOrThrow(*machine.mechanism, p, m.joints, s.x, J_x_p, J_x_q, m.stylus);
   }
   const Eigen::VectorXd W = r.apply(s.x);
+  if (plane.shape == PlaneShape::TableBall) {
+    tableBallRow(artifact, machine, W, r, c, with_jacobians, out, s);
+    return;
+  }
   // The distance row: the valued coordinate against the face's feature (its systematic error).
   out.residual[0] = W[a] - artifact.feature(m.feature, c)[a];
   Eigen::Vector3d u = Eigen::Vector3d::Zero(), v = Eigen::Vector3d::Zero();
@@ -137,6 +191,8 @@ std::optional<Pose> planePoseFromTouches(const Artifact& artifact, const Machine
                                          const Eigen::VectorXd& p,
                                          const std::vector<Measurement>& touches) {
   const PlaneGeometry& plane = artifact.plane;
+  if (plane.shape == PlaneShape::TableBall && machine.dimension() == 3)
+    return tableBallFromReadings(machine, p, plane.length, touches);
   if (plane.shape != PlaneShape::Single || machine.dimension() != 3 || touches.empty())
     return std::nullopt;
   const Mechanism& mech = *machine.mechanism;

@@ -231,8 +231,22 @@ Artifact parseArtifact(const std::string& id, const Node& node, const Machine& m
   const std::string type = typeNode.string();
   if (type == "instrument") return parseInstrumentArtifact(id, node, machine, warnings);
   if (type == "plane") return parsePlaneArtifact(id, node, machine, warnings);
+  if (type == "ball_bar" && node.has("ends")) {
+    // A double ball bar between a ball on the table and the spindle's (five-axis.md section 3).
+    node.warnUnknown({"type", "length", "u_length", "ends"}, warnings);
+    const Node ends = node.at("ends");
+    if (ends.string() != "table-spindle")
+      ends.fail("unknown ends \"" + ends.string() + "\" (expected table-spindle; leave \"ends\" "
+                "out for a bar between two sockets the machine holds in turn)");
+    if (dimension != 3) ends.fail("a table-spindle ball bar needs a 3-D machine");
+    PlaneGeometry geometry;
+    geometry.shape = PlaneShape::TableBall;
+    geometry.length = node.at("length").positive();
+    return Artifact::planeArtifact(id, dimension, geometry, 0.0, 0.0,
+                                   optionalUncertainty(node, "u_length"));
+  }
   if (type == "ball_bar") {
-    node.warnUnknown({"type", "length", "u_length"}, warnings);
+    node.warnUnknown({"type", "length", "u_length", "ends"}, warnings);
     return Artifact::ballBar(id, dimension, node.at("length").positive(),
                              optionalUncertainty(node, "u_length"));
   }

@@ -23,8 +23,15 @@ std::vector<Measurement> planeTouches(const Machine& reading_machine, const Arti
   for (int attempt = 0; attempt < kAttemptsPerTouch * count && static_cast<int>(out.size()) < count;
        ++attempt) {
     Eigen::VectorXd W = artifact.features.col(face);
-    for (int k = 0; k < artifact.dimension; ++k)
-      if (k != the_face.axis) W[k] += offset(rng);
+    if (plane.shape == PlaneShape::TableBall) {
+      // A table-spindle ball bar: the spindle ball anywhere on the sphere of the bar's length.
+      std::normal_distribution<double> normal;
+      Eigen::Vector3d d(normal(rng), normal(rng), normal(rng));
+      W = plane.length * d.normalized();
+    } else {
+      for (int k = 0; k < artifact.dimension; ++k)
+        if (k != the_face.axis) W[k] += offset(rng);
+    }
     const std::vector<Eigen::VectorXd> postures =
         posturesFor(reading_machine, reading_machine.nominal, to_machine.apply(W), 1, rng, ik);
     if (postures.empty()) continue;

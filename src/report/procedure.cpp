@@ -31,8 +31,9 @@ std::string poseText(const Plan& plan, const ProcedurePlacement& placement) {
   const Pose& pose = placement.pose;
   std::string out = "centre " + vectorText(pose.center, 3) + " mm";
   const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
-  if (artifact.translatesOnly()) {  // a sphere: its centre is all there is
-    out += " (the sphere's centre in the workpiece frame)";
+  if (artifact.translatesOnly()) {  // a sphere or a table ball: its centre is all there is
+    out += artifact.kind == ArtifactKind::Sphere ? " (the sphere's centre in the workpiece frame)"
+                                                 : " (the table ball's centre in the workpiece frame)";
   } else if (plan.machine.dimension() == 2) {
     out += ", angle " + fixed(radToDeg(pose.angle), 3) + " deg";
   } else {
@@ -83,7 +84,7 @@ json procedureToJson(const Plan& plan, const Procedure& procedure) {
     }
     placements.push_back({{"placement", j},
                           {"artifact", artifact.id},
-                          {"kind", artifactKindName(artifact.kind)},
+                          {"kind", artifactTypeName(artifact)},
                           {"pose", poseToJson(plan, placement)},
                           {"readings", readings}});
     if (j < plan.placements.size() && !plan.placements[j].name.empty())
@@ -125,7 +126,7 @@ std::string procedureTable(const Plan& plan, const Procedure& procedure) {
     const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
     const bool station = artifact.kind == ArtifactKind::Instrument;
     out << "\nPlacement " << placementLabel(plan.placements, j) << ": " << artifact.id << " ("
-        << artifactKindName(artifact.kind) << (station ? " station" : "") << ") at "
+        << artifactTypeName(artifact) << (station ? " station" : "") << ") at "
         << poseText(plan, placement) << "\n"
         << header(station) << "\n";
     for (std::size_t k = 0; k < placement.readings.size(); ++k) {

@@ -167,8 +167,9 @@ std::string poseLine(const Plan& plan, const ProcedurePlacement& placement) {
   for (int d = 0; d < pose.center.size(); ++d) out += (d ? ", " : "") + number(pose.center[d], 3);
   out += ") mm";
   const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
-  if (artifact.translatesOnly()) {  // a sphere: its centre is all there is
-    out += " (the sphere's centre in the workpiece frame)";
+  if (artifact.translatesOnly()) {  // a sphere or a table ball: its centre is all there is
+    out += artifact.kind == ArtifactKind::Sphere ? " (the sphere's centre in the workpiece frame)"
+                                                 : " (the table ball's centre in the workpiece frame)";
   } else if (plan.machine.dimension() == 2) {
     out += ", angle " + number(radToDeg(pose.angle), 3) + " deg";
   } else {
@@ -206,7 +207,7 @@ std::string procedureHtml(const Plan& plan, const Procedure& procedure) {
     const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
     out << "<section class=\"placement\">\n<h3>Placement "
         << svg::escape(placementLabel(plan.placements, j)) << ": " << svg::escape(artifact.id)
-        << " (" << artifactKindName(artifact.kind) << ")</h3>\n"
+        << " (" << artifactTypeName(artifact) << ")</h3>\n"
         << "<p>" << svg::escape(poseLine(plan, placement)) << "</p>\n";
     if (draw) {
       out << "<div class=\"views\">\n";

@@ -179,7 +179,7 @@ std::string effectiveRigidText(const Plan& plan, const CountingCondition& c) {
     const std::string name = plan.placements[j].name.empty()
                                  ? format("/placements/%zu", j)
                                  : "placement " + plan.placements[j].name;
-    out << format(" %s (%s) see %d of %d", name.c_str(), artifactKindName(artifact.kind).c_str(),
+    out << format(" %s (%s) see %d of %d", name.c_str(), artifactTypeName(artifact).c_str(),
                   c.rigid_effective[j], c.rigid_table[j]);
   }
   out << " rigid directions\n";

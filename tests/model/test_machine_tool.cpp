@@ -12,6 +12,7 @@
 #include <random>
 
 #include "artcal/core/units.hpp"
+#include "artcal/estimation/plane_rows.hpp"
 #include "artcal/model/machine_tool.hpp"
 #include "finite_difference.hpp"
 
@@ -211,6 +212,70 @@ TEST(MachineTool, ExactJacobiansAtNonzeroErrors) {
                                   where + " J_x_p");
       testing::expectJacobianNear(J_x_q, testing::centralDifferenceJacobian(of_q, q, 1e-6), 1e-6,
                                   where + " J_x_q");
+    }
+  }
+}
+
+// The double ball bar between a table ball and the spindle's (the spec's section 3): one row
+// |t_W - w_b| - length. Its value and its derivatives in p, q and the table ball's position
+// (plane_rows.hpp, the one place the rows are formed) against the spec's tip written apart from
+// the model (the 4 x 4 products above) and central differences of that distance, at random
+// nonzero errors in both configurations.
+TEST(MachineTool, TableSpindleBallBarRowIsTheDistanceOfTheSpecsTip) {
+  std::mt19937_64 rng(41);
+  const double length = 150.0;
+  const Artifact bar = Artifact::planeArtifact(
+      "bar", 3, PlaneGeometry{PlaneShape::TableBall, {}, 0.0, false, Eigen::Vector3d::UnitZ(),
+                              length, 0.0},
+      0.0, 0.0, 0.0);
+  for (const auto configuration :
+       {MachineToolConfiguration::TrunnionAC, MachineToolConfiguration::HeadBTableC}) {
+    Machine machine;
+    machine.mechanism = std::make_shared<MachineTool>(configuration, 250.0);
+    const int n = machine.mechanism->parameterCount();
+    for (int k = 0; k < n; ++k) machine.calibrated.push_back(k);
+    for (int trial = 0; trial < 5; ++trial) {
+      const Errors e = randomErrors(rng);
+      const Eigen::VectorXd p = internal(e);
+      machine.nominal = p;
+      const Eigen::VectorXd q_deg = randomReadings(rng);
+      const Eigen::Vector3d w_b(20.0, -35.0, 60.0);
+      auto tip = [&](const Errors& errors, const Eigen::VectorXd& q) {
+        return configuration == MachineToolConfiguration::TrunnionAC
+                   ? trunnionTip(errors, q)
+                   : headTableTip(errors, 250.0, q);
+      };
+      RigidTransform placed = RigidTransform::identity(3);
+      placed.t = -w_b;
+      const Measurement m{0, toInternal(q_deg), 0};
+      PlaneRows rows;
+      PlaneRowsScratch scratch;
+      planeRows(bar, machine, p, m, placed, Eigen::VectorXd(), true, rows, scratch);
+      ASSERT_EQ(rows.rows, 1);
+      EXPECT_NEAR(rows.residual[0], (tip(e, q_deg) - w_b).norm() - length, 1e-9);
+      // d/dp through the internal parameter vector, d/dq through the internal readings.
+      auto of_p = [&](const Eigen::VectorXd& v) {
+        PlaneRows r;
+        PlaneRowsScratch s2;
+        planeRows(bar, machine, v, m, placed, Eigen::VectorXd(), false, r, s2);
+        return Eigen::VectorXd(r.residual.head(1));
+      };
+      auto of_q = [&](const Eigen::VectorXd& v) {
+        Eigen::VectorXd q = v;
+        q[3] /= kDegree;
+        q[4] /= kDegree;
+        return Eigen::VectorXd::Constant(1, (tip(e, q) - w_b).norm() - length);
+      };
+      auto of_w = [&](const Eigen::VectorXd& v) {
+        return Eigen::VectorXd::Constant(1, (tip(e, q_deg) + v).norm() - length);
+      };
+      const std::string where = machineToolConfigurationName(configuration);
+      testing::expectJacobianNear(rows.J_p, testing::centralDifferenceJacobian(of_p, p, 1e-6),
+                                  1e-6, where + " bar J_p");
+      testing::expectJacobianNear(rows.J_q, testing::centralDifferenceJacobian(of_q, m.joints, 1e-6),
+                                  1e-6, where + " bar J_q");
+      testing::expectJacobianNear(rows.J_r, testing::centralDifferenceJacobian(of_w, placed.t, 1e-6),
+                                  1e-6, where + " bar J_r");
     }
   }
 }

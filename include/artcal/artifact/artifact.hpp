@@ -33,6 +33,11 @@ inline constexpr EnumNames<ArtifactKind, 6> kArtifactKindNames{
 /// "ball_bar", "ball_plate", "step_gauge", "instrument", "plane", "sphere".
 std::string artifactKindName(ArtifactKind kind);
 
+class Artifact;
+/// What a person calls the artifact: its kind's name, "ball_bar (table-spindle)" for a double
+/// ball bar between the table and the spindle (held as a plane-like surface, plane_geometry.hpp).
+std::string artifactTypeName(const Artifact& artifact);
+
 /// One systematic error of an artifact: moves coordinate `coordinate` of feature `feature` by c,
 /// with prior standard deviation `sigma` (mm).
 struct SystematicError {

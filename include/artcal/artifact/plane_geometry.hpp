@@ -12,7 +12,11 @@
 
 namespace artcal {
 
-enum class PlaneShape { Single, GaugeBlock, CubeCorner };
+/// TableBall: not a face but the sphere of a double ball bar's length about a ball fixed on the
+/// table (five-axis.md: a `"ball_bar"` with `"ends": "table-spindle"`); the tip (the spindle's
+/// ball) lies on it. One row per reading, |W| - length; the placement is the table ball's
+/// position (3 translations). Parsed from the ball bar's form only, not a plane's `"shape"`.
+enum class PlaneShape { Single, GaugeBlock, CubeCorner, TableBall };
 inline constexpr EnumNames<PlaneShape, 3> kPlaneShapeNames{
     {{PlaneShape::Single, "plane"},
      {PlaneShape::GaugeBlock, "gauge_block"},
@@ -35,7 +39,8 @@ struct PlaneGeometry {
   /// `tool_axis` (tip frame) is along the face's normal; 3 rows per reading instead of 1.
   bool flush = false;
   Eigen::Vector3d tool_axis = Eigen::Vector3d::UnitZ();
-  /// A gauge block's length (mm) or a cube corner's edge (mm: where its faces' features lie).
+  /// A gauge block's length (mm), a cube corner's edge (mm: where its faces' features lie) or a
+  /// table-spindle ball bar's length (mm).
   double length = 0.0;
   /// Planning only: touches are planned within +-extent (mm) of each face's middle, along the
   /// face's two in-plane axes.
