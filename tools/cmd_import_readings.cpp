@@ -17,6 +17,7 @@ struct ImportReadingsArguments {
   ReadingsImport import;
   std::vector<std::string> holds;  ///< JOINT=VALUE
   std::vector<std::string> tip_of;  ///< PLACEMENT=TIP
+  std::string prior;                ///< LENGTH,ANGLE
   std::string probe = "0.1";
   std::string output = kStandardOutput;
 };
@@ -115,6 +116,11 @@ void addImportReadingsCommand(CLI::App& app, Action& action) {
                   "JOINT=VALUE: a joint no file reads (a tool mount), held at VALUE (deg, or mm "
                   "for a prismatic joint) in every reading; repeat for several")
       ->type_name("JOINT=VALUE");
+  cmd->add_option("--prior", args->prior,
+                  "LENGTH,ANGLE: the machine's tolerances as built, mm and deg, a prior on every "
+                  "parameter (plan-format.md \"prior\"): for readings too few for the parameters "
+                  "they identify (a humanoid's touches)")
+      ->type_name("MM,DEG");
   cmd->add_flag("--keep-calibrate", in.keep_calibrate,
                 "keep the machine file's \"calibrate\" (default: \"identifiable\")");
   cmd->add_flag(
@@ -160,6 +166,25 @@ void addImportReadingsCommand(CLI::App& app, Action& action) {
         if (equals == std::string::npos || equals == 0 || equals + 1 == pair.size())
           throw InputError("--tip-of", pair, "expected PLACEMENT=TIP, e.g. left=gripper_left_link");
         import.tip_of.emplace_back(pair.substr(0, equals), pair.substr(equals + 1));
+      }
+      if (!args->prior.empty()) {
+        const auto comma = args->prior.find(',');
+        double length = 0.0, angle = 0.0;
+        std::size_t used_length = 0, used_angle = 0;
+        try {
+          if (comma != std::string::npos) {
+            length = std::stod(args->prior.substr(0, comma), &used_length);
+            angle = std::stod(args->prior.substr(comma + 1), &used_angle);
+          }
+        } catch (const std::exception&) {
+          used_length = 0;
+        }
+        if (comma == std::string::npos || used_length != comma ||
+            used_angle != args->prior.size() - comma - 1 || !(length > 0.0) || !(angle > 0.0) ||
+            !std::isfinite(length) || !std::isfinite(angle))
+          throw InputError("--prior", args->prior, "expected LENGTH,ANGLE (mm, deg; > 0), e.g. 5,0.5");
+        import.prior_length = length;
+        import.prior_angle = angle;
       }
       import.probe = probeValue(args->probe);
       import.output = args->output;

@@ -57,6 +57,28 @@ std::string shown(std::string_view field) {
 
 }  // namespace
 
+std::vector<std::string_view> csvFields(std::string_view line) { return splitFields(line); }
+
+std::size_t headerShift(const std::vector<std::string_view>& header,
+                        const std::vector<std::string_view>& row, const std::vector<int>& selected) {
+  auto numbers = [&](std::size_t shift) {
+    for (const int f : selected) {
+      if (f < 0) continue;
+      const std::size_t at = static_cast<std::size_t>(f) + shift;
+      if (at >= row.size() || !parseNumber(row[at])) return false;
+    }
+    return true;
+  };
+  std::size_t named = header.size();
+  while (named > 0 && header[named - 1].empty()) --named;
+  if (named >= row.size()) return 0;
+  const std::size_t shift = row.size() - named;
+  // Empty names over the row's last fields, as many as the shift: the names belong further right.
+  const bool trailing_unnamed = header.size() == row.size() && named + shift == header.size();
+  if (numbers(0) && !trailing_unnamed) return 0;
+  return numbers(shift) ? shift : 0;
+}
+
 std::optional<ReadingUnits> readingUnitsFromName(const std::string& name) {
   ReadingUnits units;
   // "ANGLE+LENGTH": both units stated, e.g. ROS's rad and m.
@@ -173,6 +195,7 @@ std::vector<Eigen::VectorXd> readJointCsv(const std::string& path,
   std::string_view rest(text);
   bool first_content = true;
   bool aligned = false;  // the header's names placed on the first row's fields
+  std::string header_line;
   for (long line_number = 1; !rest.empty(); ++line_number) {
     const auto newline = rest.find('\n');
     const std::string_view line = trimmed(rest.substr(0, newline));
@@ -183,18 +206,19 @@ std::vector<Eigen::VectorXd> readJointCsv(const std::string& path,
     if (by_name && first_content) {  // the header naming the columns
       if (line.size() > 100'000) fail("a header line longer than 100000 characters");
       field_of = selectedFields(path, *columns, line, width);
+      header_line = std::string(line);
       first_content = false;
       continue;
     }
     // Counted before splitting: a line of 200 MB would otherwise become gigabytes of fields.
     const auto count = static_cast<std::size_t>(std::count(line.begin(), line.end(), ',')) + 1;
-    if (by_name && !aligned && count > width && count <= kMaxCsvFields) {
-      // A header shorter than its rows names their last fields: the leading ones (an export's
-      // unnamed labels) are not named (plan-format.md, "Columns by name"; pandas reads one such
-      // field as the index).
+    if (by_name && !aligned && count <= kMaxCsvFields) {
+      // A header that names its rows' last fields (an export that left its leading label fields
+      // unnamed; plan-format.md, "Columns by name").
+      const std::size_t shift = headerShift(splitFields(header_line), splitFields(line), field_of);
       for (int& f : field_of)
-        if (f >= 0) f += static_cast<int>(count - width);
-      width = count;
+        if (f >= 0) f += static_cast<int>(shift);
+      if (shift > 0) width = count;
     }
     aligned = true;
     if (!columns && count != joints) {

@@ -243,20 +243,26 @@ std::optional<std::string> headerUnit(std::string field) {
   return std::nullopt;
 }
 
-/// How many more fields the first data row of `file` has than its header (0 when not more): a
-/// header that names the last fields only (csv_readings.hpp).
-std::size_t unnamedLeadingFields(const fs::path& file, std::size_t header_fields) {
+/// How far right of where the header of `file` puts them its first data row's fields at
+/// `selected` (header positions) are (csv_readings.hpp, headerShift), and the row's field count.
+std::pair<std::size_t, std::size_t> namedFieldShift(const fs::path& file,
+                                                    const std::vector<int>& selected) {
   const std::string text = readInputFile(file.string());
-  std::size_t start = text.find('\n');
+  const std::size_t first_end = text.find('\n');
+  if (first_end == std::string::npos) return {0, 0};
+  const std::string_view header(text.data(), first_end);
+  std::size_t start = first_end;
   while (start != std::string::npos && start + 1 < text.size()) {
     const std::size_t end = text.find('\n', start + 1);
-    const std::string line = text.substr(start + 1, end - start - 1);
+    const std::string_view line = std::string_view(text).substr(start + 1, end - start - 1);
     start = end;
-    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
-    const auto fields = static_cast<std::size_t>(std::count(line.begin(), line.end(), ',')) + 1;
-    return fields > header_fields ? fields - header_fields : 0;
+    if (line.find_first_not_of(" \t\r") == std::string_view::npos) continue;
+    if (static_cast<std::size_t>(std::count(line.begin(), line.end(), ',')) >= kMaxCsvFields)
+      return {0, 0};
+    const auto row = csvFields(line);
+    return {headerShift(csvFields(header), row, selected), row.size()};
   }
-  return 0;
+  return {0, 0};
 }
 
 /// The header's fields of a CSV file (its first line split at commas).
@@ -648,11 +654,13 @@ std::optional<NamedColumns> namedColumns(const fs::path& file, const MachineRead
   }
   for (std::size_t f = 0; f < fields.size(); ++f)
     if (!used[f] && !trimmedField(fields[f]).empty()) out.ignored.push_back(trimmedField(fields[f]));
-  if (const std::size_t unnamed = unnamedLeadingFields(file, fields.size()); unnamed > 0) {
-    out.note = file.string() + ": its rows have " + std::to_string(unnamed) +
-               " more fields than its header, which names their last " +
-               std::to_string(fields.size()) + ": read so (the first " +
-               std::to_string(unnamed) + " unnamed, an export's labels)";
+  std::vector<int> selected;
+  for (const int f : joint_field)
+    if (f >= 0) selected.push_back(f);
+  if (const auto [shift, row] = namedFieldShift(file, selected); shift > 0) {
+    out.note = file.string() + ": its header names its rows' last " + std::to_string(row - shift) +
+               " fields (the first " + std::to_string(shift) +
+               " are unnamed, an export's labels): read so";
   }
   return out;
 }
@@ -965,6 +973,14 @@ json machineBlock(const ReadingsImport& import) {
   return import.markers.size() > 1 ? withMarkerTips(machine, import.markers) : machine;
 }
 
+/// machineBlock with --prior's tolerances as the machine's default prior.
+json machineWithPrior(const ReadingsImport& import) {
+  json machine = machineBlock(import);
+  if (import.prior_length > 0.0 && import.prior_angle > 0.0)
+    machine["prior"]["default"] = {{"length", import.prior_length}, {"angle", import.prior_angle}};
+  return machine;
+}
+
 /// The artifacts block and the id of the artifact placed.
 std::pair<json, std::string> artifactBlock(const ReadingsImport& import) {
   if (import.instrument) {
@@ -1217,7 +1233,7 @@ ImportedPlan importReadings(const ReadingsImport& import) {
                      "or an artifact's files read one tip");
   }
   const std::string source = to_stdout ? std::string("import-readings") : import.output;
-  const json machine = machineBlock(import);
+  const json machine = machineWithPrior(import);
   json placements = json::array();
   const MachineReadings readings = machineReadings(machine, artifacts, source, import);
   std::vector<std::string> ignored;  // columns of header-named files not read

@@ -211,7 +211,8 @@ TEST_F(PlaneCli, VerifyListsEachFaceOfEachPlacement) {
 
 // A peer's export of flush touches, as its users keep them: one CSV file per session, named
 // columns in rad for every joint of the robot (more than the chain reads), text label fields
-// before them, and a header that in one file leaves those label fields unnamed. Imported the plain
+// before them, and a header that in some files names them at the end (its names 4 fields left of
+// their values, 4 empty names after them). Imported the plain
 // way (the files as DIR, two tips with --tip-of, no pose: the touches give the plane), the plan
 // calibrates as the same readings written inline with their poses: the same minimum.
 TEST_F(PlaneCli, PeerExportedTouchesOfTwoHandsImportAsTheSamePlan) {
@@ -239,10 +240,11 @@ TEST_F(PlaneCli, PeerExportedTouchesOfTwoHandsImportAsTheSamePlan) {
       std::string name = placement["name"].get<std::string>() + "_" + hand;
       std::replace(name.begin(), name.end(), ' ', '_');
       split["name"] = name;
-      // The left hand's files name the label fields (empty names), the right hand's do not.
+      // The left hand's files name the label fields (empty names); the right hand's start with
+      // the names and end with the empty ones, the names 4 fields left of their values.
       std::string csv = hand == "left" ? ",,,,joint_names" : "joint_names";
       for (const std::string& c : columns) csv += "," + c;
-      csv += "\n";
+      csv += hand == "left" ? "\n" : ",,,,\n";
       for (const nlohmann::json& m : placement["measurements"]) {
         if (m["tip"] != tip) continue;
         split["measurements"].push_back(m);
@@ -280,11 +282,19 @@ TEST_F(PlaneCli, PeerExportedTouchesOfTwoHandsImportAsTheSamePlan) {
   EXPECT_NE(unsaid.out.find("add --tip-of table_high_left=TIP"), std::string::npos) << unsaid.out;
   const auto import = runCli(common + tips, test_support::Stderr::Only);
   ASSERT_EQ(import.status, 0) << import.out;
-  EXPECT_NE(import.out.find("table_high_right.csv: its rows have 4 more fields than its header"),
+  EXPECT_NE(import.out.find("table_high_right.csv: its header names its rows' last 18 fields "
+                            "(the first 4 are unnamed"),
             std::string::npos)
       << import.out;
   nlohmann::json read = readJson(imported);
   ASSERT_EQ(read["placements"].size(), 6u);
+  EXPECT_FALSE(read["machine"].contains("prior"));
+  // --prior: the tolerances as built, the machine's default prior (mm, deg).
+  ASSERT_EQ(runCli(common + tips + " --prior 5,0.5").status, 0);
+  EXPECT_EQ(readJson(imported)["machine"]["prior"],
+            nlohmann::json::parse(R"({"default": {"length": 5.0, "angle": 0.5}})"));
+  EXPECT_EQ(runCli(common + tips + " --prior 5").status, 2);
+  ASSERT_EQ(runCli(common + tips).status, 0);
   for (const nlohmann::json& placement : read["placements"]) {
     EXPECT_FALSE(placement.contains("pose"));
     const std::string name = placement["name"];

@@ -42,6 +42,18 @@ struct CsvColumn {
 /// reads). InputError naming the entry's pointer when malformed.
 std::vector<CsvColumn> parseCsvColumns(const Node& columns, std::size_t count);
 
+/// How many fields right of where its header puts them a row's named fields are. The candidate:
+/// the shift that puts the header's names, less its trailing empty ones, on the row's last
+/// fields. Taken when the row's fields at `selected` (header positions) all hold numbers under
+/// it, and either they do not as the header stands or the header ends in as many empty names as
+/// the shift (names written left of their values, the values' last fields unnamed); else 0 (the
+/// reading then names the field that is not a number).
+std::size_t headerShift(const std::vector<std::string_view>& header,
+                        const std::vector<std::string_view>& row, const std::vector<int>& selected);
+
+/// The fields of a CSV line, each without its surrounding blanks.
+std::vector<std::string_view> csvFields(std::string_view line);
+
 /// Largest number of rows read from one CSV file.
 inline constexpr std::size_t kMaxCsvRows = 100'000;
 /// Most fields a row of a file whose header names its columns may have.
@@ -54,9 +66,10 @@ inline constexpr std::size_t kMaxCsvFields = 1024;
 ///
 /// `columns`, when given (one per entry of `kinds`), selects each reading's field: a file naming
 /// columns by name must start with a header line holding every name selected (once), each row
-/// then has as many fields as the header and the fields not selected are ignored. A header with
-/// fewer fields than the first row names that row's last fields (an export that left its leading
-/// label fields unnamed); every row then has the first row's count. A fault names the
+/// then has as many fields as the header and the fields not selected are ignored. A header whose
+/// names, less its trailing empty ones, are fewer than the first row's fields may name that row's
+/// last fields (an export that left its leading label fields unnamed: headerShift); every row then
+/// has the first row's count. A fault names the
 /// line and the column ("line 12: column 5 (\"panda_joint3\"): not a number").
 ///
 /// `dropouts`, when given, allows rows whose readings from entry `dropouts->first` on (an

@@ -69,6 +69,9 @@ struct ReadingsImport {
   std::string orientation;
   /// Joints no file reads, held at a value (deg, or mm for a prismatic joint), by reading name.
   std::vector<std::pair<std::string, double>> holds;
+  /// The machine's tolerances as built, a prior on every parameter (plan-format.md, "prior":
+  /// default.length mm, default.angle deg); 0: none (a machine file's own prior is kept).
+  double prior_length = 0.0, prior_angle = 0.0;
   /// Keep the machine file's own "calibrate" instead of "identifiable".
   bool keep_calibrate = false;
   /// Keep the machine's joint limits even where the readings pass them (they are then refused).
