@@ -291,7 +291,8 @@ Artifact parseArtifact(const std::string& id, const Node& node, const Machine& m
                 "\" (expected ball_bar, ball_plate, step_gauge, instrument, plane or sphere)");
 }
 
-Pose parsePose(const Node& node, int dimension, std::vector<std::string>& warnings) {
+Pose parsePose(const Node& node, int dimension, std::vector<std::string>& warnings,
+               bool centre_only) {
   node.object();
   Pose pose;
   pose.center = node.at("center").numbers(static_cast<std::size_t>(dimension));
@@ -300,6 +301,8 @@ Pose parsePose(const Node& node, int dimension, std::vector<std::string>& warnin
     pose.angle = degToRad(node.find("angle") ? node.at("angle").number() : 0.0);
   } else {
     node.warnUnknown({"center", "direction", "roll"}, warnings);
+    // A sphere's or a table ball's placement is its centre: no direction to state.
+    if (centre_only && !node.has("direction")) return pose;
     const Node direction = node.at("direction");
     pose.direction = direction.numbers(3);
     if (pose.direction.norm() <= 0.0) direction.fail("direction must not be zero");
@@ -590,6 +593,12 @@ Pose planePoseOfTouches(const Node& node, const Plan& plan, const Placement& pla
   if (auto pose = planePoseFromTouches(artifact, plan.machine, plan.machine.nominal,
                                        placement.measurements))
     return *pose;
+  if (artifact.plane.shape == PlaneShape::TableBall) {
+    throw InputError(node.source(), where,
+                     "missing, and the readings give none (4 or more spindle-ball points, in the "
+                     "workpiece frame, not on one circle): state where the table ball is, "
+                     "{\"center\": [x, y, z]} (mm, workpiece frame)");
+  }
   throw InputError(node.source(), where,
                    "missing, and the touches give none (a single plane in 3-D touched flush, or "
                    "at 3 or more points not on one line): state where the plane stands, "
@@ -611,7 +620,10 @@ Placement parsePlacement(const Node& node, Plan& plan, CsvFiles& csv_files,
   placement.artifact = plan.artifactIndex(id);
   if (placement.artifact < 0) artifact.fail("unknown artifact \"" + id + "\"");
   const int dimension = plan.machine.dimension();
-  if (const auto pose = node.find("pose")) placement.pose = parsePose(*pose, dimension, warnings);
+  if (const auto pose = node.find("pose")) {
+    const Artifact& placed = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
+    placement.pose = parsePose(*pose, dimension, warnings, placed.translatesOnly());
+  }
   // A plane's touches lie anywhere on its faces: where it stands is the plan's pose, or what its
   // touches give (docs/planes.md).
   const bool plane =
