@@ -137,9 +137,28 @@ std::vector<double> totalPerConfiguration(const TipEvaluator& tips, const Eigen:
 PlanEvaluator::PlanEvaluator(const Plan& plan)
     : PlanEvaluator(plan, usableWorkspace(plan, nullptr)) {}
 
+namespace {
+
+// The workspace at every tip of a machine with named tips (docs/urdf.md): each configuration once
+// per tip, so that the worst is the worst over every tip.
+TipEvaluator everyTip(const Plan& plan, std::vector<Eigen::VectorXd> workspace) {
+  const auto tips = static_cast<int>(plan.machine.mechanism->stylusNames().size());
+  if (tips <= 1) return {plan.machine, plan.noise, std::move(workspace)};
+  std::vector<Eigen::VectorXd> configurations;
+  std::vector<int> styluses;
+  for (int t = 0; t < tips; ++t) {
+    configurations.insert(configurations.end(), workspace.begin(), workspace.end());
+    styluses.insert(styluses.end(), workspace.size(), t);
+  }
+  return {plan.machine, plan.noise, std::move(configurations), std::move(styluses)};
+}
+
+}  // namespace
+
 PlanEvaluator::PlanEvaluator(const Plan& plan, std::vector<Eigen::VectorXd> workspace)
     : plan_(&plan),
-      tip_(plan.machine, plan.noise, std::move(workspace)),
+      workspace_size_(static_cast<int>(workspace.size())),
+      tip_(everyTip(plan, std::move(workspace))),
       builder_(plan.machine, plan.noise),
       reducer_(GlobalLayout::of(plan)) {}
 
@@ -160,7 +179,9 @@ std::optional<TipSummary> PlanEvaluator::tip(const std::vector<Placement>& place
                                              const std::vector<RigidTransform>* poses) {
   const auto covariance = covarianceFromInformation(information(placements, poses));
   if (!covariance) return std::nullopt;
-  return tip_.summarize(covariance->V);
+  TipSummary summary = tip_.summarize(covariance->V);
+  if (summary.worst_index >= 0 && workspace_size_ > 0) summary.worst_index %= workspace_size_;
+  return summary;
 }
 
 Evaluation evaluatePlan(const Plan& plan, const EvaluateOptions& options) {

@@ -161,7 +161,14 @@ std::vector<Eigen::VectorXd> workspaceConfigurations(const Machine& machine,
 
 TipEvaluator::TipEvaluator(const Machine& machine, const Noise& noise,
                            std::vector<Eigen::VectorXd> configurations, int stylus)
-    : dimension_(machine.dimension()), configurations_(std::move(configurations)) {
+    : TipEvaluator(machine, noise, configurations,
+                   std::vector<int>(configurations.size(), stylus)) {}
+
+TipEvaluator::TipEvaluator(const Machine& machine, const Noise& noise,
+                           std::vector<Eigen::VectorXd> configurations, std::vector<int> styluses)
+    : dimension_(machine.dimension()),
+      configurations_(std::move(configurations)),
+      styluses_(std::move(styluses)) {
   const int n_p = machine.calibratedCount();
   const int count = size();
   J_p_.resize(dimension_ * count, n_p);
@@ -171,7 +178,8 @@ TipEvaluator::TipEvaluator(const Machine& machine, const Noise& noise,
   const Eigen::VectorXd sigma_q2 = noise.encoder.array().square();
   for (int g = 0; g < count; ++g) {
     forwardOrThrow(*machine.mechanism, machine.nominal,
-                   configurations_[static_cast<std::size_t>(g)], x, &J_x_p, &J_x_q, stylus);
+                   configurations_[static_cast<std::size_t>(g)], x, &J_x_p, &J_x_q,
+                   styluses_[static_cast<std::size_t>(g)]);
     for (int j = 0; j < n_p; ++j) {
       J_p_.block(g * dimension_, j, dimension_, 1) = J_x_p.col(machine.calibrated[j]);
     }

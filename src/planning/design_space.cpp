@@ -281,14 +281,24 @@ std::optional<Placement> DesignSpace::placeWithNewPostures(const Eigen::VectorXd
   placement.artifact = design().artifact;
   placement.pose = poseOf(v);
   const bool plane = artifact().kind == ArtifactKind::Plane;
+  // A plane's face is touched at points spread over it (plane_touches.hpp), on a machine with
+  // named tips (docs/urdf.md) by each tip in turn; a ball at its centre (featureReadings: one
+  // posture per tip).
+  const int tips =
+      plane ? std::max(1, static_cast<int>(reading_machine_.mechanism->stylusNames().size())) : 1;
   for (int i = 0; i < x.cols(); ++i) {
-    // A plane's face is touched at points spread over it (plane_touches.hpp), a ball at its centre.
-    const auto readings =
-        plane ? planeTouches(reading_machine_, artifact(),
-                             poseTransform(dimension(), *placement.pose), i, design().postures, rng)
-              : featureReadings(reading_machine_, i, x.col(i), design().postures, rng);
-    if (static_cast<int>(readings.size()) < design().postures) return std::nullopt;
-    placement.measurements.insert(placement.measurements.end(), readings.begin(), readings.end());
+    for (int t = 0; t < tips; ++t) {
+      const int count = design().postures / tips + (t < design().postures % tips ? 1 : 0);
+      if (count == 0) continue;
+      const int stylus = tips > 1 ? t : -1;
+      const auto readings =
+          plane ? planeTouches(reading_machine_, artifact(),
+                               poseTransform(dimension(), *placement.pose), i, count, rng, stylus)
+                : featureReadings(reading_machine_, i, x.col(i), count, rng);
+      if (static_cast<int>(readings.size()) < count) return std::nullopt;
+      placement.measurements.insert(placement.measurements.end(), readings.begin(),
+                                    readings.end());
+    }
   }
   return placement;
 }

@@ -300,9 +300,13 @@ double DesignCriterion::activate(const Eigen::MatrixXd& information_g) {
   if (count > 0) {
     active_.insert(active_.end(), above.begin(), above.begin() + static_cast<long>(count));
     std::vector<Eigen::VectorXd> configurations;
-    for (int g : active_)
+    std::vector<int> styluses;
+    for (int g : active_) {
       configurations.push_back(tip.configurations()[static_cast<std::size_t>(g)]);
-    active_tip_.emplace(plan_->machine, plan_->noise, std::move(configurations));
+      styluses.push_back(tip.styluses()[static_cast<std::size_t>(g)]);
+    }
+    active_tip_.emplace(plan_->machine, plan_->noise, std::move(configurations),
+                        std::move(styluses));
   }
   return std::sqrt(S2.maxCoeff());
 }

@@ -177,9 +177,13 @@ TEST(MachineToolCalibration, TableSpindleBallBarRecoversTypicalLocationErrors) {
       if (std::abs(coefficient) > 0.05)
         tied.push_back(machine.mechanism->parameters()[resolution.listed[position]].name);
     std::sort(tied.begin(), tied.end());
-    if (name == "L") EXPECT_EQ(tied, (std::vector<std::string>{"E_Z0A", "L"}));
-    if (name == "E_A0C") EXPECT_EQ(tied, (std::vector<std::string>{"E_A0A", "E_A0C"}));
-    if (name == "E_C0C") EXPECT_TRUE(tied.empty() || tied == std::vector<std::string>{"E_C0C"});
+    if (name == "L") {
+      EXPECT_EQ(tied, (std::vector<std::string>{"E_Z0A", "L"}));
+    } else if (name == "E_A0C") {
+      EXPECT_EQ(tied, (std::vector<std::string>{"E_A0A", "E_A0C"}));
+    } else {
+      EXPECT_TRUE(tied.empty() || tied == std::vector<std::string>{"E_C0C"});
+    }
   }
   ASSERT_EQ(machine.calibratedCount(), 11);
   const Eigen::VectorXd truth = typicalTruth(machine, 9);

@@ -264,6 +264,25 @@ TEST(SeveralTips, TipUncertaintyPerTipIsEachArmsOwnChainsWithItsRowsOfTheCovaria
   EXPECT_NE(ev.tips[0].tip.worst.total, ev.tips[1].tip.worst.total);
 }
 
+// The optimizer's criterion (PlanEvaluator, what `optimize` plans by) on a machine with several
+// tips: the worst over every tip, which are each arm's own (the test above), its worst
+// configuration one of the workspace's; the workspace evaluated once per tip.
+TEST(SeveralTips, TheOptimizersWorstIsTheWorstOverEveryTip) {
+  const Plan plan = tipPlan(twoArms("identifiable"), {.placements_per_tip = 4, .truth = {}});
+  const Evaluation ev = evaluatePlan(plan);
+  ASSERT_TRUE(ev.identifiable());
+  ASSERT_EQ(ev.tips.size(), 2u);
+  PlanEvaluator evaluator(plan, ev.workspace);
+  EXPECT_EQ(evaluator.workspaceSize(), static_cast<int>(ev.workspace.size()));
+  EXPECT_EQ(evaluator.workspace().size(), 2 * static_cast<int>(ev.workspace.size()));
+  const auto summary = evaluator.tip(plan.placements);
+  ASSERT_TRUE(summary.has_value());
+  const double worst = std::max(ev.tips[0].tip.worst.total, ev.tips[1].tip.worst.total);
+  EXPECT_NEAR(summary->worst.total, worst, 1e-9 * worst);
+  ASSERT_GE(summary->worst_index, 0);
+  EXPECT_LT(summary->worst_index, static_cast<int>(ev.workspace.size()));
+}
+
 // ---- two arms calibrated together ------------------------------------------------------------
 
 // A truth off nominal (the calibrated parameters moved by +-2 u, signs from a fixed seed),

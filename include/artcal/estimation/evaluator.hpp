@@ -50,7 +50,11 @@ class PlanEvaluator {
   PlanEvaluator(const Plan& plan, std::vector<Eigen::VectorXd> workspace);
 
   const Plan& plan() const { return *plan_; }
+  /// The workspace's tip evaluator; on a machine with named tips, each configuration once per tip
+  /// (tip t's copies the t-th block of workspaceSize()).
   const TipEvaluator& workspace() const { return tip_; }
+  /// The number of workspace configurations (per tip).
+  int workspaceSize() const { return workspace_size_; }
 
   /// The information of p for `placements` at the nominal parameters. `poses` gives each r_j;
   /// when null every r_j is fitted to the probed points.
@@ -62,6 +66,7 @@ class PlanEvaluator {
 
  private:
   const Plan* plan_;
+  int workspace_size_ = 0;
   TipEvaluator tip_;
   DesignMatrixBuilder builder_;
   NormalMatrixReducer reducer_;

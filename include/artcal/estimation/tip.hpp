@@ -38,6 +38,12 @@ class TipEvaluator {
   /// The tip uncertainty of stylus `stylus` (a chain's tip, Mechanism::forwardStylus).
   TipEvaluator(const Machine& machine, const Noise& noise,
                std::vector<Eigen::VectorXd> configurations, int stylus = 0);
+  /// Several tips at once (a machine with named tips, docs/urdf.md): configuration g of stylus
+  /// styluses[g] (the optimizer's worst over every tip).
+  TipEvaluator(const Machine& machine, const Noise& noise,
+               std::vector<Eigen::VectorXd> configurations, std::vector<int> styluses);
+  /// The stylus of each configuration.
+  const std::vector<int>& styluses() const { return styluses_; }
 
   int size() const { return static_cast<int>(configurations_.size()); }
   const std::vector<Eigen::VectorXd>& configurations() const { return configurations_; }
@@ -61,6 +67,7 @@ class TipEvaluator {
   void factoredVariance(const Eigen::MatrixXd& V_p, Eigen::VectorXd& S_m2) const;
   int dimension_;
   std::vector<Eigen::VectorXd> configurations_;
+  std::vector<int> styluses_;
   Eigen::MatrixXd J_p_;
   /// Per configuration (column): the entries of vech(J_p^T J_p) (off-diagonal doubled) that vary
   /// over the workspace; `gram_rows_` says which, `gram_constant_` holds the others (0 where
