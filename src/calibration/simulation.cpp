@@ -164,7 +164,8 @@ void simulateStation(const Plan& plan, const Eigen::VectorXd& p_true, const Rigi
   Eigen::Matrix3d R;
   for (Measurement& m : placement.measurements) {
     if (instrument.measures_pose)
-      forwardPoseOrThrow(*plan.machine.mechanism, p_true, m.joints, x, R);
+      forwardPoseOrThrow(*plan.machine.mechanism, p_true, m.joints, x, R, nullptr, nullptr, nullptr,
+                         nullptr, m.stylus);
     else
       forwardOrThrow(*plan.machine.mechanism, p_true, m.joints, x, nullptr, nullptr, m.stylus);
     m.point = station.apply(x);

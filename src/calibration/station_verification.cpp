@@ -32,7 +32,7 @@ ReadingLinearization linearize(const Plan& plan, const Artifact& instrument, con
   Eigen::Matrix3d R;
   Eigen::MatrixXd J_x_p, J_x_q, J_w_p, J_w_q;
   if (instrument.measures_pose)
-    forwardPoseOrThrow(mechanism, p, m.joints, x, R, &J_x_p, &J_x_q, &J_w_p, &J_w_q);
+    forwardPoseOrThrow(mechanism, p, m.joints, x, R, &J_x_p, &J_x_q, &J_w_p, &J_w_q, m.stylus);
   else
     forwardOrThrow(mechanism, p, m.joints, x, &J_x_p, &J_x_q, m.stylus);
   ReadingLinearization out;

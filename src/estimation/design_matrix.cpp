@@ -100,7 +100,7 @@ void DesignMatrixBuilder::build(const Artifact& artifact,
     }
     if (artifact.measures_pose) {
       forwardPoseOrThrow(*machine.mechanism, p, m.joints, x_, R_tip_, &J_x_p_, &J_x_q_, &J_w_p_,
-                         &J_w_q_);
+                         &J_w_q_, m.stylus);
       orientationRows(artifact, m, r, row + k, with_residuals, block);
     } else {
       forwardOrThrow(*machine.mechanism, p, m.joints, x_, &J_x_p_, &J_x_q_, m.stylus);
@@ -283,7 +283,8 @@ void DesignMatrixBuilder::misfits(const Artifact& artifact,
       continue;
     }
     if (pose_rows)
-      forwardPoseOrThrow(*machine_->mechanism, p, m.joints, x, R, nullptr, &J_x_q, nullptr, &J_w_q);
+      forwardPoseOrThrow(*machine_->mechanism, p, m.joints, x, R, nullptr, &J_x_q, nullptr, &J_w_q,
+                         m.stylus);
     else
       forwardOrThrow(*machine_->mechanism, p, m.joints, x, nullptr, &J_x_q, m.stylus);
     const Eigen::MatrixXd J_valued_q = r.R.topRows(k) * J_x_q;

@@ -112,20 +112,6 @@ Eigen::VectorXd nominalTip(const Machine& machine, const Eigen::VectorXd& q, int
   return x;
 }
 
-/// The tip an instrument's reading entry measures (its "tip", a machine with several tips,
-/// docs/urdf.md; the first without one). A pose instrument reads the first tip's orientation
-/// only: another tip is refused at the entry.
-int readTip(const Node& entry, const Mechanism& mech, const Artifact& instrument) {
-  const int stylus = readStylus(entry, mech);
-  if (stylus != 0 && instrument.measures_pose) {
-    entry.at(entry.has("tip") ? "tip" : "stylus")
-        .fail(
-            "a pose instrument measures the machine's first tip only: the readings of "
-            "another tip need a point instrument");
-  }
-  return stylus;
-}
-
 /// The CSV's rows, a wrong column count told in an instrument's terms (joints, then what the
 /// instrument measures), at the file and line.
 std::vector<Eigen::VectorXd> readStationCsv(const std::string& file,
@@ -169,7 +155,7 @@ void appendCsvReadings(const Node& entry, const std::string& plan_source, const 
   entry.warnUnknown({"csv", "unit", "point_unit", "orientation_unit", "orientation", "columns",
                      "stationing", "tip", "stylus"},
                     warnings);
-  const int stylus = readTip(entry, *machine.mechanism, instrument);
+  const int stylus = readStylus(entry, *machine.mechanism);
   const OrientationForm form = orientationForm(entry, instrument);
   const Node csv = entry.at("csv");
   const std::filesystem::path relative(csv.string());
@@ -295,7 +281,7 @@ void parseStationReadings(const Node& measurements, const std::string& plan_sour
     if (m.has("feature")) m.at("feature").fail("an instrument's reading has no feature");
     Measurement measurement;
     measurement.entry = static_cast<int>(i);
-    measurement.stylus = readTip(m, *machine.mechanism, instrument);
+    measurement.stylus = readStylus(m, *machine.mechanism);
     measurement.joints = joints_from_node(m.at("joints"));
     if (const auto stationing = m.find("stationing")) {
       if (!stationing->value().is_boolean()) stationing->fail("expected true or false");

@@ -137,7 +137,8 @@ double orientationResidualDeg(const Plan& plan, const Eigen::VectorXd& p,
   Eigen::VectorXd x;
   Eigen::Matrix3d R;
   for (const Measurement& m : placement.measurements) {
-    if (plan.machine.mechanism->forwardPose(p, m.joints, x, R) != ForwardStatus::Ok) return 0.0;
+    if (plan.machine.mechanism->forwardStylusPose(m.stylus, p, m.joints, x, R) != ForwardStatus::Ok)
+      return 0.0;
     sum += orientationResidual(Eigen::Matrix3d(station.R * R), m.orientation).squaredNorm();
   }
   return radToDeg(std::sqrt(sum / static_cast<double>(placement.measurements.size())));

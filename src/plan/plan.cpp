@@ -37,7 +37,8 @@ void setNominalReading(const Machine& machine, const Artifact& instrument, Measu
     return;
   }
   Eigen::Matrix3d R;
-  forwardPoseOrThrow(*machine.mechanism, machine.nominal, m.joints, x, R);
+  forwardPoseOrThrow(*machine.mechanism, machine.nominal, m.joints, x, R, nullptr, nullptr, nullptr,
+                     nullptr, m.stylus);
   m.point = x;
   m.orientation = rotationVector(R);
 }

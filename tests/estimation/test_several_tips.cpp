@@ -8,6 +8,7 @@
 
 #include <Eigen/Dense>
 #include <map>
+#include <random>
 #include <set>
 #include <string>
 
@@ -281,6 +282,68 @@ TEST(SeveralTips, TheOptimizersWorstIsTheWorstOverEveryTip) {
   EXPECT_NEAR(summary->worst.total, worst, 1e-9 * worst);
   ASSERT_GE(summary->worst_index, 0);
   EXPECT_LT(summary->worst_index, static_cast<int>(ev.workspace.size()));
+}
+
+// A pose instrument (a 6-DOF tracker) reads any tip (it read the first only): two stations, one
+// reading each hand's frame, on the two-tip machine carry the information of the two arms' own
+// single-tip chains, each with its station, embedded by name (independent of the two-tip code).
+TEST(SeveralTips, APoseInstrumentReadsEachTipsFrame) {
+  const nlohmann::json tracker = {{"type", "instrument"},
+                                  {"measures", "pose"},
+                                  {"noise", 0.05},
+                                  {"noise_angle", 0.01}};
+  // Configurations by joint name (deg): every joint of the two-tip machine.
+  const nlohmann::json two = twoArms("identifiable");
+  const Plan bare_two = parsePlan({{"format", "artcal-plan/1"},
+                                   {"name", "two"},
+                                   {"machine", two},
+                                   {"noise", {{"probe", 0.01}, {"encoder", 0.002}}},
+                                   {"artifacts", {{"tracker", tracker}}},
+                                   {"placements", nlohmann::json::array()}},
+                                  "two", false);
+  const auto& chain = static_cast<const Chain&>(*bare_two.machine.mechanism);
+  std::mt19937_64 rng(12);
+  std::uniform_real_distribution<double> within(0.1, 0.9);
+  std::vector<std::map<std::string, double>> postures(8);
+  for (auto& posture : postures) {
+    for (std::size_t i = 0; i < chain.readings().size(); ++i) {
+      const auto [lo, hi] = bare_two.machine.joint_limits[i];
+      posture[chain.readings()[i].name] = radToDeg(lo + within(rng) * (hi - lo));
+    }
+  }
+  auto planOf = [&](const nlohmann::json& machine, const std::vector<std::string>& tips) {
+    nlohmann::json document = {{"format", "artcal-plan/1"},
+                               {"name", "pose"},
+                               {"machine", machine},
+                               {"noise", {{"probe", 0.01}, {"encoder", 0.002}}},
+                               {"artifacts", {{"tracker", tracker}}},
+                               {"placements", nlohmann::json::array()}};
+    const Plan bare = parsePlan(document, "pose", false);
+    const auto& c = static_cast<const Chain&>(*bare.machine.mechanism);
+    for (const std::string& tip : tips) {
+      nlohmann::json measurements = nlohmann::json::array();
+      for (const auto& posture : postures) {
+        nlohmann::json joints = nlohmann::json::array();
+        for (const ChainReading& r : c.readings()) joints.push_back(posture.at(r.name));
+        nlohmann::json entry = {{"joints", joints}};
+        if (tips.size() > 1) entry["tip"] = tip;
+        measurements.push_back(entry);
+      }
+      document["placements"].push_back({{"artifact", "tracker"}, {"measurements", measurements}});
+    }
+    return parsePlan(document, "pose", true, false);
+  };
+  const Plan both = planOf(two, {kLeft, kRight});
+  Plan all = both;
+  calibrateAll(all);
+  const Eigen::MatrixXd N = placementsInformation(all, all.placements, all.machine.nominal);
+  const Eigen::MatrixXd expected =
+      embeddedInformation(planOf(oneArm(kLeft, "identifiable"), {kLeft}),
+                          *both.machine.mechanism) +
+      embeddedInformation(planOf(oneArm(kRight, "identifiable"), {kRight}),
+                          *both.machine.mechanism);
+  EXPECT_LT((N - expected).cwiseAbs().maxCoeff(), 1e-9 * expected.cwiseAbs().maxCoeff());
+  EXPECT_GT(expected.cwiseAbs().maxCoeff(), 0.0);
 }
 
 // ---- two arms calibrated together ------------------------------------------------------------
