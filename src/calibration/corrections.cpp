@@ -73,7 +73,11 @@ std::string describeCorrection(const Machine& machine, const ImplausibleCorrecti
   return info.name + " is corrected by " + fileValue(info.quantity, correction.correction) +
          ", beyond " + fileValue(info.quantity, correction.limit) + " (" + why +
          "): a model mismatch or a bad reading is more likely than such a machine; check the "
-         "residuals, or fix the parameter";
+         "residuals, or fix the parameter" +
+         (correction.from_prior ? std::string()
+                                : ", or, with readings too few for the parameters, state the "
+                                  "machine's tolerances as built (machine.prior; import-readings "
+                                  "--prior)");
 }
 
 }  // namespace artcal
