@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <iostream>
+#include <utility>
 
 #include "artcal/calibration/calibrate_readings.hpp"
 #include "artcal/calibration/calibrator.hpp"
@@ -103,6 +104,7 @@ void addSimulateCommand(CLI::App& app, Action& action) {
 
 struct CalibrateArguments {
   std::string plan, write_machine;
+  std::string repeats = "count";
   bool json = false;
   CalibrationOptions options;
   std::string model_choice = "held-out";
@@ -113,9 +115,13 @@ int runCalibrate(CalibrateArguments args) {
   checkOptions(args.options.isValid(&error), "calibrate", error);
   args.options.model_choice = *fromName(kModelChoiceModeNames, args.model_choice);
   if (!args.write_machine.empty()) checkOutputPath(args.write_machine);
-  const Plan given = loadPlanReporting(args.plan);
+  Plan given = loadPlanReporting(args.plan);
+  // Copies of a reading counted once: the figures as if each were read once.
+  const std::vector<std::string> once =
+      args.repeats == "once" ? countRepeatsOnce(given) : std::vector<std::string>{};
+  for (const std::string& line : once) std::cerr << "note: " << line << "\n";
   // The plan as calibrated: its kept set and the noise used (given itself is not changed).
-  const CalibrationRun run = calibrateReadings(given, args.options);
+  const CalibrationRun run = calibrateReadings(std::as_const(given), args.options);
   const Plan& plan = run.decided;
   const Calibration& calibration = run.calibration;
   if (calibration.dof < 0) {
@@ -163,6 +169,11 @@ void addCalibrateCommand(CLI::App& app, Action& action) {
                   "write the machine block with the estimated parameters (the next plan's "
                   "machine) to this file, when converged ('-': stdout, the tables then on "
                   "stderr)");
+  cmd->add_option("--repeats", args->repeats,
+                  "readings repeated bit for bit: count (each copy a measurement, with a warning) "
+                  "or once (the copies removed, the figures as if each were read once)")
+      ->check(CLI::IsMember({"count", "once"}))
+      ->capture_default_str();
   cmd->add_option("--model-choice", args->model_choice,
                   "how \"calibrate\": \"identifiable\" settles the kept set: held-out (the rank "
                   "rule's set, or a smaller one of its order when the readings left out in turn "

@@ -7,6 +7,7 @@
 #include <map>
 #include <numbers>
 #include <optional>
+#include <set>
 #include <string>
 #include <utility>
 
@@ -263,26 +264,30 @@ void nearestTurn(const Plan& plan, Calibration& calibration) {
   }
 }
 
-/// Readings repeated bit for bit (docs/hardening.md, repeated readings): copies of one reading
-/// are not independent measurements, yet each counts as one, and u shrinks as sqrt(copies). One
-/// warning per placement naming the first repeat and what it repeats.
-void addRepeatWarnings(const Plan& plan, std::vector<std::string>& warnings) {
+/// A reading's identity bit for bit: its feature, tip, joints and measured point or pose.
+std::string readingBits(const Measurement& m) {
   const auto bytes = [](std::string& key, const Eigen::VectorXd& v) {
     key.append(reinterpret_cast<const char*>(v.data()),
                static_cast<std::size_t>(v.size()) * sizeof(double));
     key += '|';
   };
+  std::string key = std::to_string(m.feature) + "/" + std::to_string(m.stylus) + "|";
+  bytes(key, m.joints);
+  bytes(key, m.point);
+  bytes(key, m.orientation);
+  return key;
+}
+
+/// Readings repeated bit for bit (docs/hardening.md, repeated readings): copies of one reading
+/// are not independent measurements, yet each counts as one, and u shrinks as sqrt(copies). One
+/// warning per placement naming the first repeat and what it repeats.
+void addRepeatWarnings(const Plan& plan, std::vector<std::string>& warnings) {
   for (std::size_t j = 0; j < plan.placements.size(); ++j) {
     const std::vector<Measurement>& readings = plan.placements[j].measurements;
     std::map<std::string, std::size_t> first;  // the reading's bytes -> its first index
     std::size_t repeats = 0, example = 0, original = 0;
     for (std::size_t i = 0; i < readings.size(); ++i) {
-      const Measurement& m = readings[i];
-      std::string key = std::to_string(m.feature) + "/" + std::to_string(m.stylus) + "|";
-      bytes(key, m.joints);
-      bytes(key, m.point);
-      bytes(key, m.orientation);
-      const auto [at, fresh] = first.emplace(std::move(key), i);
+      const auto [at, fresh] = first.emplace(readingBits(readings[i]), i);
       if (fresh) continue;
       if (repeats++ == 0) {
         example = i;
@@ -304,7 +309,8 @@ void addRepeatWarnings(const Plan& plan, std::vector<std::string>& warnings) {
                        "u up to " +
                        factor +
                        "x too small if they are copies; remove the copies (repeated "
-                       "measurements of a real probe rarely agree to the last bit)");
+                       "measurements of a real probe rarely agree to the last bit) or count "
+                       "them once (calibrate --repeats once)");
   }
 }
 
@@ -463,6 +469,21 @@ Calibration calibrateReadings(Plan& plan, const CalibrationOptions& options) {
   CalibrationRun run = calibrateReadings(std::as_const(plan), options);
   plan = std::move(run.decided);
   return std::move(run.calibration);
+}
+
+std::vector<std::string> countRepeatsOnce(Plan& plan) {
+  std::vector<std::string> out;
+  for (std::size_t j = 0; j < plan.placements.size(); ++j) {
+    std::vector<Measurement>& readings = plan.placements[j].measurements;
+    std::set<std::string> seen;
+    const std::size_t before = readings.size();
+    std::erase_if(readings, [&](const Measurement& m) { return !seen.insert(readingBits(m)).second; });
+    if (readings.size() == before) continue;
+    out.push_back("placement " + placementLabel(plan.placements, j) + ": " +
+                  std::to_string(before - readings.size()) + " of " + std::to_string(before) +
+                  " readings repeat another bit for bit: counted once (--repeats once)");
+  }
+  return out;
 }
 
 }  // namespace artcal

@@ -298,6 +298,45 @@ TEST(HostileRepeats, RepeatedReadingsAreNamedInAWarning) {
   EXPECT_TRUE(named) << out["warnings"].dump();
 }
 
+// --repeats once: copies counted once. A simulated plan with every reading written 3 times
+// calibrates, with the option, to the plan written once: the same estimates and u; without it,
+// each u about sqrt(3) smaller (the copies counted as measurements), and the warning says so.
+TEST(HostileRepeats, RepeatsOnceCalibratesAsTheReadingsWrittenOnce) {
+  Scratch scratch;
+  const std::string truth = scratch.write("truth.json", R"({"parameters": {"E_X0C": 0.03}})");
+  const std::string once = scratch.file("once.json");
+  ASSERT_EQ(runCli("simulate " + quoted(planFile("machine-tool-trunnion-2spheres.json")) +
+                   " --truth " + quoted(truth) + " --seed 3 -o " + quoted(once))
+                .status,
+            0);
+  json plan = json::parse(std::ifstream(once));
+  for (json& placement : plan["placements"]) {
+    json thrice = json::array();
+    for (const json& m : placement["measurements"])
+      for (int copy = 0; copy < 3; ++copy) thrice.push_back(m);
+    placement["measurements"] = thrice;
+  }
+  const std::string repeated = scratch.write("repeated.json", plan.dump());
+  const json a = json::parse(runCli("calibrate --json " + quoted(once)).out);
+  const json b = json::parse(runCli("calibrate --json --repeats once " + quoted(repeated)).out);
+  const json c = json::parse(runCli("calibrate --json " + quoted(repeated)).out);
+  ASSERT_EQ(a["parameters"].size(), b["parameters"].size());
+  ASSERT_EQ(a["parameters"].size(), c["parameters"].size());
+  for (std::size_t k = 0; k < a["parameters"].size(); ++k) {
+    const double u = a["parameters"][k]["u"].get<double>();
+    EXPECT_NEAR(b["parameters"][k]["estimate"].get<double>(),
+                a["parameters"][k]["estimate"].get<double>(), 1e-9 * u);
+    EXPECT_NEAR(b["parameters"][k]["u"].get<double>(), u, 1e-9 * u);
+    EXPECT_NEAR(c["parameters"][k]["u"].get<double>(), u / std::sqrt(3.0), 1e-6 * u);
+  }
+  EXPECT_EQ(b["dof"], a["dof"]);
+  bool warned = false;
+  for (const json& warning : c["warnings"])
+    warned |= warning.get<std::string>().find("calibrate --repeats once") != std::string::npos;
+  EXPECT_TRUE(warned) << c["warnings"].dump();
+  EXPECT_EQ(runCli("calibrate --repeats twice " + quoted(repeated)).status, 2);
+}
+
 // --------------------------------------------------------------------------------- work caps
 
 TEST(HostileWork, TooManyLengthTestLinesAreRefusedNamingTheFile) {

@@ -56,6 +56,11 @@ CalibrationRun calibrateReadings(const Plan& plan, const CalibrationOptions& opt
 /// The same, for callers that keep one plan: `plan` becomes the run's `decided` plan.
 Calibration calibrateReadings(Plan& plan, const CalibrationOptions& options = {});
 
+/// Readings repeated bit for bit counted once (`calibrate --repeats once`, docs/hardening.md): in
+/// each placement every copy of an earlier reading (the same feature, tip, joints and measured
+/// point or pose) is removed. Returns one line per placement that had copies, naming how many.
+std::vector<std::string> countRepeatsOnce(Plan& plan);
+
 /// The probe noise s_p (mm) that makes chi2 = dof at the calibration's estimate, the encoder
 /// noise as stated; 0 when the encoders alone explain more than the scatter (see NoiseEstimate).
 /// A pose instrument's orientation rows join with their share of s_p^2 when the plan estimates
