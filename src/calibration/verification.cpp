@@ -2,6 +2,7 @@
 
 #include <Eigen/Geometry>
 #include <Eigen/QR>
+#include <numbers>
 #include <cmath>
 #include <map>
 
@@ -165,17 +166,23 @@ FlushSums sumsOf(const FlushFigures& f) {
           n * f.pitch_rms * f.pitch_rms};
 }
 
-// A flush touch's tilts (rad): the tool axis u (machine frame) against the inward normal -n of
-// the face, about the face's in-plane axes nearest the machine's x (roll: u leaning along the
-// face's y) and y (pitch: u leaning along its x).
-void addFlushTouch(double height, const Eigen::Vector3d& u, const Eigen::Vector3d& n,
+// The tool frame of a flush contact in the tip frame: the tip frame turned the least way so that
+// its z is minus the tool axis (the tool axis points into the face; z points out of it, along
+// the outward normal when flush). A tool axis of +z: the half turn about x.
+Eigen::Matrix3d toolFrame(const Eigen::Vector3d& tool_axis) {
+  const Eigen::Vector3d z = -tool_axis.normalized();
+  if (z.z() < -1.0 + 1e-12) return Eigen::AngleAxisd(std::numbers::pi, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  return Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), z).toRotationMatrix();
+}
+
+// A flush touch's tilts (rad), as roll and pitch of R_face^T R_tool (x-y-z fixed axes): the
+// face's outward normal n seen in the tool frame R_tool (machine frame), roll = atan2(n_y, n_z),
+// pitch = atan2(-n_x, |(n_y, n_z)|): the tool's tilt about its own x and y axes.
+void addFlushTouch(double height, const Eigen::Matrix3d& R_tool, const Eigen::Vector3d& n,
                    FlushSums& sums) {
-  Eigen::Vector3d face_x = Eigen::Vector3d::UnitX() - n.x() * n;
-  if (face_x.norm() < 0.1) face_x = Eigen::Vector3d::UnitY() - n.y() * n;  // a face normal to x
-  face_x.normalize();
-  const Eigen::Vector3d face_y = n.cross(face_x);
-  const double down = -u.dot(n);
-  const double roll = std::atan2(u.dot(face_y), down), pitch = std::atan2(u.dot(face_x), down);
+  const Eigen::Vector3d in_tool = R_tool.transpose() * n;
+  const double roll = std::atan2(in_tool.y(), in_tool.z());
+  const double pitch = std::atan2(-in_tool.x(), std::hypot(in_tool.y(), in_tool.z()));
   ++sums.touches;
   sums.height2 += height * height;
   sums.roll2 += roll * roll;
@@ -192,6 +199,7 @@ Eigen::VectorXd touchDistances(const Plan& plan, const Placement& placement,
   Eigen::VectorXd out(count);
   PlaneRows rows;
   PlaneRowsScratch scratch;
+  const Eigen::Matrix3d tool = toolFrame(artifact.plane.tool_axis);
   for (int i = 0; i < count; ++i) {
     const Measurement& m = placement.measurements[static_cast<std::size_t>(i)];
     planeRows(artifact, plan.machine, p, m, r, Eigen::VectorXd(), false, rows, scratch);
@@ -199,7 +207,7 @@ Eigen::VectorXd touchDistances(const Plan& plan, const Placement& placement,
     if (!artifact.plane.flush) continue;
     const PlaneFace& face = artifact.plane.faces[static_cast<std::size_t>(m.feature)];
     const Eigen::Vector3d normal = face.sign * r.R.row(face.axis).transpose();  // machine frame
-    addFlushTouch(rows.residual[0], scratch.R_tip * artifact.plane.tool_axis, normal, flush);
+    addFlushTouch(rows.residual[0], scratch.R_tip * tool, normal, flush);
   }
   return out;
 }

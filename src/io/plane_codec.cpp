@@ -62,6 +62,8 @@ Artifact parsePlaneArtifact(const std::string& id, const Node& node, const Machi
       if (const auto l = node.find("length")) l->fail("a single plane has no \"length\"");
       if (const auto u = node.find("u_length")) u->fail("\"u_length\" is a gauge block's only");
       break;
+    case PlaneShape::TableBall:  // a ball bar's form, not a plane's "shape" (plane_geometry.hpp)
+      break;
   }
   // Where touches are planned on each face: a gauge block's faces are small.
   geometry.extent = geometry.shape == PlaneShape::GaugeBlock   ? 3.0

@@ -84,8 +84,8 @@ std::string label(const Plan& plan, int index, int width) {
 std::string flushTable(const Plan& plan, const Verification& verification,
                        const std::string& heading, int width) {
   std::ostringstream out;
-  out << "\nflush touches: RMS of the height (mm) and of the tilts (deg) about the face's axes "
-         "nearest the machine's x (roll) and y (pitch)\n"
+  out << "\nflush touches: RMS of the height (mm) and of the tool's tilts against the face (deg) "
+         "about its own x (roll) and y (pitch)\n"
       << heading << " touches   height   roll  pitch   in the calibration's frame: height   "
                     "roll  pitch\n";
   auto row = [](const FlushFigures& f) {

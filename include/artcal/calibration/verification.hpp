@@ -89,8 +89,9 @@ struct CalibrationFrame {
 };
 
 /// A plane's flush touches (docs/planes.md, "verify"): RMS over them of the height (the tool
-/// face's distance from the plane) and of the tool axis's tilts against the plane's normal about
-/// the face's two in-plane axes nearest the machine's x (roll) and y (pitch).
+/// face's distance from the plane) and of the tool's tilts against the plane about its own x
+/// (roll) and y (pitch): roll and pitch of R_face^T R_tool, the tool frame the tip frame turned
+/// the least way so that its z is minus the tool axis.
 struct FlushFigures {
   int touches = 0;
   double height_rms = 0.0;  ///< mm
