@@ -579,12 +579,12 @@ MonteCarloOptions monteCarlo(long trials, std::uint64_t seed, int threads) {
 /// `artcal import-readings DIR ...`: the plan document and its source name, with the warnings
 /// of the import and of reading the plan (the command's checks, tools/cmd_import_readings.cpp).
 std::shared_ptr<PyPlan> importReadingsPlan(ReadingsImport import, const py::object& probe) {
-  noteInput(import.folder);
+  noteInput(import.inputs.empty() ? import.folder : import.inputs.front());
   if (import.machine_file.empty() && import.urdf.empty())
     throw std::invalid_argument("import-readings: needs --machine or --urdf");
   if (!import.machine_file.empty() && !import.urdf.empty())
     throw std::invalid_argument("import-readings: --machine excludes --urdf");
-  if (!import.urdf.empty() && (import.base.empty() || import.tip.empty()))
+  if (!import.urdf.empty() && (import.base.empty() || (import.tip.empty() && import.tips.empty())))
     throw std::invalid_argument("import-readings: --urdf needs --base and --tip");
   if (!import.ball_bar && import.artifact_file.empty() && !import.instrument)
     throw std::invalid_argument("import-readings: needs --ball-bar, --artifact or --instrument");
@@ -802,9 +802,21 @@ PYBIND11_MODULE(_native, m) {
          std::optional<double> instrument, const std::string& point_unit,
          std::optional<double> instrument_angle, const std::string& orientation_unit,
          const std::vector<std::string>& marker, const std::string& orientation,
-         const std::map<std::string, double>& hold) {
+         const std::map<std::string, double>& hold, const std::vector<std::string>& files,
+         const std::vector<std::string>& tips, const std::map<std::string, std::string>& tip_of,
+         std::optional<std::pair<double, double>> prior) {
         artcal::ReadingsImport import;
         import.folder = folder;
+        import.inputs = files;
+        if (tips.size() > 1) import.tips = tips;
+        for (const auto& [placement, name] : tip_of) import.tip_of.emplace_back(placement, name);
+        if (prior) {
+          if (!(prior->first > 0.0 && prior->second > 0.0 && std::isfinite(prior->first) &&
+                std::isfinite(prior->second)))
+            throw std::invalid_argument("import-readings: prior: expected (mm, deg), each > 0");
+          import.prior_length = prior->first;
+          import.prior_angle = prior->second;
+        }
         import.machine_file = machine;
         import.urdf = urdf;
         import.base = base;
@@ -830,7 +842,8 @@ PYBIND11_MODULE(_native, m) {
       py::arg("ball_bar"), py::arg("u_length"), py::arg("artifact"), py::arg("probe"),
       py::arg("encoder"), py::arg("unit"), py::arg("keep_calibrate"), py::arg("keep_limits"),
       py::arg("output"), py::arg("instrument"), py::arg("point_unit"), py::arg("instrument_angle"),
-      py::arg("orientation_unit"), py::arg("marker"), py::arg("orientation"), py::arg("hold"));
+      py::arg("orientation_unit"), py::arg("marker"), py::arg("orientation"), py::arg("hold"),
+      py::arg("files"), py::arg("tips"), py::arg("tip_of"), py::arg("prior"));
   m.def("export_urdf", &exportCalibratedUrdf, py::arg("machine"), py::arg("urdf"),
         py::arg("output"));
   py::class_<PyEvaluator>(m, "_Evaluator")

@@ -12,7 +12,7 @@ from __future__ import annotations
 import copy
 import os
 import warnings
-from typing import Any, Callable, Mapping, Optional, Sequence, Union
+from typing import Any, Callable, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
@@ -501,8 +501,9 @@ def optimize_sweep(spec: Union[PathLike, Mapping[str, Any], Plan], placements: s
     return Result(summary, plans=plans)
 
 
-def import_readings(folder: PathLike, *, urdf: Optional[PathLike] = None,
-                    base: Optional[str] = None, tip: Optional[str] = None,
+def import_readings(folder: Union[PathLike, Sequence[PathLike]], *,
+                    urdf: Optional[PathLike] = None, base: Optional[str] = None,
+                    tip: Union[str, Sequence[str], None] = None,
                     machine: Optional[PathLike] = None, ball_bar: Optional[float] = None,
                     u_length: float = 0.0, artifact: Optional[PathLike] = None,
                     probe: Union[float, str, None] = None, encoder: float = 0.0,
@@ -514,7 +515,9 @@ def import_readings(folder: PathLike, *, urdf: Optional[PathLike] = None,
                     orientation_unit: Optional[str] = None,
                     marker: Union[str, Sequence[str], None] = None,
                     orientation: Optional[str] = None,
-                    hold: Optional[Mapping[str, float]] = None) -> Plan:
+                    hold: Optional[Mapping[str, float]] = None,
+                    tip_of: Optional[Mapping[str, str]] = None,
+                    prior: Optional[Tuple[float, float]] = None) -> Plan:
     """``artcal import-readings FOLDER (--urdf U --base B --tip T | --machine M) (--ball-bar L |
     --artifact A | --instrument NOISE) [-o OUTPUT]``: the plan of a folder of CSV readings (one
     sub-folder per placement, one file per feature; with ``instrument``, one CSV file per
@@ -525,7 +528,10 @@ def import_readings(folder: PathLike, *, urdf: Optional[PathLike] = None,
     names the columns (docs/plan-format.md): ``marker`` the marker whose <marker>_x, _y, _z are
     the tip's point (a list of several: one reading of each per row, each marker a tip whose
     offset is calibrated), ``orientation`` "rotation_vector", "rpy" (fixed-axis x-y-z) or "quaternion"
-    (w first), ``hold`` {joint: value} for joints no file reads (deg, or mm). With ``output`` the plan is also written there (CSV paths relative to
+    (w first), ``hold`` {joint: value} for joints no file reads (deg, or mm). ``folder`` may be a
+    list of CSV files, one placement each (a plane's touches, docs/planes.md); ``tip`` a list of
+    tips (one machine, several tips) with ``tip_of`` {placement: tip}; ``prior`` (mm, deg) the
+    machine's tolerances as built. With ``output`` the plan is also written there (CSV paths relative to
     its folder; without it, to the current folder). The import's warnings (joint limits widened
     to the readings) are in ``plan.warnings``."""
     def text(value: Any) -> str:
@@ -533,13 +539,18 @@ def import_readings(folder: PathLike, *, urdf: Optional[PathLike] = None,
 
     if probe is None:
         probe = "estimate" if instrument is not None else 0.1
-    native = _native.import_readings(text(folder), text(machine), text(urdf), base or "",
-                                     tip or "", ball_bar, u_length, text(artifact), probe,
+    files = [] if isinstance(folder, (str, os.PathLike)) else [text(f) for f in folder]
+    tips = [] if tip is None or isinstance(tip, str) else list(tip)
+    single_tip = tip if isinstance(tip, str) else (tips[0] if len(tips) == 1 else "")
+    native = _native.import_readings("" if files else text(folder), text(machine), text(urdf),
+                                     base or "", single_tip, ball_bar, u_length, text(artifact),
+                                     probe,
                                      encoder, unit or "", keep_calibrate, keep_limits,
                                      text(output), instrument, point_unit or "",
                                      instrument_angle, orientation_unit or "",
                                      [marker] if isinstance(marker, str) else list(marker or []),
-                                     orientation or "", dict(hold or {}))
+                                     orientation or "", dict(hold or {}), files, tips,
+                                     dict(tip_of or {}), prior)
     plan = Plan.__new__(Plan)
     plan._require_placements = True
     plan._set_native(native)

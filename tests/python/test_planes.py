@@ -48,3 +48,44 @@ def test_two_tip_plane_evaluation_equals_cli_per_tip():
     assert shared and all(n.startswith(("leg_left", "torso", "left_sole")) for n in shared)
     assert all("right" not in n for n in left - shared)
     assert all("left" not in n for n in right - shared)
+
+
+def test_import_of_csv_files_with_two_tips_and_a_prior_equals_cli(tmp_path):
+    # Two sessions of flush touches of the humanoid, one file per hand, each on its own table
+    # (named columns in rad, a header written 4 fields left of its values), imported and
+    # calibrated as the command line does.
+    plan = json.loads(open("plans/planes/humanoid-flush.json").read())
+    joints = [j["name"] for j in plan["machine"]["joints"] if j["type"] != "fixed"]
+    readings = tmp_path / "sim.json"
+    run_cli("simulate", "plans/planes/humanoid-flush.json", "--truth",
+            "plans/planes/humanoid-table.truth.json", "--seed", "1", "-o", str(readings),
+            expect=(0,))
+    simulated = json.loads(readings.read_text())
+    files = []
+    for hand, table in (("left", "table high"), ("right", "table low")):
+        rows = ["joint_names," + ",".join(joints) + ",,,,"]
+        for placement in simulated["placements"]:
+            if placement["name"] != table:
+                continue
+            for m in placement["measurements"]:
+                if m["tip"] == f"gripper_{hand}_base_link":
+                    rows.append("gripper,talos,handle,contact,joint_states," +
+                                ",".join(repr(np.radians(v)) for v in m["joints"]))
+        path = tmp_path / f"{hand}.csv"
+        path.write_text("\n".join(rows) + "\n")
+        files.append(str(path))
+    artifact = tmp_path / "table.json"
+    artifact.write_text(json.dumps({"table": simulated["artifacts"]["table"]}))
+    tips = ["gripper_left_base_link", "gripper_right_base_link"]
+    output = tmp_path / "py.json"
+    imported = artcal.import_readings(
+        files, urdf="tests/data/urdf/humanoid-small.urdf", base="left_sole_link", tip=tips,
+        tip_of={"left": tips[0], "right": tips[1]}, artifact=artifact, unit="rad",
+        prior=(5.0, 0.5), output=output)
+    cli_output = tmp_path / "cli.json"
+    run_cli("import-readings", *files, "--urdf", "tests/data/urdf/humanoid-small.urdf", "--base",
+            "left_sole_link", "--tip", tips[0], "--tip", tips[1], "--tip-of", f"left={tips[0]}",
+            "--tip-of", f"right={tips[1]}", "--artifact", str(artifact), "--unit", "rad",
+            "--prior", "5,0.5", "-o", str(cli_output), expect=(0,))
+    assert json.loads(output.read_text()) == json.loads(cli_output.read_text())
+    assert imported.calibrate() == cli_json("calibrate", str(cli_output), "--json")
