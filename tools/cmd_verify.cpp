@@ -23,6 +23,26 @@ struct VerifyArguments {
   bool json = false;
 };
 
+/// A plane placement the calibration's frames do not score, where the machine file holds a frame
+/// of the same artifact: a table touched on two days under two names (docs/planes.md) is scored
+/// in the calibration's frame only when asked; say how.
+void hintFrameOf(const Plan& plan, const std::vector<CalibratedFrame>& calibrated,
+                 const std::vector<std::optional<CalibrationFrame>>& frames) {
+  for (std::size_t j = 0; j < plan.placements.size() && j < frames.size(); ++j) {
+    const Artifact& artifact =
+        plan.artifacts[static_cast<std::size_t>(plan.placements[j].artifact)];
+    if (frames[j] || artifact.kind != ArtifactKind::Plane) continue;
+    for (const CalibratedFrame& frame : calibrated) {
+      if (frame.artifact != artifact.id) continue;
+      std::cerr << "note: placement " << placementLabel(plan.placements, j)
+                << " is refitted only; if its plane stayed where the calibration's "
+                << frame.placement << " was, also score it in that frame: --frame-of "
+                << placementLabel(plan.placements, j) << "=" << frame.placement << "\n";
+      break;
+    }
+  }
+}
+
 int runVerify(const VerifyArguments& args) {
   // The readings are checked against the machine verified or the nominal one
   // (io/plausibility.hpp): held-out readings 12 mm off the nominal machine may fit the calibrated
@@ -41,10 +61,11 @@ int runVerify(const VerifyArguments& args) {
     checkPlausibilityOfVerified(plan, p, "the machine of " + args.machine);
     // The calibration's frames: a placement of the same name (or every placement of --frame-of's
     // artifact) is also scored in the frame the calibration estimated, not refitted.
-    const auto frames = framesForPlacements(
-        plan, parseMachineFrames(document, args.machine, plan.machine.dimension()), args.frame_of,
-        args.machine);
+    const std::vector<CalibratedFrame> calibrated =
+        parseMachineFrames(document, args.machine, plan.machine.dimension());
+    const auto frames = framesForPlacements(plan, calibrated, args.frame_of, args.machine);
     for (const auto& frame : frames) options.calibration_frames.push_back(frame);
+    hintFrameOf(plan, calibrated, frames);
   }
   // An instrument's stations (instruments.md): held-out readings against a fitted station.
   const StationsVerification stations =

@@ -391,6 +391,14 @@ TEST_F(PlaneCli, VerifyGivesFlushTouchesHeightAndTiltsInEitherFrame) {
                 10.0);
     }
   }
+  // A session under another name is refitted only: the note says how to score it in the frame.
+  nlohmann::json renamed = readJson(path("sim.json"));
+  renamed["placements"][0]["name"] = "table_day2";
+  write("renamed.json", renamed.dump());
+  const auto hinted = runCli("verify " + path("renamed.json") + " --machine " + path("cal.json"),
+                             test_support::Stderr::Only);
+  EXPECT_EQ(hinted.status, 0);
+  EXPECT_NE(hinted.out.find("--frame-of table_day2=table"), std::string::npos) << hinted.out;
   const auto unknown = runCli("verify " + path("sim.json") + " --machine " + path("cal.json") +
                                   " --frame-of nowhere=table",
                               test_support::Stderr::Only);
