@@ -1,5 +1,6 @@
 #include "artcal/io/instrument_codec.hpp"
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>

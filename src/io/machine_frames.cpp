@@ -130,7 +130,9 @@ std::vector<std::optional<CalibrationFrame>> framesForPlacements(
   }
   auto out = framesForPlacements(plan, frames, names.empty() ? std::string() : names.front(),
                                  source);
-  for (const auto& [held, calibrated] : pairs) {
+  for (const auto& pair : pairs) {
+    const std::string& held = pair.first;
+    const std::string& calibrated = pair.second;
     const auto frame = std::find_if(frames.begin(), frames.end(), [&](const CalibratedFrame& f) {
       return f.placement == calibrated;
     });

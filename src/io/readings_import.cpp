@@ -1251,10 +1251,10 @@ ImportedPlan importReadings(const ReadingsImport& import) {
   const std::vector<std::string> tips = machineTipNames(machine);
   const std::vector<PlacementSource> sources =
       instrument ? std::vector<PlacementSource>{} : placementSources(import);
-  for (const auto& [placement, tip] : import.tip_of) {
+  for (const auto& given : import.tip_of) {
     if (std::none_of(sources.begin(), sources.end(),
-                     [&](const PlacementSource& s) { return s.name == placement; }))
-      throw InputError("--tip-of", placement + "=" + tip, "no placement of that name");
+                     [&](const PlacementSource& s) { return s.name == given.first; }))
+      throw InputError("--tip-of", given.first + "=" + given.second, "no placement of that name");
   }
   for (const PlacementSource& source : sources) {
     const std::optional<std::string> tip = placementTip(import, tips, source.name);
