@@ -189,8 +189,19 @@ void addFlushTouch(double height, const Eigen::Matrix3d& R_tool, const Eigen::Ve
   sums.pitch2 += pitch * pitch;
 }
 
-// The touches of a plane placement scored at placement r (fitted, or the calibration's): each
-// touch's |distance| from its face, mm, and a flush contact's height and tilts.
+// A flush touch's rows at placement r (planeRows, its scratch holding the tip frame) added to
+// `sums`; nothing for a point contact. `tool`: toolFrame of the artifact's tool axis.
+void addFlushRows(const Artifact& artifact, const Measurement& m, const RigidTransform& r,
+                  const PlaneRows& rows, const PlaneRowsScratch& scratch,
+                  const Eigen::Matrix3d& tool, FlushSums& sums) {
+  if (!artifact.plane.flush) return;
+  const PlaneFace& face = artifact.plane.faces[static_cast<std::size_t>(m.feature)];
+  const Eigen::Vector3d normal = face.sign * r.R.row(face.axis).transpose();  // machine frame
+  addFlushTouch(rows.residual[0], scratch.R_tip * tool, normal, sums);
+}
+
+// The touches of a plane placement scored at placement r (the calibration's): each touch's
+// |distance| from its face, mm, and a flush contact's height and tilts.
 Eigen::VectorXd touchDistances(const Plan& plan, const Placement& placement,
                                const Eigen::VectorXd& p, const RigidTransform& r,
                                FlushSums& flush) {
@@ -204,10 +215,7 @@ Eigen::VectorXd touchDistances(const Plan& plan, const Placement& placement,
     const Measurement& m = placement.measurements[static_cast<std::size_t>(i)];
     planeRows(artifact, plan.machine, p, m, r, Eigen::VectorXd(), false, rows, scratch);
     out[i] = std::abs(rows.residual[0]);
-    if (!artifact.plane.flush) continue;
-    const PlaneFace& face = artifact.plane.faces[static_cast<std::size_t>(m.feature)];
-    const Eigen::Vector3d normal = face.sign * r.R.row(face.axis).transpose();  // machine frame
-    addFlushTouch(rows.residual[0], scratch.R_tip * tool, normal, flush);
+    addFlushRows(artifact, m, r, rows, scratch, tool, flush);
   }
   return out;
 }
@@ -235,9 +243,12 @@ PlacementVerification verifyTouches(const Plan& plan, int index, const Eigen::Ve
   PlaneRowsScratch scratch;
   const double own = readingPointVariance(plan.noise.probe, artifact.noise);
   Eigen::MatrixXd points(plan.machine.dimension(), count);
+  const Eigen::Matrix3d tool = toolFrame(artifact.plane.tool_axis);
+  FlushSums fitted;
   for (int i = 0; i < count; ++i) {
-    planeRows(artifact, machine, p, placement.measurements[static_cast<std::size_t>(i)], out.pose,
-              Eigen::VectorXd(), true, rows, scratch);
+    const Measurement& m = placement.measurements[static_cast<std::size_t>(i)];
+    planeRows(artifact, machine, p, m, out.pose, Eigen::VectorXd(), true, rows, scratch);
+    addFlushRows(artifact, m, out.pose, rows, scratch, tool, fitted);
     points.col(i) = scratch.x;
     out.residuals[i] = std::abs(rows.residual[0]);
     if (J_p.cols() > 0) J_p.row(i) = rows.J_p.row(0);  // none calibrated: the nominal machine
@@ -271,8 +282,6 @@ PlacementVerification verifyTouches(const Plan& plan, int index, const Eigen::Ve
   }
   out.residual_rms = count > 0 ? std::sqrt(out.residuals.squaredNorm() / count) : 0.0;
   out.residual_max = count > 0 ? out.residuals.maxCoeff() : 0.0;
-  FlushSums fitted;
-  touchDistances(plan, placement, p, out.pose, fitted);
   out.flush = fitted.figures();
   const auto j = static_cast<std::size_t>(index);
   if (j < options.calibration_frames.size() && options.calibration_frames[j]) {
