@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <random>
+#include <stdexcept>
 
 #include "artcal/core/linear_algebra.hpp"
 #include "artcal/core/random.hpp"
@@ -161,14 +162,22 @@ std::vector<Eigen::VectorXd> workspaceConfigurations(const Machine& machine,
 
 TipEvaluator::TipEvaluator(const Machine& machine, const Noise& noise,
                            std::vector<Eigen::VectorXd> configurations, int stylus)
-    : TipEvaluator(machine, noise, configurations,
-                   std::vector<int>(configurations.size(), stylus)) {}
+    : TipEvaluator(machine, noise, std::move(configurations), std::vector<int>{}, stylus) {}
 
 TipEvaluator::TipEvaluator(const Machine& machine, const Noise& noise,
                            std::vector<Eigen::VectorXd> configurations, std::vector<int> styluses)
+    : TipEvaluator(machine, noise, std::move(configurations), std::move(styluses), 0) {}
+
+TipEvaluator::TipEvaluator(const Machine& machine, const Noise& noise,
+                           std::vector<Eigen::VectorXd> configurations, std::vector<int> styluses,
+                           int stylus)
     : dimension_(machine.dimension()),
       configurations_(std::move(configurations)),
       styluses_(std::move(styluses)) {
+  // One stylus for all: filled here, after the configurations moved in (not copied for a count).
+  if (styluses_.empty()) styluses_.assign(configurations_.size(), stylus);
+  if (styluses_.size() != configurations_.size())
+    throw std::logic_error("TipEvaluator: one stylus per configuration");
   const int n_p = machine.calibratedCount();
   const int count = size();
   J_p_.resize(dimension_ * count, n_p);

@@ -61,6 +61,9 @@ class TipEvaluator {
   TipPoint at(int configuration, const Eigen::MatrixXd& V_p) const;
 
  private:
+  /// `styluses` empty: every configuration's is `stylus`.
+  TipEvaluator(const Machine& machine, const Noise& noise,
+               std::vector<Eigen::VectorXd> configurations, std::vector<int> styluses, int stylus);
   void prepareGram(int n_p);
   void preparePanels(int n_p);
   bool prepareFactored(int n_p, long cost_to_beat);
