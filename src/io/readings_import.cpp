@@ -348,6 +348,7 @@ std::vector<FeatureFile> featureFiles(const fs::path& folder, const std::string&
 struct MachineReadings {
   std::vector<std::string> names;
   std::vector<JointKind> kinds;
+  std::vector<std::string> tips;  ///< a machine with several named tips: their names
 };
 
 std::string trimmedField(std::string field) {
@@ -1055,8 +1056,8 @@ bool filesGiven(const ReadingsImport& import) {
 std::vector<PlacementSource> placementSources(const ReadingsImport& import) {
   std::vector<PlacementSource> out;
   if (!filesGiven(import)) {
-    const fs::path dir = fs::path(import.folder.empty() ? import.inputs.front() : import.folder);
-    for (const fs::path& folder : placementFolders(dir.lexically_normal(), import.unit)) {
+    const fs::path dir = fs::path(importInputs(import).front()).lexically_normal();
+    for (const fs::path& folder : placementFolders(dir, import.unit)) {
       PlacementSource source{folderName(folder), featureFiles(folder, import.unit), {}};
       if (const fs::path pose = folder / "pose.json"; fs::exists(pose)) source.pose = pose;
       out.push_back(std::move(source));
@@ -1079,16 +1080,6 @@ std::vector<PlacementSource> placementSources(const ReadingsImport& import) {
     out.push_back({name, {FeatureFile{0, path, import.unit}}, {}});
   }
   return out;
-}
-
-/// The tip names of a machine block with several tips ("tips"); empty for one tip.
-std::vector<std::string> machineTipNames(const json& machine) {
-  std::vector<std::string> out;
-  if (const auto tips = machine.find("tips"); tips != machine.end() && tips->is_array())
-    for (const json& tip : *tips)
-      if (tip.is_object() && tip.contains("name") && tip["name"].is_string())
-        out.push_back(tip["name"].get<std::string>());
-  return out.size() > 1 ? out : std::vector<std::string>{};
 }
 
 /// Which tip touched in placement `name` of a machine with several `tips` (--tip-of); std::nullopt
@@ -1196,6 +1187,7 @@ MachineReadings machineReadings(const json& machine, const json& artifacts,
   const Mechanism& mech = *plan.machine.mechanism;
   MachineReadings out;
   out.names = mech.readingNames();
+  if (mech.stylusNames().size() > 1) out.tips = mech.stylusNames();
   for (int i = 0; i < mech.jointCount(); ++i) out.kinds.push_back(mech.jointKind(i));
   for (const auto& [name, value] : import.holds) {
     if (std::find(out.names.begin(), out.names.end(), name) == out.names.end()) {
@@ -1248,7 +1240,7 @@ ImportedPlan importReadings(const ReadingsImport& import) {
     const bool pose = measures != artifact.end() && *measures == "pose";
     placements = stationPlacements(dir, import, plan_folder, artifact_id, readings, pose, ignored);
   }
-  const std::vector<std::string> tips = machineTipNames(machine);
+  const std::vector<std::string>& tips = readings.tips;
   const std::vector<PlacementSource> sources =
       instrument ? std::vector<PlacementSource>{} : placementSources(import);
   for (const auto& given : import.tip_of) {
