@@ -810,10 +810,7 @@ PYBIND11_MODULE(_native, m) {
         import.inputs = files;
         if (tips.size() > 1) import.tips = tips;
         for (const auto& [placement, name] : tip_of) import.tip_of.emplace_back(placement, name);
-        if (prior) {
-          if (!(prior->first > 0.0 && prior->second > 0.0 && std::isfinite(prior->first) &&
-                std::isfinite(prior->second)))
-            throw std::invalid_argument("import-readings: prior: expected (mm, deg), each > 0");
+        if (prior) {  // checked with the command line's (importReadings)
           import.prior_length = prior->first;
           import.prior_angle = prior->second;
         }

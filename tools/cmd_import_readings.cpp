@@ -180,8 +180,7 @@ void addImportReadingsCommand(CLI::App& app, Action& action) {
           used_length = 0;
         }
         if (comma == std::string::npos || used_length != comma ||
-            used_angle != args->prior.size() - comma - 1 || !(length > 0.0) || !(angle > 0.0) ||
-            !std::isfinite(length) || !std::isfinite(angle))
+            used_angle != args->prior.size() - comma - 1 || !(length > 0.0) || !(angle > 0.0))
           throw InputError("--prior", args->prior, "expected LENGTH,ANGLE (mm, deg; > 0), e.g. 5,0.5");
         import.prior_length = length;
         import.prior_angle = angle;

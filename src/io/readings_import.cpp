@@ -1205,6 +1205,11 @@ MachineReadings machineReadings(const json& machine, const json& artifacts,
 }  // namespace
 
 ImportedPlan importReadings(const ReadingsImport& import) {
+  const bool prior = import.prior_length != 0.0 || import.prior_angle != 0.0;
+  if (prior && !(import.prior_length > 0.0 && import.prior_angle > 0.0 &&
+                 std::isfinite(import.prior_length) && std::isfinite(import.prior_angle))) {
+    throw InputError("--prior", "", "expected LENGTH,ANGLE (mm, deg), each > 0, e.g. 5,0.5");
+  }
   if (!import.unit.empty() && !readingUnitsFromName(import.unit)) {
     throw InputError(
         import.unit, "",
