@@ -262,7 +262,7 @@ py::array_t<double> toArray(const Eigen::VectorXd& v) {
 py::dict tipPerConfiguration(const Plan& plan, const Evaluation& evaluation) {
   py::dict out;
   if (!evaluation.covariance || evaluation.workspace.empty()) return out;
-  const TipEvaluator tip(plan.machine, plan.noise, evaluation.workspace);
+  const TipEvaluator tip(plan.machine, plan.noise, evaluation.workspace, 0, TipUse::Once);
   Eigen::VectorXd kinematic2;
   tip.kinematicVariance(evaluation.covariance->V, kinematic2);
   const Eigen::VectorXd& encoder2 = tip.encoderVariance();

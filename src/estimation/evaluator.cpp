@@ -85,22 +85,24 @@ Eigen::MatrixXd placementsInformation(const Plan& plan, const std::vector<Placem
 
 namespace {
 
-// The plan's workspace configurations; none usable (every task-space sample out of reach, or every
-// configuration's forward kinematics failing) is the plan's fault, answered at /workspace: a tip
-// uncertainty over nothing has no worst case (fuzz_spec found the crash it used to be).
-std::vector<Eigen::VectorXd> usableWorkspace(const Plan& plan, WorkspaceDrops* drops) {
-  WorkspaceDrops counted;
+// None of the plan's workspace configurations usable (every task-space sample out of reach, or
+// every configuration's forward kinematics failing) is the plan's fault, answered at /workspace: a
+// tip uncertainty over nothing has no worst case (fuzz_spec found the crash it used to be).
+void requireUsable(const Plan& plan, std::size_t usable, const WorkspaceDrops& drops) {
+  if (usable > 0) return;
+  throw InputError(plan.source, "/workspace",
+                   "no workspace configuration is usable (" + std::to_string(drops.unreachable) +
+                       " samples out of reach, " + std::to_string(drops.failed) +
+                       " whose forward kinematics fails at nominal): check workspace.region "
+                       "and the machine's dimensions and joint_limits");
+}
+
+// The plan's usable workspace configurations (workspaceConfigurations, requireUsable).
+std::vector<Eigen::VectorXd> usableWorkspace(const Plan& plan) {
+  WorkspaceDrops drops;
   std::vector<Eigen::VectorXd> workspace =
-      workspaceConfigurations(plan.machine, plan.workspace, &counted);
-  if (drops) *drops = counted;
-  if (workspace.empty()) {
-    throw InputError(plan.source, "/workspace",
-                     "no workspace configuration is usable (" +
-                         std::to_string(counted.unreachable) + " samples out of reach, " +
-                         std::to_string(counted.failed) +
-                         " whose forward kinematics fails at nominal): check workspace.region "
-                         "and the machine's dimensions and joint_limits");
-  }
+      workspaceConfigurations(plan.machine, plan.workspace, &drops);
+  requireUsable(plan, workspace.size(), drops);
   return workspace;
 }
 
@@ -121,10 +123,9 @@ std::vector<Eigen::MatrixXd> featuresInMachineFrame(const Plan& plan,
   return out;
 }
 
-// S per workspace configuration for V_p (mm): the values TipEvaluator::summarize summarizes.
-std::vector<double> totalPerConfiguration(const TipEvaluator& tips, const Eigen::MatrixXd& V_p) {
-  Eigen::VectorXd S_m2;
-  tips.kinematicVariance(V_p, S_m2);
+// S per workspace configuration (mm) from S_m^2: the values TipEvaluator::summarizeVariance
+// summarizes.
+std::vector<double> totalPerConfiguration(const TipEvaluator& tips, const Eigen::VectorXd& S_m2) {
   std::vector<double> totals(static_cast<std::size_t>(tips.size()));
   for (int g = 0; g < tips.size(); ++g) {
     totals[static_cast<std::size_t>(g)] = std::sqrt(S_m2[g] + tips.encoderVariance()[g]);
@@ -134,8 +135,7 @@ std::vector<double> totalPerConfiguration(const TipEvaluator& tips, const Eigen:
 
 }  // namespace
 
-PlanEvaluator::PlanEvaluator(const Plan& plan)
-    : PlanEvaluator(plan, usableWorkspace(plan, nullptr)) {}
+PlanEvaluator::PlanEvaluator(const Plan& plan) : PlanEvaluator(plan, usableWorkspace(plan)) {}
 
 namespace {
 
@@ -195,16 +195,24 @@ Evaluation evaluatePlan(const Plan& plan, const EvaluateOptions& options) {
   if (evaluation.identifiability.deficiency > 0) return evaluation;
   evaluation.covariance = covarianceFromInformation(evaluation.information);
   if (!evaluation.covariance) return evaluation;
-  evaluation.workspace = usableWorkspace(plan, &evaluation.workspace_drops);
-  const TipEvaluator tip(plan.machine, plan.noise, evaluation.workspace);
-  evaluation.tip = tip.summarize(evaluation.covariance->V);
-  evaluation.workspace_total = totalPerConfiguration(tip, evaluation.covariance->V);
+  // One covariance, one evaluation: the direct product, nothing prepared (TipUse); the samples'
+  // forward kinematics checked as their Jacobians are made.
+  WorkspaceDrops& drops = evaluation.workspace_drops;
+  const TipEvaluator tip = TipEvaluator::ofSamples(
+      plan.machine, plan.noise, workspaceSamples(plan.machine, plan.workspace, &drops), drops,
+      TipUse::Once);
+  requireUsable(plan, static_cast<std::size_t>(tip.size()), drops);
+  evaluation.workspace = tip.configurations();
+  Eigen::VectorXd S_m2;
+  tip.kinematicVariance(evaluation.covariance->V, S_m2);
+  evaluation.tip = tip.summarizeVariance(S_m2);
+  evaluation.workspace_total = totalPerConfiguration(tip, S_m2);
   // Several named tips (docs/urdf.md): each tip at the same configurations, one V_p.
   const std::vector<std::string> tip_names = plan.machine.mechanism->stylusNames();
   if (tip_names.size() > 1) {
     for (std::size_t t = 0; t < tip_names.size(); ++t) {
-      const TipEvaluator of_tip(plan.machine, plan.noise, evaluation.workspace,
-                                static_cast<int>(t));
+      const TipEvaluator of_tip(plan.machine, plan.noise, evaluation.workspace, static_cast<int>(t),
+                                TipUse::Once);
       evaluation.tips.push_back(
           {tip_names[t], of_tip.summarize(evaluation.covariance->V), of_tip.movingParameters()});
     }

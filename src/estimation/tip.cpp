@@ -1,6 +1,7 @@
 #include "artcal/estimation/tip.hpp"
 
 #include <Eigen/Cholesky>
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <random>
@@ -148,6 +149,14 @@ std::vector<Eigen::VectorXd> sampledConfigurations(const Machine& machine,
 
 }  // namespace
 
+std::vector<Eigen::VectorXd> workspaceSamples(const Machine& machine, const WorkspaceSpec& spec,
+                                              WorkspaceDrops* drops) {
+  WorkspaceDrops counted;
+  auto out = sampledConfigurations(machine, spec, counted);
+  if (drops) *drops = counted;
+  return out;
+}
+
 std::vector<Eigen::VectorXd> workspaceConfigurations(const Machine& machine,
                                                      const WorkspaceSpec& spec,
                                                      WorkspaceDrops* drops) {
@@ -161,16 +170,27 @@ std::vector<Eigen::VectorXd> workspaceConfigurations(const Machine& machine,
 }
 
 TipEvaluator::TipEvaluator(const Machine& machine, const Noise& noise,
-                           std::vector<Eigen::VectorXd> configurations, int stylus)
-    : TipEvaluator(machine, noise, std::move(configurations), std::vector<int>{}, stylus) {}
-
-TipEvaluator::TipEvaluator(const Machine& machine, const Noise& noise,
-                           std::vector<Eigen::VectorXd> configurations, std::vector<int> styluses)
-    : TipEvaluator(machine, noise, std::move(configurations), std::move(styluses), 0) {}
+                           std::vector<Eigen::VectorXd> configurations, int stylus, TipUse use)
+    : TipEvaluator(machine, noise, std::move(configurations), std::vector<int>{}, stylus, use,
+                   nullptr) {}
 
 TipEvaluator::TipEvaluator(const Machine& machine, const Noise& noise,
                            std::vector<Eigen::VectorXd> configurations, std::vector<int> styluses,
-                           int stylus)
+                           TipUse use)
+    : TipEvaluator(machine, noise, std::move(configurations), std::move(styluses), 0, use,
+                   nullptr) {}
+
+TipEvaluator TipEvaluator::ofSamples(const Machine& machine, const Noise& noise,
+                                     std::vector<Eigen::VectorXd> samples, WorkspaceDrops& drops,
+                                     TipUse use) {
+  return {machine, noise, std::move(samples), {}, 0, use, &drops};
+}
+
+// `drops` given: configurations whose forward kinematics fails are left out and counted (the
+// survivors moved forward in place); otherwise a failure is an error (forwardOrThrow).
+TipEvaluator::TipEvaluator(const Machine& machine, const Noise& noise,
+                           std::vector<Eigen::VectorXd> configurations, std::vector<int> styluses,
+                           int stylus, TipUse use, WorkspaceDrops* drops)
     : dimension_(machine.dimension()),
       configurations_(std::move(configurations)),
       styluses_(std::move(styluses)) {
@@ -185,16 +205,41 @@ TipEvaluator::TipEvaluator(const Machine& machine, const Noise& noise,
   Eigen::VectorXd x;
   Eigen::MatrixXd J_x_p, J_x_q;
   const Eigen::VectorXd sigma_q2 = noise.encoder.array().square();
+  int kept = 0;
   for (int g = 0; g < count; ++g) {
-    forwardOrThrow(*machine.mechanism, machine.nominal,
-                   configurations_[static_cast<std::size_t>(g)], x, &J_x_p, &J_x_q,
-                   styluses_[static_cast<std::size_t>(g)]);
+    const auto at = static_cast<std::size_t>(g);
+    if (!drops) {
+      forwardOrThrow(*machine.mechanism, machine.nominal, configurations_[at], x, &J_x_p, &J_x_q,
+                     styluses_[at]);
+    } else if (machine.mechanism->forwardStylus(styluses_[at], machine.nominal, configurations_[at],
+                                                x, &J_x_p, &J_x_q) != ForwardStatus::Ok ||
+               !x.allFinite()) {
+      ++drops->failed;
+      continue;
+    }
+    if (kept != g) {
+      configurations_[static_cast<std::size_t>(kept)] = std::move(configurations_[at]);
+      styluses_[static_cast<std::size_t>(kept)] = styluses_[at];
+    }
     for (int j = 0; j < n_p; ++j) {
-      J_p_.block(g * dimension_, j, dimension_, 1) = J_x_p.col(machine.calibrated[j]);
+      J_p_.block(kept * dimension_, j, dimension_, 1) = J_x_p.col(machine.calibrated[j]);
     }
     // tr(J_q Sigma_q J_q^T) = sum_j s_q,j^2 |J_q column j|^2
-    S_q2_[g] = (J_x_q.colwise().squaredNorm().transpose().array() * sigma_q2.array()).sum();
+    S_q2_[kept] = (J_x_q.colwise().squaredNorm().transpose().array() * sigma_q2.array()).sum();
+    ++kept;
   }
+  if (kept < count) {
+    configurations_.resize(static_cast<std::size_t>(kept));
+    styluses_.resize(static_cast<std::size_t>(kept));
+    J_p_.conservativeResize(dimension_ * kept, Eigen::NoChange);
+    S_q2_.conservativeResize(kept);
+  }
+  if (use == TipUse::Repeated) prepareRepeated(n_p);
+}
+
+// The cheapest prepared form for this workspace (tip.hpp): Gram, factored or panels.
+void TipEvaluator::prepareRepeated(int n_p) {
+  const int count = size();
   if (n_p <= kGramMaxParameters) prepareGram(n_p);
   const long per_configuration = gram_constant_.size() > 0
                                      ? static_cast<long>(gram_rows_.size())
@@ -321,11 +366,12 @@ void TipEvaluator::prepareGram(int n_p) {
 
 namespace {
 
-// A square root L of a covariance (V = L L^T): Cholesky, or the symmetric root when V is only
-// semi-definite.
-Eigen::MatrixXd covarianceRoot(const Eigen::MatrixXd& V) {
+// A square root L of a covariance (V = L L^T): Cholesky, lower triangular (`lower` set), or
+// the symmetric root when V is only semi-definite.
+Eigen::MatrixXd covarianceRoot(const Eigen::MatrixXd& V, bool& lower) {
   const Eigen::LLT<Eigen::MatrixXd> llt(V);
-  if (llt.info() == Eigen::Success) return llt.matrixL();
+  lower = llt.info() == Eigen::Success;
+  if (lower) return llt.matrixL();
   const SymmetricEigenSolver eig(V);
   return eig.eigenvectors() * eig.eigenvalues().cwiseMax(0.0).cwiseSqrt().asDiagonal();
 }
@@ -352,10 +398,9 @@ void TipEvaluator::kinematicVariance(const Eigen::MatrixXd& V_p, Eigen::VectorXd
     S_m2.array() += gram_constant_.dot(packed_V_);
     return;
   }
-  const Eigen::LLT<Eigen::MatrixXd> llt(V_p);
+  bool lower = false;
+  const Eigen::MatrixXd L = covarianceRoot(V_p, lower);
   if (!panels_.empty()) {
-    const bool lower = llt.info() == Eigen::Success;
-    const Eigen::MatrixXd L = lower ? Eigen::MatrixXd(llt.matrixL()) : covarianceRoot(V_p);
     tipKernelRowSquares(panels_.data(), panel_count_, static_cast<int>(L.rows()), L.data(), lower,
                         row_squares_.data());
     S_m2.resize(size());
@@ -367,23 +412,33 @@ void TipEvaluator::kinematicVariance(const Eigen::MatrixXd& V_p, Eigen::VectorXd
     }
     return;
   }
-  if (llt.info() == Eigen::Success) {
-    scratch_.noalias() = J_p_ * llt.matrixL();
-  } else {
-    scratch_.noalias() = J_p_ * covarianceRoot(V_p);
-  }
-  S_m2.setZero(size());
-  for (int r = 0; r < dimension_; ++r) {
-    S_m2 += scratch_(Eigen::seqN(r, size(), dimension_), Eigen::all).rowwise().squaredNorm();
+  // J_p L a chunk of configurations at a time, each chunk's product made and consumed in cache
+  // (no workspace-sized scratch); row g * dimension + r is tip coordinate r at configuration g.
+  constexpr int kChunk = 512;
+  S_m2.resize(size());
+  for (int first = 0; first < size(); first += kChunk) {
+    const int count = std::min(kChunk, size() - first);
+    const auto J = J_p_.middleRows(first * dimension_, count * dimension_);
+    if (lower) {
+      scratch_.noalias() = J * L.triangularView<Eigen::Lower>();
+    } else {
+      scratch_.noalias() = J * L;
+    }
+    S_m2.segment(first, count) =
+        scratch_.rowwise().squaredNorm().reshaped(dimension_, count).colwise().sum().transpose();
   }
 }
 
 TipSummary TipEvaluator::summarize(const Eigen::MatrixXd& V_p) const {
   kinematicVariance(V_p, S_m2_);
+  return summarizeVariance(S_m2_);
+}
+
+TipSummary TipEvaluator::summarizeVariance(const Eigen::VectorXd& S_m2) const {
   TipSummary summary;
   double sum = 0.0, sum2 = 0.0, worst = -1.0;
   for (int g = 0; g < size(); ++g) {
-    const double total2 = S_m2_[g] + S_q2_[g];
+    const double total2 = S_m2[g] + S_q2_[g];
     sum += std::sqrt(total2);
     sum2 += total2;
     if (total2 > worst) {
@@ -393,7 +448,7 @@ TipSummary TipEvaluator::summarize(const Eigen::MatrixXd& V_p) const {
   }
   if (size() > 0) {
     const int w = summary.worst_index;
-    summary.worst = {std::sqrt(worst), std::sqrt(S_m2_[w]), std::sqrt(S_q2_[w])};
+    summary.worst = {std::sqrt(worst), std::sqrt(S_m2[w]), std::sqrt(S_q2_[w])};
     summary.mean = sum / size();
     summary.rms = std::sqrt(sum2 / size());
   }

@@ -17,39 +17,51 @@ constexpr int kL = MachineTool::kToolLength;
 constexpr int kPos0 = 0, kPos1 = 1, kTilt0 = 2, kTilt1 = 3, kZero = 4;
 
 const Eigen::Vector3d kX = Eigen::Vector3d::UnitX();
-const Eigen::Vector3d kY = Eigen::Vector3d::UnitY();
 const Eigen::Vector3d kZ = Eigen::Vector3d::UnitZ();
 
-// Rot(u, a), Rodrigues.
-Eigen::Matrix3d rotation(const Eigen::Vector3d& u, double a) {
-  return Eigen::AngleAxisd(a, u).toRotationMatrix();
-}
+// A unit vector turned by two small rotations about coordinate axes, written out (the axes'
+// directions below): cos and sin of each angle, no rotation matrices built.
+struct SinCos {
+  double s, c;
+  explicit SinCos(double angle) : s(std::sin(angle)), c(std::cos(angle)) {}
+};
 
 // One rotary axis: the point c on its line, its unit direction u, the angle theta (reading plus
-// zero), R = Rot(u, theta), and du for each of its two orientation errors.
+// zero) with its sine and cosine, R = Rot(u, theta), and du for each of its two orientation
+// errors.
 struct RotaryAxis {
   Eigen::Vector3d c;
   Eigen::Vector3d u;
-  double theta;
+  double theta = 0.0, sin_theta = 0.0, cos_theta = 1.0;
   Eigen::Matrix3d R;
   Eigen::Vector3d du[2];
 
+  // theta and R = cos I + sin [u]x + (1 - cos) u u^T (Rodrigues), u set.
+  void turn(double angle) {
+    theta = angle;
+    sin_theta = std::sin(angle);
+    cos_theta = std::cos(angle);
+    R = (1.0 - cos_theta) * u * u.transpose();
+    R.diagonal().array() += cos_theta;
+    R += sin_theta * skew(u);
+  }
+
   // w for a change of the orientation error k (header): sin(theta) du + (1 - cos theta) u x du.
   Eigen::Vector3d turnOfTilt(int k) const {
-    return std::sin(theta) * du[k] + (1.0 - std::cos(theta)) * u.cross(du[k]);
+    return sin_theta * du[k] + (1.0 - cos_theta) * u.cross(du[k]);
   }
 };
 
-// The C axis: through (E_X0C, E_Y0C, 0), direction Rx(E_A0C) Ry(E_B0C) z, zero E_C0C.
+// The C axis: through (E_X0C, E_Y0C, 0), direction Rx(E_A0C) Ry(E_B0C) z
+// = (sin b, -sin a cos b, cos a cos b), zero E_C0C.
 RotaryAxis axisC(const Eigen::VectorXd& p, double reading) {
   RotaryAxis axis;
   axis.c = Eigen::Vector3d(p[kX0C], p[kY0C], 0.0);
-  const Eigen::Matrix3d Rx = rotation(kX, p[kA0C]);
-  axis.u = Rx * rotation(kY, p[kB0C]) * kZ;
-  axis.du[0] = kX.cross(axis.u);         // d/dE_A0C
-  axis.du[1] = (Rx * kY).cross(axis.u);  // d/dE_B0C
-  axis.theta = reading + p[kC0C];
-  axis.R = rotation(axis.u, axis.theta);
+  const SinCos a(p[kA0C]), b(p[kB0C]);
+  axis.u = Eigen::Vector3d(b.s, -a.s * b.c, a.c * b.c);
+  axis.du[0] = kX.cross(axis.u);                              // d/dE_A0C
+  axis.du[1] = Eigen::Vector3d(0.0, a.c, a.s).cross(axis.u);  // Rx y, d/dE_B0C
+  axis.turn(reading + p[kC0C]);
   return axis;
 }
 
@@ -91,21 +103,19 @@ ForwardStatus MachineTool::forward(const Eigen::VectorXd& p, const Eigen::Vector
   const Eigen::Vector3d s(q[0] + tC0Y * q[1] + tB0Z * q[2], q[1] + tA0Z * q[2], q[2]);
   // The first rotary axis: A on the bed (trunnion) or B in the head.
   RotaryAxis first;
-  if (trunnion) {
+  const SinCos tilt0(p[kTilt0]), tilt1(p[kTilt1]);
+  if (trunnion) {  // Rz(E_C0A) Ry(E_B0A) x
     first.c = Eigen::Vector3d(0.0, p[kPos0], p[kPos1]);
-    const Eigen::Matrix3d Rz = rotation(kZ, p[kTilt1]);
-    first.u = Rz * rotation(kY, p[kTilt0]) * kX;
-    first.du[0] = (Rz * kY).cross(first.u);  // d/dE_B0A
-    first.du[1] = kZ.cross(first.u);         // d/dE_C0A
-  } else {
+    first.u = Eigen::Vector3d(tilt1.c * tilt0.c, tilt1.s * tilt0.c, -tilt0.s);
+    first.du[0] = Eigen::Vector3d(-tilt1.s, tilt1.c, 0.0).cross(first.u);  // Rz y, d/dE_B0A
+    first.du[1] = kZ.cross(first.u);                                       // d/dE_C0A
+  } else {                                                                 // Rz(E_C0B) Rx(E_A0B) y
     first.c = Eigen::Vector3d(p[kPos0], 0.0, p[kPos1]);
-    const Eigen::Matrix3d Rz = rotation(kZ, p[kTilt1]);
-    first.u = Rz * rotation(kX, p[kTilt0]) * kY;
-    first.du[0] = (Rz * kX).cross(first.u);  // d/dE_A0B
-    first.du[1] = kZ.cross(first.u);         // d/dE_C0B
+    first.u = Eigen::Vector3d(-tilt1.s * tilt0.c, tilt1.c * tilt0.c, tilt0.s);
+    first.du[0] = Eigen::Vector3d(tilt1.c, tilt1.s, 0.0).cross(first.u);  // Rz x, d/dE_A0B
+    first.du[1] = kZ.cross(first.u);                                      // d/dE_C0B
   }
-  first.theta = q[3] + p[kZero];
-  first.R = rotation(first.u, first.theta);
+  first.turn(q[3] + p[kZero]);
   const RotaryAxis C = axisC(p, q[4]);
 
   // Tip in M (t) and, for the trunnion, in the frame carried by A (y = T_A^-1 t).

@@ -411,6 +411,83 @@ TEST(TipEvaluator, FactoredFormOfACartesianCmmMatchesTheDirectTrace) {
       0);
 }
 
+// TipUse::Once (nothing prepared: J_p L by chunks) gives what the prepared forms give, on a
+// workspace of several chunks, for a positive definite V_p (Cholesky) and a semi-definite one
+// (the symmetric root): against each configuration's own trace.
+TEST(TipEvaluator, OneEvaluationWithoutPreparationMatchesTheDirectTrace) {
+  const Plan six = aacmmPlan();
+  WorkspaceSpec spec;
+  spec.samples = 1300;
+  const auto configurations = workspaceConfigurations(six.machine, spec);
+  const TipEvaluator once(six.machine, six.noise, configurations, 0, TipUse::Once);
+  const TipEvaluator prepared(six.machine, six.noise, configurations);
+  const int n = six.machine.calibratedCount();
+  const Eigen::MatrixXd A = Eigen::MatrixXd::Random(n, n);
+  const Eigen::MatrixXd full = 1e-6 * (A * A.transpose() + 0.1 * Eigen::MatrixXd::Identity(n, n));
+  Eigen::MatrixXd B = Eigen::MatrixXd::Random(n, n - 3);
+  const Eigen::MatrixXd semidefinite = 1e-6 * B * B.transpose();
+  for (const Eigen::MatrixXd* V : {&full, &semidefinite}) {
+    Eigen::VectorXd direct, with_preparation;
+    once.kinematicVariance(*V, direct);
+    prepared.kinematicVariance(*V, with_preparation);
+    ASSERT_EQ(direct.size(), once.size());
+    for (int g = 0; g < once.size(); ++g) {
+      const double expected = std::pow(once.at(g, *V).kinematic, 2);
+      EXPECT_NEAR(direct[g], expected, 1e-11 * expected) << g;
+      EXPECT_NEAR(with_preparation[g], expected, 1e-11 * expected) << g;
+    }
+  }
+}
+
+// A planar arm whose forward kinematics fails where the first joint exceeds 0.5 rad (a closed
+// chain that does not assemble there).
+class FailingAboveHalfRadian final : public Mechanism {
+ public:
+  std::string modelName() const override { return "failing-planar2r"; }
+  int dimension() const override { return 2; }
+  int jointCount() const override { return 2; }
+  JointKind jointKind(int joint) const override { return arm_.jointKind(joint); }
+  const std::vector<ParameterInfo>& parameters() const override { return arm_.parameters(); }
+  ForwardStatus forward(const Eigen::VectorXd& p, const Eigen::VectorXd& q, Eigen::VectorXd& x,
+                        Eigen::MatrixXd* J_x_p = nullptr,
+                        Eigen::MatrixXd* J_x_q = nullptr) const override {
+    if (q[0] > 0.5) return ForwardStatus::NotConverged;
+    return arm_.forward(p, q, x, J_x_p, J_x_q);
+  }
+
+ private:
+  Planar2R arm_;
+};
+
+// TipEvaluator::ofSamples leaves out the samples whose forward kinematics fails, as
+// workspaceConfigurations does, and counts them the same: the same configurations kept, in order,
+// with the same S_m^2.
+TEST(TipEvaluator, OfSamplesLeavesOutWhatWorkspaceConfigurationsLeavesOut) {
+  Plan plan = seedPlanar2RPlan();
+  plan.machine.mechanism = std::make_shared<FailingAboveHalfRadian>();
+  WorkspaceSpec spec;
+  spec.samples = 400;
+  WorkspaceDrops checked, sampled;
+  const auto kept = workspaceConfigurations(plan.machine, spec, &checked);
+  const TipEvaluator tip = TipEvaluator::ofSamples(
+      plan.machine, plan.noise, workspaceSamples(plan.machine, spec, &sampled), sampled);
+  ASSERT_GT(checked.failed, 50);
+  ASSERT_GT(kept.size(), 50u);
+  EXPECT_EQ(sampled.failed, checked.failed);
+  ASSERT_EQ(tip.size(), static_cast<int>(kept.size()));
+  for (int g = 0; g < tip.size(); ++g) {
+    EXPECT_EQ(tip.configurations()[static_cast<std::size_t>(g)], kept[static_cast<std::size_t>(g)]);
+  }
+  const TipEvaluator of_kept(plan.machine, plan.noise, kept);
+  const Eigen::MatrixXd V = 1e-6 * Eigen::MatrixXd::Identity(plan.machine.calibratedCount(),
+                                                             plan.machine.calibratedCount());
+  Eigen::VectorXd a, b;
+  tip.kinematicVariance(V, a);
+  of_kept.kinematicVariance(V, b);
+  EXPECT_LT((a - b).norm(), 1e-15 * b.norm());
+  EXPECT_EQ(tip.encoderVariance(), of_kept.encoderVariance());
+}
+
 TEST(TipEvaluator, KinematicVarianceMatchesTheDirectTrace) {
   const Plan six = aacmmPlan();  // 21 parameters: Gram form
   expectKinematicVarianceMatchesDirectTrace(six.machine, six.noise);

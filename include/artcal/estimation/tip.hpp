@@ -33,15 +33,34 @@ std::vector<Eigen::VectorXd> workspaceConfigurations(const Machine& machine,
                                                      const WorkspaceSpec& spec,
                                                      WorkspaceDrops* drops = nullptr);
 
+/// How often a TipEvaluator will be asked: the prepared forms above (Gram, factored, panels)
+/// cost about one evaluation to build, and pay off from the second (the optimizer's thousands);
+/// one evaluation (`evaluate`, the report) is the direct product J_p L.
+enum class TipUse { Once, Repeated };
+
+/// The workspace's samples before the forward-kinematics check of workspaceConfigurations
+/// (task-space samples are checked as they are drawn): for TipEvaluator::ofSamples, which makes
+/// that check with the Jacobians rather than apart.
+std::vector<Eigen::VectorXd> workspaceSamples(const Machine& machine, const WorkspaceSpec& spec,
+                                              WorkspaceDrops* drops = nullptr);
+
 class TipEvaluator {
  public:
   /// The tip uncertainty of stylus `stylus` (a chain's tip, Mechanism::forwardStylus).
   TipEvaluator(const Machine& machine, const Noise& noise,
-               std::vector<Eigen::VectorXd> configurations, int stylus = 0);
+               std::vector<Eigen::VectorXd> configurations, int stylus = 0,
+               TipUse use = TipUse::Repeated);
   /// Several tips at once (a machine with named tips, docs/urdf.md): configuration g of stylus
   /// styluses[g] (the optimizer's worst over every tip).
   TipEvaluator(const Machine& machine, const Noise& noise,
-               std::vector<Eigen::VectorXd> configurations, std::vector<int> styluses);
+               std::vector<Eigen::VectorXd> configurations, std::vector<int> styluses,
+               TipUse use = TipUse::Repeated);
+  /// Over workspace samples (workspaceSamples) at stylus 0: a sample whose forward kinematics
+  /// fails at nominal, or lands on no finite point, is left out and counted in `drops.failed`
+  /// (workspaceConfigurations' check, made once with the Jacobians).
+  static TipEvaluator ofSamples(const Machine& machine, const Noise& noise,
+                                std::vector<Eigen::VectorXd> samples, WorkspaceDrops& drops,
+                                TipUse use = TipUse::Repeated);
   /// The stylus of each configuration.
   const std::vector<int>& styluses() const { return styluses_; }
 
@@ -58,12 +77,16 @@ class TipEvaluator {
   /// S_m^2 per configuration for a parameter covariance V_p (N(p) x N(p)).
   void kinematicVariance(const Eigen::MatrixXd& V_p, Eigen::VectorXd& S_m2) const;
   TipSummary summarize(const Eigen::MatrixXd& V_p) const;
+  /// The summary of S_m^2 per configuration already computed (kinematicVariance).
+  TipSummary summarizeVariance(const Eigen::VectorXd& S_m2) const;
   TipPoint at(int configuration, const Eigen::MatrixXd& V_p) const;
 
  private:
   /// `styluses` empty: every configuration's is `stylus`.
   TipEvaluator(const Machine& machine, const Noise& noise,
-               std::vector<Eigen::VectorXd> configurations, std::vector<int> styluses, int stylus);
+               std::vector<Eigen::VectorXd> configurations, std::vector<int> styluses, int stylus,
+               TipUse use, WorkspaceDrops* drops);
+  void prepareRepeated(int n_p);
   void prepareGram(int n_p);
   void preparePanels(int n_p);
   bool prepareFactored(int n_p, long cost_to_beat);
