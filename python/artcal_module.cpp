@@ -528,13 +528,14 @@ AcceptanceInput acceptanceInput(const PyPlan& p, const py::object& machine, bool
 }
 
 json acceptanceLength(const PyPlan& p, const std::string& mpe, const MonteCarloOptions& mc,
-                      const py::object& machine, bool posterior) {
+                      const py::object& machine, bool posterior, double stylus_offset) {
   noteInput(p.source);
   LengthTestOptions options;
   std::string error;
   const auto parsed = parseMpe(mpe, &error);
   if (!parsed) throw InputError("--mpe", "", error);
   options.mpe = *parsed;
+  options.stylus_offset = stylus_offset;  // checked by the prediction (finite, >= 0)
   options.monte_carlo = mc;
   std::optional<AcceptanceInput> input;  // a machine's: read with the GIL (Python objects)
   if (!machine.is_none() || posterior) input = acceptanceInput(p, machine, posterior);
@@ -745,12 +746,12 @@ void definePlan(py::module_& m) {
       .def(
           "acceptance_length",
           [](const PyPlan& p, const std::string& mpe, long trials, std::uint64_t seed, int threads,
-             const py::object& machine, bool posterior) {
-            return toPython(
-                acceptanceLength(p, mpe, monteCarlo(trials, seed, threads), machine, posterior));
+             const py::object& machine, bool posterior, double stylus_offset) {
+            return toPython(acceptanceLength(p, mpe, monteCarlo(trials, seed, threads), machine,
+                                             posterior, stylus_offset));
           },
           py::arg("mpe"), py::arg("trials"), py::arg("seed"), py::arg("threads"),
-          py::arg("machine"), py::arg("posterior"))
+          py::arg("machine"), py::arg("posterior"), py::arg("stylus_offset"))
       .def(
           "acceptance_pose",
           [](const PyPlan& p, double cube, const std::array<double, 3>& center,

@@ -21,7 +21,7 @@ namespace {
 
 struct AcceptanceArguments {
   std::string file, plan, test, mpe, lines, center, svg;
-  double cube = 0.0;
+  double cube = 0.0, stylus_offset = 0.0;
   bool posterior = false;
   bool json = false;
   MonteCarloOptions monte_carlo;
@@ -123,6 +123,7 @@ int runLengthTest(const AcceptanceArguments& args, const LoadedInput& loaded) {
   LengthTestOptions options;
   options.mpe = parseMpeOption(args.mpe);
   if (!args.lines.empty()) options.lines = loadLines(args.lines);
+  options.stylus_offset = args.stylus_offset;
   options.monte_carlo = args.monte_carlo;
   if (!args.svg.empty()) checkOutputPath(args.svg);
   const LengthTestPrediction prediction = predictLengthTest(loaded.input, options);
@@ -142,6 +143,8 @@ int runPoseTest(const AcceptanceArguments& args, const LoadedInput& loaded) {
   if (args.center.empty()) throw InputError("--center", "", "the pose test needs --center X,Y,Z");
   if (!args.svg.empty())
     throw InputError("--svg", "", "the E-against-L figure belongs to the length test");
+  if (args.stylus_offset != 0.0)
+    throw InputError("--stylus-offset", "", "the stylus offset (E150) belongs to the length test");
   PoseTestOptions options;
   options.cube = args.cube;
   options.center = parseCenter(args.center);
@@ -214,6 +217,10 @@ void addAcceptanceCommand(CLI::App& app, Action& action) {
                   "iso10360-2: \"A + L/K\" (A in um, L in mm); iso9283: X in mm (optional)");
   cmd->add_option("--lines", args->lines,
                   "iso10360-2: JSON file with a list of unit directions replacing the 7 lines");
+  cmd->add_option("--stylus-offset", args->stylus_offset,
+                  "iso10360-2: E150, the test with a stylus tip offset across the ram (mm, "
+                  "e.g. 150): two positions instead of the 7 lines; --mpe is then E150's")
+      ->check(nonNegativeNumber());
   cmd->add_option("--cube", args->cube, "iso9283: the cube's edge, mm");
   cmd->add_option("--center", args->center, "iso9283: the cube's centre X,Y,Z, mm (base frame)");
   cmd->add_option("--trials", mc.trials, "Monte-Carlo trials (0: adaptive, GUM S1 7.9)")

@@ -385,13 +385,15 @@ class Plan:
     def acceptance_length(self, mpe: str, *, machine: Union[PathLike, Mapping[str, Any],
                                                            None] = None,
                           posterior: bool = False, trials: int = 0, seed: int = 20261201,
-                          threads: int = 0) -> Result:
+                          threads: int = 0, stylus_offset: float = 0.0) -> Result:
         """``artcal acceptance PLAN --test iso10360-2 --mpe MPE --json`` (ISO 10360-2) from the
         plan's predicted V_p; with ``machine`` (a machine file's path or the dict
         ``calibrate().machine``) ``artcal acceptance MACHINE --plan PLAN [--posterior]``: the
-        calibrated machine's covariance on this plan's noise and workspace."""
+        calibrated machine's covariance on this plan's noise and workspace. ``stylus_offset``
+        (mm, e.g. 150): ``--stylus-offset``, the E150 test."""
         return Result(self._plan.acceptance_length(mpe, trials, seed, threads,
-                                                   _machine_arg(machine), posterior))
+                                                   _machine_arg(machine), posterior,
+                                                   stylus_offset))
 
     def acceptance_pose(self, cube: float, center: tuple[float, float, float], *,
                         mpe: Optional[float] = None,

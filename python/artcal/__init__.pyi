@@ -158,9 +158,11 @@ class Plan:
         trials: int = 0,
         seed: int = 20261201,
         threads: int = 0,
+        stylus_offset: float = 0.0,
     ) -> Result:
         """artcal acceptance PLAN --test iso10360-2 --mpe MPE --json; with machine:
-        artcal acceptance MACHINE --plan PLAN [--posterior]."""
+        artcal acceptance MACHINE --plan PLAN [--posterior]; stylus_offset: --stylus-offset
+        (E150)."""
     def acceptance_pose(
         self,
         cube: float,

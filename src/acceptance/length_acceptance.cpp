@@ -279,21 +279,83 @@ double conditionalStatisticQuantile(const LengthTestPrediction& prediction,
   return hi;
 }
 
+namespace {
+
+// The machine probing with its stylus 0 moved by `offset` (E150): the same axes, error functions
+// and parameters (the styli are not parameters: models.md section 4), that one stylus.
+Machine withOffsetStylus(const Machine& machine, const Eigen::Vector3d& offset) {
+  const AxisErrorFunctions& cmm = *machine.mechanism->axisErrorFunctions();
+  Machine shifted = machine;
+  shifted.mechanism = cmm.withStyli({cmm.styli().front() + offset});
+  return shifted;
+}
+
+// E150's two positions (length_acceptance.hpp): position k offsets stylus 0 along the k-th
+// machine-frame axis across the ram and measures along the diagonal of the face spanned by the
+// other one and the ram, centred on the offset tip's box.
+void addOffsetPositions(const AcceptanceInput& input, const LengthTestOptions& options,
+                        LengthTestPrediction& prediction) {
+  if (!options.lines.empty())
+    throw InputError("--lines", "",
+                     "E150's two positions are fixed (the faces across the stylus offset): give "
+                     "either --lines or --stylus-offset");
+  const Eigen::Vector3d& ram_direction =
+      input.machine->mechanism->axisErrorFunctions()->axes().back().direction;
+  int ram = 0;
+  ram_direction.cwiseAbs().maxCoeff(&ram);
+  std::vector<int> across;
+  for (int i = 0; i < 3; ++i)
+    if (i != ram) across.push_back(i);
+  for (int k = 0; k < 2; ++k) {
+    const int along = across[static_cast<std::size_t>(k)];
+    const int other = across[static_cast<std::size_t>(1 - k)];
+    const Eigen::Vector3d offset = options.stylus_offset * Eigen::Vector3d::Unit(along);
+    const Machine shifted = withOffsetStylus(*input.machine, offset);
+    AcceptanceInput shifted_input = input;
+    shifted_input.machine = &shifted;
+    LengthTestPrediction offset_box;
+    tipBox(shifted_input, offset_box);
+    const Eigen::Vector3d half = 0.5 * (offset_box.box_hi - offset_box.box_lo);
+    Eigen::Vector3d direction = Eigen::Vector3d::Zero();
+    direction[other] = half[other];
+    direction[ram] = half[ram];
+    const std::string face = {"xyz"[std::min(other, ram)], "xyz"[std::max(other, ram)]};
+    const Line line{face + "-face", direction.normalized()};
+    for (double fraction : options.fractions) {
+      Gauge gauge = makeGauge(shifted_input, offset_box, line, fraction, options.mpe);
+      gauge.line = k;
+      gauge.stylus_offset = offset;
+      prediction.gauges.push_back(std::move(gauge));
+    }
+  }
+  prediction.lines = 2;
+}
+
+}  // namespace
+
 LengthTestPrediction predictLengthTestLinear(const AcceptanceInput& input,
                                              const LengthTestOptions& options) {
+  if (!(std::isfinite(options.stylus_offset) && options.stylus_offset >= 0.0))
+    throw InputError("--stylus-offset", "",
+                     "expected a finite number of mm, >= 0 (ISO 10360-2's E150: 150)");
   checkMachineAxes(input);
   LengthTestPrediction prediction;
   prediction.mpe = options.mpe;
   prediction.repetitions = options.repetitions;
+  prediction.stylus_offset = options.stylus_offset;
   tipBox(input, prediction);
-  const std::vector<Line> lines =
-      testLines(input, options, 0.5 * (prediction.box_hi - prediction.box_lo));
-  prediction.lines = static_cast<int>(lines.size());
-  for (std::size_t l = 0; l < lines.size(); ++l) {
-    for (double fraction : options.fractions) {
-      Gauge gauge = makeGauge(input, prediction, lines[l], fraction, options.mpe);
-      gauge.line = static_cast<int>(l);
-      prediction.gauges.push_back(std::move(gauge));
+  if (options.stylus_offset > 0.0) {
+    addOffsetPositions(input, options, prediction);
+  } else {
+    const std::vector<Line> lines =
+        testLines(input, options, 0.5 * (prediction.box_hi - prediction.box_lo));
+    prediction.lines = static_cast<int>(lines.size());
+    for (std::size_t l = 0; l < lines.size(); ++l) {
+      for (double fraction : options.fractions) {
+        Gauge gauge = makeGauge(input, prediction, lines[l], fraction, options.mpe);
+        gauge.line = static_cast<int>(l);
+        prediction.gauges.push_back(std::move(gauge));
+      }
     }
   }
   const Eigen::MatrixXd G = gaugeDerivatives(prediction.gauges);

@@ -23,6 +23,14 @@ json vectorJson(const Eigen::VectorXd& v) {
   return out;
 }
 
+// E0, or E150 for a stylus offset of 150 mm (E followed by the offset in mm).
+std::string lengthQuantity(const LengthTestPrediction& prediction) {
+  if (!(prediction.stylus_offset > 0.0)) return "E0";
+  std::ostringstream name;
+  name << "E" << prediction.stylus_offset;
+  return name.str();
+}
+
 std::string lineName(const LengthTestPrediction& prediction, int line) {
   for (const Gauge& gauge : prediction.gauges)
     if (gauge.line == line) return std::to_string(line) + " (" + gauge.kind + ")";
@@ -61,6 +69,7 @@ json gaugeJson(const AcceptanceInput& input, const Gauge& gauge) {
           {"direction", vectorJson(gauge.direction)},
           {"f", gauge.fraction},
           {"length", finiteOrNull(gauge.length)},
+          {"stylus_offset", vectorJson(gauge.stylus_offset)},
           {"a", vectorJson(gauge.a)},
           {"b", vectorJson(gauge.b)},
           {"joints_a", jointsToFile(*input.machine, gauge.joints_a)},
@@ -97,13 +106,15 @@ json lengthTestToJson(const AcceptanceInput& input, const LengthTestPrediction& 
   for (const Gauge& gauge : prediction.gauges) items.push_back(gaugeJson(input, gauge));
   const MonteCarloSummary& mc = prediction.monte_carlo;
   json out = {{"test", "iso10360-2"},
+              {"quantity", lengthQuantity(prediction)},
+              {"stylus_offset", prediction.stylus_offset},
               {"mpe", prediction.mpe.text()},
               {"mpe_A_um", prediction.mpe.a / kMmPerMicrometre},
               {"mpe_K", prediction.mpe.k > 0.0 ? json(prediction.mpe.k) : json(nullptr)},
-              {"mpe_C_um",
-               prediction.mpe.cap > 0.0 ? json(prediction.mpe.cap / kMmPerMicrometre) : json(nullptr)},
+              {"mpe_C_um", prediction.mpe.cap > 0.0 ? json(prediction.mpe.cap / kMmPerMicrometre)
+                                                    : json(nullptr)},
               {"units",
-               {{"a, b, length, joints, sigma_sys, sigma_noise, sigma_total", "mm"},
+               {{"a, b, length, joints, stylus_offset, sigma_sys, sigma_noise, sigma_total", "mm"},
                 {"*_um", "um"},
                 {"quantiles", "max |E|/MPE, dimensionless"}}},
               {"box",
@@ -129,15 +140,25 @@ std::string lengthTestTable(const AcceptanceInput& /*input*/,
                             const MonteCarloOptions& options) {
   std::ostringstream out;
   const MonteCarloSummary& mc = prediction.monte_carlo;
-  out << "ISO 10360-2 length test predicted, E0,MPE = " << prediction.mpe.text()
-      << " (um, L in mm)\n";
+  out << "ISO 10360-2 length test predicted, " << lengthQuantity(prediction)
+      << ",MPE = " << prediction.mpe.text() << " (um, L in mm)\n";
   out << "tip box (stylus 0) [" << fixed(prediction.box_lo.x(), 1) << ", "
       << fixed(prediction.box_hi.x(), 1) << "] x [" << fixed(prediction.box_lo.y(), 1) << ", "
       << fixed(prediction.box_hi.y(), 1) << "] x [" << fixed(prediction.box_lo.z(), 1) << ", "
       << fixed(prediction.box_hi.z(), 1) << "] mm; " << prediction.lines << " lines x "
       << prediction.gauges.size() /
              std::max<std::size_t>(1, static_cast<std::size_t>(prediction.lines))
-      << " lengths x " << prediction.repetitions << " repetitions\n\n";
+      << " lengths x " << prediction.repetitions << " repetitions\n";
+  for (int line = 0; line < prediction.lines && prediction.stylus_offset > 0.0; ++line) {
+    for (const Gauge& gauge : prediction.gauges) {
+      if (gauge.line != line) continue;
+      out << "line " << line << ": stylus 0 offset by (" << fixed(gauge.stylus_offset.x(), 1)
+          << ", " << fixed(gauge.stylus_offset.y(), 1) << ", " << fixed(gauge.stylus_offset.z(), 1)
+          << ") mm, the " << gauge.kind << " diagonal of its tip's box\n";
+      break;
+    }
+  }
+  out << "\n";
   out << "line  kind        f    L/mm      sigma_sys/um  sigma_noise/um  sigma_total/um  MPE/um\n";
   for (const Gauge& gauge : prediction.gauges) {
     char row[160];
@@ -159,8 +180,9 @@ std::string lengthTestTable(const AcceptanceInput& /*input*/,
 }
 
 std::string lengthTestSvg(const LengthTestPrediction& prediction) {
-  svg::Plot plot("acceptance-e-vs-l", "E0 against L: predicted 95 % band of each result", "L / mm",
-                 "E / um");
+  svg::Plot plot("acceptance-e-vs-l",
+                 lengthQuantity(prediction) + " against L: predicted 95 % band of each result",
+                 "L / mm", "E / um");
   double longest = 0.0;
   for (const Gauge& gauge : prediction.gauges) longest = std::max(longest, gauge.length);
   const double spread = 0.004 * longest;

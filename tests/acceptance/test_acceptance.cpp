@@ -158,6 +158,110 @@ TEST(LengthTest, LinearStatisticsMatchADenseFiniteDifferenceComputation) {
   }
 }
 
+// E150 rebuilt apart: a machine with two styli, stylus 0 and stylus 0 moved 150 mm along x (then
+// y) across the z ram; the box of the moved stylus' tip over the axis ranges; its yz (then xz)
+// face diagonal through the box centre; readings by Newton with the moved stylus; g by central
+// differences of u . (x_b - x_a) over the calibrated parameters.
+TEST(LengthTest, StylusOffsetE150MatchesADenseFiniteDifferenceComputation) {
+  const Prepared prepared = prepare(test_support::planFile("cmm-plate-3planes-2styli.json"));
+  const Machine& machine = prepared.plan.machine;
+  const auto& cmm = dynamic_cast<const Cartesian&>(*machine.mechanism);
+  ASSERT_EQ(cmm.axes().back().direction, Eigen::Vector3d::UnitZ());
+  LengthTestOptions options = referenceOptions();
+  options.stylus_offset = 150.0;
+  const LengthTestPrediction prediction = predictLengthTestLinear(prepared.input, options);
+  ASSERT_EQ(prediction.lines, 2);
+  ASSERT_EQ(prediction.gauges.size(), 10u);
+  const Eigen::MatrixXd& V = prepared.input.uncertainty.V;
+  for (int position = 0; position < 2; ++position) {
+    const Eigen::Vector3d offset = 150.0 * Eigen::Vector3d::Unit(position);  // x, then y
+    const Cartesian two(cmm.axes(), cmm.degree(), {cmm.styli()[0], cmm.styli()[0] + offset});
+    Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = -lo;
+    for (int corner = 0; corner < 8; ++corner) {
+      Eigen::VectorXd q(3), x;
+      for (int k = 0; k < 3; ++k) q[k] = machine.joint_limits[k][(corner >> k) & 1];
+      ASSERT_EQ(two.forwardStylus(1, machine.nominal, q, x), ForwardStatus::Ok);
+      lo = lo.cwiseMin(x.head<3>());
+      hi = hi.cwiseMax(x.head<3>());
+    }
+    const Eigen::Vector3d c = 0.5 * (lo + hi), h = 0.5 * (hi - lo);
+    const int other = 1 - position;  // the face spanned by the other horizontal axis and z
+    Eigen::Vector3d u = Eigen::Vector3d::Zero();
+    u[other] = h[other];
+    u.z() = h.z();
+    u.normalize();
+    const double D = 2.0 * std::min(h[other] / std::abs(u[other]), h.z() / std::abs(u.z()));
+    auto tipOf = [&](const Eigen::VectorXd& p, const Eigen::VectorXd& q) {
+      Eigen::VectorXd x;
+      EXPECT_EQ(two.forwardStylus(1, p, q, x), ForwardStatus::Ok);
+      return Eigen::VectorXd(x.head<3>());
+    };
+    auto readings = [&](const Eigen::Vector3d& tip) {
+      Eigen::VectorXd q = Eigen::VectorXd::Zero(3);
+      for (int it = 0; it < 20; ++it) {
+        auto f = [&](const Eigen::VectorXd& qq) { return tipOf(machine.nominal, qq); };
+        const Eigen::MatrixXd J = testing::centralDifferenceJacobian(f, q, 1e-3);
+        q -= J.fullPivLu().solve(f(q) - tip);
+      }
+      return q;
+    };
+    for (int i = 0; i < 5; ++i) {
+      const Gauge& gauge = prediction.gauges[static_cast<std::size_t>(5 * position + i)];
+      const double f = 0.1 + 0.2 * i, length = f * D;
+      const Eigen::Vector3d a = c - 0.5 * length * u, b = c + 0.5 * length * u;
+      EXPECT_EQ(gauge.line, position);
+      EXPECT_EQ(gauge.kind, position == 0 ? "yz-face" : "xz-face");
+      EXPECT_LT((gauge.stylus_offset - offset).norm(), 1e-12);
+      EXPECT_LT((gauge.direction - u).norm(), 1e-12);
+      EXPECT_NEAR(gauge.length, length, 1e-9);
+      EXPECT_LT((gauge.a - a).norm(), 1e-9);
+      EXPECT_LT((gauge.b - b).norm(), 1e-9);
+      const Eigen::VectorXd q_a = readings(a), q_b = readings(b);
+      EXPECT_LT((tipOf(machine.nominal, q_a) - a).norm(), 1e-9);
+      auto lengthError = [&](const Eigen::VectorXd& dp) {
+        const Eigen::VectorXd p =
+            machine.withCalibrated(machine.nominal, machine.calibratedValues(machine.nominal) + dp);
+        return Eigen::VectorXd::Constant(1, u.dot(tipOf(p, q_b) - tipOf(p, q_a)) - length);
+      };
+      const Eigen::RowVectorXd g = testing::centralDifferenceJacobian(
+          lengthError, Eigen::VectorXd::Zero(machine.calibratedCount()), 1e-6);
+      const double sigma_sys = std::sqrt((g * V * g.transpose())(0, 0));
+      EXPECT_NEAR(gauge.sigma_sys, sigma_sys, 1e-6 * sigma_sys) << position << " " << i;
+    }
+  }
+}
+
+// The ram's roll about its own axis (z.rz) moves an offset tip across the ram and leaves a tip on
+// the ram's line where it is: an uncalibrated z.rz.1 is named by E150 on both positions, by E0 on
+// none of its lines.
+TEST(LengthTest, StylusOffsetE150NamesTheRamsRollThatE0CannotSee) {
+  Prepared prepared = prepare(test_support::planFile("cmm-plate-3planes-2styli.json"));
+  const auto& params = prepared.plan.machine.mechanism->parameters();
+  const auto roll = std::find_if(params.begin(), params.end(),
+                                 [](const ParameterInfo& p) { return p.name == "z.rz.1"; });
+  ASSERT_NE(roll, params.end());
+  const int k = static_cast<int>(roll - params.begin());
+  auto& indices = prepared.input.uncertainty.indices;
+  const auto at = std::find(indices.begin(), indices.end(), k);
+  if (at != indices.end()) {  // take it out of the covariance: exact, as if never calibrated
+    const auto column = static_cast<Eigen::Index>(at - indices.begin());
+    std::vector<int> keep;
+    for (Eigen::Index i = 0; i < static_cast<Eigen::Index>(indices.size()); ++i)
+      if (i != column) keep.push_back(static_cast<int>(i));
+    prepared.input.uncertainty.V = Eigen::MatrixXd(prepared.input.uncertainty.V(keep, keep));
+    indices.erase(at);
+  }
+  auto named = [&](const LengthTestPrediction& prediction) {
+    for (const UnseenParameter& unseen : prediction.unseen)
+      if (unseen.parameter == k) return unseen.lines;
+    return std::vector<int>{};
+  };
+  LengthTestOptions options = referenceOptions();
+  EXPECT_TRUE(named(predictLengthTestLinear(prepared.input, options)).empty());
+  options.stylus_offset = 150.0;
+  EXPECT_EQ(named(predictLengthTestLinear(prepared.input, options)), (std::vector<int>{0, 1}));
+}
+
 // --------------------------------------------------------------------------- reference case
 
 TEST(LengthTest, SharedReferenceCase) {
@@ -726,6 +830,28 @@ TEST(AcceptanceCli, LinesFileReplacesTheSevenLines) {
   EXPECT_NEAR(out["items"][9]["length"].get<double>(), 0.9 * 700.0 / 0.8, 1e-9);
   EXPECT_EQ(bad.status, 2);
   EXPECT_NE(bad.out.find("/0"), std::string::npos) << bad.out;
+}
+
+TEST(AcceptanceCli, StylusOffsetGivesE150AndRefusesWhatDoesNotGoWithIt) {
+  const std::string plan = test_support::testDataFile(kReferencePlan);
+  const test_support::CliRun run = test_support::runCli(
+      "acceptance " + plan + " --test iso10360-2 --mpe 2 --trials 2000 --json --stylus-offset 150");
+  ASSERT_EQ(run.status, 0) << run.out;
+  const nlohmann::json out = nlohmann::json::parse(run.out);
+  EXPECT_EQ(out["quantity"], "E150");
+  EXPECT_EQ(out["stylus_offset"], 150.0);
+  EXPECT_EQ(out["results"], 30);
+  EXPECT_EQ(out["items"][0]["stylus_offset"], nlohmann::json::parse("[150.0, 0.0, 0.0]"));
+  EXPECT_EQ(out["items"][9]["stylus_offset"], nlohmann::json::parse("[0.0, 150.0, 0.0]"));
+  for (const std::string& bad :
+       {std::string("--test iso10360-2 --mpe 2 --stylus-offset nan"),
+        std::string("--test iso10360-2 --mpe 2 --stylus-offset -150"),
+        std::string("--test iso9283 --cube 100 --center 0,0,-400 --stylus-offset 150")}) {
+    const test_support::CliRun refused =
+        test_support::runCli("acceptance " + plan + " " + bad, test_support::Stderr::Only);
+    EXPECT_EQ(refused.status, 2) << bad << ": " << refused.out;
+    EXPECT_NE(refused.out.find("--stylus-offset"), std::string::npos) << refused.out;
+  }
 }
 
 TEST(LengthTest, AnAxisOutsideTheMachineFramesDirectionsIsRefused) {

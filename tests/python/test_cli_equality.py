@@ -150,6 +150,10 @@ def test_acceptance_length_equals_cli():
     args = ["--test", "iso10360-2", "--mpe", "3 + L/300", "--trials", "2000"]
     expected = cli_json("acceptance", plan, *args, "--json")
     assert artcal.Plan(plan).acceptance_length("3 + L/300", trials=2000) == expected
+    e150 = cli_json("acceptance", plan, *args, "--stylus-offset", "150", "--json")
+    assert artcal.Plan(plan).acceptance_length("3 + L/300", trials=2000,
+                                               stylus_offset=150) == e150
+    assert e150["quantity"] == "E150"
 
 
 def test_acceptance_pose_equals_cli():

@@ -114,6 +114,15 @@ def test_non_finite_numbers_name_the_option(call, option):
     assert "expected a finite number" in str(raised.value)
 
 
+@pytest.mark.parametrize("offset", [float("nan"), float("inf"), -150.0])
+def test_a_stylus_offset_that_is_not_a_length_names_the_option(offset):
+    with pytest.raises(artcal.InputError) as raised:
+        artcal.Plan("plans/cmm-plate-xy.json").acceptance_length("3 + L/300", trials=10,
+                                                                 stylus_offset=offset)
+    assert str(raised.value).startswith("--stylus-offset: expected a finite number"), \
+        str(raised.value)
+
+
 def test_instrument_readings_are_built_with_add_station():
     reference = json.load(open(TRACKER))
     plan = artcal.Plan(machine=reference["machine"], noise=reference["noise"],

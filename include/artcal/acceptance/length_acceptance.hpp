@@ -14,6 +14,12 @@
 //   sigma_noise^2 = 2 s_p^2 + u^T (J_q,b Sigma_q J_q,b^T + J_q,a Sigma_q J_q,a^T) u.
 // - max_i |E_i| / MPE(L_i) over the 105 results by Monte-Carlo (acceptance/monte_carlo.hpp);
 //   P(pass) = P(max <= 1).
+// - E150 (`stylus_offset`, ISO 10360-2's test with a stylus tip offset perpendicular to the ram;
+//   docs/calibration.md, "E150"): two positions instead of the lines. The ram is the last axis;
+//   position k probes with stylus 0 moved `stylus_offset` mm along e_k, the k-th machine-frame
+//   axis perpendicular to the ram (x, y, z order), on the diagonal of the box face spanned by the
+//   other perpendicular axis and the ram (the line along which the ram's rotations move an offset
+//   tip: Abbe errors), centred on the offset tip's box. 2 lines x 5 lengths x 3 repetitions.
 
 #include <Eigen/Core>
 #include <string>
@@ -33,6 +39,8 @@ struct LengthTestOptions {
   Mpe mpe;
   /// Unit directions replacing the 7 lines (`--lines`); empty: the standard ones.
   std::vector<Eigen::Vector3d> lines;
+  /// E150: the stylus tip offset (mm, > 0) perpendicular to the ram (header); 0: the E0 test.
+  double stylus_offset = 0.0;
   std::vector<double> fractions = {0.1, 0.3, 0.5, 0.7, 0.9};
   int repetitions = 3;
   MonteCarloOptions monte_carlo;
@@ -41,7 +49,10 @@ struct LengthTestOptions {
 /// One gauge (a line and length); its `repetitions` results share everything below.
 struct Gauge {
   int line = 0;
-  std::string kind;  ///< "diagonal", "x", "y", "z" or "custom"
+  std::string kind;  ///< "diagonal", "x", "y", "z", "custom" or (E150) "yz-face" and the like
+  /// E150: the offset of the probing stylus from stylus 0 (mm, machine frame); a and b are its
+  /// tip's positions. Zero for the E0 test.
+  Eigen::Vector3d stylus_offset = Eigen::Vector3d::Zero();
   Eigen::Vector3d direction = Eigen::Vector3d::UnitX();
   double fraction = 0.0;
   double length = 0.0;                                                       ///< mm
@@ -62,7 +73,8 @@ struct UnseenParameter {
 };
 
 struct LengthTestPrediction {
-  Eigen::Vector3d box_lo, box_hi, center;  ///< the tip box, mm
+  Eigen::Vector3d box_lo, box_hi, center;  ///< the tip box (stylus 0), mm
+  double stylus_offset = 0.0;              ///< E150's offset, mm; 0: the E0 test
   int lines = 0;
   int repetitions = 3;
   std::vector<Gauge> gauges;

@@ -10,12 +10,15 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "artcal/core/enum_names.hpp"
 
 namespace artcal {
+
+class Mechanism;
 
 struct CartesianAxis {
   std::string name;
@@ -58,6 +61,9 @@ class AxisErrorFunctions {
   virtual int parameterIndex(int axis, AxisError error, int n) const = 0;
   /// The normalised position s in [-1, 1] of reading u of axis `axis`.
   virtual double normalised(int axis, double u) const = 0;
+  /// The same machine (axes, error functions, parameters) probing with other styli (ISO
+  /// 10360-2's E150: stylus 0 moved across the ram).
+  virtual std::shared_ptr<const Mechanism> withStyli(std::vector<Eigen::Vector3d> styli) const = 0;
 };
 
 }  // namespace artcal

@@ -54,6 +54,9 @@ class Cartesian final : public Mechanism, public AxisErrorFunctions {
   const std::vector<CartesianAxis>& axes() const override { return axes_; }
   int degree() const override { return degree_; }
   const std::vector<Eigen::Vector3d>& styli() const override { return styli_; }
+  std::shared_ptr<const Mechanism> withStyli(std::vector<Eigen::Vector3d> styli) const override {
+    return std::make_shared<Cartesian>(axes_, degree_, std::move(styli));
+  }
   int parameterIndex(int axis, AxisError error, int n) const override {
     return (axis * degree_ + (n - 1)) * kAxisErrorCount + static_cast<int>(error);
   }
