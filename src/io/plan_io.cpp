@@ -135,6 +135,15 @@ Machine parseMachine(const Node& node, std::vector<std::string>& warnings) {
   if (const auto prior = node.find("prior")) machine.prior_sigma = parsePrior(*prior, mech);
   const int joints = mech.jointCount();
   if (const auto limits = node.find("joint_limits")) {
+    // One pair per joint of the machine as described: a count that differs is as likely the
+    // machine's description (a joint left out of "joints") as the limits.
+    if (limits->value().is_array() && limits->value().size() != static_cast<std::size_t>(joints))
+      limits->fail(std::to_string(limits->value().size()) +
+                   (limits->value().size() == 1 ? " entry" : " entries") +
+                   ", but the machine described has " + std::to_string(joints) +
+                   " joints (model \"" + mech.modelName() +
+                   "\"): one [lower, upper] per joint; check the machine's joints as well as " +
+                   "these limits");
     limits->arraySize(static_cast<std::size_t>(joints), static_cast<std::size_t>(joints));
     for (int i = 0; i < joints; ++i) {
       const Node pair = (*limits)[static_cast<std::size_t>(i)];
@@ -236,7 +245,8 @@ Artifact parseArtifact(const std::string& id, const Node& node, const Machine& m
     node.warnUnknown({"type", "length", "u_length", "ends"}, warnings);
     const Node ends = node.at("ends");
     if (ends.string() != "table-spindle")
-      ends.fail("unknown ends \"" + ends.string() + "\" (expected table-spindle; leave \"ends\" "
+      ends.fail("unknown ends \"" + ends.string() +
+                "\" (expected table-spindle; leave \"ends\" "
                 "out for a bar between two sockets the machine holds in turn)");
     if (dimension != 3) ends.fail("a table-spindle ball bar needs a 3-D machine");
     PlaneGeometry geometry;

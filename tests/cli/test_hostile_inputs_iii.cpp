@@ -418,4 +418,23 @@ TEST(HostileOutputs, DevStdoutIntoAPipeSuggestsTheDash) {
   EXPECT_NE(run.out.find("use - for standard output"), std::string::npos) << run.out;
 }
 
+// A machine whose "joints" lost a row while its joint_limits kept one per joint of the plan's
+// readings: the message names the machine's joint count, not the limits alone (the finding
+// blamed /joint_limits with "expected at most 5 entries, got 6").
+TEST(HostileInputsIII, AMachineWithAJointLeftOutNamesTheJointCount) {
+  Scratch scratch;
+  json plan = json::parse(readText(planFile("aacmm-6axis-3bars.json")));
+  ASSERT_EQ(plan["machine"]["joints"].size(), 6u);
+  plan["machine"]["joints"].erase(5);
+  json calibrate = json::array();
+  for (const json& name : plan["machine"]["calibrate"])
+    if (name.get<std::string>().rfind("j6.", 0) != 0) calibrate.push_back(name);
+  plan["machine"]["calibrate"] = calibrate;
+  const std::string path = scratch.write("five.json", plan.dump());
+  expectRefused("check " + quoted(path), path,
+                "/machine/joint_limits: 6 entries, but the machine described has 5 joints "
+                "(model \"serial-dh\"): one [lower, upper] per joint; check the machine's "
+                "joints as well as these limits");
+}
+
 }  // namespace hostile_inputs_iii_test

@@ -236,7 +236,7 @@ std::vector<BadRow> badRows() {
        "/machine/calibrate", "expected a list of parameter names"},
       {"joint_limits wrong count",
        [] { return withPlanar([](json& d) { d["machine"]["joint_limits"].erase(1); }); },
-       "/machine/joint_limits", "at least 2"},
+       "/machine/joint_limits", "1 entry, but the machine described has 2 joints"},
       {"joint_limits reversed",
        [] { return withPlanar([](json& d) {
               d["machine"]["joint_limits"][1] = {170, -170};
