@@ -4,6 +4,7 @@
 #include <cmath>
 #include <iostream>
 
+#include "artcal/core/assignment.hpp"
 #include "artcal/core/error.hpp"
 #include "artcal/io/plan_io.hpp"
 #include "artcal/io/readings_import.hpp"
@@ -15,7 +16,7 @@ namespace {
 
 struct ImportReadingsArguments {
   ReadingsImport import;
-  std::vector<std::string> holds;  ///< JOINT=VALUE
+  std::vector<std::string> holds;   ///< JOINT=VALUE
   std::vector<std::string> tip_of;  ///< PLACEMENT=TIP
   std::string prior;                ///< LENGTH,ANGLE
   std::string probe = "0.1";
@@ -146,26 +147,24 @@ void addImportReadingsCommand(CLI::App& app, Action& action) {
       checkOutputPath(args->output);
       import.holds.clear();
       for (const std::string& hold : args->holds) {
-        const auto equals = hold.find('=');
+        const auto assignment = splitAssignment(hold);
         std::size_t used = 0;
         double value = 0.0;
         try {
-          if (equals != std::string::npos) value = std::stod(hold.substr(equals + 1), &used);
+          if (assignment) value = std::stod(assignment->second, &used);
         } catch (const std::exception&) {
           used = 0;
         }
-        if (equals == std::string::npos || equals == 0 || used == 0 ||
-            used != hold.size() - equals - 1 || !std::isfinite(value)) {
+        if (!assignment || used != assignment->second.size() || !std::isfinite(value))
           throw InputError("--hold", hold, "expected JOINT=VALUE (deg, or mm), e.g. tool_joint=0");
-        }
-        import.holds.emplace_back(hold.substr(0, equals), value);
+        import.holds.emplace_back(assignment->first, value);
       }
       import.tip_of.clear();
       for (const std::string& pair : args->tip_of) {
-        const auto equals = pair.find('=');
-        if (equals == std::string::npos || equals == 0 || equals + 1 == pair.size())
+        auto assignment = splitAssignment(pair);
+        if (!assignment)
           throw InputError("--tip-of", pair, "expected PLACEMENT=TIP, e.g. left=gripper_left_link");
-        import.tip_of.emplace_back(pair.substr(0, equals), pair.substr(equals + 1));
+        import.tip_of.push_back(std::move(*assignment));
       }
       if (!args->prior.empty()) {
         const auto comma = args->prior.find(',');
@@ -181,7 +180,8 @@ void addImportReadingsCommand(CLI::App& app, Action& action) {
         }
         if (comma == std::string::npos || used_length != comma ||
             used_angle != args->prior.size() - comma - 1 || !(length > 0.0) || !(angle > 0.0))
-          throw InputError("--prior", args->prior, "expected LENGTH,ANGLE (mm, deg; > 0), e.g. 5,0.5");
+          throw InputError("--prior", args->prior,
+                           "expected LENGTH,ANGLE (mm, deg; > 0), e.g. 5,0.5");
         import.prior_length = length;
         import.prior_angle = angle;
       }

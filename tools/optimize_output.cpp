@@ -86,6 +86,16 @@ int resolveOnDesigns(Plan& spec, std::uint64_t seed) {
   spec.calibrate_resolution.reset();
   const std::optional<DesignIdentifiability> by_designs = identifiableByDesigns(spec, seed);
   if (!by_designs) return 0;  // no feasible placement: the search says why
+  if (by_designs->resolution.kept.empty()) {
+    // Nothing to calibrate is not a plan: every reading is absorbed by its placement's pose.
+    throw InputError(spec.source, "/design/postures",
+                     std::to_string(by_designs->candidates) +
+                         " random placements of the design space together identify none of the " +
+                         std::to_string(by_designs->resolution.listed.size()) +
+                         " listed parameters: each placement's pose absorbs what its " +
+                         std::to_string(spec.design->postures) +
+                         " reading(s) see; give more postures per placement");
+  }
   spec.machine.calibrated = by_designs->resolution.kept;
   spec.calibrate_resolution = by_designs->resolution;
   return by_designs->candidates;

@@ -7,6 +7,7 @@
 namespace artcal {
 
 SymmetricEigenSolver::SymmetricEigenSolver(const Eigen::MatrixXd& A, int options) {
+  if (A.size() == 0) return;  // nothing to decompose: empty results, info() Success
   if (!A.allFinite()) {
     // Eigen's QR iteration on NaN or inf does not converge and leaves its results unspecified
     // (issue 19: an out-of-bounds read downstream). Results of the right sizes, all NaN, and

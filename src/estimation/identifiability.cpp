@@ -290,6 +290,10 @@ CalibratedSetResolution resolveListedSet(const Plan& plan,
 void resolveCalibratedSet(Plan& plan) {
   if (!plan.machine.calibrate_identifiable || plan.placements.empty()) return;
   CalibratedSetResolution resolution = resolveListedSet(plan, plan.placements);
+  // Readings that identify none of them decide nothing: the listed set stays, and check,
+  // evaluate and calibrate answer as for a listed set the readings cannot identify (a plan
+  // without placements likewise; a spec's design decides later, resolveOnDesigns).
+  if (resolution.kept.empty()) return;
   plan.machine.calibrated = resolution.kept;
   plan.calibrate_resolution = std::move(resolution);
 }

@@ -379,6 +379,10 @@ Eigen::MatrixXd covarianceRoot(const Eigen::MatrixXd& V, bool& lower) {
 }  // namespace
 
 void TipEvaluator::kinematicVariance(const Eigen::MatrixXd& V_p, Eigen::VectorXd& S_m2) const {
+  if (J_p_.cols() == 0) {  // nothing calibrated: no kinematic part (and no product of width 0)
+    S_m2.setZero(size());
+    return;
+  }
   // S_m^2 = tr(J V J^T) = |J L|_F^2 with V = L L^T: one product over the whole workspace, with a
   // triangular L (half the work of a full one).
   if (factor_coefficients_.size() > 0) {

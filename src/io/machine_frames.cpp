@@ -3,6 +3,7 @@
 #include <Eigen/LU>
 #include <set>
 
+#include "artcal/core/assignment.hpp"
 #include "artcal/core/error.hpp"
 #include "artcal/io/json_node.hpp"
 
@@ -114,13 +115,12 @@ std::vector<std::optional<CalibrationFrame>> framesForPlacements(
   std::vector<std::string> names;
   std::vector<std::pair<std::string, std::string>> pairs;
   for (const std::string& entry : frame_of) {
-    const auto equals = entry.find('=');
-    if (equals == std::string::npos) {
+    if (entry.find('=') == std::string::npos) {
       names.push_back(entry);
-    } else if (equals == 0 || equals + 1 == entry.size()) {
-      throw InputError("--frame-of", entry, "expected NAME or HELD=CALIBRATED");
+    } else if (auto assignment = splitAssignment(entry)) {
+      pairs.push_back(std::move(*assignment));
     } else {
-      pairs.emplace_back(entry.substr(0, equals), entry.substr(equals + 1));
+      throw InputError("--frame-of", entry, "expected NAME or HELD=CALIBRATED");
     }
   }
   if (names.size() > 1) {
@@ -128,8 +128,8 @@ std::vector<std::optional<CalibrationFrame>> framesForPlacements(
                      "a second calibrated placement for every placement of its artifact: pair "
                      "each held-out placement with its own as HELD=CALIBRATED");
   }
-  auto out = framesForPlacements(plan, frames, names.empty() ? std::string() : names.front(),
-                                 source);
+  auto out =
+      framesForPlacements(plan, frames, names.empty() ? std::string() : names.front(), source);
   for (const auto& pair : pairs) {
     const std::string& held = pair.first;
     const std::string& calibrated = pair.second;
@@ -145,8 +145,9 @@ std::vector<std::optional<CalibrationFrame>> framesForPlacements(
           plan.artifacts[static_cast<std::size_t>(plan.placements[j].artifact)].id;
       if (id != frame->artifact) {
         throw InputError("--frame-of", held + "=" + calibrated,
-                         "placement \"" + held + "\" places artifact \"" + id + "\", the frame of \"" +
-                             calibrated + "\" artifact \"" + frame->artifact + "\"");
+                         "placement \"" + held + "\" places artifact \"" + id +
+                             "\", the frame of \"" + calibrated + "\" artifact \"" +
+                             frame->artifact + "\"");
       }
       out[j] = CalibrationFrame{frame->placement, frame->pose};
       found = true;

@@ -260,8 +260,8 @@ std::string identifiabilityTable(const Plan& plan, const Identifiability& id) {
   }
   if (id.no_length_scale) {
     out << "  no length scale: the machine's change of scale (every calibrated length in "
-           "proportion) is unobserved;\n  a single plane fixes no length: add a gauge block, a "
-           "ball bar or a second face at a known distance\n";
+           "proportion) is unobserved;\n  the readings hold no known length: add a ball bar, a "
+           "gauge block or a second face at a known distance\n";
   }
   if (!id.to_fix.empty() && !too_few_equations) {
     out << "  more placements like these will not help; to calibrate the rest, fix:";

@@ -437,4 +437,32 @@ TEST(HostileInputsIII, AMachineWithAJointLeftOutNamesTheJointCount) {
                 "joints as well as these limits");
 }
 
+// Readings that identify nothing: one probing per sphere, each absorbed by the sphere's position.
+// "identifiable" kept no parameter, and check and evaluate crashed on the empty set (SIGSEGV); an
+// optimize spec of one posture per placement crashed in the search (SIGFPE). Now the listed set
+// stays and check, evaluate and calibrate answer NOT IDENTIFIABLE (exit 1, every parameter to
+// fix named), and optimize says what to add.
+TEST(HostileInputsIII, ReadingsThatIdentifyNothingAreAnsweredNotCrashedOn) {
+  Scratch scratch;
+  json plan = json::parse(readText(planFile("machine-tool-trunnion-2spheres.json")));
+  for (json& placement : plan["placements"])
+    placement["measurements"] = json::array({placement["measurements"][0]});
+  plan["machine"]["calibrate"] = "identifiable";
+  const std::string path = scratch.write("one-probing.json", plan.dump());
+  for (const char* command : {"check ", "evaluate ", "calibrate "}) {
+    const CliRun run = runCli(command + quoted(path));
+    EXPECT_EQ(run.status, 1) << command << run.out;
+    EXPECT_NE(run.out.find("NOT IDENTIFIABLE"), std::string::npos) << command << run.out;
+    EXPECT_NE(run.out.find("fix: E_Y0A"), std::string::npos) << command << run.out;
+  }
+  json spec = json::parse(readText(planFile("machine-tool-trunnion-8probings.spec.json")));
+  spec["design"]["placements"] = 8;
+  spec["design"]["postures"] = 1;
+  spec["design"]["starts"] = 1;
+  const std::string spec_path = scratch.write("one-posture.spec.json", spec.dump());
+  expectRefused("optimize " + quoted(spec_path) + " -o " + quoted(scratch.file("out.json")),
+                spec_path, "/design/postures: ");
+  EXPECT_FALSE(fs::exists(scratch.file("out.json")));
+}
+
 }  // namespace hostile_inputs_iii_test

@@ -488,6 +488,29 @@ TEST(TipEvaluator, OfSamplesLeavesOutWhatWorkspaceConfigurationsLeavesOut) {
   EXPECT_EQ(tip.encoderVariance(), of_kept.encoderVariance());
 }
 
+// No calibrated parameter: no kinematic part, whichever form (the direct product of width 0 was
+// a division by zero in Eigen's blocking heuristic); the encoder part as before.
+TEST(TipEvaluator, NothingCalibratedHasNoKinematicPart) {
+  Plan plan = seedPlanar2RPlan();
+  plan.machine.calibrated.clear();
+  WorkspaceSpec spec;
+  spec.samples = 700;
+  const auto configurations = workspaceConfigurations(plan.machine, spec);
+  for (TipUse use : {TipUse::Once, TipUse::Repeated}) {
+    const TipEvaluator tip(plan.machine, plan.noise, configurations, 0, use);
+    Eigen::VectorXd S_m2;
+    tip.kinematicVariance(Eigen::MatrixXd(0, 0), S_m2);
+    ASSERT_EQ(S_m2.size(), tip.size());
+    EXPECT_EQ(S_m2.cwiseAbs().maxCoeff(), 0.0);
+    const TipSummary summary = tip.summarize(Eigen::MatrixXd(0, 0));
+    EXPECT_NEAR(summary.worst.total, summary.worst.encoder, 1e-15);
+    EXPECT_GT(summary.worst.encoder, 0.0);
+  }
+  const SymmetricEigenSolver empty{Eigen::MatrixXd(0, 0)};
+  EXPECT_EQ(empty.info(), Eigen::Success);
+  EXPECT_EQ(empty.eigenvalues().size(), 0);
+}
+
 TEST(TipEvaluator, KinematicVarianceMatchesTheDirectTrace) {
   const Plan six = aacmmPlan();  // 21 parameters: Gram form
   expectKinematicVarianceMatchesDirectTrace(six.machine, six.noise);

@@ -109,7 +109,9 @@ CalibratedSetResolution resolveListedSet(const Plan& plan,
 /// Resolves the plan's `"calibrate": "identifiable"` once, at its nominal readings: sets
 /// machine.calibrated to the kept parameters and records the dropped ones and their ties in
 /// plan.calibrate_resolution. Does nothing unless machine.calibrate_identifiable; a plan without
-/// placements keeps its listed parameters (nothing to decide from).
+/// placements keeps its listed parameters (nothing to decide from), and so does a plan whose
+/// readings identify none of them (check then says NOT IDENTIFIABLE, as for a listed set; a spec's
+/// design decides, resolveOnDesigns).
 void resolveCalibratedSet(Plan& plan);
 
 }  // namespace artcal
