@@ -5,6 +5,7 @@
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 #define ARTCAL_TIP_KERNEL_AVX2 1
+#include <cpuid.h>
 #include <immintrin.h>
 #endif
 
@@ -76,9 +77,21 @@ __attribute__((target("avx2,fma"))) void panelAvx2(const double* P, int n, const
   }
 }
 
+// CPUID at the first evaluation, not __builtin_cpu_supports: that links libgcc's constructor,
+// which runs CPUID on every start of every artcal process (a trap to the hypervisor on a virtual
+// machine: a tenth of `artcal --version`). AVX2 and FMA, and the OS saving the YMM registers
+// (OSXSAVE, then XCR0 bits 1 and 2).
 bool processorHasAvx2Fma() {
-  __builtin_cpu_init();
-  return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+  unsigned eax = 0, ebx = 0, ecx = 0, edx = 0;
+  if (!__get_cpuid(1, &eax, &ebx, &ecx, &edx)) return false;
+  constexpr unsigned kFma = 1u << 12, kOsXsave = 1u << 27, kAvx = 1u << 28;
+  if ((ecx & (kFma | kOsXsave | kAvx)) != (kFma | kOsXsave | kAvx)) return false;
+  unsigned xcr0_low = 0, xcr0_high = 0;
+  __asm__("xgetbv" : "=a"(xcr0_low), "=d"(xcr0_high) : "c"(0));
+  if ((xcr0_low & 0x6u) != 0x6u) return false;
+  if (!__get_cpuid_count(7, 0, &eax, &ebx, &ecx, &edx)) return false;
+  constexpr unsigned kAvx2 = 1u << 5;
+  return (ebx & kAvx2) != 0;
 }
 #endif
 

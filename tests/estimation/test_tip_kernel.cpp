@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdlib>
+
 #include <Eigen/Cholesky>
 #include <random>
 
@@ -89,6 +91,19 @@ TEST(TipKernel, ItsNameSaysWhichBuildRuns) {
   EXPECT_TRUE(tipKernelAvailable(kernel));
   EXPECT_TRUE(tipKernelName(kernel) == "generic" || tipKernelName(kernel) == "avx2-fma");
 }
+
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+// The library reads CPUID itself at the first evaluation (no start-up cost); the compiler's own
+// CPU model (libgcc, OS support of the YMM registers included) is the independent answer.
+TEST(TipKernel, Avx2DetectionAgreesWithTheCompilersCpuModel) {
+  __builtin_cpu_init();
+  const bool compiler_says = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+  EXPECT_EQ(tipKernelAvailable(TipKernel::Avx2Fma), compiler_says);
+  if (std::getenv("ARTCAL_TIP_KERNEL") == nullptr) {
+    EXPECT_EQ(activeTipKernel(), compiler_says ? TipKernel::Avx2Fma : TipKernel::Generic);
+  }
+}
+#endif
 
 // The 6-axis arm's 21 parameters over 1000 sampled configurations (16 per panel, the last one
 // padded): S_m^2 against tr(J V J^T) of each configuration's own Jacobian (TipEvaluator::at).
