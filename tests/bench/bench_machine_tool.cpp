@@ -18,6 +18,7 @@
 #include "artcal/calibration/simulation.hpp"
 #include "artcal/estimation/evaluator.hpp"
 #include "artcal/io/plan_io.hpp"
+#include "evaluate_loop.hpp"
 
 namespace artcal {
 namespace {
@@ -64,20 +65,6 @@ Plan ballBar100() {
   return parsePlan(document, "trunnion-ballbar-100");
 }
 
-void runEvaluate(benchmark::State& state, const Plan& plan) {
-  double worst = 0.0;
-  for (auto _ : state) {
-    const Evaluation evaluation = evaluatePlan(plan);
-    if (!evaluation.tip) {
-      state.SkipWithError("plan not identifiable");
-      return;
-    }
-    worst = evaluation.tip->worst.total;
-  }
-  state.counters["worst_tip_um"] = 1000.0 * worst;
-  state.counters["configurations"] = kConfigurations;
-}
-
 // Readings simulated once from the nominal machine plus 20 um / 20 urad on every calibrated
 // parameter; each iteration is the whole calibration from nominal.
 void runCalibrate(benchmark::State& state, const Plan& plan) {
@@ -103,7 +90,7 @@ void runCalibrate(benchmark::State& state, const Plan& plan) {
 }
 
 void MachineToolEvaluate100Probings(benchmark::State& state) {
-  runEvaluate(state, spheres100());
+  bench::runEvaluate(state, spheres100(), kConfigurations);
 }
 BENCHMARK(MachineToolEvaluate100Probings)->Unit(benchmark::kMillisecond);
 
@@ -113,7 +100,7 @@ void MachineToolCalibrate100Probings(benchmark::State& state) {
 BENCHMARK(MachineToolCalibrate100Probings)->Unit(benchmark::kMillisecond);
 
 void MachineToolBallBarEvaluate100Readings(benchmark::State& state) {
-  runEvaluate(state, ballBar100());
+  bench::runEvaluate(state, ballBar100(), kConfigurations);
 }
 BENCHMARK(MachineToolBallBarEvaluate100Readings)->Unit(benchmark::kMillisecond);
 

@@ -12,6 +12,7 @@
 
 #include "../support/plan_builders.hpp"
 #include "artcal/io/plan_io.hpp"
+#include "evaluate_loop.hpp"
 
 namespace artcal {
 namespace {
@@ -47,31 +48,13 @@ Plan ballBarPlan() {
   return plan;
 }
 
-void runEvaluate(benchmark::State& state, const Plan& plan) {
-  int readings = 0;
-  for (const Placement& placement : plan.placements)
-    readings += static_cast<int>(placement.measurements.size());
-  double worst = 0.0;
-  for (auto _ : state) {
-    const Evaluation evaluation = evaluatePlan(plan);
-    if (!evaluation.tip) {
-      state.SkipWithError("plan not identifiable");
-      return;
-    }
-    worst = evaluation.tip->worst.total;
-  }
-  state.counters["worst_tip_mm"] = worst;
-  state.counters["readings"] = readings;
-  state.counters["configurations"] = kConfigurations;
-}
-
 void PlaneEvaluate100Touches(benchmark::State& state) {
-  runEvaluate(state, planePlan());
+  bench::runEvaluate(state, planePlan(), kConfigurations);
 }
 BENCHMARK(PlaneEvaluate100Touches)->Unit(benchmark::kMillisecond);
 
 void BallBarEvaluate100Readings(benchmark::State& state) {
-  runEvaluate(state, ballBarPlan());
+  bench::runEvaluate(state, ballBarPlan(), kConfigurations);
 }
 BENCHMARK(BallBarEvaluate100Readings)->Unit(benchmark::kMillisecond);
 
