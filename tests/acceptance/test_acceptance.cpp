@@ -8,6 +8,9 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
+
 #include <unistd.h>
 #include <cmath>
 #include <fstream>
@@ -63,17 +66,23 @@ struct OracleGauge {
   double length;
 };
 
-std::vector<OracleGauge> oracleGauges(const Machine& machine) {
-  const Mechanism& mech = *machine.mechanism;
+/// Centre and half-extents of the box of stylus `stylus`'s tip over the axis ranges of
+/// `machine` (its nominal corners), through `mech`'s public forward kinematics.
+std::pair<Eigen::Vector3d, Eigen::Vector3d> cornerBox(const Mechanism& mech, const Machine& machine,
+                                                      int stylus) {
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = -lo;
   for (int corner = 0; corner < 8; ++corner) {
     Eigen::VectorXd q(3), x;
     for (int k = 0; k < 3; ++k) q[k] = machine.joint_limits[k][(corner >> k) & 1];
-    EXPECT_EQ(mech.forwardStylus(0, machine.nominal, q, x), ForwardStatus::Ok);
+    EXPECT_EQ(mech.forwardStylus(stylus, machine.nominal, q, x), ForwardStatus::Ok);
     lo = lo.cwiseMin(x.head<3>());
     hi = hi.cwiseMax(x.head<3>());
   }
-  const Eigen::Vector3d c = 0.5 * (lo + hi), h = 0.5 * (hi - lo);
+  return {0.5 * (lo + hi), 0.5 * (hi - lo)};
+}
+
+std::vector<OracleGauge> oracleGauges(const Machine& machine) {
+  const auto [c, h] = cornerBox(*machine.mechanism, machine, 0);
   std::vector<Eigen::Vector3d> directions = {Eigen::Vector3d(h.x(), h.y(), h.z()).normalized(),
                                              Eigen::Vector3d(-h.x(), h.y(), h.z()).normalized(),
                                              Eigen::Vector3d(h.x(), -h.y(), h.z()).normalized(),
@@ -176,15 +185,7 @@ TEST(LengthTest, StylusOffsetE150MatchesADenseFiniteDifferenceComputation) {
   for (int position = 0; position < 2; ++position) {
     const Eigen::Vector3d offset = 150.0 * Eigen::Vector3d::Unit(position);  // x, then y
     const Cartesian two(cmm.axes(), cmm.degree(), {cmm.styli()[0], cmm.styli()[0] + offset});
-    Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = -lo;
-    for (int corner = 0; corner < 8; ++corner) {
-      Eigen::VectorXd q(3), x;
-      for (int k = 0; k < 3; ++k) q[k] = machine.joint_limits[k][(corner >> k) & 1];
-      ASSERT_EQ(two.forwardStylus(1, machine.nominal, q, x), ForwardStatus::Ok);
-      lo = lo.cwiseMin(x.head<3>());
-      hi = hi.cwiseMax(x.head<3>());
-    }
-    const Eigen::Vector3d c = 0.5 * (lo + hi), h = 0.5 * (hi - lo);
+    const auto [c, h] = cornerBox(two, machine, 1);
     const int other = 1 - position;  // the face spanned by the other horizontal axis and z
     Eigen::Vector3d u = Eigen::Vector3d::Zero();
     u[other] = h[other];

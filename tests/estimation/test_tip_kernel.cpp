@@ -8,6 +8,7 @@
 #include <cstdlib>
 
 #include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 #include <random>
 
 #include "artcal/artcal.hpp"
