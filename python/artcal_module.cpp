@@ -249,26 +249,22 @@ json checkDocument(const PyPlan& p, double rank_tolerance) {
   return out;
 }
 
-/// A column vector as a numpy array (copied).
-py::array_t<double> toArray(const Eigen::VectorXd& v) {
-  py::array_t<double> out(v.size());
-  std::copy(v.data(), v.data() + v.size(), out.mutable_data());
+/// Values as a numpy array (copied).
+py::array_t<double> toArray(const std::vector<double>& v) {
+  py::array_t<double> out(static_cast<py::ssize_t>(v.size()));
+  std::copy(v.begin(), v.end(), out.mutable_data());
   return out;
 }
 
 /// The tip uncertainty S, S_m, S_q (mm) at each configuration of the evaluated workspace, and
 /// the configurations (file units): the per-configuration values evaluate's summary is taken
-/// from (TipEvaluator::kinematicVariance, as TipEvaluator::summarize).
+/// from, as the evaluation carries them (not computed again).
 py::dict tipPerConfiguration(const Plan& plan, const Evaluation& evaluation) {
   py::dict out;
   if (!evaluation.covariance || evaluation.workspace.empty()) return out;
-  const TipEvaluator tip(plan.machine, plan.noise, evaluation.workspace, 0, TipUse::Once);
-  Eigen::VectorXd kinematic2;
-  tip.kinematicVariance(evaluation.covariance->V, kinematic2);
-  const Eigen::VectorXd& encoder2 = tip.encoderVariance();
-  out["total"] = toArray((kinematic2 + encoder2).cwiseSqrt());
-  out["kinematic"] = toArray(kinematic2.cwiseSqrt());
-  out["encoder"] = toArray(encoder2.cwiseSqrt());
+  out["total"] = toArray(evaluation.workspace_total);
+  out["kinematic"] = toArray(evaluation.workspace_kinematic);
+  out["encoder"] = toArray(evaluation.workspace_encoder);
   const std::size_t n = evaluation.workspace.size();
   const std::size_t joints = static_cast<std::size_t>(evaluation.workspace.front().size());
   py::array_t<double> q({n, joints});

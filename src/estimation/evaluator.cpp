@@ -123,14 +123,20 @@ std::vector<Eigen::MatrixXd> featuresInMachineFrame(const Plan& plan,
   return out;
 }
 
-// S per workspace configuration (mm) from S_m^2: the values TipEvaluator::summarizeVariance
-// summarizes.
-std::vector<double> totalPerConfiguration(const TipEvaluator& tips, const Eigen::VectorXd& S_m2) {
-  std::vector<double> totals(static_cast<std::size_t>(tips.size()));
+// S, S_m and S_q per workspace configuration (mm) from S_m^2: the values
+// TipEvaluator::summarizeVariance summarizes.
+void perConfiguration(const TipEvaluator& tips, const Eigen::VectorXd& S_m2,
+                      Evaluation& evaluation) {
+  const auto count = static_cast<std::size_t>(tips.size());
+  evaluation.workspace_total.resize(count);
+  evaluation.workspace_kinematic.resize(count);
+  evaluation.workspace_encoder.resize(count);
   for (int g = 0; g < tips.size(); ++g) {
-    totals[static_cast<std::size_t>(g)] = std::sqrt(S_m2[g] + tips.encoderVariance()[g]);
+    const auto at = static_cast<std::size_t>(g);
+    evaluation.workspace_total[at] = std::sqrt(S_m2[g] + tips.encoderVariance()[g]);
+    evaluation.workspace_kinematic[at] = std::sqrt(S_m2[g]);
+    evaluation.workspace_encoder[at] = std::sqrt(tips.encoderVariance()[g]);
   }
-  return totals;
 }
 
 }  // namespace
@@ -206,7 +212,7 @@ Evaluation evaluatePlan(const Plan& plan, const EvaluateOptions& options) {
   Eigen::VectorXd S_m2;
   tip.kinematicVariance(evaluation.covariance->V, S_m2);
   evaluation.tip = tip.summarizeVariance(S_m2);
-  evaluation.workspace_total = totalPerConfiguration(tip, S_m2);
+  perConfiguration(tip, S_m2, evaluation);
   // Several named tips (docs/urdf.md): each tip at the same configurations, one V_p.
   const std::vector<std::string> tip_names = plan.machine.mechanism->stylusNames();
   if (tip_names.size() > 1) {

@@ -239,6 +239,7 @@ TipEvaluator::TipEvaluator(const Machine& machine, const Noise& noise,
 
 // The cheapest prepared form for this workspace (tip.hpp): Gram, factored or panels.
 void TipEvaluator::prepareRepeated(int n_p) {
+  if (n_p == 0) return;  // nothing calibrated: kinematicVariance answers 0 without a form
   const int count = size();
   if (n_p <= kGramMaxParameters) prepareGram(n_p);
   const long per_configuration = gram_constant_.size() > 0

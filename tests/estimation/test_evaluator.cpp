@@ -338,6 +338,8 @@ TEST(Evaluator, CarriesSPerConfigurationAndThePlacedFeatures) {
     const TipPoint direct =
         tipUncertainty(plan.machine, plan.noise, evaluation.workspace[g], evaluation.covariance->V);
     EXPECT_NEAR(evaluation.workspace_total[g], direct.total, 1e-10 * direct.total) << g;
+    EXPECT_NEAR(evaluation.workspace_kinematic[g], direct.kinematic, 1e-10 * direct.kinematic) << g;
+    EXPECT_NEAR(evaluation.workspace_encoder[g], direct.encoder, 1e-12 * direct.encoder) << g;
     sum += evaluation.workspace_total[g];
   }
   const auto worst =

@@ -76,6 +76,8 @@ struct Evaluation {
   /// S at each configuration of `workspace`, mm (S^2 = S_m^2 + S_q^2, the values `tip`
   /// summarizes): what the report's map draws.
   std::vector<double> workspace_total;
+  /// S_m and S_q at each configuration of `workspace`, mm (the parts of workspace_total).
+  std::vector<double> workspace_kinematic, workspace_encoder;
   WorkspaceDrops workspace_drops;  ///< samples left out of `workspace`
   bool identifiable() const { return identifiability.identifiable() && covariance.has_value(); }
 };
