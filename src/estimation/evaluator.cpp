@@ -216,7 +216,9 @@ Evaluation evaluatePlan(const Plan& plan, const EvaluateOptions& options) {
   // Several named tips (docs/urdf.md): each tip at the same configurations, one V_p.
   const std::vector<std::string> tip_names = plan.machine.mechanism->stylusNames();
   if (tip_names.size() > 1) {
-    for (std::size_t t = 0; t < tip_names.size(); ++t) {
+    // Tip 0's is the evaluation's own (`tip` above).
+    evaluation.tips.push_back({tip_names.front(), *evaluation.tip, tip.movingParameters()});
+    for (std::size_t t = 1; t < tip_names.size(); ++t) {
       const TipEvaluator of_tip(plan.machine, plan.noise, evaluation.workspace, static_cast<int>(t),
                                 TipUse::Once);
       evaluation.tips.push_back(

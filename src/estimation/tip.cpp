@@ -161,7 +161,7 @@ std::vector<Eigen::VectorXd> workspaceConfigurations(const Machine& machine,
                                                      const WorkspaceSpec& spec,
                                                      WorkspaceDrops* drops) {
   WorkspaceDrops counted;
-  auto out = sampledConfigurations(machine, spec, counted);
+  auto out = workspaceSamples(machine, spec, &counted);
   // Task-space samples were checked one by one (landsOn).
   if (spec.kind != WorkspaceSpec::Kind::TaskSpace)
     out = withWorkingForwardKinematics(machine, std::move(out), counted);
