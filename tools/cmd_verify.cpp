@@ -31,7 +31,7 @@ void hintFrameOf(const Plan& plan, const std::vector<CalibratedFrame>& calibrate
   for (std::size_t j = 0; j < plan.placements.size() && j < frames.size(); ++j) {
     const Artifact& artifact =
         plan.artifacts[static_cast<std::size_t>(plan.placements[j].artifact)];
-    if (frames[j] || artifact.kind != ArtifactKind::Plane) continue;
+    if (frames[j] || !artifact.kind().touches_faces) continue;
     for (const CalibratedFrame& frame : calibrated) {
       if (frame.artifact != artifact.id) continue;
       std::cerr << "note: placement " << placementLabel(plan.placements, j)

@@ -6,72 +6,8 @@
 namespace artcal {
 
 std::string artifactTypeName(const Artifact& artifact) {
-  if (artifact.kind == ArtifactKind::Plane && artifact.plane.shape == PlaneShape::TableBall)
-    return "ball_bar (table-spindle)";
-  return artifactKindName(artifact.kind);
-}
-
-std::string artifactKindName(ArtifactKind kind) {
-  return nameOf(kArtifactKindNames, kind);
-}
-
-Artifact Artifact::ballBar(std::string id, int dimension, double length, double u_length) {
-  Artifact a;
-  a.id = std::move(id);
-  a.kind = ArtifactKind::BallBar;
-  a.dimension = dimension;
-  a.features = Eigen::MatrixXd::Zero(dimension, 2);
-  a.features(0, 1) = length;
-  // The length error moves the second ball along X (docs/method.md section 2).
-  if (u_length > 0.0) a.systematic.push_back({1, 0, u_length});
-  return a;
-}
-
-Artifact Artifact::ballPlate(std::string id, const Eigen::MatrixXd& centers, double u) {
-  Artifact a;
-  a.id = std::move(id);
-  a.kind = ArtifactKind::BallPlate;
-  a.dimension = static_cast<int>(centers.rows());
-  a.features = centers;
-  if (u > 0.0) {
-    for (int i = 0; i < centers.cols(); ++i) {
-      for (int k = 0; k < a.dimension; ++k) a.systematic.push_back({i, k, u});
-    }
-  }
-  return a;
-}
-
-Artifact Artifact::stepGauge(std::string id, int dimension, const std::vector<double>& positions,
-                             double u) {
-  Artifact a;
-  a.id = std::move(id);
-  a.kind = ArtifactKind::StepGauge;
-  a.dimension = dimension;
-  a.features = Eigen::MatrixXd::Zero(dimension, static_cast<int>(positions.size()));
-  for (std::size_t i = 0; i < positions.size(); ++i) {
-    a.features(0, static_cast<int>(i)) = positions[i];
-    if (u > 0.0) a.systematic.push_back({static_cast<int>(i), 0, u});
-  }
-  return a;
-}
-
-Artifact Artifact::instrument(std::string id, int dimension, double noise) {
-  Artifact a;
-  a.id = std::move(id);
-  a.kind = ArtifactKind::Instrument;
-  a.dimension = dimension;
-  a.features = Eigen::MatrixXd::Zero(dimension, 0);
-  a.noise = noise;
-  return a;
-}
-
-Artifact Artifact::sphere(std::string id) {
-  Artifact a;
-  a.id = std::move(id);
-  a.kind = ArtifactKind::Sphere;
-  a.dimension = 3;
-  a.features = Eigen::MatrixXd::Zero(3, 1);
-  return a;
+  const ArtifactKind& kind = artifact.kind();
+  return kind.type_name ? kind.type_name(artifact) : kind.name;
 }
 
 int Artifact::appendFeature(const Eigen::VectorXd& point) {
@@ -81,49 +17,24 @@ int Artifact::appendFeature(const Eigen::VectorXd& point) {
   return index;
 }
 
-// Full rigid motion = (translation, rotation): 2-D (tx, ty, rz), 3-D (tx, ty, tz, wx, wy, wz).
-// A ball bar in 3-D does not see its roll about X; a step gauge sees only motions that change X.
-namespace {
-
-// The full rigid motion's directions (translation, rotation) in the order the observation blocks
-// use, and the leading ones the artifact's table counts (N(r_j), docs/method.md section 1).
-struct RigidOrders {
-  std::vector<int> full;
-  std::vector<int> table;
-};
-
-const RigidOrders& rigidOrders(int dimension, ArtifactKind kind, PlaneShape shape) {
-  static const RigidOrders all2{{0, 1, 2}, {0, 1, 2}}, gauge2{{0, 2, 1}, {0, 2}};
-  static const RigidOrders all3{{0, 1, 2, 3, 4, 5}, {0, 1, 2, 3, 4, 5}},
-      bar3{{0, 1, 2, 4, 5, 3}, {0, 1, 2, 4, 5}}, gauge3{{0, 4, 5, 1, 2, 3}, {0, 4, 5}},
-      sphere3{{0, 1, 2}, {0, 1, 2}};
-  // Faces all normal to X (a plane, a gauge block) see what a step gauge's faces see: the
-  // translation along X and the turns that tilt X; a cube corner's faces see every motion.
-  if (kind == ArtifactKind::Plane) {
-    if (shape == PlaneShape::CubeCorner) return dimension == 2 ? all2 : all3;
-    if (shape == PlaneShape::TableBall) return sphere3;  // a turn about the ball moves nothing
-    return dimension == 2 ? gauge2 : gauge3;
-  }
-  if (dimension == 2) return kind == ArtifactKind::StepGauge ? gauge2 : all2;
-  switch (kind) {
-    case ArtifactKind::BallBar:
-      return bar3;
-    case ArtifactKind::StepGauge:
-      return gauge3;
-    case ArtifactKind::Sphere:
-      return sphere3;
-    case ArtifactKind::BallPlate:
-    case ArtifactKind::Instrument:
-    case ArtifactKind::Plane:
-      break;
-  }
-  return all3;
+const RigidOrders& everyRigidDirection(int dimension) {
+  static const RigidOrders all2{{0, 1, 2}, {0, 1, 2}};
+  static const RigidOrders all3{{0, 1, 2, 3, 4, 5}, {0, 1, 2, 3, 4, 5}};
+  return dimension == 2 ? all2 : all3;
 }
 
-}  // namespace
+const RigidOrders& rigidDirectionsMovingX(int dimension) {
+  static const RigidOrders gauge2{{0, 2, 1}, {0, 2}}, gauge3{{0, 4, 5, 1, 2, 3}, {0, 4, 5}};
+  return dimension == 2 ? gauge2 : gauge3;
+}
+
+const RigidOrders& rigidTranslations(int dimension) {
+  static const RigidOrders translations2{{0, 1}, {0, 1}}, translations3{{0, 1, 2}, {0, 1, 2}};
+  return dimension == 2 ? translations2 : translations3;
+}
 
 const std::vector<int>& Artifact::rigidDirections() const {
-  return rigidOrders(dimension, kind, plane.shape).table;
+  return kind_->rigid_orders(*this).table;
 }
 
 namespace {
@@ -157,7 +68,7 @@ void Artifact::rigidJacobian(const Eigen::VectorXd& W, Eigen::Ref<Eigen::MatrixX
 }
 
 const std::vector<int>& Artifact::fullRigidOrder() const {
-  return rigidOrders(dimension, kind, plane.shape).full;
+  return kind_->rigid_orders(*this).full;
 }
 
 void Artifact::fullRigidJacobian(const Eigen::VectorXd& W, Eigen::Ref<Eigen::MatrixXd> J,

@@ -4,12 +4,41 @@
 #include "artcal/artifact/artifact.hpp"
 
 namespace artcal {
+namespace {
+
+/// Faces all normal to X (a plane, a gauge block) see what a step gauge's faces see; a cube
+/// corner's faces see every motion; a table-spindle bar's sphere about its table ball sees the
+/// translations only (a turn about the ball moves nothing).
+const RigidOrders& planeRigidOrders(const Artifact& artifact) {
+  switch (artifact.plane.shape) {
+    case PlaneShape::CubeCorner:
+      return everyRigidDirection(artifact.dimension);
+    case PlaneShape::TableBall:
+      return rigidTranslations(artifact.dimension);
+    case PlaneShape::Single:
+    case PlaneShape::GaugeBlock:
+      break;
+  }
+  return rigidDirectionsMovingX(artifact.dimension);
+}
+
+std::string planeTypeName(const Artifact& artifact) {
+  return artifact.plane.shape == PlaneShape::TableBall ? "ball_bar (table-spindle)" : "plane";
+}
+
+const ArtifactKind kPlane{.name = "plane",
+                          .one_valued_coordinate = true,
+                          .touches_faces = true,
+                          .centre = "the table ball's centre",
+                          .rigid_orders = planeRigidOrders,
+                          .type_name = planeTypeName};
+
+}  // namespace
 
 Artifact Artifact::planeArtifact(std::string id, int dimension, PlaneGeometry geometry,
                                  double flatness, double u_tilt, double u_length) {
-  Artifact a;
+  Artifact a(kPlane);
   a.id = std::move(id);
-  a.kind = ArtifactKind::Plane;
   a.dimension = dimension;
   a.noise = flatness;
   a.noise_angle = u_tilt;

@@ -659,7 +659,7 @@ void Calibrator::fillDetails(const std::vector<Placement>& placements, Calibrati
       entry.placement = static_cast<int>(j);
       entry.measurement = static_cast<int>(i);
       entry.feature = m.feature;
-      if (artifact.kind == ArtifactKind::Plane) {  // the distance to its face (plane_rows.hpp)
+      if (artifact.kind().touches_faces) {  // the distance to its face (plane_rows.hpp)
         planeRows(artifact, plan.machine, out.parameters, m, out.poses[j], c[j], false, plane_rows,
                   plane_scratch);
         entry.residual = plane_rows.residual.head(1);

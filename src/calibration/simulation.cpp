@@ -248,11 +248,11 @@ SimulatedRun Simulator::simulate(const Eigen::VectorXd& p_true, NormalSource& no
     Placement& placement = run.placements[j];
     const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
     const Eigen::VectorXd& c = artifact_c[static_cast<std::size_t>(placement.artifact)];
-    if (artifact.kind == ArtifactKind::Instrument) {
+    if (artifact.kind().readings_are_features) {
       simulateStation(plan, p_true, poses_[j], artifact, scale, placement, normal);
       continue;
     }
-    if (artifact.kind == ArtifactKind::Plane) {
+    if (artifact.kind().touches_faces) {
       simulateTouches(plan, p_true, poses_[j], artifact, c, scale, j, placement, normal);
       continue;
     }

@@ -232,7 +232,7 @@ StationsVerification verifyStations(const Plan& plan, const Eigen::VectorXd& p,
   for (std::size_t j = 0; j < plan.placements.size(); ++j) {
     const Artifact& instrument =
         plan.artifacts[static_cast<std::size_t>(plan.placements[j].artifact)];
-    if (instrument.kind != ArtifactKind::Instrument) continue;
+    if (!instrument.kind().readings_are_features) continue;
     out.stations.push_back(verifyStation(plan, j, p, indices, V, points, angles));
     StationVerification& station = out.stations.back();
     if (station.angular && !out.angular_all) out.angular_all.emplace();

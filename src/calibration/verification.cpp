@@ -2,9 +2,9 @@
 
 #include <Eigen/Geometry>
 #include <Eigen/QR>
-#include <numbers>
 #include <cmath>
 #include <map>
+#include <numbers>
 
 #include "artcal/estimation/design_matrix.hpp"
 #include "artcal/estimation/normal_matrix.hpp"
@@ -171,7 +171,8 @@ FlushSums sumsOf(const FlushFigures& f) {
 // the outward normal when flush). A tool axis of +z: the half turn about x.
 Eigen::Matrix3d toolFrame(const Eigen::Vector3d& tool_axis) {
   const Eigen::Vector3d z = -tool_axis.normalized();
-  if (z.z() < -1.0 + 1e-12) return Eigen::AngleAxisd(std::numbers::pi, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  if (z.z() < -1.0 + 1e-12)
+    return Eigen::AngleAxisd(std::numbers::pi, Eigen::Vector3d::UnitX()).toRotationMatrix();
   return Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), z).toRotationMatrix();
 }
 
@@ -304,7 +305,7 @@ PlacementVerification verifyPlacement(const Plan& plan, int index, const Eigen::
                                       const VerifyOptions& options, double& predicted_sum) {
   const Placement& placement = plan.placements[static_cast<std::size_t>(index)];
   const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
-  if (artifact.kind == ArtifactKind::Plane)
+  if (artifact.kind().touches_faces)
     return verifyTouches(plan, index, p, start, builder, uncertainty, options, predicted_sum);
   const std::vector<int> no_indices;
   const std::vector<int>& indices = uncertainty ? uncertainty->indices : no_indices;

@@ -90,7 +90,7 @@ void DesignMatrixBuilder::build(const Artifact& artifact,
   for (std::size_t i = 0; i < measurements.size(); ++i) {
     const Measurement& m = measurements[i];
     const int row = per * static_cast<int>(i);
-    if (artifact.kind == ArtifactKind::Plane) {
+    if (artifact.kind().touches_faces) {
       const Small own_L = planeReading(artifact, m, p, r, c, row, with_residuals, block);
       const Small L = held ? Small(held->factors[i].topLeftCorner(per, per)) : own_L;
       if (held && own) storeFactor(*own, measurements.size(), i, own_L);
@@ -264,7 +264,7 @@ void DesignMatrixBuilder::misfits(const Artifact& artifact,
   PlaneRows plane_rows;
   PlaneRowsScratch plane_scratch;
   for (const Measurement& m : measurements) {
-    if (artifact.kind == ArtifactKind::Plane) {
+    if (artifact.kind().touches_faces) {
       // As a pose's: the distance row, and a flush contact's tilt rows when they carry a share.
       planeRows(artifact, *machine_, p, m, r, c, true, plane_rows, plane_scratch);
       const int kept = tilt_rows ? plane_rows.rows : 1;
@@ -324,7 +324,8 @@ std::vector<RigidTransform> fitPlacements(const Plan& plan,
     const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
     std::set<int> distinct;
     for (const Measurement& m : placement.measurements) distinct.insert(m.feature);
-    if (artifact.kind == ArtifactKind::Sphere && !placement.measurements.empty()) {
+    if (artifact.translatesOnly() && !artifact.kind().touches_faces &&
+        !placement.measurements.empty()) {
       // A sphere: the mean offset of the probed centres from its centre, no rotation.
       const Eigen::MatrixXd machine_points = builder.probePositions(placement.measurements, p);
       RigidTransform shift = RigidTransform::identity(artifact.dimension);
@@ -336,7 +337,7 @@ std::vector<RigidTransform> fitPlacements(const Plan& plan,
       continue;
     }
     // A plane's touches lie anywhere on its faces: its placement starts from the plan's pose.
-    if ((distinct.size() < 2 || artifact.kind == ArtifactKind::Plane) && placement.pose) {
+    if ((distinct.size() < 2 || artifact.kind().touches_faces) && placement.pose) {
       poses.push_back(poseTransform(plan.machine.dimension(), *placement.pose));
       continue;
     }

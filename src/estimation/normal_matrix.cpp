@@ -75,7 +75,7 @@ Eigen::VectorXd PlacementElimination::rigidStep(const Eigen::VectorXd& dg) const
 
 int rigidRankOfFeatures(const Artifact& artifact, const std::vector<Measurement>& measurements) {
   // A plane's features are faces, touched anywhere: the faces' normals decide (the table).
-  if (artifact.kind == ArtifactKind::Plane) return artifact.rigidDof();
+  if (artifact.kind().touches_faces) return artifact.rigidDof();
   const int k = artifact.valuedPerFeature();
   const Eigen::VectorXd no_c;
   Eigen::MatrixXd J(k * static_cast<int>(measurements.size()), artifact.fullRigidDof());

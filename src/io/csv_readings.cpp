@@ -57,10 +57,13 @@ std::string shown(std::string_view field) {
 
 }  // namespace
 
-std::vector<std::string_view> csvFields(std::string_view line) { return splitFields(line); }
+std::vector<std::string_view> csvFields(std::string_view line) {
+  return splitFields(line);
+}
 
 std::size_t headerShift(const std::vector<std::string_view>& header,
-                        const std::vector<std::string_view>& row, const std::vector<int>& selected) {
+                        const std::vector<std::string_view>& row,
+                        const std::vector<int>& selected) {
   auto numbers = [&](std::size_t shift) {
     for (const int f : selected) {
       if (f < 0) continue;

@@ -233,8 +233,6 @@ void appendCsvReadings(const Node& entry, const std::string& plan_source, const 
   }
 }
 
-}  // namespace
-
 Artifact parseInstrumentArtifact(const std::string& id, const Node& node, const Machine& machine,
                                  std::vector<std::string>& warnings) {
   node.warnUnknown({"type", "measures", "noise", "noise_angle"}, warnings);
@@ -259,6 +257,12 @@ Artifact parseInstrumentArtifact(const std::string& id, const Node& node, const 
     }
   }
   return instrument;
+}
+
+}  // namespace
+
+ArtifactCodec instrumentArtifactCodec() {
+  return {"instrument", parseInstrumentArtifact};
 }
 
 void parseStationReadings(const Node& measurements, const std::string& plan_source,

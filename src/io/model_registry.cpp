@@ -14,8 +14,8 @@ namespace artcal {
 const std::vector<ModelCodec>& modelCodecs() {
   // The registry: one line per family (model_registry.hpp says how to add one).
   static const std::vector<ModelCodec> codecs = {
-      planar2rCodec(), serialDhCodec(), hexapodCodec(), cartesianCodec(), chainCodec(),
-      machineToolCodec(),
+      planar2rCodec(),  serialDhCodec(), hexapodCodec(),
+      cartesianCodec(), chainCodec(),    machineToolCodec(),
   };
   return codecs;
 }

@@ -24,11 +24,11 @@
 #include "artcal/estimation/identifiability.hpp"
 #include "artcal/estimation/plane_rows.hpp"
 #include "artcal/io/acceptance_spec.hpp"
+#include "artcal/io/artifact_registry.hpp"
 #include "artcal/io/csv_readings.hpp"
 #include "artcal/io/instrument_codec.hpp"
 #include "artcal/io/json_node.hpp"
 #include "artcal/io/model_registry.hpp"
-#include "artcal/io/plane_codec.hpp"
 #include "artcal/io/plausibility.hpp"
 
 namespace artcal {
@@ -39,7 +39,6 @@ using nlohmann::json;
 
 constexpr std::size_t kMaxPlacements = 1'000'000;
 constexpr std::size_t kMaxMeasurements = 10'000;
-constexpr std::size_t kMaxFeatures = 10'000;
 // Workspace configurations evaluated: 3 to 10 KB each while the tip uncertainty is prepared
 // (planar2r 3.2 GB at 10^6, the hexapod 0.98 GB at 10^5): 10^7 ran out of memory, 10^6 holds (issue
 // 19).
@@ -211,96 +210,6 @@ Noise parseNoise(const Node& node, const Machine& machine, std::vector<std::stri
   return noise;
 }
 
-/// An artifact's calibration uncertainty (a standard deviation, 0 when absent).
-double optionalUncertainty(const Node& node, const char* key) {
-  return node.find(key) ? node.at(key).standardDeviation(true) : 0.0;
-}
-
-/// "centers i and j coincide" for the first pair of ball-plate centres closer than a 10^-9 of
-/// the plate's size (docs: the centres must be distinct), else "".
-std::string coincidentCenters(const Eigen::MatrixXd& points) {
-  const Eigen::MatrixXd centred = points.colwise() - points.rowwise().mean();
-  const double size = centred.colwise().norm().maxCoeff();
-  for (int i = 0; i < points.cols(); ++i) {
-    for (int j = i + 1; j < points.cols(); ++j) {
-      if ((points.col(i) - points.col(j)).norm() <= 1e-9 * size) {
-        return "centers " + std::to_string(i) + " and " + std::to_string(j) +
-               " coincide: every ball of a plate must have its own centre";
-      }
-    }
-  }
-  return "";
-}
-
-Artifact parseArtifact(const std::string& id, const Node& node, const Machine& machine,
-                       std::vector<std::string>& warnings) {
-  node.object();
-  const int dimension = machine.dimension();
-  const Node typeNode = node.at("type");
-  const std::string type = typeNode.string();
-  if (type == "instrument") return parseInstrumentArtifact(id, node, machine, warnings);
-  if (type == "plane") return parsePlaneArtifact(id, node, machine, warnings);
-  if (type == "ball_bar" && node.has("ends")) {
-    // A double ball bar between a ball on the table and the spindle's (five-axis.md section 3).
-    node.warnUnknown({"type", "length", "u_length", "ends"}, warnings);
-    const Node ends = node.at("ends");
-    if (ends.string() != "table-spindle")
-      ends.fail("unknown ends \"" + ends.string() +
-                "\" (expected table-spindle; leave \"ends\" "
-                "out for a bar between two sockets the machine holds in turn)");
-    if (dimension != 3) ends.fail("a table-spindle ball bar needs a 3-D machine");
-    PlaneGeometry geometry;
-    geometry.shape = PlaneShape::TableBall;
-    geometry.length = node.at("length").positive();
-    return Artifact::planeArtifact(id, dimension, geometry, 0.0, 0.0,
-                                   optionalUncertainty(node, "u_length"));
-  }
-  if (type == "ball_bar") {
-    node.warnUnknown({"type", "length", "u_length", "ends"}, warnings);
-    return Artifact::ballBar(id, dimension, node.at("length").positive(),
-                             optionalUncertainty(node, "u_length"));
-  }
-  if (type == "ball_plate") {
-    node.warnUnknown({"type", "centers", "u"}, warnings);
-    const Node centers = node.at("centers");
-    const std::size_t n = centers.arraySize(2, kMaxFeatures);
-    Eigen::MatrixXd points(dimension, static_cast<int>(n));
-    for (std::size_t i = 0; i < n; ++i) {
-      points.col(static_cast<int>(i)) = centers[i].numbers(static_cast<std::size_t>(dimension));
-    }
-    // Every pair of centres must be distinct; in 3-D the centres must not all lie on one line
-    // (N(r) = 6 needs it: a collinear plate is a ball bar).
-    Eigen::MatrixXd centred = points.colwise() - points.rowwise().mean();
-    const Eigen::VectorXd sv = singularValues(centred);
-    if (sv[0] <= 0.0) centers.fail("centers must not coincide");
-    if (const std::string pair = coincidentCenters(points); !pair.empty()) centers.fail(pair);
-    if (dimension == 3 && (sv.size() < 2 || sv[1] <= 1e-9 * sv[0])) {
-      centers.fail("centers of a 3-D ball plate must not be collinear");
-    }
-    return Artifact::ballPlate(id, points, optionalUncertainty(node, "u"));
-  }
-  if (type == "step_gauge") {
-    node.warnUnknown({"type", "positions", "u"}, warnings);
-    const Node positions = node.at("positions");
-    const std::size_t n = positions.arraySize(2, kMaxFeatures);
-    std::vector<double> values;
-    for (std::size_t i = 0; i < n; ++i) values.push_back(positions[i].number());
-    if (std::set<double>(values.begin(), values.end()).size() != values.size()) {
-      positions.fail("positions must be distinct");
-    }
-    return Artifact::stepGauge(id, dimension, values, optionalUncertainty(node, "u"));
-  }
-  if (type == "sphere") {
-    // A sphere on a machine tool's table (five-axis.md): its probed centre, position unknown.
-    node.warnUnknown({"type", "diameter"}, warnings);
-    if (dimension != 3) typeNode.fail("a sphere needs a 3-D machine");
-    if (const auto diameter = node.find("diameter")) diameter->positive();
-    return Artifact::sphere(id);
-  }
-  typeNode.fail("unknown artifact type \"" + type +
-                "\" (expected ball_bar, ball_plate, step_gauge, instrument, plane or sphere)");
-}
-
 Pose parsePose(const Node& node, int dimension, std::vector<std::string>& warnings,
                bool centre_only) {
   node.object();
@@ -460,7 +369,7 @@ void checkCsvReadingsInAll(const Node& placements, const Plan& plan, CsvFiles& f
       continue;
     const int artifact = plan.artifactIndex(placement["artifact"].get<std::string>());
     if (artifact < 0 ||
-        plan.artifacts[static_cast<std::size_t>(artifact)].kind == ArtifactKind::Instrument)
+        plan.artifacts[static_cast<std::size_t>(artifact)].kind().readings_are_features)
       continue;
     const Node measurements = placements[i].at("measurements");
     for (std::size_t j = 0; j < placement["measurements"].size(); ++j) {
@@ -637,15 +546,14 @@ Placement parsePlacement(const Node& node, Plan& plan, CsvFiles& csv_files,
   // A plane's touches lie anywhere on its faces: where it stands is the plan's pose, or what its
   // touches give (docs/planes.md).
   const bool plane =
-      plan.artifacts[static_cast<std::size_t>(placement.artifact)].kind == ArtifactKind::Plane;
+      plan.artifacts[static_cast<std::size_t>(placement.artifact)].kind().touches_faces;
   const auto measurements = node.find("measurements");
   if (!placement.pose && plane && !measurements) node.at("pose");  // raises "missing"
   if (!measurements) {
     if (require_measurements || !placement.pose) node.at("measurements");  // raises "missing"
     return placement;
   }
-  if (plan.artifacts[static_cast<std::size_t>(placement.artifact)].kind ==
-      ArtifactKind::Instrument) {
+  if (plan.artifacts[static_cast<std::size_t>(placement.artifact)].kind().readings_are_features) {
     parseStation(node, *measurements, plan, placement, index, explicit_limits, warnings);
     return placement;
   }
@@ -844,7 +752,7 @@ DesignSpec parseDesign(const Node& node, const Plan& plan, std::vector<std::stri
   const Node artifact = node.at("artifact");
   design.artifact = plan.artifactIndex(artifact.string());
   if (design.artifact < 0) artifact.fail("unknown artifact \"" + artifact.string() + "\"");
-  if (plan.artifacts[static_cast<std::size_t>(design.artifact)].kind == ArtifactKind::Instrument) {
+  if (plan.artifacts[static_cast<std::size_t>(design.artifact)].kind().readings_are_features) {
     parseInstrumentDesign(node, plan, design, warnings);
   } else {
     for (const char* key : {"stations", "readings", "candidates"})
@@ -988,7 +896,7 @@ Plan parsePlan(const nlohmann::json& document, const std::string& source, bool r
   const Node artifacts = root.at("artifacts");
   if (artifacts.object().empty()) artifacts.fail("expected at least one artifact");
   for (const auto& [id, value] : artifacts.object().items()) {
-    plan.artifacts.push_back(parseArtifact(id, artifacts.at(id), plan.machine, plan.warnings));
+    plan.artifacts.push_back(readArtifact(id, artifacts.at(id), plan.machine, plan.warnings));
   }
   if (const auto placements = root.find("placements")) {
     const std::size_t n = placements->arraySize(require_placements ? 1 : 0, kMaxPlacements);
@@ -1064,8 +972,8 @@ nlohmann::json placementsToJson(const Plan& plan) {
       }
     }
     json measurements = json::array();
-    const bool instrument = plan.artifacts[static_cast<std::size_t>(placement.artifact)].kind ==
-                            ArtifactKind::Instrument;
+    const bool instrument =
+        plan.artifacts[static_cast<std::size_t>(placement.artifact)].kind().readings_are_features;
     for (const Measurement& m : placement.measurements) {
       std::vector<double> joints;
       for (int i = 0; i < m.joints.size(); ++i) {

@@ -4,6 +4,8 @@
 
 namespace artcal {
 
+namespace {
+
 Artifact parsePlaneArtifact(const std::string& id, const Node& node, const Machine& machine,
                             std::vector<std::string>& warnings) {
   node.warnUnknown({"type", "shape", "measures", "radius", "axis", "flatness", "u_tilt", "length",
@@ -72,6 +74,12 @@ Artifact parsePlaneArtifact(const std::string& id, const Node& node, const Machi
   if (const auto extent = node.find("extent")) geometry.extent = extent->positive();
   const double flatness = node.has("flatness") ? node.at("flatness").standardDeviation(true) : 0.0;
   return Artifact::planeArtifact(id, dimension, geometry, flatness, u_tilt, u_length);
+}
+
+}  // namespace
+
+ArtifactCodec planeArtifactCodec() {
+  return {"plane", parsePlaneArtifact};
 }
 
 }  // namespace artcal

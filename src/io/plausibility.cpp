@@ -307,7 +307,7 @@ void checkPlausibility(const Plan& plan, const Eigen::VectorXd& p, const std::st
     Eigen::MatrixXd points;
     if (!probedPoints(plan, p, placement, points)) continue;
     const std::string where = "/placements/" + std::to_string(j);
-    if (artifact.kind == ArtifactKind::Plane) {
+    if (artifact.kind().touches_faces) {
       checkTouches(plan, p, placement, where, machine, reach);
       continue;
     }

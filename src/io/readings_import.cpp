@@ -654,7 +654,8 @@ std::optional<NamedColumns> namedColumns(const fs::path& file, const MachineRead
     }
   }
   for (std::size_t f = 0; f < fields.size(); ++f)
-    if (!used[f] && !trimmedField(fields[f]).empty()) out.ignored.push_back(trimmedField(fields[f]));
+    if (!used[f] && !trimmedField(fields[f]).empty())
+      out.ignored.push_back(trimmedField(fields[f]));
   std::vector<int> selected;
   for (const int f : joint_field)
     if (f >= 0) selected.push_back(f);
@@ -969,7 +970,7 @@ json machineBlock(const ReadingsImport& import) {
     return import.markers.size() > 1 ? withMarkerTips(machine, import.markers) : machine;
   }
   json machine = import.tips.size() > 1 ? importUrdf(import.urdf, import.base, import.tips)
-                                         : importUrdf(import.urdf, import.base, import.tip);
+                                        : importUrdf(import.urdf, import.base, import.tip);
   machine["calibrate"] = "identifiable";
   return import.markers.size() > 1 ? withMarkerTips(machine, import.markers) : machine;
 }
@@ -1075,8 +1076,10 @@ std::vector<PlacementSource> placementSources(const ReadingsImport& import) {
     }
     const std::string name = path.stem().string();
     if (!names.insert(name).second)
-      throw InputError(input, "", "a second file named " + name + ".csv: placements need names "
-                                  "of their own; rename one");
+      throw InputError(input, "",
+                       "a second file named " + name +
+                           ".csv: placements need names "
+                           "of their own; rename one");
     out.push_back({name, {FeatureFile{0, path, import.unit}}, {}});
   }
   return out;
@@ -1274,7 +1277,7 @@ ImportedPlan importReadings(const ReadingsImport& import) {
     if (!source.pose.empty()) placements.back()["pose"] = readJsonFile(source.pose.string());
   }
   checkEachFileReadOnce(placements, plan_folder);
-  const std::string plan_name = !files_given       ? folderName(dir)
+  const std::string plan_name = !files_given         ? folderName(dir)
                                 : inputs.size() == 1 ? dir.stem().string()
                                                      : folderName(fs::absolute(dir).parent_path());
   std::string what;

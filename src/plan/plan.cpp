@@ -24,8 +24,7 @@ bool Region::contains(const Eigen::VectorXd& x) const {
 
 Eigen::VectorXd readingTarget(const Artifact& artifact, const Measurement& m,
                               const Eigen::VectorXd& c) {
-  if (artifact.kind == ArtifactKind::Instrument && m.point.size() == artifact.dimension)
-    return m.point;
+  if (artifact.kind().readings_are_features && m.point.size() == artifact.dimension) return m.point;
   return artifact.feature(m.feature, c);
 }
 

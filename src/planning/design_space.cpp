@@ -80,7 +80,7 @@ DesignSpace::DesignSpace(const Plan& plan) : plan_(&plan) {
                      plan.machine.mechanism->modelName() + " has " + std::to_string(most_postures) +
                          " postures per point, got " + std::to_string(spec.postures));
   }
-  has_roll_ = dimension() == 3 && artifact().kind == ArtifactKind::BallPlate;
+  has_roll_ = dimension() == 3 && artifact().kind().design_rolls;
   if (artifact().translatesOnly()) commanded_ = plan.machine.mechanism->commandedJoints();
   const auto [lo, hi] = regionExtent(spec.region, dimension());
   if ((lo.array() > hi.array()).any()) {
@@ -280,7 +280,7 @@ std::optional<Placement> DesignSpace::placeWithNewPostures(const Eigen::VectorXd
   Placement placement;
   placement.artifact = design().artifact;
   placement.pose = poseOf(v);
-  const bool plane = artifact().kind == ArtifactKind::Plane;
+  const bool plane = artifact().kind().touches_faces;
   // A plane's face is touched at points spread over it (plane_touches.hpp), on a machine with
   // named tips (docs/urdf.md) by each tip in turn; a ball at its centre (featureReadings: one
   // posture per tip).
@@ -296,8 +296,7 @@ std::optional<Placement> DesignSpace::placeWithNewPostures(const Eigen::VectorXd
                                poseTransform(dimension(), *placement.pose), i, count, rng, stylus)
                 : featureReadings(reading_machine_, i, x.col(i), count, rng);
       if (static_cast<int>(readings.size()) < count) return std::nullopt;
-      placement.measurements.insert(placement.measurements.end(), readings.begin(),
-                                    readings.end());
+      placement.measurements.insert(placement.measurements.end(), readings.begin(), readings.end());
     }
   }
   return placement;
@@ -311,7 +310,7 @@ std::optional<Placement> DesignSpace::movePlacement(const Placement& previous,
   Placement placement;
   placement.artifact = previous.artifact;
   placement.pose = poseOf(v);
-  const bool plane = artifact().kind == ArtifactKind::Plane;
+  const bool plane = artifact().kind().touches_faces;
   const RigidTransform before =
       plane ? poseTransform(dimension(), *previous.pose) : RigidTransform{};
   const RigidTransform after =

@@ -400,7 +400,7 @@ OptimizerSummary optimizeInstrumentDesign(const Plan& spec, const OptimizerOptio
 void appendDesignedPlacements(Plan& plan, const std::vector<Placement>& designed) {
   for (Placement placement : designed) {
     Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
-    if (artifact.kind == ArtifactKind::Instrument) {
+    if (artifact.kind().readings_are_features) {
       for (Measurement& m : placement.measurements) {
         if (m.point.size() == 0) setNominalReading(plan.machine, artifact, m);
         m.feature = artifact.appendFeature(m.point);

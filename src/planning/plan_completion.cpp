@@ -25,7 +25,7 @@ std::vector<std::vector<std::vector<Measurement>>> plannedReadings(const Plan& p
     const Eigen::MatrixXd features = placedFeatures(artifact, *placement.pose);
     for (const PostureRequest& request : placement.posture_requests) {
       std::vector<Measurement> readings =
-          artifact.kind == ArtifactKind::Plane
+          artifact.kind().touches_faces
               ? planeTouches(reading_machine, artifact,
                              poseTransform(machine.dimension(), *placement.pose), request.feature,
                              request.postures, rng, request.stylus)

@@ -95,7 +95,7 @@ Procedure operatorProcedure(const Plan& plan) {
       // point itself, the nominal probe at the planned joints, not the face's middle.
       Eigen::VectorXd touch;
       const bool touched =
-          artifact.kind == ArtifactKind::Plane &&
+          artifact.kind().touches_faces &&
           plan.machine.mechanism->forwardStylus(m.stylus, plan.machine.nominal, m.joints, touch) ==
               ForwardStatus::Ok;
       ProcedureReading reading =

@@ -175,7 +175,7 @@ void drawArtifacts(svg::Plot& plot, const Plan& plan, const std::vector<Eigen::M
     const Artifact& artifact =
         plan.artifacts[static_cast<std::size_t>(plan.placements[j].artifact)];
     const Eigen::MatrixXd& f = features[j];
-    if (artifact.kind != ArtifactKind::BallPlate && f.cols() >= 2) {
+    if (artifact.kind().drawn_as_line && f.cols() >= 2) {
       plot.polyline({project(f.col(0), view), project(f.col(f.cols() - 1), view)}, bar, "artifact");
     }
     for (int i = 0; i < f.cols(); ++i) {

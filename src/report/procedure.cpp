@@ -32,8 +32,7 @@ std::string poseText(const Plan& plan, const ProcedurePlacement& placement) {
   std::string out = "centre " + vectorText(pose.center, 3) + " mm";
   const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
   if (artifact.translatesOnly()) {  // a sphere or a table ball: its centre is all there is
-    out += artifact.kind == ArtifactKind::Sphere ? " (the sphere's centre in the workpiece frame)"
-                                                 : " (the table ball's centre in the workpiece frame)";
+    out += std::string(" (") + artifact.kind().centre + " in the workpiece frame)";
   } else if (plan.machine.dimension() == 2) {
     out += ", angle " + fixed(radToDeg(pose.angle), 3) + " deg";
   } else {
@@ -124,7 +123,7 @@ std::string procedureTable(const Plan& plan, const Procedure& procedure) {
   for (std::size_t j = 0; j < procedure.placements.size(); ++j) {
     const ProcedurePlacement& placement = procedure.placements[j];
     const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
-    const bool station = artifact.kind == ArtifactKind::Instrument;
+    const bool station = artifact.kind().readings_are_features;
     out << "\nPlacement " << placementLabel(plan.placements, j) << ": " << artifact.id << " ("
         << artifactTypeName(artifact) << (station ? " station" : "") << ") at "
         << poseText(plan, placement) << "\n"

@@ -107,7 +107,7 @@ std::string placementView(const Plan& plan, const ProcedurePlacement& placement,
     const int stride = static_cast<int>((features.cols() + 11) / 12);
     if (i % stride == 0 || i == features.cols() - 1) plot.label(at, std::to_string(i));
   }
-  if (artifact.kind != ArtifactKind::BallPlate) plot.polyline(outline, ball);
+  if (artifact.kind().drawn_as_line) plot.polyline(outline, ball);
   return plot.render();
 }
 
@@ -168,8 +168,7 @@ std::string poseLine(const Plan& plan, const ProcedurePlacement& placement) {
   out += ") mm";
   const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
   if (artifact.translatesOnly()) {  // a sphere or a table ball: its centre is all there is
-    out += artifact.kind == ArtifactKind::Sphere ? " (the sphere's centre in the workpiece frame)"
-                                                 : " (the table ball's centre in the workpiece frame)";
+    out += std::string(" (") + artifact.kind().centre + " in the workpiece frame)";
   } else if (plan.machine.dimension() == 2) {
     out += ", angle " + number(radToDeg(pose.angle), 3) + " deg";
   } else {

@@ -119,7 +119,7 @@ std::vector<ReportFigure> stationResidualFigures(const Plan& plan, const json& c
   for (std::size_t j = 0; j < residuals.size() && j < plan.placements.size(); ++j) {
     const Placement& placement = plan.placements[j];
     const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
-    if (artifact.kind != ArtifactKind::Instrument) continue;
+    if (!artifact.kind().readings_are_features) continue;
     figures.push_back(stationFigure(plan, j, residuals[j].at("measurements")));
   }
   return figures;

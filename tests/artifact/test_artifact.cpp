@@ -68,7 +68,7 @@ TEST(Artifact, RigidJacobianMatchesFiniteDifferencesOfPerturbed) {
         artifact.rigidJacobian(T.apply(x), J);
         const Eigen::VectorXd zero = Eigen::VectorXd::Zero(artifact.rigidDof());
         expectJacobianNear(J, centralDifferenceJacobian(F, zero, 1e-6), 1e-7,
-                           artifactKindName(artifact.kind) + " " + std::to_string(dimension) +
+                           artifactTypeName(artifact) + " " + std::to_string(dimension) +
                                "-D feature " + std::to_string(i));
       }
     }
@@ -94,7 +94,7 @@ TEST(Artifact, DirectionsLeftOutMoveNoValuedCoordinate) {
           };
           const Eigen::MatrixXd d = centralDifferenceJacobian(F, Eigen::VectorXd::Zero(1), 1e-6);
           EXPECT_LT(d.cwiseAbs().maxCoeff(), 1e-7)
-              << artifactKindName(artifact.kind) << " direction " << direction;
+              << artifactTypeName(artifact) << " direction " << direction;
         }
       }
       // ... and every kept direction moves a valued coordinate of some feature (a step gauge's
@@ -104,11 +104,11 @@ TEST(Artifact, DirectionsLeftOutMoveNoValuedCoordinate) {
         Eigen::MatrixXd J(k, artifact.rigidDof());
         for (int i = 0; i < artifact.featureCount(); ++i) {
           Eigen::VectorXd W = artifact.features.col(i);
-          if (artifact.kind == ArtifactKind::StepGauge) W.tail(dimension - 1).array() += 5.0;
+          if (artifact.kind().one_valued_coordinate) W.tail(dimension - 1).array() += 5.0;
           artifact.rigidJacobian(W, J);
           largest = std::max(largest, J.col(static_cast<int>(c)).cwiseAbs().maxCoeff());
         }
-        EXPECT_GT(largest, 0.5) << artifactKindName(artifact.kind) << " kept " << kept[c];
+        EXPECT_GT(largest, 0.5) << artifactTypeName(artifact) << " kept " << kept[c];
       }
     }
   }

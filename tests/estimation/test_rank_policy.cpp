@@ -104,7 +104,7 @@ Plan movedPlan(const Plan& plan, double angle, double shift) {
     moved.machine.nominal[j1_d] += shift;
   }
   for (Artifact& artifact : moved.artifacts) {
-    if (artifact.kind != ArtifactKind::BallPlate || artifact.dimension != 3) continue;
+    if (artifactTypeName(artifact) != "ball_plate" || artifact.dimension != 3) continue;
     const Eigen::Matrix3d R =
         (Eigen::AngleAxisd(angle, Eigen::Vector3d(1, 2, 3).normalized())).toRotationMatrix();
     artifact.features = (R * artifact.features).colwise() + Eigen::Vector3d(shift, -shift, 2.0);

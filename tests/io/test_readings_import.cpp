@@ -341,7 +341,7 @@ TEST_F(ImportFolder, InstrumentStationsFromOneCsvFileEach) {
   ASSERT_EQ(plan.placements.size(), 2u);
   EXPECT_EQ(plan.placements[0].name, "station_a");  // files in name order, named by their stem
   EXPECT_EQ(plan.placements[1].name, "station_b");
-  EXPECT_EQ(plan.artifacts.at(0).kind, ArtifactKind::Instrument);
+  EXPECT_EQ(artifactTypeName(plan.artifacts.at(0)), "instrument");
   EXPECT_TRUE(plan.machine.calibrate_identifiable);
   EXPECT_TRUE(plan.noise.estimate_probe);  // beside the instrument, the robot's scatter estimated
   for (std::size_t j = 0; j < 2; ++j) {

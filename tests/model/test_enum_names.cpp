@@ -37,7 +37,6 @@ TEST(EnumNames, EveryTableReadsBackAndNamesAreUnique) {
   expectRoundTrip(kRefineAlgorithmNames);
   expectRoundTrip(kForwardStatusNames);
   expectRoundTrip(kTerminationNames);
-  expectRoundTrip(kArtifactKindNames);
   expectRoundTrip(kChainJointTypeNames);
   expectRoundTrip(kAxisErrorNames);
   expectRoundTrip(kDHConventionNames);
@@ -52,8 +51,6 @@ TEST(EnumNames, TheNamesFilesAndMessagesUse) {
   EXPECT_EQ(refineAlgorithmFromName("neldermead"), RefineAlgorithm::NelderMead);
   EXPECT_EQ(forwardStatusName(ForwardStatus::Singular), "singular configuration");
   EXPECT_EQ(terminationName(TerminationType::NoConvergence), "no_convergence");
-  EXPECT_EQ(artifactKindName(ArtifactKind::StepGauge), "step_gauge");
-  EXPECT_EQ(fromName(kArtifactKindNames, "ball_plate"), ArtifactKind::BallPlate);
   EXPECT_EQ(fromName(kChainJointTypeNames, "prismatic"), ChainJointType::Prismatic);
   EXPECT_EQ(nameOf(kChainJointTypeNames, ChainJointType::Fixed), "fixed");
   EXPECT_EQ(axisErrorName(AxisError::Ry), "ry");
@@ -62,9 +59,6 @@ TEST(EnumNames, TheNamesFilesAndMessagesUse) {
 // Every value of each enum has its name (a value added without one would be caught here, not
 // by a std::logic_error at run time): the tables are as long as the enums.
 TEST(EnumNames, EveryValueOfTheNewTablesIsNamed) {
-  for (const auto kind : {ArtifactKind::BallBar, ArtifactKind::BallPlate, ArtifactKind::StepGauge,
-                          ArtifactKind::Instrument})
-    EXPECT_FALSE(artifactKindName(kind).empty());
   for (int e = 0; e < kAxisErrorCount; ++e)
     EXPECT_EQ(axisErrorName(static_cast<AxisError>(e)).size(), 2u);
 }

@@ -8,30 +8,10 @@
 #include <string>
 #include <vector>
 
+#include "artcal/artifact/artifact_kind.hpp"
 #include "artcal/artifact/plane_geometry.hpp"
-#include "artcal/core/enum_names.hpp"
 
 namespace artcal {
-
-/// Instrument: a laser tracker, total station or optical tracker (docs: instruments.md). Each
-/// placement is one station; every reading is its own feature, the point the instrument reported
-/// in its own frame (all coordinates valued, N(r_j) = 6 as for a ball plate).
-/// Plane: one or more flat faces of known relative geometry touched by the tip (docs/planes.md,
-/// artifact/plane.hpp); each face is a feature whose one valued coordinate is along its normal.
-/// Sphere: a sphere fixed on a machine tool's table, its probed centre read (five-axis.md); one
-/// feature whose position only the placement's 3 translations absorb.
-enum class ArtifactKind { BallBar, BallPlate, StepGauge, Instrument, Plane, Sphere };
-
-/// The names of the plan format's artifact "type".
-inline constexpr EnumNames<ArtifactKind, 6> kArtifactKindNames{
-    {{ArtifactKind::BallBar, "ball_bar"},
-     {ArtifactKind::BallPlate, "ball_plate"},
-     {ArtifactKind::StepGauge, "step_gauge"},
-     {ArtifactKind::Instrument, "instrument"},
-     {ArtifactKind::Plane, "plane"},
-     {ArtifactKind::Sphere, "sphere"}}};
-/// "ball_bar", "ball_plate", "step_gauge", "instrument", "plane", "sphere".
-std::string artifactKindName(ArtifactKind kind);
 
 class Artifact;
 /// What a person calls the artifact: its kind's name, "ball_bar (table-spindle)" for a double
@@ -46,10 +26,19 @@ struct SystematicError {
   double sigma;
 };
 
+/// An artifact of one kind (artifact_kind.hpp), built by its kind's factory below:
+/// Artifact::ballBar, ballPlate, stepGauge (calibrated balls and faces); instrument (a laser
+/// tracker, total station or optical tracker: each placement is one station and each reading its
+/// own feature, docs/instruments.md); planeArtifact (flat faces of known relative geometry
+/// touched by the tip, docs/planes.md); sphere (a sphere on a machine tool's table, its probed
+/// centre read, docs/five-axis.md).
 class Artifact {
  public:
+  explicit Artifact(const ArtifactKind& kind) : kind_(&kind) {}
+  /// What the kind does (its rows, its rigid motions, how it is planned and drawn).
+  const ArtifactKind& kind() const { return *kind_; }
+
   std::string id;
-  ArtifactKind kind = ArtifactKind::BallBar;
   int dimension = 2;
   Eigen::MatrixXd features;  ///< dimension x featureCount, calibrated nominal coordinates W*_0
   std::vector<SystematicError> systematic;  ///< only errors with sigma > 0
@@ -61,8 +50,8 @@ class Artifact {
   /// (rad, per rotation-vector coordinate). Only on models whose forward kinematics gives one.
   bool measures_pose = false;
   double noise_angle = 0.0;
-  /// A plane artifact's faces and contact (kind Plane only): `noise` holds its flatness (mm),
-  /// `noise_angle` a flush contact's tilt uncertainty (rad).
+  /// A plane artifact's faces and contact (a kind that touches faces): `noise` holds its
+  /// flatness (mm), `noise_angle` a flush contact's tilt uncertainty (rad).
   PlaneGeometry plane;
 
   static Artifact ballBar(std::string id, int dimension, double length, double u_length);
@@ -83,12 +72,10 @@ class Artifact {
 
   int featureCount() const { return static_cast<int>(features.cols()); }
   /// k: valued coordinates per feature (all of them for a ball, the first for a step-gauge face).
-  int valuedPerFeature() const {
-    return kind == ArtifactKind::StepGauge || kind == ArtifactKind::Plane ? 1 : dimension;
-  }
+  int valuedPerFeature() const { return kind_->one_valued_coordinate ? 1 : dimension; }
   /// The artifact coordinate of feature i's j-th valued row: j, or a plane face's normal axis.
   int valuedCoordinate(int feature, int j) const {
-    return kind == ArtifactKind::Plane ? plane.faces[static_cast<std::size_t>(feature)].axis : j;
+    return kind_->touches_faces ? plane.faces[static_cast<std::size_t>(feature)].axis : j;
   }
   /// Observation rows per reading: the valued coordinates, 3 orientation rows for a pose, 2 tilt
   /// rows for a plane's flush contact.
@@ -124,6 +111,9 @@ class Artifact {
   int systematicCount() const { return static_cast<int>(systematic.size()); }
   /// Calibrated coordinates of feature i with the systematic errors c added.
   Eigen::VectorXd feature(int i, const Eigen::VectorXd& c) const;
+
+ private:
+  const ArtifactKind* kind_;
 };
 
 }  // namespace artcal

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "artcal/io/artifact_registry.hpp"
 #include "artcal/io/json_node.hpp"
 #include "artcal/plan/plan.hpp"
 
@@ -16,8 +17,7 @@ namespace artcal {
 
 /// `{"type": "instrument", "measures": "point" | "pose", "noise": mm, "noise_angle": deg}`.
 /// `"pose"` needs a model whose forward kinematics gives an orientation.
-Artifact parseInstrumentArtifact(const std::string& id, const Node& node, const Machine& machine,
-                                 std::vector<std::string>& warnings);
+ArtifactCodec instrumentArtifactCodec();
 
 /// Joint values of a reading from its JSON array (file units), checked against the limits and the
 /// nominal forward kinematics by the plan reader.

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "artcal/io/artifact_registry.hpp"
 #include "artcal/io/json_node.hpp"
 #include "artcal/plan/plan.hpp"
 
@@ -15,7 +16,6 @@ namespace artcal {
 /// `{"type": "plane", "shape": "plane" | "gauge_block" | "cube_corner", "measures": "point" |
 /// "flush", "radius": mm, "axis": [x, y, z], "flatness": mm, "u_tilt": deg, "length": mm,
 /// "u_length": mm}`. "flush" needs a 3-D model whose forward kinematics gives an orientation.
-Artifact parsePlaneArtifact(const std::string& id, const Node& node, const Machine& machine,
-                            std::vector<std::string>& warnings);
+ArtifactCodec planeArtifactCodec();
 
 }  // namespace artcal
