@@ -111,8 +111,15 @@ void DesignMatrixBuilder::build(const Artifact& artifact,
     const auto R_valued = r.R.topRows(k);
     auto A_p = block.A_p.middleRows(row, k);
     auto A_r = block.A_r.middleRows(row, k);
-    for (int j = 0; j < n_p; ++j) {
-      A_p.col(j).noalias() = R_valued.lazyProduct(J_x_p_.col(machine.calibrated[j]));
+    if (k == 3 && r.R.cols() == 3) {  // a 3-D point: fixed-size products, no dispatch per column
+      const Eigen::Matrix3d R3 = r.R;
+      for (int j = 0; j < n_p; ++j) {
+        block.A_p.block<3, 1>(row, j).noalias() =
+            R3 * J_x_p_.block<3, 1>(0, machine.calibrated[static_cast<std::size_t>(j)]);
+      }
+    } else {
+      for (int j = 0; j < n_p; ++j)
+        A_p.col(j).noalias() = R_valued.lazyProduct(J_x_p_.col(machine.calibrated[j]));
     }
     artifact.fullRigidJacobian(W_, J_r_);
     A_r = J_r_;

@@ -35,6 +35,49 @@ std::vector<ParameterInfo> chainParameters(const std::vector<ChainJoint>& joints
   return out;
 }
 
+// R <- R Rot(axis, angle): two columns turned in place when the axis is a coordinate axis (as
+// most URDF joints' are), else the product with Rodrigues' matrix.
+void turnAboutAxis(Eigen::Matrix3d& R, const Eigen::Vector3d& axis, double angle) {
+  const double c = std::cos(angle), s = std::sin(angle);
+  if (axis.y() == 0.0 && axis.z() == 0.0 && std::abs(axis.x()) == 1.0) {
+    turnAboutX(R, c, axis.x() * s);
+  } else if (axis.x() == 0.0 && axis.z() == 0.0 && std::abs(axis.y()) == 1.0) {
+    turnAboutY(R, c, axis.y() * s);
+  } else if (axis.x() == 0.0 && axis.y() == 0.0 && std::abs(axis.z()) == 1.0) {
+    turnAboutZ(R, c, axis.z() * s);
+  } else {
+    R = R * axisAngleMatrix(axis, angle);
+  }
+}
+
+/// Cosines and sines of every joint's origin turns (roll, pitch, yaw), for the parameters last
+/// seen on this thread. A calibration evaluates thousands of readings with one p, and these
+/// depend on p alone: computed once per p, not once per reading (the same std::cos and std::sin
+/// of the same angles: the same bits).
+struct OriginTurns {
+  std::vector<double> angles, cos, sin;  ///< 3 per joint: roll, pitch, yaw, in chain order
+};
+
+const OriginTurns& originTurns(const std::vector<int>& offsets, const Eigen::VectorXd& p) {
+  thread_local OriginTurns turns;
+  const std::size_t n = 3 * offsets.size();
+  bool same = turns.angles.size() == n;
+  for (std::size_t i = 0; same && i < n; ++i)
+    same = turns.angles[i] == p[offsets[i / 3] + 3 + static_cast<int>(i % 3)];
+  if (!same) {
+    turns.angles.resize(n);
+    turns.cos.resize(n);
+    turns.sin.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const double angle = p[offsets[i / 3] + 3 + static_cast<int>(i % 3)];
+      turns.angles[i] = angle;
+      turns.cos[i] = std::cos(angle);
+      turns.sin[i] = std::sin(angle);
+    }
+  }
+  return turns;
+}
+
 }  // namespace
 
 Eigen::Matrix3d rpyToMatrix(const Eigen::Vector3d& rpy) {
@@ -282,6 +325,16 @@ ForwardStatus Chain::forwardTipPose(int tip, const Eigen::VectorXd& p, const Eig
     if (!whole) J_x_p->setZero();
     Jp.emplace(J_x_p->data(), 3, parameterCount());
   }
+  const OriginTurns& turns = originTurns(offsets_, p);
+  // Joint i's origin turn about axis a (0 roll, 1 pitch, 2 yaw) by sign * its angle; none at 0.
+  const auto turn = [&](int i, int a, double sign) {
+    const std::size_t t = 3 * static_cast<std::size_t>(i) + static_cast<std::size_t>(a);
+    if (turns.angles[t] == 0.0) return;
+    const double c = turns.cos[t], s = sign * turns.sin[t];
+    if (a == 0) turnAboutX(R, c, s);
+    if (a == 1) turnAboutY(R, c, s);
+    if (a == 2) turnAboutZ(R, c, s);
+  };
   for (const int i : path) {
     const ChainJoint& joint = joints_[i];
     const int k = offsets_[i];
@@ -292,18 +345,18 @@ ForwardStatus Chain::forwardTipPose(int tip, const Eigen::VectorXd& p, const Eig
         joint_axes.col(i) = -axis;
         if (Jp) Jp->col(k + 6) = -axis;
         if (joint.type == ChainJointType::Revolute) {
-          R = R * axisAngleMatrix(joint.axis, -value);
+          turnAboutAxis(R, joint.axis, -value);
         } else {
           o -= axis * value;
         }
       }
       pivots.col(i) = o;
       if (Jp) Jp->col(k + 3) = -R.col(0);
-      turnAboutX(R, -p[k + 3]);
+      turn(i, 0, -1.0);
       if (Jp) Jp->col(k + 4) = -R.col(1);
-      turnAboutY(R, -p[k + 4]);
+      turn(i, 1, -1.0);
       if (Jp) Jp->col(k + 5) = -R.col(2);
-      turnAboutZ(R, -p[k + 5]);
+      turn(i, 2, -1.0);
       if (Jp) Jp->middleCols<3>(k) = -R;
       o -= R * p.segment<3>(k);
       continue;
@@ -312,18 +365,18 @@ ForwardStatus Chain::forwardTipPose(int tip, const Eigen::VectorXd& p, const Eig
     o += R * p.segment<3>(k);
     pivots.col(i) = o;
     if (Jp) Jp->col(k + 5) = R.col(2);
-    turnAboutZ(R, p[k + 5]);
+    turn(i, 2, 1.0);
     if (Jp) Jp->col(k + 4) = R.col(1);
-    turnAboutY(R, p[k + 4]);
+    turn(i, 1, 1.0);
     if (Jp) Jp->col(k + 3) = R.col(0);
-    turnAboutX(R, p[k + 3]);
+    turn(i, 0, 1.0);
     if (!isMovable(joint.type)) continue;
     const double value = jointValue(i, p, q);
     const Eigen::Vector3d axis = R * joint.axis;
     joint_axes.col(i) = axis;
     if (Jp) Jp->col(k + 6) = axis;
     if (joint.type == ChainJointType::Revolute) {
-      R = R * axisAngleMatrix(joint.axis, value);
+      turnAboutAxis(R, joint.axis, value);
     } else {
       o += axis * value;
     }
@@ -383,7 +436,7 @@ std::vector<Eigen::VectorXd> Chain::skeleton(const Eigen::VectorXd& p,
     const int k = offsets_[static_cast<std::size_t>(i)];
     if (joint.reversed) {
       if (joint.type == ChainJointType::Revolute) {
-        R = R * axisAngleMatrix(joint.axis, -jointValue(i, p, q));
+        turnAboutAxis(R, joint.axis, -jointValue(i, p, q));
       } else if (joint.type == ChainJointType::Prismatic) {
         o -= R * joint.axis * jointValue(i, p, q);
       }
@@ -402,7 +455,7 @@ std::vector<Eigen::VectorXd> Chain::skeleton(const Eigen::VectorXd& p,
     if (!isMovable(joint.type)) continue;
     const double value = jointValue(i, p, q);
     if (joint.type == ChainJointType::Revolute) {
-      R = R * axisAngleMatrix(joint.axis, value);
+      turnAboutAxis(R, joint.axis, value);
     } else {
       o += R * joint.axis * value;
     }

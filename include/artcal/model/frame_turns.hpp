@@ -8,31 +8,36 @@
 
 namespace artcal {
 
-// R <- R Rz(angle): the x and y columns turn.
-inline void turnAboutZ(Eigen::Matrix3d& R, double angle) {
-  if (angle == 0.0) return;  // exactly R R(0) = R: most origins' angles are zero
-  const double c = std::cos(angle), s = std::sin(angle);
+// R <- R Rz: the x and y columns turn by the angle whose cosine and sine are c and s.
+inline void turnAboutZ(Eigen::Matrix3d& R, double c, double s) {
   const Eigen::Vector3d x = R.col(0), y = R.col(1);
   R.col(0) = c * x + s * y;
   R.col(1) = c * y - s * x;
 }
 
-// R <- R Ry(angle): the z and x columns turn.
-inline void turnAboutY(Eigen::Matrix3d& R, double angle) {
-  if (angle == 0.0) return;  // as above
-  const double c = std::cos(angle), s = std::sin(angle);
+// R <- R Ry: the z and x columns turn.
+inline void turnAboutY(Eigen::Matrix3d& R, double c, double s) {
   const Eigen::Vector3d x = R.col(0), z = R.col(2);
   R.col(0) = c * x - s * z;
   R.col(2) = c * z + s * x;
 }
 
-// R <- R Rx(angle): the y and z columns turn.
-inline void turnAboutX(Eigen::Matrix3d& R, double angle) {
-  if (angle == 0.0) return;  // as above
-  const double c = std::cos(angle), s = std::sin(angle);
+// R <- R Rx: the y and z columns turn.
+inline void turnAboutX(Eigen::Matrix3d& R, double c, double s) {
   const Eigen::Vector3d y = R.col(1), z = R.col(2);
   R.col(1) = c * y + s * z;
   R.col(2) = c * z - s * y;
+}
+
+// R <- R Rz(angle), R Ry(angle), R Rx(angle); exactly R at angle 0 (most origins' angles are).
+inline void turnAboutZ(Eigen::Matrix3d& R, double angle) {
+  if (angle != 0.0) turnAboutZ(R, std::cos(angle), std::sin(angle));
+}
+inline void turnAboutY(Eigen::Matrix3d& R, double angle) {
+  if (angle != 0.0) turnAboutY(R, std::cos(angle), std::sin(angle));
+}
+inline void turnAboutX(Eigen::Matrix3d& R, double angle) {
+  if (angle != 0.0) turnAboutX(R, std::cos(angle), std::sin(angle));
 }
 
 /// The geometric Jacobian's column of one elementary motion of a serial model (docs/method.md
