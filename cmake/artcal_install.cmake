@@ -58,6 +58,8 @@ install(TARGETS ${ARTCAL_EXPORTED_TARGETS}
         INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 # OPTIONAL: the library installs after a build of the libraries alone (the program not built).
 install(TARGETS artcal_cli RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} OPTIONAL)
+# The URDF module (src/urdf/urdf_module.hpp) where the loader looks: <prefix>/<libdir>/artcal/.
+install(TARGETS artcal_urdf LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}/artcal OPTIONAL)
 install(EXPORT artcalTargets NAMESPACE artcal:: DESTINATION ${ARTCAL_INSTALL_CMAKEDIR})
 
 configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/artcalConfig.cmake.in

@@ -19,7 +19,7 @@ set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
 set(CPACK_DEBIAN_PACKAGE_SECTION science)
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
 set(ARTCAL_DEB_DEPENDS
-    "libeigen3-dev (>= 3.4), libnlopt-cxx-dev, nlohmann-json3-dev (>= 3.10), liburdfdom-dev, libtinyxml2-dev")
+    "libeigen3-dev (>= 3.4), libnlopt-cxx-dev, nlohmann-json3-dev (>= 3.10)")
 if(ARTCAL_PYTHON_BUILT)
   math(EXPR ARTCAL_PYTHON_NEXT_MINOR "${Python3_VERSION_MINOR} + 1")
   string(APPEND ARTCAL_DEB_DEPENDS

@@ -3,8 +3,8 @@
 // block and exported onto the same file. An InputError is the proper answer to a bad URDF; any
 // other escape, a crash, a hang or a non-finite number in the machine block is a finding.
 
+#include "../../src/urdf/urdf_module.hpp"
 #include "artcal/io/chain_codec.hpp"
-#include "artcal/io/urdf.hpp"
 #include "fuzz_common.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -12,12 +12,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (size > fuzz::kMaxInputBytes) return 0;
   const std::string path = fuzz::writeInputFile(data, size, ".urdf");
   try {
-    const nlohmann::json machine = importUrdf(path, "base", "tip");
+    const urdf_module::UrdfSource source{path, std::string(data, data + size)};
+    const nlohmann::json machine = urdf_module::importUrdf(source, "base", {"tip"});
     fuzz::requireFinite(machine, "import-urdf");
     const nlohmann::json document = {{"machine", machine}};
     const MachineBlock block = readChainMachine(document, "machine.json");
     const auto& chain = static_cast<const Chain&>(*block.mechanism);
-    (void)exportUrdf(chain, block.nominal, path, "machine.json");
+    (void)urdf_module::exportUrdf(chain, block.nominal, source, "machine.json");
   } catch (const InputError&) {
     return 0;
   }

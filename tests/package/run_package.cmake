@@ -3,7 +3,9 @@
 # (the program, the umbrella header, the CMake config, the Python module when built), then
 # tests/consumer configured against the unpacked /usr with find_package(artcal), built and run on
 # PLAN: it must print the u of l1 that the unpacked program's `evaluate --json` prints.
-# Variables: BUILD_DIR, WORK_DIR, CONSUMER_DIR, PLAN, CXX_COMPILER, BUILD_TYPE, GENERATOR, PYTHON
+# The packaged program also imports URDF (a UR5 to its ball), which loads the packaged URDF module
+# (src/urdf/urdf_module.hpp) from the scratch root, not the build tree's.
+# Variables: BUILD_DIR, WORK_DIR, CONSUMER_DIR, PLAN, URDF, CXX_COMPILER, BUILD_TYPE, GENERATOR, PYTHON
 # (empty without the module).
 cmake_minimum_required(VERSION 3.20)
 set(root ${WORK_DIR}/root)
@@ -39,6 +41,21 @@ endforeach()
 if(EXISTS ${root}/usr/include/artcal/internal.hpp)
   message(FATAL_ERROR "the package installs the internal header artcal/internal.hpp")
 endif()
+
+file(GLOB_RECURSE urdf_modules ${root}/usr/*/libartcal_urdf.so)
+if(NOT urdf_modules MATCHES "/usr/lib[^;]*/artcal/libartcal_urdf[.]so")
+  message(FATAL_ERROR "the package lacks the URDF module in /usr/lib.../artcal/: ${urdf_modules}")
+endif()
+execute_process(
+  COMMAND ${CMAKE_COMMAND} -E env --unset=ARTCAL_URDF_MODULE LD_DEBUG=files
+          ${root}/usr/bin/artcal import-urdf ${URDF} --base base_link --tip ball_link
+  RESULT_VARIABLE status OUTPUT_VARIABLE out ERROR_VARIABLE err)
+string(FIND "${err}" "file=${root}/usr/lib" loaded)
+if(NOT status EQUAL 0 OR NOT out MATCHES "\"model\": \"chain\"" OR loaded LESS 0)
+  message(FATAL_ERROR "the packaged import-urdf (${status}) did not import through the packaged "
+                      "module:\n${out}\n${err}")
+endif()
+message(STATUS "import-urdf loaded the packaged ${urdf_modules}")
 
 run("the packaged artcal evaluate --json" ${root}/usr/bin/artcal evaluate ${PLAN} --json)
 string(JSON expected GET "${output}" parameters 0 u)

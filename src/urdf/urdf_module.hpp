@@ -1,0 +1,54 @@
+#pragma once
+// The URDF module (libartcal_urdf.so): artcal's URDF import and export, the only code that needs
+// urdfdom and tinyxml2, loaded by the io layer on first use (src/io/urdf.cpp). A run that reads
+// no URDF (most of them, and every script's loop over plans) then loads neither library nor their
+// console_bridge and tinyxml: about a quarter of the process' start-up.
+//
+// The module and the io layer are built from the same sources in one build: the table below is
+// their whole interface, checked by kUrdfModuleAbi before any call.
+
+#include <Eigen/Core>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "artcal/io/urdf.hpp"
+#include "artcal/model/chain.hpp"
+
+namespace artcal {
+
+namespace urdf_module {
+/// A URDF file's name (for messages) and its text, read by the program (io/urdf.cpp) so that
+/// the file is one of the run's inputs (io/output_file.hpp: no output replaces it).
+struct UrdfSource {
+  std::string path;
+  std::string text;
+};
+// The implementations behind io/urdf.hpp (src/urdf/urdf_import.cpp), same contracts.
+nlohmann::json importUrdf(const UrdfSource& urdf, const std::string& base,
+                          const std::vector<std::string>& tips);
+Eigen::VectorXd urdfNominal(const Chain& chain, const Eigen::VectorXd& p, const UrdfSource& urdf);
+std::string exportUrdf(const Chain& chain, const Eigen::VectorXd& p, const UrdfSource& urdf,
+                       const std::string& machine_source);
+}  // namespace urdf_module
+
+/// What the module and its loader must agree on: the artcal version, the compiler and the sizes
+/// of the types that cross between them.
+inline std::string urdfModuleAbi() {
+  return std::string("artcal " ARTCAL_VERSION_STRING "; " __VERSION__ "; ") +
+         std::to_string(sizeof(nlohmann::json)) + " " + std::to_string(sizeof(Chain)) + " " +
+         std::to_string(sizeof(std::string)) + " " + std::to_string(sizeof(Eigen::VectorXd));
+}
+
+/// The module's entry points, returned by its one exported C function, kUrdfModuleSymbol.
+struct UrdfModuleTable {
+  std::string (*abi)();
+  nlohmann::json (*import_urdf)(const urdf_module::UrdfSource&, const std::string&,
+                                const std::vector<std::string>&);
+  Eigen::VectorXd (*nominal)(const Chain&, const Eigen::VectorXd&, const urdf_module::UrdfSource&);
+  std::string (*export_urdf)(const Chain&, const Eigen::VectorXd&, const urdf_module::UrdfSource&,
+                             const std::string&);
+};
+inline constexpr const char* kUrdfModuleSymbol = "artcal_urdf_module";
+
+}  // namespace artcal
