@@ -24,23 +24,21 @@
 namespace artcal::cli {
 
 namespace {
-std::vector<std::pair<int, CommandFactory>>& registry() {
-  static std::vector<std::pair<int, CommandFactory>> commands;
+std::vector<RegisteredCommand>& registry() {
+  static std::vector<RegisteredCommand> commands;
   return commands;
 }
 }  // namespace
 
-Registrar::Registrar(int order, CommandFactory factory) {
-  registry().emplace_back(order, factory);
+Registrar::Registrar(int order, const char* name, CommandFactory factory) {
+  registry().push_back({order, name, factory});
 }
 
-std::vector<CommandFactory> registeredCommands() {
+std::vector<RegisteredCommand> registeredCommands() {
   auto sorted = registry();
   std::stable_sort(sorted.begin(), sorted.end(),
-                   [](const auto& a, const auto& b) { return a.first < b.first; });
-  std::vector<CommandFactory> out;
-  for (const auto& entry : sorted) out.push_back(entry.second);
-  return out;
+                   [](const auto& a, const auto& b) { return a.order < b.order; });
+  return sorted;
 }
 
 namespace {
@@ -198,6 +196,31 @@ int checkStandardOutput(int status) {
   return 2;
 }
 
+/// The subcommands a command line needs (start-up: the options of all of them cost more than
+/// the rest of `artcal --version`): the one it names; none when it names none and asks for no
+/// help (`--version`, or the error that a subcommand is required); every one for --help and for
+/// a name that is not a subcommand (CLI11's answer then is as with them all).
+void addSubcommands(CLI::App& app, artcal::cli::Action& action, int argc, char** argv) {
+  std::string named;
+  bool help = false;
+  for (int i = 1; i < argc && named.empty(); ++i) {
+    const std::string argument = argv[i];
+    if (!argument.starts_with("-")) named = argument;
+    help = help || argument == "-h" || argument == "--help" || argument == "--help-all";
+  }
+  const auto commands = artcal::cli::registeredCommands();
+  const bool known = std::any_of(commands.begin(), commands.end(),
+                                 [&](const auto& command) { return command.name == named; });
+  for (const auto& command : commands) {
+    if (known ? command.name != named : named.empty() && !help) continue;
+    command.factory(app, action);
+    const auto added = app.get_subcommands(
+        [&](const CLI::App* subcommand) { return subcommand->get_name() == command.name; });
+    if (added.empty())
+      throw std::logic_error("the registrar of \"" + command.name + "\" names no subcommand");
+  }
+}
+
 int runAction(const artcal::cli::Action& action, const std::string& input) {
   const std::string file = input.empty() ? "artcal" : input;
   try {
@@ -241,7 +264,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.set_version_flag("--version", "artcal 0.1.0");
   artcal::cli::Action action;
-  for (const auto factory : artcal::cli::registeredCommands()) factory(app, action);
+  addSubcommands(app, action, argc, argv);
   if (const std::string bad = nonFiniteArgument(argc, argv); !bad.empty()) {
     std::cerr << "error: " << bad << ": expected a finite number (every number option)"
               << std::endl;

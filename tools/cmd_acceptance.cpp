@@ -238,7 +238,7 @@ void addAcceptanceCommand(CLI::App& app, Action& action) {
   cmd->callback([&action, args] { action = [args] { return runAcceptance(*args); }; });
 }
 
-const Registrar acceptance_registrar(67, addAcceptanceCommand);
+const Registrar acceptance_registrar(67, "acceptance", addAcceptanceCommand);
 
 }  // namespace
 

@@ -264,9 +264,9 @@ void addConfirmCommand(CLI::App& app, Action& action) {
   cmd->callback([&action, args] { action = [args] { return runConfirm(*args); }; });
 }
 
-const Registrar simulate_registrar(40, addSimulateCommand);
-const Registrar calibrate_registrar(50, addCalibrateCommand);
-const Registrar confirm_registrar(60, addConfirmCommand);
+const Registrar simulate_registrar(40, "simulate", addSimulateCommand);
+const Registrar calibrate_registrar(50, "calibrate", addCalibrateCommand);
+const Registrar confirm_registrar(60, "confirm", addConfirmCommand);
 
 }  // namespace
 

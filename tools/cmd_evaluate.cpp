@@ -91,8 +91,8 @@ void addEvaluateCommand(CLI::App& app, Action& action) {
   });
 }
 
-const Registrar check_registrar(10, addCheckCommand);
-const Registrar evaluate_registrar(20, addEvaluateCommand);
+const Registrar check_registrar(10, "check", addCheckCommand);
+const Registrar evaluate_registrar(20, "evaluate", addEvaluateCommand);
 
 }  // namespace
 

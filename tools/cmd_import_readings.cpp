@@ -205,6 +205,6 @@ void addImportReadingsCommand(CLI::App& app, Action& action) {
 
 }  // namespace
 
-const Registrar import_readings_registrar(79, addImportReadingsCommand);
+const Registrar import_readings_registrar(79, "import-readings", addImportReadingsCommand);
 
 }  // namespace artcal::cli

@@ -245,7 +245,7 @@ void addOptimizeCommand(CLI::App& app, Action& action) {
   cmd->callback([&action, args] { action = [args] { return runOptimize(*args); }; });
 }
 
-const Registrar optimize_registrar(30, addOptimizeCommand);
+const Registrar optimize_registrar(30, "optimize", addOptimizeCommand);
 
 }  // namespace
 

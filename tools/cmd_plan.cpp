@@ -91,6 +91,6 @@ void addPlanCommand(CLI::App& app, Action& action) {
 
 }  // namespace
 
-const Registrar plan_registrar(35, addPlanCommand);
+const Registrar plan_registrar(35, "plan", addPlanCommand);
 
 }  // namespace artcal::cli

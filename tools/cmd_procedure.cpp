@@ -42,7 +42,7 @@ void addProcedureCommand(CLI::App& app, Action& action) {
   cmd->callback([&action, args] { action = [args] { return runProcedure(*args); }; });
 }
 
-const Registrar procedure_registrar(25, addProcedureCommand);
+const Registrar procedure_registrar(25, "procedure", addProcedureCommand);
 
 }  // namespace
 

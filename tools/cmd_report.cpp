@@ -271,7 +271,7 @@ void addReportCommand(CLI::App& app, Action& action) {
   });
 }
 
-const Registrar report_registrar(70, addReportCommand);
+const Registrar report_registrar(70, "report", addReportCommand);
 
 }  // namespace
 

@@ -70,7 +70,7 @@ void addExportCommand(CLI::App& app, Action& action) {
 
 }  // namespace
 
-const Registrar import_urdf_registrar(80, addImportCommand);
-const Registrar export_urdf_registrar(81, addExportCommand);
+const Registrar import_urdf_registrar(80, "import-urdf", addImportCommand);
+const Registrar export_urdf_registrar(81, "export-urdf", addExportCommand);
 
 }  // namespace artcal::cli

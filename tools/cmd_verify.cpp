@@ -127,7 +127,7 @@ void addVerifyCommand(CLI::App& app, Action& action) {
   cmd->callback([&action, args] { action = [args] { return runVerify(*args); }; });
 }
 
-const Registrar verify_registrar(65, addVerifyCommand);
+const Registrar verify_registrar(65, "verify", addVerifyCommand);
 
 }  // namespace
 

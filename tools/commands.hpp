@@ -24,13 +24,21 @@ using Action = std::function<int()>;
 /// Adds one subcommand to the app; its callback sets `action`.
 using CommandFactory = void (*)(CLI::App& app, Action& action);
 
-/// Each cmd_*.cpp registers its subcommands with a static Registrar; `order` sorts --help.
+/// Each cmd_*.cpp registers its subcommands with a static Registrar: the subcommand's name, which
+/// its factory adds, and `order`, which sorts --help.
 struct Registrar {
-  Registrar(int order, CommandFactory factory);
+  Registrar(int order, const char* name, CommandFactory factory);
 };
 
-/// The registered factories, sorted by order.
-std::vector<CommandFactory> registeredCommands();
+/// A registered subcommand.
+struct RegisteredCommand {
+  int order;
+  std::string name;
+  CommandFactory factory;
+};
+
+/// The registered subcommands, sorted by order.
+std::vector<RegisteredCommand> registeredCommands();
 
 /// Loads a plan and prints its warnings (unknown fields) on stderr.
 Plan loadPlanReporting(const std::string& path, bool require_placements = true);

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "cli_runner.hpp"
 #include "test_paths.hpp"
 
 namespace cli_test {
@@ -320,6 +321,36 @@ TEST_F(Cli, ConsoleBlocksOfTheDocumentsAreReproduced) {
         << output;
   }
   EXPECT_GE(checked, 5) << "README.md's walk-through blocks are no longer found";
+}
+
+}  // namespace cli_test
+
+namespace cli_test {
+
+// main registers only the subcommand a command line names (start-up, issue 33): every command
+// the documentation lists is still there for --help, each answers its own --help as itself, and
+// --version needs none of them.
+TEST(CommandLine, EverySubcommandIsThereWhenNamedAndAllAreListedByHelp) {
+  const std::vector<std::string> documented = {
+      "check",    "evaluate",        "procedure",   "optimize",   "plan",
+      "simulate", "calibrate",       "confirm",     "verify",     "acceptance",
+      "report",   "import-readings", "import-urdf", "export-urdf"};
+  const artcal::test_support::CliRun help = artcal::test_support::runCli("--help");
+  ASSERT_EQ(help.status, 0);
+  const std::string listed = help.out.substr(help.out.find("Subcommands:"));
+  for (const std::string& name : documented) {
+    EXPECT_NE(listed.find("\n  " + name + " "), std::string::npos) << name << "\n" << listed;
+    const artcal::test_support::CliRun own = artcal::test_support::runCli(name + " --help");
+    EXPECT_EQ(own.status, 0) << name;
+    EXPECT_NE(own.out.find("Usage: artcal " + name + " "), std::string::npos) << own.out;
+  }
+  const artcal::test_support::CliRun version = artcal::test_support::runCli("--version");
+  EXPECT_EQ(version.status, 0);
+  EXPECT_EQ(version.out, "artcal 0.1.0\n");
+  const artcal::test_support::CliRun misspelt =
+      artcal::test_support::runCli("evaluat plans/x.json", artcal::test_support::Stderr::Only);
+  EXPECT_EQ(misspelt.status, 2);
+  EXPECT_NE(misspelt.out.find("error: "), std::string::npos) << misspelt.out;
 }
 
 }  // namespace cli_test
