@@ -23,3 +23,15 @@ function(artcal_check_code_lines allowed check)
   endforeach()
   set(faults "${faults}" PARENT_SCOPE)
 endfunction()
+
+# artcal_compared_name(CODE PATTERN OUT): OUT is the name matching PATTERN (alternatives) that
+# CODE compares a string with ("name" == x, x != "name"), or "".
+function(artcal_compared_name code pattern out)
+  set(name "")
+  if(code MATCHES "[=!]= *\"(${pattern})\"")
+    set(name "${CMAKE_MATCH_1}")
+  elseif(code MATCHES "\"(${pattern})\" *[=!]=")
+    set(name "${CMAKE_MATCH_1}")
+  endif()
+  set(${out} "${name}" PARENT_SCOPE)
+endfunction()
