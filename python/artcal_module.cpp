@@ -373,7 +373,7 @@ json verify(const PyPlan& p, const py::object& machine, const std::string& machi
     const auto [document, source] = machineDocument(machine, machine_source);
     parameters = parseTruth(document, source, plan);
     uncertainty = parseMachineCovariance(document, source, plan);
-    useEstimatedProbeNoise(plan, uncertainty);
+    plan.noise = withEstimatedProbeNoise(plan.noise, uncertainty);
     checkPlausibilityOfVerified(plan, parameters, "the machine of " + source);
     // As the command: placements named as the calibration's are also scored in its frames.
     options.calibration_frames = framesForPlacements(

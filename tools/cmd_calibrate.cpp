@@ -118,10 +118,10 @@ int runCalibrate(CalibrateArguments args) {
   Plan given = loadPlanReporting(args.plan);
   // Copies of a reading counted once: the figures as if each were read once.
   const std::vector<std::string> once =
-      args.repeats == "once" ? countRepeatsOnce(given) : std::vector<std::string>{};
+      args.repeats == "once" ? countRepeatsOnce(given.placements) : std::vector<std::string>{};
   for (const std::string& line : once) std::cerr << "note: " << line << "\n";
   // The plan as calibrated: its kept set and the noise used (given itself is not changed).
-  const CalibrationRun run = calibrateReadings(std::as_const(given), args.options);
+  const CalibrationRun run = calibrateReadings(given, args.options);
   const Plan& plan = run.decided;
   const Calibration& calibration = run.calibration;
   if (calibration.dof < 0) {

@@ -72,7 +72,7 @@ nlohmann::json heldOutStations(const std::string& file, const Plan& calibrated_p
   }
   checkPlausibility(held, calibration.parameters, "the calibrated machine");
   const auto uncertainty = calibration.uncertainty(machine);
-  useEstimatedProbeNoise(held, uncertainty);
+  held.noise = withEstimatedProbeNoise(held.noise, uncertainty);
   const StationsVerification calibrated = verifyStations(held, calibration.parameters, uncertainty);
   return {{"plan", file},
           {"nominal", stationsVerificationToJson(held, nominal)},

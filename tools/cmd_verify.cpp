@@ -57,7 +57,7 @@ int runVerify(const VerifyArguments& args) {
     const nlohmann::json document = readJsonFile(args.machine);
     p = parseTruth(document, args.machine, plan);
     uncertainty = parseMachineCovariance(document, args.machine, plan);
-    useEstimatedProbeNoise(plan, uncertainty);
+    plan.noise = withEstimatedProbeNoise(plan.noise, uncertainty);
     checkPlausibilityOfVerified(plan, p, "the machine of " + args.machine);
     // The calibration's frames: a placement of the same name (or every placement of --frame-of's
     // artifact) is also scored in the frame the calibration estimated, not refitted.

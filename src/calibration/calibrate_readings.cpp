@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <deque>
 #include <map>
 #include <numbers>
 #include <optional>
@@ -32,27 +33,29 @@ std::string number(double value) {
   return text;
 }
 
-// Holds at nominal the calibrated parameters whose surviving fraction in `information` is below
-// kWeakInformationTolerance, greedy in the order of QR with column pivoting (choosePivotedSet:
-// the independent reference's order of docs/method.md section 5, and independent of the order
-// the parameters are listed in); true when it held any.
+// `plan` with the calibrated parameters whose surviving fraction in `information` is below
+// kWeakInformationTolerance held at nominal, greedy in the order of QR with column pivoting
+// (choosePivotedSet: the independent reference's order of docs/method.md section 5, and
+// independent of the order the parameters are listed in); std::nullopt when none is held. A new
+// plan: the one a calibrator is bound to is never changed.
 // `kept_positions`: the positions in the calibrated set of the ones still calibrated.
-bool holdWeaklyDetermined(Plan& plan, const PlanInformation& information,
-                          std::vector<int>* kept_positions = nullptr) {
+std::optional<Plan> holdingWeaklyDetermined(const Plan& plan, const PlanInformation& information,
+                                            std::vector<int>* kept_positions = nullptr) {
   const CalibratedSetChoice choice = choosePivotedSet(information, kWeakInformationTolerance);
 
-  if (choice.dropped.empty()) return false;
+  if (choice.dropped.empty()) return std::nullopt;
   if (kept_positions) *kept_positions = choice.kept;
-  CalibratedSetResolution& resolution = *plan.calibrate_resolution;
+  std::optional<Plan> held(plan);
+  CalibratedSetResolution& resolution = *held->calibrate_resolution;
   std::vector<int> kept;
   for (const int k : choice.kept) kept.push_back(plan.machine.calibrated[k]);
   for (std::size_t d = 0; d < choice.dropped.size(); ++d) {
     resolution.weak.push_back(plan.machine.calibrated[choice.dropped[d]]);
     resolution.weak_fraction.push_back(choice.dropped_fraction[d]);
   }
-  plan.machine.calibrated = kept;
+  held->machine.calibrated = kept;
   resolution.kept = std::move(kept);
-  return true;
+  return held;
 }
 
 // The readings' misfits in the eigenbases of their encoder covariances Q diag(lambda) Q^T: with
@@ -196,13 +199,14 @@ Calibration followedBy(const Calibration& earlier, Calibration next) {
   return next;
 }
 
-// Calibrates at the calibrator's noise (the plan's when it was made, its calibrated set as now);
-// with `"probe": "estimate"`, sets the calibrator's probe noise to the variance component that
-// gives chi2 = dof and calibrates again until it settles. The calibrator owns the noise it
-// whitens with while it runs; `plan` (the run's working copy, calibrateReadings) records the noise
-// used once it is done, for the calibrators made from it afterwards and for the run's result.
-Calibration calibrateWithNoise(Plan& plan, Calibrator& calibrator, const CalibrationState& start) {
-  Calibration calibration = calibrator.run(plan.placements, start);
+// Calibrates at the calibrator's noise (its plan's when it was made); with `"probe": "estimate"`,
+// sets the calibrator's probe noise to the variance component that gives chi2 = dof and
+// calibrates again until it settles, over `placements` (plan's readings: the vector the calibrator
+// was prepared with, if it was). The calibrator owns the noise it whitens with; the noise
+// used is in the result's noise_estimate (Stages::noteNoise records it for what follows).
+Calibration calibrateWithNoise(const Plan& plan, const std::vector<Placement>& placements,
+                               Calibrator& calibrator, const CalibrationState& start) {
+  Calibration calibration = calibrator.run(placements, start);
   if (!plan.noise.estimate_probe) return calibration;
   NoiseEstimate estimate;
   estimate.stated = calibrator.probeNoise();
@@ -210,8 +214,8 @@ Calibration calibrateWithNoise(Plan& plan, Calibrator& calibrator, const Calibra
   for (estimate.fits = 1; estimate.fits < kMaxNoiseFits; ++estimate.fits) {
     if (calibration.dof <= 0 || !std::isfinite(calibration.chi2)) break;
     // The misfits at the estimate from the calibrator's last linearisation, built there.
-    solved = probeNoiseOfMisfits(calibrator.misfits(plan.placements), calibration,
-                                 calibrator.probeNoise());
+    solved =
+        probeNoiseOfMisfits(calibrator.misfits(placements), calibration, calibrator.probeNoise());
     const double s = std::max(solved->s, kProbeNoiseFloor);
     if (std::abs(s - calibrator.probeNoise()) <= kNoiseSettled * calibrator.probeNoise()) break;
     calibrator.setProbeNoise(s);  // the new s from the next linearisation on
@@ -220,7 +224,7 @@ Calibration calibrateWithNoise(Plan& plan, Calibrator& calibrator, const Calibra
     state.p = calibration.parameters;
     state.c = calibration.systematic;
     state.poses = calibration.poses;
-    calibration = followedBy(calibration, calibrator.run(plan.placements, state));
+    calibration = followedBy(calibration, calibrator.run(placements, state));
     solved.reset();
   }
   estimate.probe = calibrator.probeNoise();
@@ -232,9 +236,44 @@ Calibration calibrateWithNoise(Plan& plan, Calibrator& calibrator, const Calibra
     estimate.u = calibration.dof > 0 ? estimate.probe / std::sqrt(2.0 * calibration.dof) : 0.0;
   }
   calibration.noise_estimate = estimate;
-  plan.noise.probe = estimate.probe;
   return calibration;
 }
+
+// The plans of one run, oldest first (Pinocchio's Model/Data split: a plan is the model, never
+// changed while a calibrator is bound to it). Each decision of the run (parameters held by the
+// weak rule, a probe noise estimated, a kept set chosen held out) makes the next plan, a changed
+// copy of the current one; the earlier ones stay where their calibrators read them (a deque
+// does not move its elements on push_back). The last is the plan as decided.
+class Stages {
+ public:
+  explicit Stages(const Plan& given) : current_(&given) {}
+
+  const Plan& current() const { return *current_; }
+  /// `next` becomes the current plan.
+  const Plan& push(Plan next) {
+    later_.push_back(std::move(next));
+    current_ = &later_.back();
+    return *current_;
+  }
+  /// The noise `calibration` whitened with becomes the current plan's (when it estimated
+  /// another): what the calibrators made afterwards start from and the run reports.
+  void noteNoise(const Calibration& calibration) {
+    if (!calibration.noise_estimate || calibration.noise_estimate->probe == current_->noise.probe)
+      return;
+    Plan next = *current_;
+    next.noise.probe = calibration.noise_estimate->probe;
+    push(std::move(next));
+  }
+  /// The plan as decided (a copy of the given one when nothing was decided); call last.
+  Plan decided() && {
+    if (later_.empty()) return *current_;
+    return std::move(later_.back());
+  }
+
+ private:
+  const Plan* current_;
+  std::deque<Plan> later_;
+};
 
 // The information the rank rule reads at the calibration's estimate: the calibrator's own
 // linearisation there when every coordinate of the points is valued (the reduced information of
@@ -370,35 +409,48 @@ void requireMeasuredPoints(const Plan& plan) {
 namespace {
 
 // The plain path: the rank rule, the weak directions and the noise, as the plan lists them.
-Calibration calibrateAsListed(Plan& plan, const CalibrationOptions& options) {
-  const bool resolve = plan.machine.calibrate_identifiable && plan.calibrate_resolution.has_value();
-  const Eigen::VectorXd& nominal = plan.machine.nominal;
-  std::optional<Calibrator> calibrator(std::in_place, plan, options);
-  CalibrationState start = calibrator->initialState(plan.placements, nominal);
+CalibrationRun calibrateAsListed(const Plan& given, const CalibrationOptions& options) {
+  const bool resolve =
+      given.machine.calibrate_identifiable && given.calibrate_resolution.has_value();
+  const Eigen::VectorXd& nominal = given.machine.nominal;
+  // The readings, the same in every stage: one vector, so that a calibrator prepared on it is
+  // recognised as prepared (Calibrator::prepareFrom).
+  const std::vector<Placement>& placements = given.placements;
+  Stages stages(given);
+  std::optional<Calibrator> calibrator(std::in_place, given, options);
+  CalibrationState start = calibrator->initialState(placements, nominal);
   // Rank policy on measured readings (docs/method.md section 5): at the nominal parameters, from
   // the linearisation the calibration then starts from ...
   if (resolve) {
-    calibrator->prepare(plan.placements, start);
+    calibrator->prepare(placements, start);
     std::vector<int> kept;
-    if (holdWeaklyDetermined(plan, calibrator->information(plan.placements), &kept)) {
+    if (auto held = holdingWeaklyDetermined(given, calibrator->information(placements), &kept)) {
       // The calibrated set changed: the calibration starts from the same linearisation without
       // the held parameters' columns.
-      Calibrator narrowed(plan, options);
-      narrowed.prepareFrom(*calibrator, kept, plan.placements);
+      Calibrator narrowed(stages.push(std::move(*held)), options);
+      narrowed.prepareFrom(*calibrator, kept, placements);
       calibrator.emplace(std::move(narrowed));
     }
   }
-  Calibration calibration = calibrateWithNoise(plan, *calibrator, start);
+  Calibration calibration = calibrateWithNoise(stages.current(), placements, *calibrator, start);
+  stages.noteNoise(calibration);
   // ... and again at the estimate, the newly held parameters back at nominal.
   for (int round = 0; resolve && round < kMaxWeakRounds && calibration.summary.converged();
        ++round) {
-    if (!holdWeaklyDetermined(plan, informationAtEstimate(plan, *calibrator, calibration))) break;
-    calibrator.emplace(plan, options);
+    const Plan& plan = stages.current();
+    auto held =
+        holdingWeaklyDetermined(plan, informationAtEstimate(plan, *calibrator, calibration));
+    if (!held) break;
+    const Plan& narrower = stages.push(std::move(*held));
+    calibrator.emplace(narrower, options);
     start = calibrator->initialState(
-        plan.placements, plan.machine.withCalibrated(
-                             nominal, plan.machine.calibratedValues(calibration.parameters)));
-    calibration = followedBy(calibration, calibrateWithNoise(plan, *calibrator, start));
+        placements, narrower.machine.withCalibrated(
+                        nominal, narrower.machine.calibratedValues(calibration.parameters)));
+    calibration =
+        followedBy(calibration, calibrateWithNoise(narrower, placements, *calibrator, start));
+    stages.noteNoise(calibration);
   }
+  const Plan& plan = stages.current();
   if (plan.noise.estimate_probe && calibration.dof == 0) {
     // No redundancy: the "estimate" would be the starting value (docs/hardening.md).
     throw InputError(plan.source, "/noise/probe",
@@ -407,79 +459,80 @@ Calibration calibrateAsListed(Plan& plan, const CalibrationOptions& options) {
   }
   nearestTurn(plan, calibration);
   addWarnings(plan, calibration);
-  return calibration;
+  calibrator.reset();  // bound to a stage
+  return {std::move(calibration), std::move(stages).decided()};
+}
+
+// The held-out model choice's outcome on the run's minimum (model_choice.hpp), from the
+// linearisation at its estimate; std::nullopt when there is nothing to choose.
+std::optional<ModelChoiceOutcome> modelChoiceOutcome(const CalibrationRun& run,
+                                                     const CalibrationOptions& options) {
+  const Plan& plan = run.decided;
+  const Calibration& calibration = run.calibration;
+  Calibrator calibrator(plan, options);
+  const CalibrationState state{calibration.parameters, calibration.systematic, calibration.poses};
+  if (!calibrator.prepare(plan.placements, state)) return std::nullopt;
+  const PlanInformation at_estimate = informationAtEstimate(plan, calibrator, calibration);
+  return chooseKeptSet(plan, options, calibrator, calibration, at_estimate);
 }
 
 // The held-out model choice, once, on the minimum taken: a smaller set of the rank rule's order
 // where the readings the fit leaves out say it holds clearly better (model_choice.hpp).
-Calibration withModelChoice(Plan& plan, const CalibrationOptions& options,
-                            Calibration calibration) {
-  if (options.model_choice != ModelChoiceMode::HeldOut || !calibration.summary.converged())
-    return calibration;
-  // The linearisation at the estimate the choice starts from.
-  Calibrator calibrator(plan, options);
-  const CalibrationState state{calibration.parameters, calibration.systematic, calibration.poses};
-  if (!calibrator.prepare(plan.placements, state)) return calibration;
-  const PlanInformation at_estimate = informationAtEstimate(plan, calibrator, calibration);
-  auto outcome = chooseKeptSet(plan, options, calibrator, calibration, at_estimate);
-  if (!outcome) return calibration;
+CalibrationRun withModelChoice(CalibrationRun run, const CalibrationOptions& options) {
+  if (options.model_choice != ModelChoiceMode::HeldOut || !run.calibration.summary.converged())
+    return run;
+  auto outcome = modelChoiceOutcome(run, options);
+  if (!outcome) return run;
   const ModelChoice& choice = outcome->choice;
   if (choice.chosen != 0) {
     const ModelChoiceCandidate& chosen_set =
         choice.candidates[static_cast<std::size_t>(choice.chosen)];
-    plan.machine.calibrated = chosen_set.kept;
-    plan.calibrate_resolution->kept = plan.machine.calibrated;
+    Plan chosen_plan = run.decided;  // the run's next stage: the chosen set
+    chosen_plan.machine.calibrated = chosen_set.kept;
+    chosen_plan.calibrate_resolution->kept = chosen_set.kept;
     if (!chosen_set.restored.empty()) {  // no longer held: calibrated again
-      plan.calibrate_resolution->weak.clear();
-      plan.calibrate_resolution->weak_fraction.clear();
+      chosen_plan.calibrate_resolution->weak.clear();
+      chosen_plan.calibrate_resolution->weak_fraction.clear();
     }
-    Calibrator narrowed(plan, options);
-    Calibration chosen =
-        followedBy(calibration, calibrateWithNoise(plan, narrowed, outcome->chosen_state));
-    chosen.minimum = std::move(calibration.minimum);
-    nearestTurn(plan, chosen);
-    addWarnings(plan, chosen);
-    calibration = std::move(chosen);
+    Stages stages(chosen_plan);
+    Calibration chosen = [&] {
+      Calibrator narrowed(chosen_plan, options);
+      return followedBy(run.calibration, calibrateWithNoise(chosen_plan, chosen_plan.placements,
+                                                            narrowed, outcome->chosen_state));
+    }();
+    stages.noteNoise(chosen);
+    chosen.minimum = std::move(run.calibration.minimum);
+    nearestTurn(stages.current(), chosen);
+    addWarnings(stages.current(), chosen);
+    run = {std::move(chosen), std::move(stages).decided()};
   }
-  calibration.model_choice = std::move(outcome->choice);
-  return calibration;
+  run.calibration.model_choice = std::move(outcome->choice);
+  return run;
 }
 
 }  // namespace
 
 CalibrationRun calibrateReadings(const Plan& given, const CalibrationOptions& options) {
   requireMeasuredPoints(given);
-  CalibrationRun run{Calibration{}, given};  // the plan as decided: a copy the run works on
-  Plan& plan = run.decided;
-  if (!plan.machine.calibrate_identifiable || !plan.calibrate_resolution) {
-    run.calibration = calibrateAsListed(plan, options);
-    return run;
-  }
+  CalibrationRun run = calibrateAsListed(given, options);
+  if (!given.machine.calibrate_identifiable || !given.calibrate_resolution) return run;
   // A fit whose corrections are flagged is searched for a plausible minimum from the plan as
   // given (plausible_minimum.hpp); the kept set is then judged held out on the minimum taken.
-  Calibration calibration = calibrateAsListed(plan, options);
-  calibration = choosePlausibleMinimum(given, plan, std::move(calibration), [&](Plan& trial) {
-    return calibrateAsListed(trial, options);
-  });
-  run.calibration = withModelChoice(plan, options, std::move(calibration));
-  return run;
+  run = choosePlausibleMinimum(
+      given, std::move(run), [&](const Plan& trial) { return calibrateAsListed(trial, options); });
+  return withModelChoice(std::move(run), options);
 }
 
-Calibration calibrateReadings(Plan& plan, const CalibrationOptions& options) {
-  CalibrationRun run = calibrateReadings(std::as_const(plan), options);
-  plan = std::move(run.decided);
-  return std::move(run.calibration);
-}
-
-std::vector<std::string> countRepeatsOnce(Plan& plan) {
+std::vector<std::string> countRepeatsOnce(std::vector<Placement>& placements) {
   std::vector<std::string> out;
-  for (std::size_t j = 0; j < plan.placements.size(); ++j) {
-    std::vector<Measurement>& readings = plan.placements[j].measurements;
+  for (std::size_t j = 0; j < placements.size(); ++j) {
+    std::vector<Measurement>& readings = placements[j].measurements;
     std::set<std::string> seen;
     const std::size_t before = readings.size();
-    std::erase_if(readings, [&](const Measurement& m) { return !seen.insert(readingBits(m)).second; });
+    std::erase_if(readings,
+                  [&](const Measurement& m) { return !seen.insert(readingBits(m)).second; });
     if (readings.size() == before) continue;
-    out.push_back("placement " + placementLabel(plan.placements, j) + ": " +
+    out.push_back("placement " + placementLabel(placements, j) + ": " +
                   std::to_string(before - readings.size()) + " of " + std::to_string(before) +
                   " readings repeat another bit for bit: counted once (--repeats once)");
   }

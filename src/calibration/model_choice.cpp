@@ -160,7 +160,7 @@ LeaveOneOut leaveOnePlacementOut(const Linearization& linearization,
   return out;
 }
 
-std::optional<ModelChoiceOutcome> chooseKeptSet(Plan& plan, const CalibrationOptions& options,
+std::optional<ModelChoiceOutcome> chooseKeptSet(const Plan& plan, const CalibrationOptions& options,
                                                 const Calibrator& calibrator,
                                                 const Calibration& calibration,
                                                 const PlanInformation& information) {
@@ -182,12 +182,14 @@ std::optional<ModelChoiceOutcome> chooseKeptSet(Plan& plan, const CalibrationOpt
   choice.mm_per_unit = probe_only && !artifact_noise ? plan.noise.probe : 0.0;
 
   const double reference_variance = calibration.chi2_per_dof;
-  auto judge = [&](const Linearization& linearization, const Calibration& fit,
+  // `fitted`: the plan the candidate was fitted with (its calibrated set).
+  auto judge = [&](const Plan& fitted, const Linearization& linearization, const Calibration& fit,
                    ModelChoiceCandidate& candidate) {
     candidate.converged = fit.summary.converged();
     candidate.chi2_per_dof = fit.chi2_per_dof;
     if (choice.rule == ModelChoiceRule::CrossValidation) {
-      crossValidate(linearization, placementTerms(plan, plan.placements, linearization), candidate);
+      crossValidate(linearization, placementTerms(fitted, plan.placements, linearization),
+                    candidate);
     } else {
       const double k = static_cast<double>(candidate.size);
       const double n = fit.dof + k;
@@ -199,7 +201,7 @@ std::optional<ModelChoiceOutcome> chooseKeptSet(Plan& plan, const CalibrationOpt
   ModelChoiceCandidate first;
   first.size = choice.rank_size;
   first.kept = rank_set;
-  judge(calibrator.linearization(), calibration, first);
+  judge(plan, calibrator.linearization(), calibration, first);
   choice.candidates.push_back(std::move(first));
 
   std::vector<CalibrationState> states(1);
@@ -208,18 +210,18 @@ std::optional<ModelChoiceOutcome> chooseKeptSet(Plan& plan, const CalibrationOpt
   // Fits a candidate's kept set to every reading from `start`, judges it (a fit that does not
   // converge is judged no further: never chosen) and records it with the state it ended at.
   auto fitCandidate = [&](ModelChoiceCandidate candidate, const CalibrationState& start) {
-    plan.machine.calibrated = candidate.kept;
-    Calibrator fitter(plan, quick);
+    Plan fitted = plan;  // the plan a candidate's calibrator is bound to: its own set
+    fitted.machine.calibrated = candidate.kept;
+    Calibrator fitter(fitted, quick);
     const Calibration fit = fitter.run(plan.placements, start);
     if (!candidate.restored.empty())
       candidate.implausible =
-          !implausibleCorrections(plan.machine, plan.machine.nominal, fit.parameters).empty();
+          !implausibleCorrections(fitted.machine, plan.machine.nominal, fit.parameters).empty();
     if (fit.summary.converged()) {
-      judge(fitter.linearization(), fit, candidate);
+      judge(fitted, fitter.linearization(), fit, candidate);
     } else {
       candidate.chi2_per_dof = fit.chi2_per_dof;
     }
-    plan.machine.calibrated = rank_set;
     states.push_back({fit.parameters, fit.systematic, fit.poses});
     choice.candidates.push_back(std::move(candidate));
   };

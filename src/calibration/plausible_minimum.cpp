@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <utility>
 
+#include "artcal/calibration/calibrate_readings.hpp"
 #include "artcal/calibration/calibrator.hpp"
 #include "artcal/estimation/identifiability.hpp"
 
@@ -59,22 +60,24 @@ std::vector<int> parametersOf(const std::vector<ImplausibleCorrection>& correcti
   return out;
 }
 
-Calibration choosePlausibleMinimum(const Plan& before, Plan& plan, Calibration fit,
-                                   const CalibrateAsListed& calibrate) {
+CalibrationRun choosePlausibleMinimum(const Plan& before, CalibrationRun run,
+                                      const CalibrateAsListed& calibrate) {
+  const Plan& plan = run.decided;
+  Calibration& fit = run.calibration;
   if (!fit.summary.converged() || !before.machine.calibrate_identifiable ||
       !before.calibrate_resolution) {
-    return fit;
+    return run;
   }
   MinimumChoice choice;
   choice.flagged = minimumFit(plan, fit);
-  if (choice.flagged.flagged.empty()) return fit;
+  if (choice.flagged.flagged.empty()) return run;
   const std::vector<int>& listed = before.calibrate_resolution->listed;
   // The flagged fit's scatter over the stated noise: what a chi2 difference is measured in.
   const double birge = std::max(1.0, choice.flagged.chi2_per_dof);
   std::vector<int> previous_kept = before.machine.calibrated;  // the plain path's set
   std::vector<ImplausibleCorrection> to_demote = choice.flagged.flagged;
   // The chosen alternative: no flagged correction, the same cost.
-  std::optional<std::pair<Plan, Calibration>> best;
+  std::optional<CalibrationRun> best;
   std::string stop;
   for (int round = 0; round < kMaxDemotionRounds; ++round) {
     bool demoted_more = false;
@@ -96,13 +99,13 @@ Calibration choosePlausibleMinimum(const Plan& before, Plan& plan, Calibration f
     previous_kept = resolution.kept;
     trial.machine.calibrated = resolution.kept;
     trial.calibrate_resolution = std::move(resolution);
-    Calibration alternative = calibrate(trial);
+    CalibrationRun alternative = calibrate(trial);
     ++choice.fits;
-    if (!alternative.summary.converged()) {
+    if (!alternative.calibration.summary.converged()) {
       stop = "the fit with " + names(plan.machine, choice.demoted) + " last did not converge";
       break;
     }
-    MinimumFit tried = minimumFit(trial, alternative);
+    MinimumFit tried = minimumFit(alternative.decided, alternative.calibration);
     // Its chi2 at the flagged fit's probe noise (the same when the noise is stated).
     const double scale = tried.probe / choice.flagged.probe;
     const int held_more = std::max(0, tried.dof - choice.flagged.dof);
@@ -112,7 +115,7 @@ Calibration choosePlausibleMinimum(const Plan& before, Plan& plan, Calibration f
     to_demote = tried.flagged;
     const bool better = same_cost && tried.flagged.empty();
     if (!best || better) choice.alternative = tried;
-    if (better) best.emplace(std::move(trial), std::move(alternative));
+    if (better) best.emplace(std::move(alternative));
     if (!same_cost) {
       stop = "with " + names(plan.machine, choice.demoted) + " last the readings fit worse (chi2 " +
              number("%+.4g", tried.chi2_increase) + " in units of max(1, chi2/dof), beyond " +
@@ -131,15 +134,13 @@ Calibration choosePlausibleMinimum(const Plan& before, Plan& plan, Calibration f
                     number("%+.3g", chosen.chi2_increase) + " in units of max(1, chi2/dof), " +
                     "within " + number("%.3g", chosen.chi2_allowance) +
                     ") with no implausible correction: that minimum is taken";
-    Calibration& calibration = best->second;
-    calibration.minimum = std::move(choice);
-    plan = std::move(best->first);
-    return std::move(calibration);
+    best->calibration.minimum = std::move(choice);
+    return std::move(*best);
   }
   if (stop.empty()) stop = "every fit tried corrects a parameter implausibly";
   choice.reason = "the plain fit's minimum is kept: " + stop;
   fit.minimum = std::move(choice);
-  return fit;
+  return run;
 }
 
 }  // namespace artcal

@@ -385,9 +385,12 @@ PlacementVerification verifyPlacement(const Plan& plan, int index, const Eigen::
 
 }  // namespace
 
-void useEstimatedProbeNoise(Plan& plan, const std::optional<ParameterUncertainty>& uncertainty) {
-  if (plan.noise.estimate_probe && uncertainty && uncertainty->probe_noise > 0.0)
-    plan.noise.probe = uncertainty->probe_noise;
+Noise withEstimatedProbeNoise(const Noise& noise,
+                              const std::optional<ParameterUncertainty>& uncertainty) {
+  Noise out = noise;
+  if (noise.estimate_probe && uncertainty && uncertainty->probe_noise > 0.0)
+    out.probe = uncertainty->probe_noise;
+  return out;
 }
 
 Verification verifyMachine(const Plan& plan, const Eigen::VectorXd& p,

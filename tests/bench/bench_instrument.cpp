@@ -130,11 +130,11 @@ void BM_CalibrateTrackerIdentifiable(benchmark::State& state) {
   options.details = false;
   int iterations = 0, kept = 0;
   for (auto _ : state) {
-    Plan calibrated = plan;
-    const Calibration c = calibrateReadings(calibrated, options);
+    const CalibrationRun run = calibrateReadings(plan, options);
+    const Calibration& c = run.calibration;
     if (!c.summary.converged()) state.SkipWithError("did not converge");
     iterations = c.summary.iterations;
-    kept = calibrated.machine.calibratedCount();
+    kept = static_cast<int>(run.kept().size());
     benchmark::DoNotOptimize(c.parameters.data());
   }
   state.counters["LM_iterations"] = iterations;

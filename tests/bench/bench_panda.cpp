@@ -61,8 +61,7 @@ void BM_CalibrateReadingsPanda8Positions(benchmark::State& state) {
   CalibrationOptions options;
   options.details = false;
   for (auto _ : state) {
-    Plan calibrated = plan;
-    const Calibration calibration = calibrateReadings(calibrated, options);
+    const Calibration calibration = calibrateReadings(plan, options).calibration;
     if (!calibration.summary.converged()) state.SkipWithError("not converged");
     benchmark::DoNotOptimize(calibration.parameters.data());
   }
@@ -96,8 +95,7 @@ void BM_CalibratePlainPanda497Readings(benchmark::State& state) {
   options.details = false;
   int fits = 0;
   for (auto _ : state) {
-    Plan calibrated = plan;
-    const Calibration calibration = calibrateReadings(calibrated, options);
+    const Calibration calibration = calibrateReadings(plan, options).calibration;
     if (!calibration.summary.converged()) state.SkipWithError("not converged");
     fits = 1 + (calibration.minimum ? calibration.minimum->fits : 0);
     benchmark::DoNotOptimize(calibration.parameters.data());
@@ -119,8 +117,7 @@ void calibrateWithChoice(benchmark::State& state, ModelChoiceMode mode) {
   options.model_choice = mode;
   int candidates = 0;
   for (auto _ : state) {
-    Plan calibrated = plan;
-    const Calibration calibration = calibrateReadings(calibrated, options);
+    const Calibration calibration = calibrateReadings(plan, options).calibration;
     if (!calibration.summary.converged()) state.SkipWithError("not converged");
     if (calibration.model_choice)
       candidates = static_cast<int>(calibration.model_choice->candidates.size());

@@ -90,14 +90,15 @@ double plainHeldOutChi2(const Plan& plan, std::size_t held, const Eigen::VectorX
 // fits (simulated) the predicted held-out error agrees with the observed one within the
 // chi-square's spread.
 TEST(HeldOutModelChoice, LeaveOneOutAgreesWithAPlainLoopOfRefits) {
-  Plan plan = simulatedPanda(5);
-  const Calibration calibration = calibrateReadings(plan);
+  const CalibrationRun run = calibrateReadings(simulatedPanda(5));
+  const Calibration& calibration = run.calibration;
   ASSERT_TRUE(calibration.summary.converged());
   ASSERT_TRUE(calibration.model_choice.has_value());
   const ModelChoice& choice = *calibration.model_choice;
   EXPECT_EQ(choice.rule, ModelChoiceRule::CrossValidation);
   EXPECT_EQ(choice.folds, 8);
   const ModelChoiceCandidate& rank = choice.candidates.front();
+  Plan plan = run.decided;  // the rank rule's candidate, refitted fold by fold below
   ASSERT_EQ(rank.fold_observed.size(), plan.placements.size());
   plan.machine.calibrated = rank.kept;
   for (std::size_t j = 0; j < plan.placements.size(); ++j) {
@@ -118,12 +119,13 @@ TEST(HeldOutModelChoice, LeaveOneOutAgreesWithAPlainLoopOfRefits) {
 // rule's set stays, with the same estimates as the rank rule alone.
 TEST(HeldOutModelChoice, TheRankRuleSetStaysWhereNoSmallerSetIsBetter) {
   for (const std::uint64_t seed : {1u, 3u}) {
-    Plan held_out = simulatedPanda(seed);
-    Plan rank = held_out;
+    const Plan plan = simulatedPanda(seed);
     CalibrationOptions rank_only;
     rank_only.model_choice = ModelChoiceMode::Rank;
-    const Calibration by_rank = calibrateReadings(rank, rank_only);
-    const Calibration chosen = calibrateReadings(held_out);
+    const CalibrationRun rank = calibrateReadings(plan, rank_only);
+    const CalibrationRun held_out = calibrateReadings(plan);
+    const Calibration& by_rank = rank.calibration;
+    const Calibration& chosen = held_out.calibration;
     ASSERT_TRUE(chosen.model_choice.has_value());
     EXPECT_FALSE(by_rank.model_choice.has_value());
     const ModelChoice& choice = *chosen.model_choice;
@@ -137,7 +139,7 @@ TEST(HeldOutModelChoice, TheRankRuleSetStaysWhereNoSmallerSetIsBetter) {
         EXPECT_GT(choice.candidates[i].observed, choice.candidates.front().observed);
       }
     }
-    EXPECT_EQ(held_out.machine.calibrated, rank.machine.calibrated);
+    EXPECT_EQ(held_out.kept(), rank.kept());
     EXPECT_EQ(chosen.parameters, by_rank.parameters);
   }
 }
@@ -146,16 +148,16 @@ TEST(HeldOutModelChoice, TheRankRuleSetStaysWhereNoSmallerSetIsBetter) {
 // rule's set holds best; the calibration is the rank rule's, bit for bit, and the JSON twin
 // carries the table (candidate size, predicted, observed, chosen, the rule that decided).
 TEST(HeldOutModelChoice, TheRealPandaKeepsTheRankRuleSet) {
-  Plan plan = pandaPlan();
-  Plan rank = plan;
   CalibrationOptions rank_only;
   rank_only.model_choice = ModelChoiceMode::Rank;
-  const Calibration by_rank = calibrateReadings(rank, rank_only);
-  const Calibration calibration = calibrateReadings(plan);
+  const CalibrationRun rank = calibrateReadings(pandaPlan(), rank_only);
+  const CalibrationRun run = calibrateReadings(pandaPlan());
+  const Plan& plan = run.decided;
+  const Calibration& calibration = run.calibration;
   ASSERT_TRUE(calibration.model_choice.has_value());
   EXPECT_EQ(calibration.model_choice->chosen, 0);
-  EXPECT_EQ(calibration.parameters, by_rank.parameters);
-  EXPECT_EQ(plan.machine.calibrated, rank.machine.calibrated);
+  EXPECT_EQ(calibration.parameters, rank.calibration.parameters);
+  EXPECT_EQ(run.kept(), rank.kept());
   const json document = calibrationToJson(plan, plan.placements, calibration);
   ASSERT_TRUE(document.contains("model_choice"));
   const json& choice = document["model_choice"];
@@ -199,8 +201,9 @@ TEST(HeldOutModelChoice, DropsOnlyParametersWhoseTruthIsNominal) {
     Plan simulated = plan;
     simulated.placements = Simulator(plan, {}).simulate(truth, normal).placements;
     document["placements"] = placementsToJson(simulated);
-    Plan calibrated = parsePlan(document, test_support::planFile("panda-8positions.json"));
-    const Calibration calibration = calibrateReadings(calibrated);
+    const CalibrationRun run =
+        calibrateReadings(parsePlan(document, test_support::planFile("panda-8positions.json")));
+    const Calibration& calibration = run.calibration;
     ASSERT_TRUE(calibration.model_choice.has_value()) << "seed " << seed;
     const ModelChoice& choice = *calibration.model_choice;
     if (choice.chosen == 0) continue;
@@ -212,7 +215,7 @@ TEST(HeldOutModelChoice, DropsOnlyParametersWhoseTruthIsNominal) {
     }
     // The chosen set is what was calibrated, and it is lower held out in at least 7 of 8 folds.
     const ModelChoiceCandidate& c = choice.candidates[static_cast<std::size_t>(choice.chosen)];
-    EXPECT_EQ(calibrated.machine.calibrated, c.kept);
+    EXPECT_EQ(run.kept(), c.kept);
     int lower = 0;
     for (std::size_t j = 0; j < c.fold_observed.size(); ++j)
       lower += c.fold_observed[j] < choice.candidates.front().fold_observed[j] ? 1 : 0;
@@ -226,12 +229,11 @@ TEST(HeldOutModelChoice, OnePlacementNeverChangesTheSet) {
   json document = pandaDocument();
   document["placements"] = json::array({document["placements"][0]});
   document["noise"]["encoder"] = 0.0;
-  Plan plan = parsePlan(document, test_support::planFile("panda-8positions.json"));
-  Plan rank = plan;
+  const Plan plan = parsePlan(document, test_support::planFile("panda-8positions.json"));
   CalibrationOptions rank_only;
   rank_only.model_choice = ModelChoiceMode::Rank;
-  const Calibration by_rank = calibrateReadings(rank, rank_only);
-  const Calibration calibration = calibrateReadings(plan);
+  const Calibration by_rank = calibrateReadings(plan, rank_only).calibration;
+  const Calibration calibration = calibrateReadings(plan).calibration;
   ASSERT_TRUE(calibration.summary.converged());
   ASSERT_TRUE(calibration.model_choice.has_value());
   EXPECT_EQ(calibration.model_choice->rule, ModelChoiceRule::InformationCriterion);

@@ -111,10 +111,11 @@ bool correctionWarned(const Calibration& c) {
 // panda_4's `front` position. The plain fit's polar chart turns panda_joint7 (flagged); the
 // chosen minimum is the truth's Cartesian chart; both are the same machine.
 TEST_F(PlausibleMinimum, AnOffAxisBallIsFittedInTheChartThatHasIt) {
-  Plan plan = simulated(imported({"front"}, "front"),
-                        json{{"panda_joint8.x", -3.0}, {"panda_joint8.y", 5.2}});
-  const Plan loaded = plan;
-  const Calibration c = calibrateReadings(plan);
+  const Plan loaded = simulated(imported({"front"}, "front"),
+                                json{{"panda_joint8.x", -3.0}, {"panda_joint8.y", 5.2}});
+  const CalibrationRun run = calibrateReadings(loaded);
+  const Plan& plan = run.decided;  // the chosen minimum's kept set
+  const Calibration& c = run.calibration;
   ASSERT_TRUE(c.summary.converged()) << c.summary.message;
   ASSERT_TRUE(c.minimum);
   const MinimumChoice& m = *c.minimum;
@@ -170,8 +171,8 @@ TEST_F(PlausibleMinimum, AnOffAxisBallIsFittedInTheChartThatHasIt) {
 // -340 mm against -316 mm, beyond the rule's 15.8 mm) is no chart's artefact: no alternative is
 // free of flagged corrections, so the plain fit stands with the link's correction and its warning.
 TEST_F(PlausibleMinimum, ACorrectionTheReadingsNeedStaysFlagged) {
-  Plan plan = simulated(imported({"front"}, "front"), json{{"panda_joint3.y", -340.0}});
-  const Calibration c = calibrateReadings(plan);
+  const Plan plan = simulated(imported({"front"}, "front"), json{{"panda_joint3.y", -340.0}});
+  const Calibration c = calibrateReadings(plan).calibration;
   ASSERT_TRUE(c.summary.converged()) << c.summary.message;
   ASSERT_TRUE(c.minimum);
   EXPECT_FALSE(c.minimum->alternative_chosen);
@@ -187,8 +188,8 @@ TEST_F(PlausibleMinimum, ACorrectionTheReadingsNeedStaysFlagged) {
 // A calibration whose corrections are plausible runs no search and reports no second minimum:
 // the nominal Panda simulated.
 TEST_F(PlausibleMinimum, APlausibleFitHasNoSecondMinimum) {
-  Plan plan = simulated(imported({"front"}, "front"), json::object());
-  const Calibration c = calibrateReadings(plan);
+  const Plan plan = simulated(imported({"front"}, "front"), json::object());
+  const Calibration c = calibrateReadings(plan).calibration;
   ASSERT_TRUE(c.summary.converged());
   if (c.minimum) {
     // The rank rule's chart of a ball 0.09 mm off the axis may still turn the joint: then an
@@ -203,11 +204,10 @@ TEST_F(PlausibleMinimum, APlausibleFitHasNoSecondMinimum) {
 // positions' figures of the two agree to 1 um), so that the choice costs no accuracy.
 // (The rank rule's set: the held-out choice that follows is the next test's.)
 TEST_F(PlausibleMinimum, Panda4TrainedOnFrontTakesThePlausibleMinimum) {
-  Plan plan = loadPlan(imported({"front"}, "front"));
-  const Plan loaded = plan;
+  const Plan loaded = loadPlan(imported({"front"}, "front"));
   CalibrationOptions rank_only;
   rank_only.model_choice = ModelChoiceMode::Rank;
-  const Calibration c = calibrateReadings(plan, rank_only);
+  const Calibration c = calibrateReadings(loaded, rank_only).calibration;
   ASSERT_TRUE(c.summary.converged()) << c.summary.message;
   ASSERT_TRUE(c.minimum);
   EXPECT_TRUE(c.minimum->alternative_chosen);

@@ -172,9 +172,10 @@ TEST(RealReadingsRankPolicy, OffNominalReadingsKeepTheNominalSet) {
   for (const std::uint64_t seed : {3u, 4u, 5u}) {
     Plan plan = simulatedPlan(document, truth, seed);
     EXPECT_EQ(keptNames(plan), keptNames(nominal)) << seed;
-    const Calibration c = calibrateReadings(plan);
+    const CalibrationRun run = calibrateReadings(plan);
+    const Calibration& c = run.calibration;
     ASSERT_TRUE(c.summary.converged()) << seed;
-    EXPECT_TRUE(plan.calibrate_resolution->weak.empty()) << seed;
+    EXPECT_TRUE(run.held().empty()) << seed;
     // The kept base set absorbs the dropped parameters' offsets: the fit is the noise's, chi2
     // with 18 degrees of freedom (99.9 % of its distribution below 42.3).
     EXPECT_EQ(c.dof, 18);
@@ -229,11 +230,11 @@ class NoiseEstimateRuns {
   double u_sum_ = 0.0;
 };
 
-/// `plan` (a copy of `planned`) with readings simulated at the nominal machine (`seed`), calibrated
-/// with the probe noise estimated from a start of 0.1 mm.
-Calibration calibratedWithEstimatedNoise(const Plan& planned, std::uint64_t seed, Plan& plan) {
+/// A copy of `planned` with readings simulated at the nominal machine (`seed`), calibrated with
+/// the probe noise estimated from a start of 0.1 mm.
+CalibrationRun calibratedWithEstimatedNoise(const Plan& planned, std::uint64_t seed) {
   NormalSource normal(seed);
-  plan = planned;
+  Plan plan = planned;
   plan.placements = Simulator(planned, {}).simulate(planned.machine.nominal, normal).placements;
   plan.noise.probe = 0.1;
   plan.noise.estimate_probe = true;
@@ -247,13 +248,13 @@ TEST(RealReadingsNoise, TheEstimateRecoversTheSimulatedProbeNoise) {
   constexpr int kRuns = 40;
   NoiseEstimateRuns runs(truth);
   for (int run = 0; run < kRuns; ++run) {
-    Plan plan;
-    const Calibration c =
-        calibratedWithEstimatedNoise(planned, 1000 + static_cast<std::uint64_t>(run), plan);
+    const CalibrationRun calibrated =
+        calibratedWithEstimatedNoise(planned, 1000 + static_cast<std::uint64_t>(run));
+    const Calibration& c = calibrated.calibration;
     ASSERT_TRUE(c.summary.converged()) << run;
     ASSERT_TRUE(c.noise_estimate) << run;
     const NoiseEstimate& e = *c.noise_estimate;
-    EXPECT_DOUBLE_EQ(e.probe, plan.noise.probe);
+    EXPECT_DOUBLE_EQ(e.probe, calibrated.probeNoise());
     EXPECT_LT(std::abs(e.probe - truth), 4.0 * e.u) << run;
     runs.add(e);
     EXPECT_NEAR(c.chi2_per_dof, 1.0, 2e-3) << run;  // the estimate makes chi2 = dof
@@ -281,12 +282,12 @@ TEST(RealReadingsNoise, ThePoseEstimateRecoversTheSimulatedScatterFromAllRows) {
   constexpr int kRuns = 40;
   NoiseEstimateRuns runs(truth);
   for (int run = 0; run < kRuns; ++run) {
-    Plan plan;
-    const Calibration c =
-        calibratedWithEstimatedNoise(planned, 2000 + static_cast<std::uint64_t>(run), plan);
+    const CalibrationRun calibrated =
+        calibratedWithEstimatedNoise(planned, 2000 + static_cast<std::uint64_t>(run));
+    const Calibration& c = calibrated.calibration;
     ASSERT_TRUE(c.summary.converged()) << run;
     ASSERT_TRUE(c.noise_estimate) << run;
-    EXPECT_EQ(c.dof, 2 * 25 * 6 - 2 * 6 - static_cast<int>(plan.machine.calibrated.size()));
+    EXPECT_EQ(c.dof, 2 * 25 * 6 - 2 * 6 - static_cast<int>(calibrated.kept().size()));
     EXPECT_NEAR(c.chi2_per_dof, 1.0, 2e-3) << run;  // the estimate makes chi2 = dof
     runs.add(*c.noise_estimate);
   }
@@ -324,7 +325,7 @@ TEST(RealReadingsNoise, TheEstimateWithPriorsRecoversTheSimulatedProbeNoise) {
     plan.placements = Simulator(planned).simulate(p_true, normal).placements;
     plan.noise.probe = 0.1;
     plan.noise.estimate_probe = true;
-    const Calibration c = calibrateReadings(plan);
+    const Calibration c = calibrateReadings(plan).calibration;
     ASSERT_TRUE(c.summary.converged()) << run;
     ASSERT_TRUE(c.noise_estimate) << run;
     EXPECT_NEAR(c.chi2_per_dof, 1.0, 2e-3) << run;  // priors included: chi2 = dof
@@ -379,7 +380,9 @@ HeldOut heldOut(const Plan& position, const Eigen::VectorXd& p) {
 /// No kept parameter with u above 50 mm or 30 deg (the issue's bound of a usable calibration),
 /// neither u from the stated noise nor u_posterior, from the noise the readings state (Birge ratio
 /// 8 to 26 on the Gen3 lite: its u_posterior reaches 33 mm and 25 deg).
-void expectUsableUncertainties(const Plan& plan, const Calibration& c, const std::string& what) {
+void expectUsableUncertainties(const CalibrationRun& run, const std::string& what) {
+  const Plan& plan = run.decided;
+  const Calibration& c = run.calibration;
   ASSERT_TRUE(c.covariance) << what;
   const Eigen::VectorXd posterior = c.posteriorU();
   ASSERT_EQ(posterior.size(), plan.machine.calibratedCount()) << what;
@@ -403,9 +406,10 @@ TEST_F(MukcaReadings, Gen3LiteLeaveOneOutBeatsNominal) {
         subset(document, "train-" + held, [&](const std::string& n) { return n != held; });
     const Plan position =
         subset(document, "held-" + held, [&](const std::string& n) { return n == held; });
-    const Calibration c = calibrateReadings(training);
+    const CalibrationRun run = calibrateReadings(training);
+    const Calibration& c = run.calibration;
     ASSERT_TRUE(c.summary.converged()) << held << ": " << c.summary.message;
-    expectUsableUncertainties(training, c, held);
+    expectUsableUncertainties(run, held);
     const HeldOut nominal = heldOut(position, position.machine.nominal);
     const HeldOut calibrated = heldOut(position, c.parameters);
     EXPECT_LT(calibrated.mae, nominal.mae) << held;
@@ -436,9 +440,10 @@ TEST_F(MukcaReadings, Gen3LiteOnePositionConvergesAndWarnsWhereFooled) {
   for (const std::string train : {"front", "left", "lower_left", "raised_back"}) {
     Plan training =
         subset(document, "one-" + train, [&](const std::string& n) { return n == train; });
-    const Calibration c = calibrateReadings(training);
+    const CalibrationRun run = calibrateReadings(training);
+    const Calibration& c = run.calibration;
     ASSERT_TRUE(c.summary.converged()) << train << ": " << c.summary.message;
-    expectUsableUncertainties(training, c, train);
+    expectUsableUncertainties(run, train);
     if (train == "front") {
       EXPECT_FALSE(c.warnings.empty());
       // and verify says so where it does worse than nominal: lower_left spreads 10.2 mm about
@@ -469,9 +474,10 @@ TEST_F(MukcaReadings, PandaLeaveOneOutBeatsTheAuthors) {
                            [&](const std::string& n) { return n != held && n != "high"; });
     const Plan position =
         subset(document, "held-" + held, [&](const std::string& n) { return n == held; });
-    const Calibration c = calibrateReadings(training);
+    const CalibrationRun run = calibrateReadings(training);
+    const Calibration& c = run.calibration;
     ASSERT_TRUE(c.summary.converged()) << held << ": " << c.summary.message;
-    expectUsableUncertainties(training, c, held);
+    expectUsableUncertainties(run, held);
     const HeldOut calibrated = heldOut(position, c.parameters);
     EXPECT_LT(calibrated.mae, heldOut(position, position.machine.nominal).mae) << held;
     mae += calibrated.mae / static_cast<double>(positions.size());
@@ -480,16 +486,17 @@ TEST_F(MukcaReadings, PandaLeaveOneOutBeatsTheAuthors) {
 }
 
 // The plan stays as given through a whole calibration (issue 33): calibrateReadings(const Plan&)
-// returns the plan as it decided, the noise it used (the estimate) and its kept set, and the
-// calibration equals the one of the overload that updates its plan, bit for bit. Readings of the
-// MUKCa Panda's front_center (the weak rule holds parameters there) with the noise estimated.
+// returns the plan as it decided, the noise it used (the estimate), its kept and held sets, and
+// the given plan calibrates again to the same figures bit for bit (nothing a run decided stays
+// behind). Readings of the MUKCa Panda's front_center (the weak rule holds parameters there) with
+// the noise estimated.
 TEST_F(MukcaReadings, TheGivenPlanIsUnchangedAndTheRunSaysWhatItDecided) {
   Plan given = subset(imported("panda_2", "panda.urdf", "panda_link0"), "front",
                       [](const std::string& name) { return name == "front_center"; });
   given.noise.probe = 0.1;
   given.noise.estimate_probe = true;
   const Plan before = given;
-  const CalibrationRun run = calibrateReadings(std::as_const(given));
+  const CalibrationRun run = calibrateReadings(given);
   ASSERT_TRUE(run.calibration.summary.converged());
   EXPECT_EQ(given.noise.probe, before.noise.probe);
   EXPECT_EQ(given.machine.calibrated, before.machine.calibrated);
@@ -500,13 +507,17 @@ TEST_F(MukcaReadings, TheGivenPlanIsUnchangedAndTheRunSaysWhatItDecided) {
   EXPECT_NE(run.probeNoise(), before.noise.probe);
   EXPECT_LT(run.kept().size(), before.machine.calibrated.size());  // weak directions held
   EXPECT_EQ(run.kept(), run.decided.calibrate_resolution->kept);
+  EXPECT_FALSE(run.held().empty());
+  EXPECT_EQ(run.held(), run.decided.calibrate_resolution->weak);
+  for (const int i : run.held())  // held: not estimated, at nominal
+    EXPECT_EQ(run.calibration.parameters[i], given.machine.nominal[i]);
 
-  Plan updated = before;
-  const Calibration same = calibrateReadings(updated);
-  EXPECT_EQ(same.parameters, run.calibration.parameters);
-  EXPECT_EQ(same.chi2, run.calibration.chi2);
-  EXPECT_EQ(updated.machine.calibrated, run.kept());
-  EXPECT_EQ(updated.noise.probe, run.probeNoise());
+  const CalibrationRun again = calibrateReadings(given);
+  EXPECT_EQ(again.calibration.parameters, run.calibration.parameters);
+  EXPECT_EQ(again.calibration.chi2, run.calibration.chi2);
+  EXPECT_EQ(again.kept(), run.kept());
+  EXPECT_EQ(again.held(), run.held());
+  EXPECT_EQ(again.probeNoise(), run.probeNoise());
 }
 
 // Convergence does not depend on the stated noise: the Gen3 lite (scatter 1-2.5 mm) with its
@@ -515,24 +526,23 @@ TEST_F(MukcaReadings, TheGivenPlanIsUnchangedAndTheRunSaysWhatItDecided) {
 TEST_F(MukcaReadings, ConvergenceDoesNotDependOnTheStatedNoise) {
   json document = imported("dinova_1", "gen3lite.urdf", "kinova_base_link");
   const auto all = [](const std::string&) { return true; };
-  Plan right = subset(document, "right", all);
-  const Calibration reference = calibrateReadings(right);
+  const CalibrationRun right = calibrateReadings(subset(document, "right", all));
+  const Calibration& reference = right.calibration;
   ASSERT_TRUE(reference.summary.converged()) << reference.summary.message;
   document["noise"]["probe"] = 0.005;
-  Plan small = subset(document, "small", all);
-  const Calibration c = calibrateReadings(small);
+  const CalibrationRun small = calibrateReadings(subset(document, "small", all));
+  const Calibration& c = small.calibration;
   ASSERT_TRUE(c.summary.converged()) << c.summary.message;
-  ASSERT_EQ(keptNames(small), keptNames(right));
-  for (int k = 0; k < right.machine.calibratedCount(); ++k) {
-    const int i = right.machine.calibrated[static_cast<std::size_t>(k)];
+  ASSERT_EQ(keptNames(small.decided), keptNames(right.decided));
+  for (int k = 0; k < right.decided.machine.calibratedCount(); ++k) {
+    const int i = right.kept()[static_cast<std::size_t>(k)];
     EXPECT_NEAR(c.parameters[i], reference.parameters[i], 0.01 * reference.posteriorU()[k])
-        << keptNames(right)[static_cast<std::size_t>(k)];
+        << keptNames(right.decided)[static_cast<std::size_t>(k)];
   }
   for (const json& noise : {json{{"probe", 0.12}, {"encoder", 0.005}},
                             json{{"probe", "estimate"}, {"encoder", 0.05}}}) {
     document["noise"] = noise;
-    Plan plan = subset(document, "noisy", all);
-    const Calibration noisy = calibrateReadings(plan);
+    const Calibration noisy = calibrateReadings(subset(document, "noisy", all)).calibration;
     EXPECT_TRUE(noisy.summary.converged()) << noise.dump() << ": " << noisy.summary.message;
   }
 }
@@ -544,19 +554,18 @@ TEST_F(MukcaReadings, ConvergenceDoesNotDependOnTheStatedNoise) {
 TEST_F(MukcaReadings, AnEstimatedNoiseCalibrationCountsTheIterationsOfEveryFit) {
   json document = imported("dinova_1", "gen3lite.urdf", "kinova_base_link");
   const auto all = [](const std::string&) { return true; };
-  Plan stated = subset(document, "stated", all);
-  const Calibration first = calibrateReadings(stated);
+  const Calibration first = calibrateReadings(subset(document, "stated", all)).calibration;
   ASSERT_TRUE(first.summary.converged());
   EXPECT_EQ(first.summary.fits, 1);
   document["noise"]["probe"] = "estimate";
-  Plan estimating = subset(document, "estimating", all);
-  const Calibration c = calibrateReadings(estimating);
+  const CalibrationRun estimating = calibrateReadings(subset(document, "estimating", all));
+  const Calibration& c = estimating.calibration;
   ASSERT_TRUE(c.summary.converged()) << c.summary.message;
   ASSERT_TRUE(c.noise_estimate);
   EXPECT_GE(c.summary.fits, 2);
   EXPECT_EQ(c.summary.fits, c.noise_estimate->fits);
   EXPECT_GE(c.summary.iterations, first.summary.iterations + c.summary.fits - 1);
-  const json out = calibrationToJson(estimating, estimating.placements, c);
+  const json out = calibrationToJson(estimating.decided, estimating.decided.placements, c);
   EXPECT_EQ(out["fits"], c.summary.fits);
   EXPECT_EQ(out["iterations"], c.summary.iterations);
 }
@@ -717,8 +726,8 @@ TEST_F(RealReadingsCli, AnImplausibleCorrectionIsAWarningNamingTheParameter) {
 
 // Planned readings calibrated as if measured fit to rounding: a warning says so.
 TEST(RealReadingsWarnings, PlannedReadingsThatFitToRoundingAreAWarning) {
-  Plan plan = loadPlan(test_support::planFile("paper-2r-5bars.json"));
-  const Calibration c = calibrateReadings(plan);
+  const Calibration c =
+      calibrateReadings(loadPlan(test_support::planFile("paper-2r-5bars.json"))).calibration;
   ASSERT_TRUE(c.summary.converged());
   ASSERT_EQ(c.warnings.size(), 1u);
   EXPECT_NE(c.warnings[0].find("fit the model to rounding"), std::string::npos);

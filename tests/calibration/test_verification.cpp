@@ -15,8 +15,8 @@
 #include <string>
 #include <tuple>
 
-#include "artcal/internal.hpp"
 #include "artcal/calibration/verification.hpp"
+#include "artcal/internal.hpp"
 #include "cli_runner.hpp"
 #include "test_paths.hpp"
 
@@ -197,9 +197,10 @@ TEST(Verification, PosteriorSpreadUsesTheEstimatedProbeNoiseWhenThePlanStatesOne
     NormalSource normal(trialSeed(29, static_cast<std::uint64_t>(t)));
     Plan training = estimating;
     training.placements = runs.simulator.simulate(runs.truth, normal).placements;
-    const Calibration calibration = calibrateReadings(training);
+    const CalibrationRun run = calibrateReadings(training);
+    const Calibration& calibration = run.calibration;
     ASSERT_TRUE(calibration.summary.converged());
-    const auto u = calibration.uncertainty(training.machine);
+    const auto u = calibration.uncertainty(run.decided.machine);
     ASSERT_TRUE(u);
     ASSERT_TRUE(calibration.noise_estimate);
     EXPECT_NEAR(u->birge_ratio, 1.0, 1e-2);

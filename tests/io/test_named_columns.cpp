@@ -482,10 +482,12 @@ TEST_F(NamedColumns, SeveralMarkersPerRowAreOneReadingOfEachMarkersOwnTip) {
                                     " --seed 5 -o " + path("simulated.json"),
                                 Stderr::Only);
   ASSERT_EQ(simulated.status, 0) << simulated.out;
-  Plan measured = loadPlan(path("simulated.json"));
-  const Eigen::VectorXd p_true = loadTruth(path("truth.json"), measured);
-  const Eigen::VectorXd p_nominal = measured.machine.nominal;
-  const Calibration calibration = calibrateReadings(measured, CalibrationOptions{});
+  const Plan loaded = loadPlan(path("simulated.json"));
+  const Eigen::VectorXd p_true = loadTruth(path("truth.json"), loaded);
+  const Eigen::VectorXd p_nominal = loaded.machine.nominal;
+  const CalibrationRun calibrated = calibrateReadings(loaded, CalibrationOptions{});
+  const Plan& measured = calibrated.decided;  // its kept set
+  const Calibration& calibration = calibrated.calibration;
   ASSERT_TRUE(calibration.summary.converged());
   const Mechanism& mech = *measured.machine.mechanism;
   double worst = 0.0, nominal_worst = 0.0;

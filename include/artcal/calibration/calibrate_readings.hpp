@@ -44,22 +44,26 @@ struct CalibrationRun {
 
   /// The calibrated parameters' indices (into the machine's parameters), in calibration order.
   const std::vector<int>& kept() const { return decided.machine.calibrated; }
-  /// The probe noise s_p (mm) the calibration whitened the readings with.
+  /// The parameters the weak-direction rule held at nominal (none when the plan lists its set).
+  std::vector<int> held() const {
+    return decided.calibrate_resolution ? decided.calibrate_resolution->weak : std::vector<int>{};
+  }
+  /// The probe noise s_p (mm) the calibration whitened the readings with (its estimate and u in
+  /// calibration.noise_estimate when the plan says "estimate").
   double probeNoise() const { return decided.noise.probe; }
 };
 
 /// Calibrates `plan`'s readings as calibratePlan does, with the weak-direction rule, the plausible
-/// minimum, the held-out model choice and the noise estimate above. `plan` is not changed (the
-/// calibrator owns the noise it re-estimates); the decisions are in the result.
+/// minimum, the held-out model choice and the noise estimate above. No plan is changed during the
+/// run: each decision (parameters held, a noise estimated, a kept set chosen) makes a new plan,
+/// the last of which is the result's `decided`; a calibrator's plan never changes under it.
 CalibrationRun calibrateReadings(const Plan& plan, const CalibrationOptions& options = {});
-
-/// The same, for callers that keep one plan: `plan` becomes the run's `decided` plan.
-Calibration calibrateReadings(Plan& plan, const CalibrationOptions& options = {});
 
 /// Readings repeated bit for bit counted once (`calibrate --repeats once`, docs/hardening.md): in
 /// each placement every copy of an earlier reading (the same feature, tip, joints and measured
 /// point or pose) is removed. Returns one line per placement that had copies, naming how many.
-std::vector<std::string> countRepeatsOnce(Plan& plan);
+/// (Input preparation before a run, on the readings as loaded.)
+std::vector<std::string> countRepeatsOnce(std::vector<Placement>& placements);
 
 /// The probe noise s_p (mm) that makes chi2 = dof at the calibration's estimate, the encoder
 /// noise as stated; 0 when the encoders alone explain more than the scatter (see NoiseEstimate).

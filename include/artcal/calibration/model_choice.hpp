@@ -85,9 +85,10 @@ struct ModelChoiceOutcome {
 
 /// Runs the choice after the rank rule's calibration: `plan.machine.calibrated` is the rank rule's
 /// set, `calibrator` the one that produced `calibration` (its linearisation at the estimate),
-/// `information` the information at the estimate over that set. Leaves plan.machine.calibrated
-/// as it was; std::nullopt when there is nothing to choose (not converged, no candidate).
-std::optional<ModelChoiceOutcome> chooseKeptSet(Plan& plan, const CalibrationOptions& options,
+/// `information` the information at the estimate over that set. `plan` is not changed (each
+/// candidate is fitted with its own copy, whose calibrated set is the candidate's); std::nullopt
+/// when there is nothing to choose (not converged, no candidate).
+std::optional<ModelChoiceOutcome> chooseKeptSet(const Plan& plan, const CalibrationOptions& options,
                                                 const Calibrator& calibrator,
                                                 const Calibration& calibration,
                                                 const PlanInformation& information);

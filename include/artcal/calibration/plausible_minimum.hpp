@@ -74,14 +74,17 @@ struct MinimumChoice {
   std::string reason;  ///< one sentence: which minimum was taken and why
 };
 
-/// Calibrates `plan` as listed (rank rule, weak directions, noise): calibrateReadings' plain path.
-using CalibrateAsListed = std::function<Calibration(Plan&)>;
+struct CalibrationRun;  // calibrate_readings.hpp
 
-/// The search above. `before`: the plan as loaded (before the plain path changed its calibrated
-/// set and noise); `plan` and `fit`: the plain path's result. Returns the chosen calibration and
-/// leaves `plan` as its calibration needs it (kept set, weak parameters, noise); records the
-/// choice in the result's `minimum` whenever `fit` was flagged.
-Calibration choosePlausibleMinimum(const Plan& before, Plan& plan, Calibration fit,
-                                   const CalibrateAsListed& calibrate);
+/// Calibrates a plan as listed (rank rule, weak directions, noise): calibrateReadings' plain path,
+/// which returns the plan as it decided (kept set, weak parameters, noise used) with its fit.
+using CalibrateAsListed = std::function<CalibrationRun(const Plan&)>;
+
+/// The search above. `before`: the plan as loaded; `fit`: the plain path's run on it. Returns the
+/// chosen run (the plain one or an alternative, each with the plan as its calibration decided
+/// it); records the choice in the calibration's `minimum` whenever `fit` was flagged. No plan is
+/// changed: each alternative is calibrated from its own copy of `before`.
+CalibrationRun choosePlausibleMinimum(const Plan& before, CalibrationRun fit,
+                                      const CalibrateAsListed& calibrate);
 
 }  // namespace artcal

@@ -55,9 +55,11 @@ struct ParameterUncertainty {
   double probe_noise = 0.0;
 };
 
-/// A plan whose probe noise is `"estimate"` takes the noise the calibration behind `uncertainty`
-/// estimated (verify's prediction of held-out readings of the same machine); a stated noise stays.
-void useEstimatedProbeNoise(Plan& plan, const std::optional<ParameterUncertainty>& uncertainty);
+/// The noise a plan's held-out readings are predicted with: a probe noise of `"estimate"` is the
+/// one the calibration behind `uncertainty` estimated (verify's prediction of held-out readings
+/// of the same machine); a stated noise stays. A new value: the plan is not changed.
+Noise withEstimatedProbeNoise(const Noise& noise,
+                              const std::optional<ParameterUncertainty>& uncertainty);
 
 struct FeatureSpread {
   int feature = 0;
