@@ -35,3 +35,16 @@ function(artcal_compared_name code pattern out)
   endif()
   set(${out} "${name}" PARENT_SCOPE)
 endfunction()
+
+# artcal_captured(FILE REGEX OUT): appends to OUT the first group of REGEX in each line of FILE
+# that matches it (the names a check reads from the code: a family's class, a kind's name).
+function(artcal_captured file regex out)
+  file(STRINGS ${file} lines REGEX "${regex}")
+  set(values ${${out}})
+  foreach(line ${lines})
+    if(line MATCHES "${regex}")
+      list(APPEND values "${CMAKE_MATCH_1}")
+    endif()
+  endforeach()
+  set(${out} ${values} PARENT_SCOPE)
+endfunction()
