@@ -239,6 +239,13 @@ Calibration calibrateWithNoise(const Plan& plan, const std::vector<Placement>& p
   return calibration;
 }
 
+// The noise `calibration` whitened with: `noise` with the probe noise it estimated, if it did.
+Noise noiseUsed(const Noise& noise, const Calibration& calibration) {
+  Noise out = noise;
+  if (calibration.noise_estimate) out.probe = calibration.noise_estimate->probe;
+  return out;
+}
+
 // The plans of one run, oldest first (Pinocchio's Model/Data split: a plan is the model, never
 // changed while a calibrator is bound to it). Each decision of the run (parameters held by the
 // weak rule, a probe noise estimated, a kept set chosen held out) makes the next plan, a changed
@@ -258,10 +265,10 @@ class Stages {
   /// The noise `calibration` whitened with becomes the current plan's (when it estimated
   /// another): what the calibrators made afterwards start from and the run reports.
   void noteNoise(const Calibration& calibration) {
-    if (!calibration.noise_estimate || calibration.noise_estimate->probe == current_->noise.probe)
-      return;
+    Noise used = noiseUsed(current_->noise, calibration);
+    if (used.probe == current_->noise.probe) return;
     Plan next = *current_;
-    next.noise.probe = calibration.noise_estimate->probe;
+    next.noise = std::move(used);
     push(std::move(next));
   }
   /// The plan as decided (a copy of the given one when nothing was decided); call last.
@@ -459,7 +466,7 @@ CalibrationRun calibrateAsListed(const Plan& given, const CalibrationOptions& op
   }
   nearestTurn(plan, calibration);
   addWarnings(plan, calibration);
-  calibrator.reset();  // bound to a stage
+  calibrator.reset();  // bound to the last stage, which decided() moves out
   return {std::move(calibration), std::move(stages).decided()};
 }
 
@@ -494,17 +501,16 @@ CalibrationRun withModelChoice(CalibrationRun run, const CalibrationOptions& opt
       chosen_plan.calibrate_resolution->weak.clear();
       chosen_plan.calibrate_resolution->weak_fraction.clear();
     }
-    Stages stages(chosen_plan);
-    Calibration chosen = [&] {
+    Calibration chosen = [&] {  // its calibrator gone before the plan records the noise used
       Calibrator narrowed(chosen_plan, options);
       return followedBy(run.calibration, calibrateWithNoise(chosen_plan, chosen_plan.placements,
                                                             narrowed, outcome->chosen_state));
     }();
-    stages.noteNoise(chosen);
+    chosen_plan.noise = noiseUsed(chosen_plan.noise, chosen);
     chosen.minimum = std::move(run.calibration.minimum);
-    nearestTurn(stages.current(), chosen);
-    addWarnings(stages.current(), chosen);
-    run = {std::move(chosen), std::move(stages).decided()};
+    nearestTurn(chosen_plan, chosen);
+    addWarnings(chosen_plan, chosen);
+    run = {std::move(chosen), std::move(chosen_plan)};
   }
   run.calibration.model_choice = std::move(outcome->choice);
   return run;
