@@ -239,7 +239,7 @@ py::tuple readings(const PyPlan& p, long placement) {
 json checkDocument(const PyPlan& p, double rank_tolerance) {
   noteInput(p.source);
   const Plan& plan = p.plan;
-  const PlanInformation information = planInformation(plan, plan.placements, plan.machine.nominal);
+  const PlanInformation information = verdictInformation(plan, plan.placements);
   const Identifiability id =
       analyseIdentifiability(plan, plan.placements, information, rank_tolerance);
   json out = identifiabilityToJson(id);

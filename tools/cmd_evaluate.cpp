@@ -31,7 +31,7 @@ void addCommonOptions(CLI::App* cmd, EvaluateArguments& args) {
 }  // namespace
 
 int printCheck(const Plan& plan, bool json, double rank_tolerance) {
-  const PlanInformation information = planInformation(plan, plan.placements, plan.machine.nominal);
+  const PlanInformation information = verdictInformation(plan, plan.placements);
   const Identifiability id =
       analyseIdentifiability(plan, plan.placements, information, rank_tolerance);
   const CartesianAnswers cmm = cartesianAnswers(plan, nullptr);

@@ -33,29 +33,20 @@ std::string number(double value) {
   return text;
 }
 
-// `plan` with the calibrated parameters whose surviving fraction in `information` is below
-// kWeakInformationTolerance held at nominal, greedy in the order of QR with column pivoting
-// (choosePivotedSet: the independent reference's order of docs/method.md section 5, and
-// independent of the order the parameters are listed in); std::nullopt when none is held. A new
-// plan: the one a calibrator is bound to is never changed.
-// `kept_positions`: the positions in the calibrated set of the ones still calibrated.
-std::optional<Plan> holdingWeaklyDetermined(const Plan& plan, const PlanInformation& information,
-                                            std::vector<int>* kept_positions = nullptr) {
-  const CalibratedSetChoice choice = choosePivotedSet(information, kWeakInformationTolerance);
-
-  if (choice.dropped.empty()) return std::nullopt;
-  if (kept_positions) *kept_positions = choice.kept;
-  std::optional<Plan> held(plan);
-  CalibratedSetResolution& resolution = *held->calibrate_resolution;
-  std::vector<int> kept;
-  for (const int k : choice.kept) kept.push_back(plan.machine.calibrated[k]);
-  for (std::size_t d = 0; d < choice.dropped.size(); ++d) {
-    resolution.weak.push_back(plan.machine.calibrated[choice.dropped[d]]);
-    resolution.weak_fraction.push_back(choice.dropped_fraction[d]);
-  }
-  held->machine.calibrated = kept;
-  resolution.kept = std::move(kept);
-  return held;
+// The weak rule's choice over every listed parameter (weakRuleChoice, identifiability.hpp) as the
+// run's next plan; std::nullopt when the current set stays: when it passes the rule itself and
+// the rule's choice is no larger (the same directions under other names of an exact tie, or
+// rounding, never move a fit from one stage to the next).
+std::optional<Plan> weakRuleOverListed(const Plan& plan, WeakRuleChoice choice) {
+  if (choice.setFor(plan.machine.calibrated) == plan.machine.calibrated) return std::nullopt;
+  std::optional<Plan> next(plan);
+  CalibratedSetResolution& decided = *next->calibrate_resolution;
+  decided.weak = std::move(choice.held);
+  decided.weak_fraction = std::move(choice.held_fraction);
+  decided.in_place = std::move(choice.in_place);
+  next->machine.calibrated = choice.kept;
+  decided.kept = std::move(choice.kept);
+  return next;
 }
 
 // The readings' misfits in the eigenbases of their encoder covariances Q diag(lambda) Q^T: with
@@ -429,14 +420,9 @@ CalibrationRun calibrateAsListed(const Plan& given, const CalibrationOptions& op
   // Rank policy on measured readings (docs/method.md section 5): at the nominal parameters, from
   // the linearisation the calibration then starts from ...
   if (resolve) {
-    calibrator->prepare(placements, start);
-    std::vector<int> kept;
-    if (auto held = holdingWeaklyDetermined(given, calibrator->information(placements), &kept)) {
-      // The calibrated set changed: the calibration starts from the same linearisation without
-      // the held parameters' columns.
-      Calibrator narrowed(stages.push(std::move(*held)), options);
-      narrowed.prepareFrom(*calibrator, kept, placements);
-      calibrator.emplace(std::move(narrowed));
+    if (auto held = weakRuleOverListed(given, given.calibrate_resolution->at_nominal)) {
+      calibrator.emplace(stages.push(std::move(*held)), options);
+      start = calibrator->initialState(placements, nominal);
     }
   }
   Calibration calibration = calibrateWithNoise(stages.current(), placements, *calibrator, start);
@@ -445,8 +431,8 @@ CalibrationRun calibrateAsListed(const Plan& given, const CalibrationOptions& op
   for (int round = 0; resolve && round < kMaxWeakRounds && calibration.summary.converged();
        ++round) {
     const Plan& plan = stages.current();
-    auto held =
-        holdingWeaklyDetermined(plan, informationAtEstimate(plan, *calibrator, calibration));
+    auto held = weakRuleOverListed(
+        plan, weakRuleChoice(plan, given.machine.calibrated, calibration.parameters));
     if (!held) break;
     const Plan& narrower = stages.push(std::move(*held));
     calibrator.emplace(narrower, options);

@@ -90,13 +90,15 @@ CalibrationRun choosePlausibleMinimum(const Plan& before, CalibrationRun run,
     if (!demoted_more) break;
     Plan trial = before;
     trial.machine.calibrated = withDemotedLast(listed, choice.demoted);
-    CalibratedSetResolution resolution = resolveListedSet(trial, trial.placements);
-    if (resolution.kept == previous_kept) {
+    CalibratedSetResolution resolution = resolveListedSet(trial, trial.placements, choice.demoted);
+    // The set calibrate starts from: the structural rule's, or the weak rule's choice.
+    const std::vector<int> first = resolution.at_nominal.setFor(resolution.kept);
+    if (first == previous_kept) {
       // Nothing else takes the demoted parameters' directions: the set, and so the fit, stays.
       stop = "no other parameter takes the directions of " + names(plan.machine, choice.demoted);
       break;
     }
-    previous_kept = resolution.kept;
+    previous_kept = first;
     trial.machine.calibrated = resolution.kept;
     trial.calibrate_resolution = std::move(resolution);
     CalibrationRun alternative = calibrate(trial);

@@ -257,7 +257,8 @@ void DesignMatrixBuilder::storeFactor(ReadingWeights& weights, std::size_t readi
 void DesignMatrixBuilder::misfits(const Artifact& artifact,
                                   const std::vector<Measurement>& measurements,
                                   const Eigen::VectorXd& p, const RigidTransform& r,
-                                  const Eigen::VectorXd& c, std::vector<ReadingMisfit>& out) const {
+                                  const Eigen::VectorXd& c, std::vector<ReadingMisfit>& out,
+                                  std::vector<Eigen::MatrixXd>* joint_jacobians) const {
   const int k = artifact.valuedPerFeature();
   // A pose's orientation rows enter when they carry a share of s_p^2 (reading_noise.hpp), scaled
   // by 1/sqrt(share) so that s_p^2 adds to every row alike (Calibrator::misfits).
@@ -286,6 +287,11 @@ void DesignMatrixBuilder::misfits(const Artifact& artifact,
         misfit.encoder_covariance.bottomRows(kept - 1) *= unscale;
         misfit.encoder_covariance.rightCols(kept - 1) *= unscale;
       }
+      if (joint_jacobians) {
+        Eigen::MatrixXd J_q = plane_rows.J_q.topRows(kept);
+        if (kept > 1) J_q.bottomRows(kept - 1) /= std::sqrt(angle_share);
+        joint_jacobians->push_back(std::move(J_q));
+      }
       out.push_back(std::move(misfit));
       continue;
     }
@@ -302,6 +308,7 @@ void DesignMatrixBuilder::misfits(const Artifact& artifact,
       misfit.residual = point_residual;
       readingCovariance(noise_.encoder, J_valued_q, readingPointVariance(0.0, artifact.noise),
                         misfit.encoder_covariance);
+      if (joint_jacobians) joint_jacobians->push_back(J_valued_q);
       out.push_back(std::move(misfit));
       continue;
     }
@@ -317,6 +324,10 @@ void DesignMatrixBuilder::misfits(const Artifact& artifact,
     misfit.residual << point_residual, unscale * e;
     misfit.encoder_covariance.bottomRows(3) *= unscale;
     misfit.encoder_covariance.rightCols(3) *= unscale;
+    if (joint_jacobians) {
+      J_q.bottomRows(3) *= unscale;
+      joint_jacobians->push_back(std::move(J_q));
+    }
     out.push_back(std::move(misfit));
   }
 }

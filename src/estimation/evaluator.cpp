@@ -5,6 +5,7 @@
 #include <string>
 
 #include "artcal/core/error.hpp"
+#include "artcal/estimation/consistent_readings.hpp"
 
 namespace artcal {
 
@@ -76,6 +77,13 @@ PlanInformation planInformation(const Plan& plan, const std::vector<Placement>& 
                                              ParameterPrior::Excluded, &caps)
                          : out.reduced;
   return out;
+}
+
+PlanInformation verdictInformation(const Plan& plan, const std::vector<Placement>& placements,
+                                   bool with_estimable) {
+  const Eigen::VectorXd& p = plan.machine.nominal;
+  const auto consistent = consistentPlacements(plan, placements, p);
+  return planInformation(plan, consistent ? *consistent : placements, p, with_estimable);
 }
 
 Eigen::MatrixXd placementsInformation(const Plan& plan, const std::vector<Placement>& placements,
@@ -192,9 +200,15 @@ std::optional<TipSummary> PlanEvaluator::tip(const std::vector<Placement>& place
 
 Evaluation evaluatePlan(const Plan& plan, const EvaluateOptions& options) {
   Evaluation evaluation;
-  PlanInformation information = planInformation(plan, plan.placements, plan.machine.nominal);
-  evaluation.identifiability =
-      analyseIdentifiability(plan, plan.placements, information, options.rank_tolerance);
+  // The verdict from the planned-equivalent readings (verdictInformation), V_p from the readings
+  // as they are: the same matrix where they are consistent (planned readings), computed once.
+  const Eigen::VectorXd& nominal = plan.machine.nominal;
+  const auto consistent = consistentPlacements(plan, plan.placements, nominal);
+  PlanInformation information = planInformation(plan, plan.placements, nominal);
+  evaluation.identifiability = analyseIdentifiability(
+      plan, plan.placements,
+      consistent ? planInformation(plan, *consistent, nominal, false) : information,
+      options.rank_tolerance);
   evaluation.information = addParameterPrior(information.estimable, GlobalLayout::of(plan));
   evaluation.unreduced_diagonal = std::move(information.unreduced_diagonal);
   evaluation.placed_features = featuresInMachineFrame(plan, information.poses);

@@ -1,6 +1,7 @@
 #include "artcal/estimation/identifiability.hpp"
 
 #include "artcal/core/linear_algebra.hpp"
+#include "artcal/estimation/consistent_readings.hpp"
 #include "artcal/estimation/evaluator.hpp"
 #include "artcal/estimation/normal_matrix.hpp"
 
@@ -173,10 +174,28 @@ std::vector<std::pair<int, double>> tieOf(const Eigen::MatrixXd& S, std::vector<
   return tie;
 }
 
+// The fraction of parameter i's information that survives the elimination of the `kept` ones:
+// S_ii - s^T S_KK^-1 s (the pivot of i after them in a Cholesky of S).
+double survivingAfter(const Eigen::MatrixXd& S, const std::vector<int>& kept, int i) {
+  if (kept.empty()) return S(i, i);
+  Eigen::VectorXd s(static_cast<Eigen::Index>(kept.size()));
+  for (std::size_t a = 0; a < kept.size(); ++a) s[static_cast<Eigen::Index>(a)] = S(kept[a], i);
+  return S(i, i) - s.dot(principal(S, kept).ldlt().solve(s));
+}
+
+// What the greedy rule may keep beyond its cutoff: at most `max_kept` (-1: any number), and of
+// the parameters not in `first` only those whose own surviving fraction after the kept ones is
+// at least `later_fraction`.
+struct GreedyLimits {
+  int max_kept = -1;
+  std::vector<int> first;
+  double later_fraction = 0.0;
+};
+
 // The greedy rule along `order` (positions into S): a parameter is kept when the smallest
-// eigenvalue of S over the kept ones and it exceeds `cutoff`.
+// eigenvalue of S over the kept ones and it exceeds `cutoff` (and `limits` allow it).
 CalibratedSetChoice greedyAlong(const Eigen::MatrixXd& S, const std::vector<int>& order,
-                                double cutoff) {
+                                double cutoff, const GreedyLimits& limits = {}) {
   CalibratedSetChoice choice;
   const auto n = static_cast<int>(S.rows());
   // The smallest eigenvalue of S over kept + {i} exceeds the cutoff exactly when S - cutoff I over
@@ -192,7 +211,11 @@ CalibratedSetChoice greedyAlong(const Eigen::MatrixXd& S, const std::vector<int>
     const double pivot = S(i, i) - cutoff - row.squaredNorm();
     // An unobserved parameter has a zero row and column in S (scaledInformation).
     const bool observed = S(i, i) > 0.0;
-    if (observed && pivot > 0.0) {
+    const bool room = limits.max_kept < 0 || k < limits.max_kept;
+    const bool later = limits.later_fraction > 0.0 &&
+                       std::find(limits.first.begin(), limits.first.end(), i) == limits.first.end();
+    const bool enough = !later || survivingAfter(S, choice.kept, i) >= limits.later_fraction;
+    if (observed && pivot > 0.0 && room && enough) {
       L.row(k).head(k) = row.transpose();
       L(k, k) = std::sqrt(pivot);
       choice.kept.push_back(i);
@@ -211,17 +234,29 @@ CalibratedSetChoice greedyAlong(const Eigen::MatrixXd& S, const std::vector<int>
 // The order of Cholesky with diagonal pivoting of S, which is QR with column pivoting of the
 // scaled reduced Jacobian (S = J^T J): next, the parameter whose information surviving the ones
 // before it, |R_kk|^2, is the largest. Parameters nothing observes come last.
-std::vector<int> pivotedOrder(const Eigen::MatrixXd& S) {
+// `first` and `last` (positions) make three tiers: every one of `first` is pivoted before the
+// others, every one of `last` after them.
+std::vector<int> pivotedOrder(const Eigen::MatrixXd& S, const std::vector<int>& first,
+                              const std::vector<int>& last) {
   const auto n = static_cast<int>(S.rows());
   Eigen::VectorXd remaining = S.diagonal();
   Eigen::MatrixXd L = Eigen::MatrixXd::Zero(n, n);
   std::vector<bool> taken(static_cast<std::size_t>(n), false);
+  std::vector<int> tier(static_cast<std::size_t>(n), 1);
+  for (const int i : first) tier[static_cast<std::size_t>(i)] = 0;
+  for (const int i : last) tier[static_cast<std::size_t>(i)] = 2;
+  // Whether i goes before `best`: a lower tier, else the larger remaining information.
+  const auto before = [&](int i, int best) {
+    const int a = tier[static_cast<std::size_t>(i)], b = tier[static_cast<std::size_t>(best)];
+    if (a != b) return a < b;
+    return remaining[i] > remaining[best];
+  };
   std::vector<int> order;
   for (int k = 0; k < n; ++k) {
     int best = -1;
     for (int i = 0; i < n; ++i) {
       if (taken[static_cast<std::size_t>(i)]) continue;
-      if (best < 0 || remaining[i] > remaining[best]) best = i;
+      if (best < 0 || before(i, best)) best = i;
     }
     taken[static_cast<std::size_t>(best)] = true;
     order.push_back(best);
@@ -248,9 +283,12 @@ CalibratedSetChoice chooseIdentifiableSet(const PlanInformation& information, do
   return greedyAlong(S, listed, tolerance);
 }
 
-CalibratedSetChoice choosePivotedSet(const PlanInformation& information, double tolerance) {
+CalibratedSetChoice choosePivotedSet(const PlanInformation& information, double tolerance,
+                                     int max_kept, const std::vector<int>& first,
+                                     const std::vector<int>& last, double later_fraction) {
   const Eigen::MatrixXd S = scaledInformation(information);
-  CalibratedSetChoice choice = greedyAlong(S, pivotedOrder(S), tolerance);
+  CalibratedSetChoice choice =
+      greedyAlong(S, pivotedOrder(S, first, last), tolerance, {max_kept, first, later_fraction});
   // Reported in the listed order, as chooseIdentifiableSet's.
   std::sort(choice.kept.begin(), choice.kept.end());
   std::vector<std::size_t> by_position(choice.dropped.size());
@@ -267,15 +305,88 @@ CalibratedSetChoice choosePivotedSet(const PlanInformation& information, double 
   return sorted;
 }
 
-CalibratedSetResolution resolveListedSet(const Plan& plan,
-                                         const std::vector<Placement>& placements) {
+namespace {
+
+// Whether the parameters at `positions` pass the rule together: the smallest eigenvalue of S
+// over them exceeds `tolerance`, which is when the greedy rule along any order keeps every one.
+bool passesTogether(const Eigen::MatrixXd& S, const std::vector<int>& positions, double tolerance) {
+  if (positions.empty()) return true;
+  return smallestEigenvalue(principal(S, positions)) > tolerance;
+}
+
+bool contains(const std::vector<int>& set, int index) {
+  return std::find(set.begin(), set.end(), index) != set.end();
+}
+
+}  // namespace
+
+namespace {
+
+// The weak rule's choice from the information over every listed parameter (weakRuleChoice).
+std::vector<int> positionsIn(const std::vector<int>& listed, const std::vector<int>& indices) {
+  std::vector<int> out;
+  for (const int index : indices) {
+    const auto at = std::find(listed.begin(), listed.end(), index);
+    if (at != listed.end()) out.push_back(static_cast<int>(at - listed.begin()));
+  }
+  return out;
+}
+
+WeakRuleChoice weakChoiceFrom(const PlanInformation& information, const std::vector<int>& listed,
+                              const std::vector<int>& structural, const std::vector<int>& current,
+                              int max_kept, const std::vector<int>& last) {
+  // The current set first (the structural rule's, or the last stage's), its weak directions held
+  // in the pivoted order among it; then the others, in the pivoted order, where they carry a
+  // direction the kept ones do not: a tie the structural rule broke in the listed order changes
+  // only where its kept member is weak.
+  const CalibratedSetChoice choice = choosePivotedSet(
+      information, kWeakInformationTolerance, max_kept, positionsIn(listed, current),
+      positionsIn(listed, last), kBroughtBackFraction);
+  WeakRuleChoice out;
+  for (const int k : choice.kept) out.kept.push_back(listed[static_cast<std::size_t>(k)]);
+  for (std::size_t d = 0; d < choice.dropped.size(); ++d) {
+    const int index = listed[static_cast<std::size_t>(choice.dropped[d])];
+    if (!contains(structural, index)) continue;
+    out.held.push_back(index);
+    out.held_fraction.push_back(choice.dropped_fraction[d]);
+  }
+  for (const int index : out.kept)
+    if (!contains(structural, index)) out.in_place.push_back(index);
+  out.current_passes = passesTogether(scaledInformation(information), positionsIn(listed, current),
+                                      kWeakInformationTolerance);
+  return out;
+}
+
+}  // namespace
+
+WeakRuleChoice weakRuleChoice(const Plan& plan, const std::vector<int>& structural,
+                              const Eigen::VectorXd& p) {
+  const std::vector<int>& listed = plan.calibrate_resolution->listed;
+  Plan all = plan;
+  all.machine.calibrated = listed;
+  const auto consistent = consistentPlacements(all, all.placements, p);
   const PlanInformation information =
-      planInformation(plan, placements, plan.machine.nominal, /*with_estimable=*/false);
+      planInformation(all, consistent ? *consistent : all.placements, p, false);
+  // At the estimate the rule holds, never adds: ties the estimate's own values break (a few
+  // micrometres of a location error) are no information the nominal layout had.
+  return weakChoiceFrom(information, listed, structural, plan.machine.calibrated,
+                        static_cast<int>(plan.machine.calibrated.size()),
+                        plan.calibrate_resolution->last);
+}
+
+CalibratedSetResolution resolveListedSet(const Plan& plan, const std::vector<Placement>& placements,
+                                         const std::vector<int>& last) {
+  const PlanInformation information =
+      verdictInformation(plan, placements, /*with_estimable=*/false);
   const CalibratedSetChoice choice = chooseIdentifiableSet(information);
   const std::vector<int>& listed = plan.machine.calibrated;
   CalibratedSetResolution resolution;
   resolution.listed = listed;
   for (int k : choice.kept) resolution.kept.push_back(listed[static_cast<std::size_t>(k)]);
+  resolution.last = last;
+  // In place of the held, never more than the structural rule kept.
+  resolution.at_nominal = weakChoiceFrom(information, listed, resolution.kept, resolution.kept,
+                                         static_cast<int>(resolution.kept.size()), last);
   for (int k : choice.dropped) resolution.dropped.push_back(listed[static_cast<std::size_t>(k)]);
   for (const auto& tie : choice.ties) {
     std::vector<std::pair<int, double>> named;

@@ -135,6 +135,17 @@ json weaklyDeterminedToJson(const Plan& plan) {
   return out;
 }
 
+/// The parameters calibrate took in place of the weakly determined ones (the structural rule had
+/// dropped them as tied): their names.
+json inPlaceToJson(const Plan& plan) {
+  json out = json::array();
+  if (!plan.calibrate_resolution) return out;
+  const auto& parameters = plan.machine.mechanism->parameters();
+  for (const int index : plan.calibrate_resolution->in_place)
+    out.push_back(parameters[static_cast<std::size_t>(index)].name);
+  return out;
+}
+
 std::string parameterName(const Machine& machine, int index) {
   return machine.mechanism->parameters()[static_cast<std::size_t>(index)].name;
 }
@@ -233,6 +244,13 @@ std::string calibrationNotes(const Plan& plan, const Calibration& calibration) {
     for (const json& w : weak) out << " " << w["name"].get<std::string>();
     out << "\n";
   }
+  const json in_place = inPlaceToJson(plan);
+  if (!in_place.empty()) {
+    out << "calibrated in their place (dropped by the structural rule as tied to them; the weak "
+           "rule's choice over every listed parameter):";
+    for (const json& name : in_place) out << " " << name.get<std::string>();
+    out << "\n";
+  }
   out << minimumText(plan.machine, calibration);
   if (calibration.model_choice) out << modelChoiceTable(plan, *calibration.model_choice) << "\n";
   for (const std::string& warning : calibration.warnings) out << "warning: " << warning << "\n";
@@ -260,6 +278,7 @@ json calibrationToJson(const Plan& plan, const std::vector<Placement>& placement
   out["u_posterior_caveat"] = posteriorCaveat(calibration.dof);
   if (calibration.noise_estimate) out["noise_estimate"] = noiseEstimateToJson(calibration);
   out["weakly_determined"] = weaklyDeterminedToJson(plan);
+  out["calibrated_in_place"] = inPlaceToJson(plan);
   if (calibration.model_choice)
     out["model_choice"] = modelChoiceToJson(plan, *calibration.model_choice);
   out["warnings"] = calibration.warnings;

@@ -900,6 +900,12 @@ void writeCalibrationWarnings(std::ostream& out, const json& cal) {
       out << " <code>" << svg::escape(w.at("name").get<std::string>()) << "</code>";
     out << "</p>\n";
   }
+  if (const auto it = cal.find("calibrated_in_place"); it != cal.end() && !it->empty()) {
+    out << "<p>Calibrated in their place (dropped by the structural rule as tied to them):";
+    for (const json& name : *it)
+      out << " <code>" << svg::escape(name.get<std::string>()) << "</code>";
+    out << "</p>\n";
+  }
   if (const auto it = cal.find("warnings"); it != cal.end() && !it->empty()) {
     out << "<ul class=\"warnings\">\n";
     for (const json& w : *it)

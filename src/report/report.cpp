@@ -58,6 +58,14 @@ json calibrateSelectionToJson(const Plan& plan) {
   out["calibrate_resolved"] = kept;
   out["calibrate_dropped"] = dropped;
   out["calibrate_ties"] = ties;
+  const WeakRuleChoice& weak = resolution.at_nominal;
+  json weak_kept = json::array(), held = json::array(), in_place = json::array();
+  for (int k : weak.kept) weak_kept.push_back(name(k));
+  for (std::size_t h = 0; h < weak.held.size(); ++h)
+    held.push_back({{"name", name(weak.held[h])},
+                    {"surviving_fraction", finiteOrNull(weak.held_fraction[h])}});
+  for (int k : weak.in_place) in_place.push_back(name(k));
+  out["calibrate_weak_rule"] = {{"kept", weak_kept}, {"held", held}, {"in_place", in_place}};
   return out;
 }
 
@@ -220,6 +228,18 @@ std::string calibrateSelectionText(const Plan& plan) {
   for (std::size_t d = 0; d < resolution.dropped.size(); ++d) {
     out << "    dropped " << name(resolution.dropped[d]) << ": "
         << tieText(plan, resolution.ties[d]) << "\n";
+  }
+  const WeakRuleChoice& weak = resolution.at_nominal;
+  if (!weak.held.empty() || !weak.in_place.empty()) {
+    out << "  calibrate of measured readings (the weak rule: surviving fraction < 1e-6 over every "
+           "listed parameter, docs/method.md section 5) holds at nominal:";
+    for (std::size_t h = 0; h < weak.held.size(); ++h)
+      out << " " << name(weak.held[h]) << format(" (%.2g)", weak.held_fraction[h]);
+    if (!weak.in_place.empty()) {
+      out << "\n    and calibrates in their place:";
+      for (int k : weak.in_place) out << " " << name(k);
+    }
+    out << "\n";
   }
   return out.str();
 }

@@ -74,10 +74,13 @@ class DesignMatrixBuilder {
              bool with_residuals, ObservationBlock& block, const ReadingWeights* held = nullptr,
              ReadingWeights* record = nullptr, ReadingWeights* own = nullptr);
 
-  /// Appends the misfit of each measurement at (p, r, c) to `out` (see ReadingMisfit).
+  /// Appends the misfit of each measurement at (p, r, c) to `out` (see ReadingMisfit). With
+  /// `joint_jacobians`, also each residual's exact derivative in the reading's joints (its rows
+  /// scaled as the residual's; what consistentPlacements steps the joints with).
   void misfits(const Artifact& artifact, const std::vector<Measurement>& measurements,
                const Eigen::VectorXd& p, const RigidTransform& r, const Eigen::VectorXd& c,
-               std::vector<ReadingMisfit>& out) const;
+               std::vector<ReadingMisfit>& out,
+               std::vector<Eigen::MatrixXd>* joint_jacobians = nullptr) const;
 
   /// Machine-frame probe positions f(p, q) of the measurements (dimension x count).
   Eigen::MatrixXd probePositions(const std::vector<Measurement>& measurements,

@@ -32,6 +32,13 @@ Eigen::MatrixXd placementsInformation(const Plan& plan, const std::vector<Placem
 PlanInformation planInformation(const Plan& plan, const std::vector<Placement>& placements,
                                 const Eigen::VectorXd& p, bool with_estimable = true);
 
+/// The information the structural verdict reads (the "identifiable" set and the rank of check,
+/// evaluate, optimize and calibrate alike, identifiability.hpp): planInformation at the machine
+/// block's own values over the readings made consistent with them (consistent_readings.hpp), so
+/// that measured readings of a machine off nominal give the verdict of their planned readings.
+PlanInformation verdictInformation(const Plan& plan, const std::vector<Placement>& placements,
+                                   bool with_estimable = true);
+
 struct EvaluateOptions {
   double rank_tolerance = kDefaultRankTolerance;
   int profile_steps = 21;

@@ -58,6 +58,12 @@ inline constexpr double kDefaultRankTolerance = 1e-10;
 /// Surviving fraction below which calibrate holds a parameter of measured readings at nominal
 /// ("weakly determined": of the order of the model mismatch, docs/method.md section 5).
 inline constexpr double kWeakInformationTolerance = 1e-6;
+/// A parameter the structural rule dropped is calibrated in place of weakly determined ones only
+/// where its own surviving fraction after the kept ones is at least this (the held-out model
+/// choice's bound of a parameter beyond question, model_choice.hpp's kCandidateFraction): a
+/// direction the readings determine well, such as a tool length; a weaker one would carry the
+/// model mismatch as the held one did.
+inline constexpr double kBroughtBackFraction = 1e-2;
 /// sqrt(D_i) at most this fraction of the largest: the parameter is not observed at all.
 inline constexpr double kUnobservedScale = 1e-9;
 
@@ -98,13 +104,39 @@ CalibratedSetChoice chooseIdentifiableSet(const PlanInformation& information,
 /// (Cholesky of S with diagonal pivoting: next, the parameter whose information surviving the ones
 /// before it is the largest) instead of the listed order; the same size as chooseIdentifiableSet's
 /// in general, and the same set whatever order the parameters are listed in (ties aside). Kept and
-/// dropped are reported in the listed order.
-CalibratedSetChoice choosePivotedSet(const PlanInformation& information, double tolerance);
+/// dropped are reported in the listed order. With `max_kept` (>= 0), at most that many are kept,
+/// the first in the pivoted order. `first` (positions): pivoted before every other one (among
+/// themselves in the pivoted order); `last`: after every other one. With `later_fraction` > 0,
+/// one not in `first` is kept only where its own surviving fraction after the kept ones is at
+/// least that.
+CalibratedSetChoice choosePivotedSet(const PlanInformation& information, double tolerance,
+                                     int max_kept = -1, const std::vector<int>& first = {},
+                                     const std::vector<int>& last = {},
+                                     double later_fraction = 0.0);
+
+/// The weak rule over every listed parameter (docs/method.md section 5, "Real readings"), what
+/// calibrate applies to measured readings at the nominal parameters and again at the estimate:
+/// QR with column pivoting of the scaled reduced Jacobian of every parameter "identifiable"
+/// listed (choosePivotedSet), from the readings made consistent with the machine at p
+/// (consistent_readings.hpp: the layout's information, not the misfit's), keeping a parameter
+/// while its surviving fraction exceeds kWeakInformationTolerance. The kept set spans the same
+/// directions whatever order the parameters are listed in (of an exact tie, the first listed),
+/// and a parameter the structural rule dropped as tied to one the weak rule holds carries that
+/// direction again (a tool length tied to a wrist's twist by a tool 0.09 mm off the last axis).
+/// The weak rule for a plan with a resolved "identifiable" set (calibrate_resolution), at p (the
+/// calibration's estimate), keeping at most as many as the plan's calibrated set: at the estimate
+/// it holds, never adds. `structural` the set the structural rule kept (what held and in_place
+/// are counted against). At the nominal parameters the rule's choice is computed once, with the
+/// structural verdict (CalibratedSetResolution::at_nominal).
+WeakRuleChoice weakRuleChoice(const Plan& plan, const std::vector<int>& structural,
+                              const Eigen::VectorXd& p);
 
 /// Which of the plan's listed parameters (machine.calibrated, in preferred order) the nominal
 /// readings of `placements` identify (chooseIdentifiableSet), as model parameter indices.
-CalibratedSetResolution resolveListedSet(const Plan& plan,
-                                         const std::vector<Placement>& placements);
+/// `last` (model parameter indices) are ranked last by the weak rule's pivoting
+/// (CalibratedSetResolution::last).
+CalibratedSetResolution resolveListedSet(const Plan& plan, const std::vector<Placement>& placements,
+                                         const std::vector<int>& last = {});
 
 /// Resolves the plan's `"calibrate": "identifiable"` once, at its nominal readings: sets
 /// machine.calibrated to the kept parameters and records the dropped ones and their ties in

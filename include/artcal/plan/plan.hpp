@@ -187,6 +187,28 @@ inline constexpr double kDefaultPrismaticMarginMm = 1.0;
 /// parameters the plan's nominal readings cannot identify (indices into the model's parameters)
 /// and, for each, the combination with the kept ones it is tied to (parameter index, coefficient
 /// in the scaled parameters).
+/// The weak rule's choice over every listed parameter at some parameter values
+/// (estimation/identifiability.hpp, weakRuleChoice).
+struct WeakRuleChoice {
+  std::vector<int> kept;  ///< model parameter indices, in the listed order
+  /// Of `structural`, those not kept, with their surviving fractions.
+  std::vector<int> held;
+  std::vector<double> held_fraction;
+  /// Of the kept ones, those `structural` lacks (calibrated in place of held ones).
+  std::vector<int> in_place;
+  /// Whether the plan's current calibrated set passes the rule by itself (the smallest
+  /// eigenvalue of S over it above the tolerance).
+  bool current_passes = false;
+
+  /// The set to calibrate, given the `current` one the rule was judged against: `current` where
+  /// it passes and the rule's choice is no larger (the same directions under other names of an
+  /// exact tie, or rounding, never move a fit), else the rule's choice (empty: `current`).
+  const std::vector<int>& setFor(const std::vector<int>& current) const {
+    if (kept.empty() || (current_passes && kept.size() <= current.size())) return current;
+    return kept;
+  }
+};
+
 struct CalibratedSetResolution {
   std::vector<int> listed;  ///< the candidates in preferred order, before the resolution
   std::vector<int> kept;
@@ -196,6 +218,17 @@ struct CalibratedSetResolution {
   /// surviving fraction below 1e-6 at the nominal parameters or at the estimate.
   std::vector<int> weak;
   std::vector<double> weak_fraction;  ///< each one's surviving fraction when it was held
+  /// Calibrated by calibrate though the structural rule dropped them: the weak rule's choice
+  /// over every listed parameter takes them in place of tied ones it holds (a tool length in
+  /// place of a wrist's twist, calibration/calibrate_readings.hpp).
+  std::vector<int> in_place;
+  /// Ranked last by the weak rule's pivoting (the plausible-minimum search's demoted parameters,
+  /// calibration/plausible_minimum.hpp): taken only where the others cannot carry a direction.
+  std::vector<int> last;
+  /// The weak rule at the nominal parameters, from the information the structural rule read
+  /// (resolveListedSet): what calibrate of measured readings calibrates first, and what check
+  /// says it will hold.
+  WeakRuleChoice at_nominal;
 };
 
 /// The plan's optional `acceptance` block (docs/plan-format.md; docs/method.md section 9): the test
