@@ -482,7 +482,8 @@ TEST_F(ExportedReadings, OptionsTakeDecimalNumbersAndRefuseConflicts) {
   EXPECT_DOUBLE_EQ(readingsOf(path("same.json"))[0].joints[3], 5.0 * std::numbers::pi / 180.0);
   for (const char* bad :
        {" --hold j4=0x10", " --hold j4=inf", " --hold j4=1e400", " --hold j4=0 --prior 0x5,1",
-        " --hold j4=0 --prior 5,nan", " --hold j4=0 --probe 0x10", " --hold j4=0 --probe inf"}) {
+        " --hold j4=0 --prior 5,nan", " --hold j4=0 --probe 0x10", " --hold j4=0 --encoder 0x10",
+        " --hold j4=0 --u-length 0x1p-2", " --hold j4=0 --probe inf"}) {
     const CliRun run = import(bar + bad, "bad.json");
     EXPECT_EQ(run.status, 2) << bad << ": " << run.out;
     // Ours ("a decimal number"), or main's guard for every number option ("a finite number").
