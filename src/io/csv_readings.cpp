@@ -121,14 +121,12 @@ std::optional<double> csvNumber(std::string_view field, CsvDialect dialect) {
 
 std::string separatorHint(std::string_view line, CsvDialect dialect) {
   std::string seen;
-  for (const char c : {',', ';', '\t'}) {
+  for (const char c : {',', ';', '\t', '|'}) {
     if (c == dialect.separator) continue;
     const auto n = std::count(line.begin(), line.end(), c);
     if (n == 0 || (c == ',' && dialect.separator != ',' && commasAreDecimal(line))) continue;
     seen += std::string(seen.empty() ? "" : " and ") + std::to_string(n) + " " +
-            (c == ','   ? "','"
-             : c == ';' ? "';'"
-                        : "tab(s)");
+            (c == '\t' ? std::string("tab(s)") : "'" + std::string(1, c) + "'");
   }
   if (seen.empty()) return {};
   return " (the file's fields are split at " + dialect.name() +
@@ -157,7 +155,7 @@ std::size_t headerShift(const std::vector<std::string_view>& header,
   if (named >= row.size()) return 0;
   const std::size_t shift = row.size() - named;
   if (!numbers(shift)) return 0;
-  if (header.size() < row.size()) return numbers(0) ? 0 : shift;
+  if (header.size() != row.size()) return numbers(0) ? 0 : shift;
   // As wide as the row and ending in `shift` empty names: names written left of their values (a
   // peer's export) only where they stand over fewer text fields so; a trailing index column (as
   // pandas writes it) is a field of its own, the names over their values.
