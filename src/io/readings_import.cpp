@@ -732,13 +732,23 @@ void readMarkerColumns(const fs::path& file, const std::vector<std::string>& fie
   entry["orientation_unit"] = angle_unit;
 }
 
-/// True when `base` names joint `joint` (from 0) by its index, as exports of machines whose
-/// joints have no names write: j1, joint1, joint_1, joint 1, q1, axis1 (any case).
+/// The joint (from 0) `base` names by its index, as exports of machines whose joints have no
+/// names write: j1, joint1, joint_1, joint 1, q1, axis1 (any case, from 1); std::nullopt for any
+/// other name.
+std::optional<std::size_t> indexNamed(const std::string& base) {
+  const std::string l = lowered(base);
+  for (const std::string_view prefix : {"joint_", "joint ", "joint", "axis_", "axis", "j", "q"}) {
+    if (!l.starts_with(prefix)) continue;
+    const std::string digits = l.substr(prefix.size());
+    if (!allDigits(digits) || digits.size() > 4 || digits.front() == '0') return std::nullopt;
+    return static_cast<std::size_t>(std::stoi(digits)) - 1;
+  }
+  return std::nullopt;
+}
+
 bool isIndexName(const std::string& base, std::size_t joint) {
-  const std::string l = lowered(base), k = std::to_string(joint + 1);
-  for (const char* prefix : {"j", "joint", "joint_", "joint ", "q", "axis", "axis_"})
-    if (l == prefix + k) return true;
-  return false;
+  const auto index = indexNamed(base);
+  return index && *index == joint;
 }
 
 /// The name messages give joint `joint`: the model's, its axis letter, or j<k>.
@@ -795,10 +805,8 @@ std::vector<std::vector<int>> jointFieldsOf(const std::vector<std::string>& base
   if (!own.empty()) return own;
   auto by_index =
       match([](const std::string& base, std::size_t j) { return isIndexName(base, j); });
-  constexpr std::size_t kBeyond = 64;  // index names past the machine's joints looked for
   for (const std::string& base : bases)
-    for (std::size_t j = joints; j < joints + kBeyond; ++j)
-      if (isIndexName(base, j)) return {};
+    if (const auto index = indexNamed(base); index && *index >= joints) return {};
   for (std::size_t j = 0; j < by_index.size(); ++j)
     if (by_index[j].empty() && holdOf(machine, import, j) == nullptr) return {};
   return by_index;
