@@ -1,10 +1,12 @@
 #pragma once
 // Joint readings from CSV files (docs/models.md section 7). Each row is one posture's readings of
-// the movable joints in chain order, comma-separated; the first line may be a header of joint names
-// (a line of which no field is a number). Blank lines are skipped. `unit` names the unit of the
-// readings of its kind: "deg" (default) or "rad" for the revolute joints, "mm" or "m" for the
-// prismatic ones; the joints of the other kind keep their file unit (deg, mm). Every fault raises
-// InputError naming the CSV file and the line ("hole_0.csv: line 12: expected 7 numbers, got 6").
+// the movable joints in chain order, comma-separated (or ';' with decimal commas, or tabs:
+// CsvDialect, read from the first line; fields may be quoted); the first line may be a header of
+// joint names (a line of which no field is a number). Blank lines are skipped. `unit` names the
+// unit of the readings of its kind: "deg" (default) or "rad" for the revolute joints, "mm" or "m"
+// for the prismatic ones; the joints of the other kind keep their file unit (deg, mm). Every fault
+// raises InputError naming the CSV file and the line ("hole_0.csv: line 12: expected 7 numbers, got
+// 6").
 
 #include <Eigen/Core>
 #include <optional>
