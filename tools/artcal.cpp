@@ -16,6 +16,7 @@
 #include <new>
 #include <stdexcept>
 
+#include "artcal/core/assignment.hpp"
 #include "artcal/core/error.hpp"
 #include "artcal/io/output_file.hpp"
 #include "artcal/io/plan_io.hpp"
@@ -43,14 +44,15 @@ std::vector<RegisteredCommand> registeredCommands() {
 
 namespace {
 
-/// A validator of the numbers `accept` takes, naming them as `expected` ("a number > 0").
+/// A validator of the numbers `accept` takes, naming them as `expected` ("a number > 0"): decimal
+/// numbers only (0x10, inf, nan refused, docs/hardening.md "Hardening IV").
 CLI::Validator numberValidator(bool (*accept)(double), const std::string& expected) {
   return CLI::Validator(
       [accept, expected](std::string& input) -> std::string {
-        char* end = nullptr;
-        const double value = std::strtod(input.c_str(), &end);
-        if (input.empty() || end != input.c_str() + input.size() || !accept(value))
-          return "expected " + expected + ", not \"" + input + "\"";
+        const std::optional<double> value = decimalNumber(input);
+        if (!value)
+          return "expected " + expected + ", not \"" + input + "\" (decimal numbers only)";
+        if (!accept(*value)) return "expected " + expected + ", not \"" + input + "\"";
         return {};
       },
       "NUMBER", "");

@@ -23,13 +23,14 @@ struct ImportReadingsArguments {
   std::string output = kStandardOutput;
 };
 
-/// --probe: a number (mm), or a word the plan format knows ("estimate") passed on as it is.
+/// --probe: a decimal number (mm), or a word the plan format knows ("estimate") passed on as it
+/// is; hexadecimal, inf and nan are refused (numbers in options are decimal numbers only).
 nlohmann::json probeValue(const std::string& text) {
-  try {
-    std::size_t used = 0;
-    const double value = std::stod(text, &used);
-    if (used == text.size()) return value;
-  } catch (const std::exception&) {
+  if (const auto value = decimalNumber(text)) return *value;
+  const std::string number_like = "0123456789+-.";
+  if (text.empty() || number_like.find(text.front()) != std::string::npos || text == "inf" ||
+      text == "nan" || text == "infinity") {
+    throw InputError("--probe", text, "expected a decimal number (mm) or \"estimate\"");
   }
   return text;
 }
@@ -148,16 +149,13 @@ void addImportReadingsCommand(CLI::App& app, Action& action) {
       import.holds.clear();
       for (const std::string& hold : args->holds) {
         const auto assignment = splitAssignment(hold);
-        std::size_t used = 0;
-        double value = 0.0;
-        try {
-          if (assignment) value = std::stod(assignment->second, &used);
-        } catch (const std::exception&) {
-          used = 0;
+        const auto value = assignment ? decimalNumber(assignment->second) : std::nullopt;
+        if (!value) {
+          throw InputError("--hold", hold,
+                           "expected JOINT=VALUE, VALUE a decimal number (deg, or mm), e.g. "
+                           "tool_joint=0");
         }
-        if (!assignment || used != assignment->second.size() || !std::isfinite(value))
-          throw InputError("--hold", hold, "expected JOINT=VALUE (deg, or mm), e.g. tool_joint=0");
-        import.holds.emplace_back(assignment->first, value);
+        import.holds.emplace_back(assignment->first, *value);
       }
       import.tip_of.clear();
       for (const std::string& pair : args->tip_of) {
@@ -168,22 +166,16 @@ void addImportReadingsCommand(CLI::App& app, Action& action) {
       }
       if (!args->prior.empty()) {
         const auto comma = args->prior.find(',');
-        double length = 0.0, angle = 0.0;
-        std::size_t used_length = 0, used_angle = 0;
-        try {
-          if (comma != std::string::npos) {
-            length = std::stod(args->prior.substr(0, comma), &used_length);
-            angle = std::stod(args->prior.substr(comma + 1), &used_angle);
-          }
-        } catch (const std::exception&) {
-          used_length = 0;
-        }
-        if (comma == std::string::npos || used_length != comma ||
-            used_angle != args->prior.size() - comma - 1 || !(length > 0.0) || !(angle > 0.0))
+        const auto length =
+            comma == std::string::npos ? std::nullopt : decimalNumber(args->prior.substr(0, comma));
+        const auto angle = comma == std::string::npos
+                               ? std::nullopt
+                               : decimalNumber(args->prior.substr(comma + 1));
+        if (!length || !angle || !(*length > 0.0) || !(*angle > 0.0))
           throw InputError("--prior", args->prior,
-                           "expected LENGTH,ANGLE (mm, deg; > 0), e.g. 5,0.5");
-        import.prior_length = length;
-        import.prior_angle = angle;
+                           "expected LENGTH,ANGLE, decimal numbers (mm, deg; > 0), e.g. 5,0.5");
+        import.prior_length = *length;
+        import.prior_angle = *angle;
       }
       import.probe = probeValue(args->probe);
       import.output = args->output;

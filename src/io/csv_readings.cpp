@@ -24,19 +24,62 @@ std::string_view trimmed(std::string_view text) {
   return text.substr(first, last - first + 1);
 }
 
-std::vector<std::string_view> splitFields(std::string_view line) {
+/// The fields of `line` split at `separator`, each without its surrounding blanks and, when
+/// quoted ("j1"), without its quotes (a separator inside the quotes is the field's). `bad_quote`,
+/// when given, is set to the field (from 0) whose opening quote is not closed, or to -1.
+std::vector<std::string_view> splitFields(std::string_view line, char separator = ',',
+                                          int* bad_quote = nullptr) {
   std::vector<std::string_view> fields;
+  if (bad_quote) *bad_quote = -1;
   std::size_t start = 0;
   while (true) {
-    const auto comma = line.find(',', start);
-    fields.push_back(trimmed(line.substr(start, comma - start)));
-    if (comma == std::string_view::npos) return fields;
-    start = comma + 1;
+    std::size_t at = start;
+    while (at < line.size() && (line[at] == ' ' || line[at] == '\t') && line[at] != separator) ++at;
+    if (at < line.size() && line[at] == '"') {
+      const auto close = line.find('"', at + 1);
+      if (close == std::string_view::npos) {
+        if (bad_quote && *bad_quote < 0) *bad_quote = static_cast<int>(fields.size());
+        fields.push_back(trimmed(line.substr(at + 1)));
+        return fields;
+      }
+      fields.push_back(line.substr(at + 1, close - at - 1));
+      const auto next = line.find(separator, close + 1);
+      if (!trimmed(line.substr(close + 1, next - close - 1)).empty() && bad_quote && *bad_quote < 0)
+        *bad_quote = static_cast<int>(fields.size()) - 1;
+      if (next == std::string_view::npos) return fields;
+      start = next + 1;
+      continue;
+    }
+    const auto next = line.find(separator, start);
+    fields.push_back(trimmed(line.substr(start, next - start)));
+    if (next == std::string_view::npos) return fields;
+    start = next + 1;
   }
 }
 
-/// The whole field as a number (a leading '+' allowed), or std::nullopt.
-std::optional<double> parseNumber(std::string_view field) {
+/// True when every ',' of `line` stands between two digits (a decimal comma: "1,5").
+bool commasAreDecimal(std::string_view line) {
+  for (std::size_t i = 0; i < line.size(); ++i) {
+    if (line[i] != ',') continue;
+    if (i == 0 || i + 1 == line.size() || !std::isdigit(static_cast<unsigned char>(line[i - 1])) ||
+        !std::isdigit(static_cast<unsigned char>(line[i + 1])))
+      return false;
+  }
+  return true;
+}
+
+/// The whole field as a number (a leading '+' allowed), or std::nullopt. With `decimal_comma`
+/// (a file separated by ';' or tabs), one ',' in the field is its decimal point ("1,5").
+std::optional<double> parseNumber(std::string_view field, bool decimal_comma = false) {
+  std::string copy;
+  if (decimal_comma && field.find(',') != std::string_view::npos) {
+    if (field.find('.') != std::string_view::npos ||
+        std::count(field.begin(), field.end(), ',') != 1)
+      return std::nullopt;
+    copy = std::string(field);
+    copy[copy.find(',')] = '.';
+    field = copy;
+  }
   if (!field.empty() && field.front() == '+') field.remove_prefix(1);
   double value = 0.0;
   const char* end = field.data() + field.size();
@@ -57,29 +100,66 @@ std::string shown(std::string_view field) {
 
 }  // namespace
 
-std::vector<std::string_view> csvFields(std::string_view line) {
-  return splitFields(line);
+CsvDialect csvDialect(std::string_view first_line) {
+  if (first_line.find(';') != std::string_view::npos) return {';'};
+  const bool tab = first_line.find('\t') != std::string_view::npos;
+  if (tab && commasAreDecimal(first_line)) return {'\t'};
+  return {','};
+}
+
+std::string CsvDialect::name() const {
+  return separator == ';' ? "';'" : separator == '\t' ? "tabs" : "','";
+}
+
+std::vector<std::string_view> csvFields(std::string_view line, CsvDialect dialect, int* bad_quote) {
+  return splitFields(line, dialect.separator, bad_quote);
+}
+
+std::optional<double> csvNumber(std::string_view field, CsvDialect dialect) {
+  return parseNumber(field, dialect.separator != ',');
+}
+
+std::string separatorHint(std::string_view line, CsvDialect dialect) {
+  std::string seen;
+  for (const char c : {',', ';', '\t', '|'}) {
+    if (c == dialect.separator) continue;
+    const auto n = std::count(line.begin(), line.end(), c);
+    if (n == 0 || (c == ',' && dialect.separator != ',' && commasAreDecimal(line))) continue;
+    seen += std::string(seen.empty() ? "" : " and ") + std::to_string(n) + " " +
+            (c == '\t' ? std::string("tab(s)") : "'" + std::string(1, c) + "'");
+  }
+  if (seen.empty()) return {};
+  return " (the file's fields are split at " + dialect.name() +
+         ", as its first line; this line holds " + seen +
+         ": one separator per file, and with ';' or tabs a ',' is a decimal comma)";
 }
 
 std::size_t headerShift(const std::vector<std::string_view>& header,
-                        const std::vector<std::string_view>& row,
-                        const std::vector<int>& selected) {
+                        const std::vector<std::string_view>& row, const std::vector<int>& selected,
+                        CsvDialect dialect) {
+  auto number = [&](std::size_t at) { return at < row.size() && csvNumber(row[at], dialect); };
   auto numbers = [&](std::size_t shift) {
-    for (const int f : selected) {
-      if (f < 0) continue;
-      const std::size_t at = static_cast<std::size_t>(f) + shift;
-      if (at >= row.size() || !parseNumber(row[at])) return false;
-    }
+    for (const int f : selected)
+      if (f >= 0 && !number(static_cast<std::size_t>(f) + shift)) return false;
     return true;
+  };
+  // The header's names over fields that are not numbers, the names shifted by `shift`.
+  auto namesOverText = [&](std::size_t shift) {
+    std::size_t count = 0;
+    for (std::size_t f = 0; f < header.size(); ++f)
+      if (!header[f].empty() && !number(f + shift)) ++count;
+    return count;
   };
   std::size_t named = header.size();
   while (named > 0 && header[named - 1].empty()) --named;
   if (named >= row.size()) return 0;
   const std::size_t shift = row.size() - named;
-  // Empty names over the row's last fields, as many as the shift: the names belong further right.
-  const bool trailing_unnamed = header.size() == row.size() && named + shift == header.size();
-  if (numbers(0) && !trailing_unnamed) return 0;
-  return numbers(shift) ? shift : 0;
+  if (!numbers(shift)) return 0;
+  if (header.size() != row.size()) return numbers(0) ? 0 : shift;
+  // As wide as the row and ending in `shift` empty names: names written left of their values (a
+  // peer's export) only where they stand over fewer text fields so; a trailing index column (as
+  // pandas writes it) is a field of its own, the names over their values.
+  return namesOverText(shift) < namesOverText(0) ? shift : 0;
 }
 
 std::optional<ReadingUnits> readingUnitsFromName(const std::string& name) {
@@ -134,8 +214,7 @@ namespace {
 /// Each selected reading's field index in a row (-1: held), from the header line `header` when a
 /// column is selected by name; InputError naming the file when a name is missing or repeated.
 std::vector<int> selectedFields(const std::string& path, const std::vector<CsvColumn>& columns,
-                                std::string_view header, std::size_t& width) {
-  const std::vector<std::string_view> fields = splitFields(header);
+                                const std::vector<std::string_view>& fields, std::size_t& width) {
   width = fields.size();
   std::vector<int> out;
   for (const CsvColumn& column : columns) {
@@ -198,6 +277,7 @@ std::vector<Eigen::VectorXd> readJointCsv(const std::string& path,
   std::string_view rest(text);
   bool first_content = true;
   bool aligned = false;  // the header's names placed on the first row's fields
+  CsvDialect dialect;    // read from the first line
   std::string header_line;
   for (long line_number = 1; !rest.empty(); ++line_number) {
     const auto newline = rest.find('\n');
@@ -206,35 +286,54 @@ std::vector<Eigen::VectorXd> readJointCsv(const std::string& path,
     if (line.empty()) continue;
     const std::string where = "line " + std::to_string(line_number);
     auto fail = [&](const std::string& message) { throw InputError(path, where, message); };
+    if (first_content) dialect = csvDialect(line);
+    // Split with the file's separator; a quote opened and not closed is named.
+    auto split = [&](std::string_view text_line) {
+      int bad_quote = -1;
+      std::vector<std::string_view> out = splitFields(text_line, dialect.separator, &bad_quote);
+      if (bad_quote >= 0) {
+        fail("column " + std::to_string(bad_quote + 1) +
+             ": a quoted field whose closing quote is missing or followed by more text (\"" +
+             shown(out[static_cast<std::size_t>(bad_quote)]) +
+             "...\"): quote whole fields, \"j1\",\"j2\", or none");
+      }
+      return out;
+    };
     if (by_name && first_content) {  // the header naming the columns
       if (line.size() > 100'000) fail("a header line longer than 100000 characters");
-      field_of = selectedFields(path, *columns, line, width);
+      field_of = selectedFields(path, *columns, split(line), width);
       header_line = std::string(line);
       first_content = false;
       continue;
     }
     // Counted before splitting: a line of 200 MB would otherwise become gigabytes of fields.
-    const auto count = static_cast<std::size_t>(std::count(line.begin(), line.end(), ',')) + 1;
+    std::size_t count =
+        static_cast<std::size_t>(std::count(line.begin(), line.end(), dialect.separator)) + 1;
+    std::vector<std::string_view> fields;
+    if (count <= kMaxCsvFields) {
+      fields = split(line);
+      count = fields.size();  // a separator inside quotes is its field's
+    }
     if (by_name && !aligned && count <= kMaxCsvFields) {
       // A header that names its rows' last fields (an export that left its leading label fields
       // unnamed; plan-format.md, "Columns by name").
-      const std::size_t shift = headerShift(splitFields(header_line), splitFields(line), field_of);
+      const std::size_t shift = headerShift(split(header_line), fields, field_of, dialect);
       for (int& f : field_of)
         if (f >= 0) f += static_cast<int>(shift);
       if (shift > 0) width = count;
     }
     aligned = true;
     if (!columns && count != joints) {
-      fail("expected " + std::to_string(joints) + " readings, got " + std::to_string(count));
+      fail("expected " + std::to_string(joints) + " readings, got " + std::to_string(count) +
+           separatorHint(line, dialect));
     }
     if (columns && (by_name ? count != width : count < width)) {
       fail("expected " + std::to_string(width) + " fields" +
            (by_name ? std::string(" (as the header)") : std::string()) + ", got " +
-           std::to_string(count));
+           std::to_string(count) + separatorHint(line, dialect));
     }
-    const std::vector<std::string_view> fields = splitFields(line);
     std::vector<std::optional<double>> values;
-    for (const std::string_view field : fields) values.push_back(parseNumber(field));
+    for (const std::string_view field : fields) values.push_back(csvNumber(field, dialect));
     const bool header =
         first_content && std::none_of(values.begin(), values.end(),
                                       [](const std::optional<double>& v) { return v.has_value(); });

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <numbers>
 #include <optional>
 #include <set>
 #include <string_view>
@@ -25,6 +26,13 @@ namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
+
+/// A number as a message shows it: its shortest form that reads back to it ("10", "0.5").
+std::string formatShortest(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.15g", value);
+  return text;
+}
 
 // ------------------------------------------------------------------ the folder walk
 
@@ -219,10 +227,17 @@ std::string folderName(const fs::path& folder) {
 /// split, so that a header of 10^8 commas is refused instead of taking gigabytes.
 constexpr std::size_t kMaxHeaderColumns = 1024;
 
+/// The first non-blank line of `file` (its header, or its first row).
 std::string firstLine(const fs::path& file) {
   const std::string text = readInputFile(file.string());
-  std::string line = text.substr(0, text.find('\n'));
-  if (static_cast<std::size_t>(std::count(line.begin(), line.end(), ',')) >= kMaxHeaderColumns) {
+  std::size_t start = 0;
+  while (start < text.size() &&
+         (text[start] == '\n' || text[start] == '\r' || text[start] == ' ' || text[start] == '\t'))
+    ++start;
+  std::string line = text.substr(start, text.find('\n', start) - start);
+  const char separator = csvDialect(line).separator;
+  if (static_cast<std::size_t>(std::count(line.begin(), line.end(), separator)) >=
+      kMaxHeaderColumns) {
     throw InputError(file.string(), "line 1",
                      "more than " + std::to_string(kMaxHeaderColumns) +
                          " columns: a file of readings has one column per joint reading and "
@@ -231,16 +246,53 @@ std::string firstLine(const fs::path& file) {
   return line;
 }
 
-/// The unit a header field names as its last word: "q1_deg", "joint1 [rad]", "z (mm)".
-std::optional<std::string> headerUnit(std::string field) {
+/// The coordinates an instrument reports per reading: a point's x, y, z; a pose's x, y, z, then
+/// its orientation as a rotation vector rx, ry, rz.
+constexpr std::size_t kPointColumns = 3;
+constexpr std::size_t kPoseColumns = 6;
+
+/// The units a header field may name.
+constexpr std::array<const char*, 4> kUnitWords = {"deg", "rad", "mm", "m"};
+/// Unit words of other units, refused where they end a field ("A_grad"): never taken for a name.
+constexpr std::array<const char*, 14> kOtherUnitWords = {"grad",   "gon",  "mrad", "urad", "arcsec",
+                                                         "arcmin", "turn", "rev",  "cm",   "um",
+                                                         "dm",     "km",   "in",   "inch"};
+
+/// The word a header field ends with as its unit: after its last ' ', '_', '[' or '(' (the
+/// brackets closed at the end); "" when none.
+std::string lastWord(std::string field) {
   while (!field.empty() && std::isspace(static_cast<unsigned char>(field.back()))) field.pop_back();
-  if (!field.empty() && (field.back() == ']' || field.back() == ')')) field.pop_back();
-  const auto start = field.find_last_of(" _[(\t");
-  const std::string word = start == std::string::npos ? field : field.substr(start + 1);
-  for (const char* unit : {"deg", "rad", "mm", "m"}) {
+  const bool bracketed = !field.empty() && (field.back() == ']' || field.back() == ')');
+  if (bracketed) field.pop_back();
+  const auto start = field.find_last_of(bracketed ? "[(" : " _[(\t");
+  if (start == std::string::npos) return bracketed ? std::string() : field;
+  std::string word = field.substr(start + 1);
+  while (!word.empty() && std::isspace(static_cast<unsigned char>(word.front()))) word.erase(0, 1);
+  while (!word.empty() && std::isspace(static_cast<unsigned char>(word.back()))) word.pop_back();
+  return word;
+}
+
+/// The unit a header field names as its last word: "q1_deg", "joint1 [rad]", "z (mm)".
+std::optional<std::string> headerUnit(const std::string& field) {
+  const std::string word = lastWord(field);
+  for (const char* unit : kUnitWords)
     if (word == unit) return word;
-  }
   return std::nullopt;
+}
+
+/// True when header field `field` names a unit in brackets ("j1 [grad]") or ends with another
+/// unit's word ("A_grad"), neither of the units read.
+bool namesAnotherUnit(const std::string& field) {
+  std::string f = field;
+  while (!f.empty() && std::isspace(static_cast<unsigned char>(f.back()))) f.pop_back();
+  const std::string word = lastWord(f);
+  if (word.empty() || headerUnit(f)) return false;
+  if (!f.empty() && (f.back() == ']' || f.back() == ')')) return true;
+  std::string lower = word;
+  for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return word.size() < f.size() &&
+         std::find_if(kOtherUnitWords.begin(), kOtherUnitWords.end(),
+                      [&](const char* u) { return lower == u; }) != kOtherUnitWords.end();
 }
 
 /// How far right of where the header of `file` puts them its first data row's fields at
@@ -248,35 +300,50 @@ std::optional<std::string> headerUnit(std::string field) {
 std::pair<std::size_t, std::size_t> namedFieldShift(const fs::path& file,
                                                     const std::vector<int>& selected) {
   const std::string text = readInputFile(file.string());
-  const std::size_t first_end = text.find('\n');
-  if (first_end == std::string::npos) return {0, 0};
-  const std::string_view header(text.data(), first_end);
-  std::size_t start = first_end;
+  const std::string header = firstLine(file);
+  const CsvDialect dialect = csvDialect(header);
+  std::size_t start = text.find(header);
+  start = start == std::string::npos ? std::string::npos : text.find('\n', start);
   while (start != std::string::npos && start + 1 < text.size()) {
     const std::size_t end = text.find('\n', start + 1);
     const std::string_view line = std::string_view(text).substr(start + 1, end - start - 1);
     start = end;
     if (line.find_first_not_of(" \t\r") == std::string_view::npos) continue;
-    if (static_cast<std::size_t>(std::count(line.begin(), line.end(), ',')) >= kMaxCsvFields)
+    if (static_cast<std::size_t>(std::count(line.begin(), line.end(), dialect.separator)) >=
+        kMaxCsvFields)
       return {0, 0};
-    const auto row = csvFields(line);
-    return {headerShift(csvFields(header), row, selected), row.size()};
+    const auto row = csvFields(line, dialect);
+    return {headerShift(csvFields(header, dialect), row, selected, dialect), row.size()};
   }
   return {0, 0};
 }
 
-/// The header's fields of a CSV file (its first line split at commas).
+/// The header's fields of a CSV file (its first line split at its separator, without quotes).
 std::vector<std::string> headerFields(const fs::path& file) {
   const std::string header = firstLine(file);
   std::vector<std::string> fields;
-  std::size_t start = 0;
-  while (true) {
-    const auto comma = header.find(',', start);
-    fields.push_back(header.substr(start, comma - start));
-    if (comma == std::string::npos) break;
-    start = comma + 1;
+  int bad_quote = -1;
+  for (const std::string_view field : csvFields(header, csvDialect(header), &bad_quote))
+    fields.emplace_back(field);
+  if (bad_quote >= 0) {
+    throw InputError(file.string(), "line 1",
+                     "column " + std::to_string(bad_quote + 1) +
+                         ": a quoted field whose closing quote is missing or followed by more "
+                         "text: quote whole fields, \"j1\",\"j2\", or none");
   }
   return fields;
+}
+
+/// Refuses header field `index` of `fields` when it names a unit that is not read ("j1 [grad]",
+/// "A_grad"), naming the column and the units read.
+void requireReadUnit(const fs::path& file, const std::vector<std::string>& fields,
+                     std::size_t index) {
+  if (!namesAnotherUnit(fields[index])) return;
+  throw InputError(file.string(), "line 1",
+                   "column " + std::to_string(index + 1) + " (\"" + fields[index] + "\"): unit \"" +
+                       lastWord(fields[index]) +
+                       "\" is not one read: a column's unit is deg, rad, mm or m (its last word: "
+                       "j1_deg, j1 [rad]); convert the column, or drop the word and give --unit");
 }
 
 /// The reading unit the header fields [first, last) name: one angle unit and one length unit at
@@ -285,6 +352,7 @@ std::string unitOfColumns(const fs::path& file, const std::vector<std::string>& 
                           std::size_t first, std::size_t last) {
   std::set<std::string> units;
   for (std::size_t i = first; i < last; ++i) {
+    requireReadUnit(file, fields, i);
     const auto unit = headerUnit(fields[i]);
     if (!unit) {
       throw InputError(file.string(), "line 1",
@@ -347,6 +415,7 @@ std::vector<FeatureFile> featureFiles(const fs::path& folder, const std::string&
 /// kinds.
 struct MachineReadings {
   std::vector<std::string> names;
+  std::vector<std::string> labels;  ///< the operator's axis letters (a machine tool's X .. C)
   std::vector<JointKind> kinds;
   std::vector<std::string> tips;  ///< a machine with several named tips: their names
 };
@@ -362,7 +431,7 @@ std::string trimmedField(std::string field) {
 /// "m1_x"; the field itself when it names no unit.
 std::string withoutUnit(const std::string& field) {
   std::string f = trimmedField(field);
-  if (!headerUnit(f)) return f;
+  if (!headerUnit(f) && !namesAnotherUnit(f)) return f;
   if (!f.empty() && (f.back() == ']' || f.back() == ')')) {
     const auto open = f.find_last_of("[(");
     return trimmedField(f.substr(0, open));
@@ -371,55 +440,96 @@ std::string withoutUnit(const std::string& field) {
   return start == std::string::npos ? f : trimmedField(f.substr(0, start));
 }
 
-/// The orientation forms a header may name for a marker, the suffixes of their columns.
-struct OrientationColumns {
-  const char* form;
-  std::array<const char*, 4> suffixes;
-  int count;
-};
-constexpr std::array<OrientationColumns, 3> kOrientationColumns = {
-    {{"rotation_vector", {"rx", "ry", "rz", ""}, 3},
-     {"rpy", {"roll", "pitch", "yaw", ""}, 3},
-     {"quaternion", {"qw", "qx", "qy", "qz"}, 4}}};
+std::string lowered(std::string text) {
+  for (char& c : text) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return text;
+}
 
-/// The field of `base` + one of the separators + `suffix` (or `suffix` alone for the marker ""),
-/// case-insensitive in the suffix; -1 when the header has none.
-int markerField(const std::vector<std::string>& bases, const std::string& marker,
-                const std::string& suffix) {
-  auto lower = [](std::string t) {
-    for (char& c : t) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    return t;
-  };
-  for (std::size_t i = 0; i < bases.size(); ++i) {
-    const std::string& b = bases[i];
-    if (marker.empty()) {
-      if (lower(b) == suffix) return static_cast<int>(i);
-      continue;
-    }
-    if (b.size() != marker.size() + 1 + suffix.size() || !b.starts_with(marker)) continue;
-    const char sep = b[marker.size()];
-    if ((sep == '_' || sep == '.' || sep == ' ') && lower(b.substr(marker.size() + 1)) == suffix)
-      return static_cast<int>(i);
+bool allDigits(const std::string& text) {
+  return !text.empty() &&
+         std::all_of(text.begin(), text.end(), [](unsigned char c) { return std::isdigit(c); });
+}
+
+/// The columns a header may name for a marker's orientation: their words and the forms they are
+/// read as, the first the default. `rx, ry, rz` are a rotation vector unless --orientation rpy
+/// says roll-pitch-yaw; FIGAROH's `phix, phiy, phiz` are roll-pitch-yaw unless --orientation
+/// rotation_vector says otherwise.
+struct OrientationColumns {
+  std::array<const char*, 4> words;
+  int count;
+  std::array<const char*, 2> forms;  ///< "" : none
+};
+constexpr std::array<OrientationColumns, 4> kOrientationColumns = {
+    {{{"rx", "ry", "rz", ""}, 3, {"rotation_vector", "rpy"}},
+     {{"roll", "pitch", "yaw", ""}, 3, {"rpy", ""}},
+     {{"qw", "qx", "qy", "qz"}, 4, {"quaternion", ""}},
+     {{"phix", "phiy", "phiz", ""}, 3, {"rpy", "rotation_vector"}}}};
+
+/// True when header field `base` (its unit word aside) is coordinate `word` of `marker`:
+/// <marker>_<word> (also '.', ' '), or the numbered and axis-first forms mocap tools and FIGAROH
+/// write, <word><k> for a marker "k" of digits (x1, phix1) and <word>_<marker> (x_t); `word`
+/// alone for the marker "". The word in any case.
+bool isMarkerField(const std::string& base, const std::string& marker, const std::string& word) {
+  const std::string b = lowered(base);
+  if (marker.empty()) return b == word;
+  const std::size_t size = marker.size() + word.size();
+  auto separator = [](char c) { return c == '_' || c == '.' || c == ' '; };
+  if (base.size() == size + 1 && base.starts_with(marker) && separator(base[marker.size()]) &&
+      b.substr(marker.size() + 1) == word)
+    return true;
+  if (base.size() == size + 1 && base.ends_with(marker) && separator(base[word.size()]) &&
+      b.substr(0, word.size()) == word)
+    return true;
+  return allDigits(marker) && base.size() == size && base.ends_with(marker) &&
+         b.substr(0, word.size()) == word;
+}
+
+/// The fields of `bases` that are coordinate `word` of `marker`.
+std::vector<int> markerFields(const std::vector<std::string>& bases, const std::string& marker,
+                              const std::string& word) {
+  std::vector<int> out;
+  for (std::size_t i = 0; i < bases.size(); ++i)
+    if (isMarkerField(bases[i], marker, word)) out.push_back(static_cast<int>(i));
+  return out;
+}
+
+/// The field of coordinate `word` of `marker`, -1 when the header has none; InputError naming
+/// the file and both columns when it has two.
+int markerField(const fs::path& file, const std::vector<std::string>& fields,
+                const std::vector<std::string>& bases, const std::string& marker,
+                const std::string& word) {
+  const std::vector<int> found = markerFields(bases, marker, word);
+  if (found.size() > 1) {
+    const auto a = static_cast<std::size_t>(found[0]), b = static_cast<std::size_t>(found[1]);
+    throw InputError(file.string(), "line 1",
+                     "marker \"" + marker + "\": its " + word + " is named twice, columns " +
+                         std::to_string(a + 1) + " (\"" + fields[a] + "\") and " +
+                         std::to_string(b + 1) + " (\"" + fields[b] +
+                         "\"): keep one column per coordinate (or rename one marker)");
   }
-  return -1;
+  return found.empty() ? -1 : found.front();
 }
 
 /// The markers a header names: every <name> with <name>_x, <name>_y and <name>_z fields (also
-/// <name>.x, <name> x; the fields' unit words aside), in the order of their x fields.
+/// <name>.x, <name> x; numbered x1, y1, z1; axis first x_<name>; the fields' unit words aside),
+/// in the order of their x fields. Fields read as joints are "" in `bases`.
 std::vector<std::string> headerMarkers(const std::vector<std::string>& bases) {
   std::vector<std::string> markers;
   for (const std::string& b : bases) {
-    std::string marker;
-    if (b == "x" || b == "X") {
-      marker = "";
-    } else if (b.size() > 2 && (b.ends_with("_x") || b.ends_with(".x") || b.ends_with(" x") ||
-                                b.ends_with("_X") || b.ends_with(".X") || b.ends_with(" X"))) {
-      marker = b.substr(0, b.size() - 2);
-    } else {
-      continue;
+    std::vector<std::string> candidates;
+    const std::string l = lowered(b);
+    if (l == "x") candidates.push_back("");
+    if (b.size() > 2 && (l.ends_with("_x") || l.ends_with(".x") || l.ends_with(" x")))
+      candidates.push_back(b.substr(0, b.size() - 2));
+    if (b.size() > 1 && l.front() == 'x' && allDigits(b.substr(1)))
+      candidates.push_back(b.substr(1));
+    if (b.size() > 2 && l.front() == 'x' && (b[1] == '_' || b[1] == '.' || b[1] == ' '))
+      candidates.push_back(b.substr(2));
+    for (const std::string& marker : candidates) {
+      if (std::find(markers.begin(), markers.end(), marker) != markers.end()) continue;
+      if (!markerFields(bases, marker, "y").empty() && !markerFields(bases, marker, "z").empty())
+        markers.push_back(marker);
     }
-    if (markerField(bases, marker, "y") >= 0 && markerField(bases, marker, "z") >= 0)
-      markers.push_back(marker);
   }
   return markers;
 }
@@ -490,7 +600,7 @@ std::vector<std::string> markersRead(const fs::path& file, const std::vector<std
       throw InputError(file.string(), "line 1",
                        markers.empty()
                            ? "no marker: expected the columns <marker>_x, <marker>_y, "
-                             "<marker>_z of the measured point"
+                             "<marker>_z of the measured point (or x1, y1, z1; x_<marker>, ...)"
                            : "the header names several markers (" + listed +
                                  "): select the machine's tip with --marker NAME (several "
                                  "--marker: one reading of each per row)");
@@ -500,11 +610,69 @@ std::vector<std::string> markersRead(const fs::path& file, const std::vector<std
   for (const std::string& marker : import.markers) {
     if (std::find(markers.begin(), markers.end(), marker) == markers.end()) {
       throw InputError(file.string(), "line 1",
-                       "no marker \"" + marker + "\" (<name>_x, <name>_y, <name>_z) in the header" +
+                       "no marker \"" + marker +
+                           "\" (<name>_x, <name>_y, <name>_z; x<k>, y<k>, z<k>) in the header" +
                            (listed.empty() ? std::string() : " (it names " + listed + ")"));
     }
   }
   return import.markers;
+}
+
+/// The orientation columns of `marker` and the form they are read as: the header's word set
+/// whose default form is `orientation` (any, when it is ""), else the one `orientation` may read
+/// (rx, ry, rz as roll-pitch-yaw with --orientation rpy). InputError naming the file when none
+/// or several are found.
+std::pair<const OrientationColumns*, std::string> orientationColumns(
+    const fs::path& file, const std::vector<std::string>& fields,
+    const std::vector<std::string>& bases, const std::string& marker,
+    const std::string& orientation) {
+  auto present = [&](const OrientationColumns& o) {
+    for (int k = 0; k < o.count; ++k)
+      if (markerField(file, fields, bases, marker, o.words[static_cast<std::size_t>(k)]) < 0)
+        return false;
+    return true;
+  };
+  for (const int choice : {0, 1}) {
+    std::vector<const OrientationColumns*> found;
+    for (const OrientationColumns& o : kOrientationColumns) {
+      const std::string form = o.forms[static_cast<std::size_t>(choice)];
+      if (!form.empty() && present(o) && (orientation.empty() ? choice == 0 : form == orientation))
+        found.push_back(&o);
+    }
+    if (found.size() > 1) {
+      throw InputError(
+          file.string(), "line 1",
+          "marker \"" + marker + "\" has several orientations: choose one with --orientation");
+    }
+    if (found.size() == 1)
+      return {found.front(), found.front()->forms[static_cast<std::size_t>(choice)]};
+  }
+  throw InputError(file.string(), "line 1",
+                   "no orientation of marker \"" + marker + "\"" +
+                       (orientation.empty() ? std::string() : " as " + orientation) +
+                       ": expected its columns _rx, _ry, _rz (a rotation vector; roll-pitch-yaw "
+                       "with --orientation rpy), _roll, _pitch, _yaw, _qw, _qx, _qy, _qz or "
+                       "phix, phiy, phiz (roll-pitch-yaw)");
+}
+
+/// Refuses a point instrument's file whose header names `marker`'s orientation too: its rows are
+/// a pose's (`joints` joint readings, then x, y, z and the orientation), read only with
+/// --instrument-angle.
+void requireNoOrientation(const fs::path& file, const std::vector<std::string>& fields,
+                          const std::vector<std::string>& bases, const std::string& marker,
+                          std::size_t joints) {
+  for (const OrientationColumns& o : kOrientationColumns) {
+    bool all = true;
+    for (int k = 0; k < o.count; ++k)
+      all = all &&
+            markerField(file, fields, bases, marker, o.words[static_cast<std::size_t>(k)]) >= 0;
+    if (!all) continue;
+    throw InputError(file.string(), "line 1",
+                     std::to_string(joints) + " joint readings then " +
+                         std::to_string(kPointColumns + static_cast<std::size_t>(o.count)) +
+                         " coordinates: a pose (x, y, z, then the orientation " + o.words[0] +
+                         ", ...): give --instrument-angle, the orientation's noise (deg)");
+  }
 }
 
 /// A marker's point (and a pose's orientation) columns appended to `columns`, their units to
@@ -513,13 +681,15 @@ void readMarkerColumns(const fs::path& file, const std::vector<std::string>& fie
                        const std::vector<std::string>& bases, const std::string& marker,
                        const ReadingsImport& import, bool pose, std::vector<bool>& used,
                        json& entry, json& columns) {
-  std::vector<std::string> point_fields;
-  for (const char* axis : {"x", "y", "z"}) {
-    const int f = markerField(bases, marker, axis);
+  auto take = [&](int f) {
     used[static_cast<std::size_t>(f)] = true;
-    point_fields.push_back(fields[static_cast<std::size_t>(f)]);
+    requireReadUnit(file, fields, static_cast<std::size_t>(f));
     columns.push_back(trimmedField(fields[static_cast<std::size_t>(f)]));
-  }
+    return fields[static_cast<std::size_t>(f)];
+  };
+  std::vector<std::string> point_fields;
+  for (const char* axis : {"x", "y", "z"})
+    point_fields.push_back(take(markerField(file, fields, bases, marker, axis)));
   std::string point_unit = import.point_unit;
   if (point_unit.empty()) {
     point_unit = commonUnit(file, point_fields, "point's");
@@ -535,49 +705,126 @@ void readMarkerColumns(const fs::path& file, const std::vector<std::string>& fie
   if (point_unit != "mm" && point_unit != "m")
     throw InputError(file.string(), "line 1", "the point's columns are in mm or m");
   entry["point_unit"] = point_unit;
-  if (pose) {
-    std::vector<const OrientationColumns*> found;
-    for (const OrientationColumns& o : kOrientationColumns) {
-      bool all = true;
-      for (int k = 0; k < o.count; ++k) all = all && markerField(bases, marker, o.suffixes[k]) >= 0;
-      if (all && (import.orientation.empty() || import.orientation == o.form)) found.push_back(&o);
-    }
-    if (found.size() != 1) {
-      throw InputError(
-          file.string(), "line 1",
-          found.empty()
-              ? "no orientation of marker \"" + marker + "\"" +
-                    (import.orientation.empty() ? std::string() : " as " + import.orientation) +
-                    ": expected its columns _rx, _ry, _rz (a rotation vector), _roll, _pitch, "
-                    "_yaw or _qw, _qx, _qy, _qz"
-              : "marker \"" + marker +
-                    "\" has several orientations: choose one with --orientation");
-    }
-    const OrientationColumns& o = *found.front();
-    std::vector<std::string> angle_fields;
-    for (int k = 0; k < o.count; ++k) {
-      const int f = markerField(bases, marker, o.suffixes[static_cast<std::size_t>(k)]);
-      used[static_cast<std::size_t>(f)] = true;
-      angle_fields.push_back(fields[static_cast<std::size_t>(f)]);
-      columns.push_back(trimmedField(fields[static_cast<std::size_t>(f)]));
-    }
-    entry["orientation"] = o.form;
-    if (std::string(o.form) != "quaternion") {
-      std::string angle_unit = import.orientation_unit;
-      if (angle_unit.empty()) {
-        angle_unit = commonUnit(file, angle_fields, "orientation's");
-      } else {
-        requireAgreeingUnit(file, "--orientation-unit", angle_unit,
-                            headerUnitBesideOption(file, angle_fields, "orientation's"),
-                            "orientation's");
+  if (!pose) {
+    requireNoOrientation(file, fields, bases, marker, columns.size() - kPointColumns);
+    return;
+  }
+  const auto [o, form] = orientationColumns(file, fields, bases, marker, import.orientation);
+  std::vector<std::string> angle_fields;
+  for (int k = 0; k < o->count; ++k)
+    angle_fields.push_back(
+        take(markerField(file, fields, bases, marker, o->words[static_cast<std::size_t>(k)])));
+  entry["orientation"] = form;
+  if (form == "quaternion") return;
+  std::string angle_unit = import.orientation_unit;
+  if (angle_unit.empty()) {
+    angle_unit = commonUnit(file, angle_fields, "orientation's");
+  } else {
+    requireAgreeingUnit(file, "--orientation-unit", angle_unit,
+                        headerUnitBesideOption(file, angle_fields, "orientation's"),
+                        "orientation's");
+  }
+  if (angle_unit.empty()) {
+    throw InputError(file.string(), "line 1",
+                     "the orientation's columns name no unit (deg or rad): state it with "
+                     "--orientation-unit");
+  }
+  entry["orientation_unit"] = angle_unit;
+}
+
+/// The joint (from 0) `base` names by its index, as exports of machines whose joints have no
+/// names write: j1, joint1, joint_1, joint 1, q1, axis1 (any case, from 1); std::nullopt for any
+/// other name.
+std::optional<std::size_t> indexNamed(const std::string& base) {
+  const std::string l = lowered(base);
+  for (const std::string_view prefix : {"joint_", "joint ", "joint", "axis_", "axis", "j", "q"}) {
+    if (!l.starts_with(prefix)) continue;
+    const std::string digits = l.substr(prefix.size());
+    if (!allDigits(digits) || digits.size() > 4 || digits.front() == '0') return std::nullopt;
+    return static_cast<std::size_t>(std::stoi(digits)) - 1;
+  }
+  return std::nullopt;
+}
+
+bool isIndexName(const std::string& base, std::size_t joint) {
+  const auto index = indexNamed(base);
+  return index && *index == joint;
+}
+
+/// The name messages give joint `joint`: the model's, its axis letter, or j<k>.
+std::string jointName(const MachineReadings& machine, std::size_t joint) {
+  if (joint < machine.names.size()) return machine.names[joint];
+  if (joint < machine.labels.size()) return machine.labels[joint];
+  return "j" + std::to_string(joint + 1);
+}
+
+/// True when --hold's `name` names joint `joint`: a machine that names its joints (a URDF
+/// chain), by those names alone (exact); else by its axis letter (a machine tool's X .. C, any
+/// case) or its index (isIndexName).
+bool namesJoint(const MachineReadings& machine, const std::string& name, std::size_t joint) {
+  if (!machine.names.empty()) return joint < machine.names.size() && machine.names[joint] == name;
+  const std::string l = lowered(name);
+  for (std::size_t j = 0; j < machine.labels.size(); ++j)
+    if (l == lowered(machine.labels[j])) return j == joint;
+  return isIndexName(name, joint);
+}
+
+/// The --hold of joint `joint`, or nullptr.
+const std::pair<std::string, double>* holdOf(const MachineReadings& machine,
+                                             const ReadingsImport& import, std::size_t joint) {
+  for (const auto& hold : import.holds)
+    if (namesJoint(machine, hold.first, joint)) return &hold;
+  return nullptr;
+}
+
+/// The header fields naming each joint (a joint named twice has two): by the machine's own names
+/// where the header names any of them (a URDF chain's joints; a machine tool's axis letters),
+/// wherever they stand. Else by index (isIndexName) when the index names cover every joint not
+/// held and name no joint beyond the machine's (a header `column_m, j1, ..., j6` of a 7-joint
+/// machine names its columns otherwise: read by position, as before). Empty: no joint named.
+std::vector<std::vector<int>> jointFieldsOf(const std::vector<std::string>& bases,
+                                            const MachineReadings& machine,
+                                            const ReadingsImport& import) {
+  const std::size_t joints = machine.kinds.size();
+  auto match = [&](auto&& names_joint) {
+    std::vector<std::vector<int>> out(joints);
+    bool any = false;
+    for (std::size_t f = 0; f < bases.size(); ++f) {
+      for (std::size_t j = 0; j < joints; ++j) {
+        if (!names_joint(bases[f], j)) continue;
+        out[j].push_back(static_cast<int>(f));
+        any = true;
       }
-      if (angle_unit.empty()) {
-        throw InputError(file.string(), "line 1",
-                         "the orientation's columns name no unit (deg or rad): state it with "
-                         "--orientation-unit");
-      }
-      entry["orientation_unit"] = angle_unit;
     }
+    return any ? out : std::vector<std::vector<int>>{};
+  };
+  auto own = match([&](const std::string& base, std::size_t j) {
+    return (j < machine.names.size() && base == machine.names[j]) ||
+           (j < machine.labels.size() && lowered(base) == lowered(machine.labels[j]));
+  });
+  if (!own.empty()) return own;
+  auto by_index =
+      match([](const std::string& base, std::size_t j) { return isIndexName(base, j); });
+  for (const std::string& base : bases)
+    if (const auto index = indexNamed(base); index && *index >= joints) return {};
+  for (std::size_t j = 0; j < by_index.size(); ++j)
+    if (by_index[j].empty() && holdOf(machine, import, j) == nullptr) return {};
+  return by_index;
+}
+
+/// Refuses a joint named by two header fields, naming both.
+void requireEachJointOnce(const fs::path& file, const std::vector<std::string>& fields,
+                          const MachineReadings& machine,
+                          const std::vector<std::vector<int>>& joint_fields) {
+  for (std::size_t j = 0; j < joint_fields.size(); ++j) {
+    if (joint_fields[j].size() < 2) continue;
+    const auto a = static_cast<std::size_t>(joint_fields[j][0]);
+    const auto b = static_cast<std::size_t>(joint_fields[j][1]);
+    throw InputError(file.string(), "line 1",
+                     "joint \"" + jointName(machine, j) + "\" is named twice, columns " +
+                         std::to_string(a + 1) + " (\"" + fields[a] + "\") and " +
+                         std::to_string(b + 1) + " (\"" + fields[b] +
+                         "\"): keep one column per joint");
   }
 }
 
@@ -585,39 +832,35 @@ void readMarkerColumns(const fs::path& file, const std::vector<std::string>& fie
 /// whose columns are named, docs/plan-format.md "Columns by name"); std::nullopt otherwise.
 std::optional<NamedColumns> namedColumns(const fs::path& file, const MachineReadings& machine,
                                          const ReadingsImport& import, bool instrument, bool pose) {
-  if (machine.names.empty()) return std::nullopt;
   const std::vector<std::string> fields = headerFields(file);
   std::vector<std::string> bases;
   for (const std::string& f : fields) bases.push_back(withoutUnit(f));
+  const std::vector<std::vector<int>> named = jointFieldsOf(bases, machine, import);
+  if (named.empty()) return std::nullopt;
+  requireEachJointOnce(file, fields, machine, named);
   std::vector<int> joint_field;
-  bool any = false;
-  for (const std::string& name : machine.names) {
-    const auto at = std::find(bases.begin(), bases.end(), name);
-    joint_field.push_back(at == bases.end() ? -1 : static_cast<int>(at - bases.begin()));
-    any = any || at != bases.end();
-  }
-  if (!any) return std::nullopt;
+  for (const std::vector<int>& f : named) joint_field.push_back(f.empty() ? -1 : f.front());
   NamedColumns out;
   std::vector<bool> used(fields.size(), false);
   std::vector<std::string> joint_fields;
-  for (std::size_t j = 0; j < machine.names.size(); ++j) {
+  for (std::size_t j = 0; j < joint_field.size(); ++j) {
     const int f = joint_field[j];
-    const bool held = std::any_of(import.holds.begin(), import.holds.end(),
-                                  [&](const auto& h) { return h.first == machine.names[j]; });
+    const bool held = holdOf(machine, import, j) != nullptr;
     if (f >= 0 && held) {
       throw InputError(file.string(), "line 1",
-                       "joint \"" + machine.names[j] + "\" is both read (column " +
+                       "joint \"" + jointName(machine, j) + "\" is both read (column " +
                            std::to_string(f + 1) + ") and held with --hold");
     }
     if (f < 0 && !held) {
       throw InputError(file.string(), "line 1",
-                       "no column for joint \"" + machine.names[j] +
+                       "no column for joint \"" + jointName(machine, j) +
                            "\": the header names other joints of the machine; a joint no file "
                            "reads is held at a value with --hold " +
-                           machine.names[j] + "=VALUE");
+                           jointName(machine, j) + "=VALUE");
     }
     if (f >= 0) {
       used[static_cast<std::size_t>(f)] = true;
+      requireReadUnit(file, fields, static_cast<std::size_t>(f));
       joint_fields.push_back(fields[static_cast<std::size_t>(f)]);
     }
   }
@@ -627,42 +870,49 @@ std::optional<NamedColumns> namedColumns(const fs::path& file, const MachineRead
   }
   const auto units = readingUnitsFromName(unit);
   json columns = json::array();
-  for (std::size_t j = 0; j < machine.names.size(); ++j) {
+  for (std::size_t j = 0; j < joint_field.size(); ++j) {
     const int f = joint_field[j];
     if (f >= 0) {
       columns.push_back(trimmedField(fields[static_cast<std::size_t>(f)]));
       continue;
     }
-    const auto held = std::find_if(import.holds.begin(), import.holds.end(),
-                                   [&](const auto& h) { return h.first == machine.names[j]; });
+    const double held = holdOf(machine, import, j)->second;
     // --hold is in deg (mm): the entry's value is in the file's unit, as a column would be.
-    columns.push_back(machine.kinds[j] == JointKind::Revolute
-                          ? held->second * kDegree / units->angle_to_rad
-                          : held->second / units->length_to_mm);
+    columns.push_back(machine.kinds[j] == JointKind::Revolute ? held * kDegree / units->angle_to_rad
+                                                              : held / units->length_to_mm);
   }
   if (!instrument) {
     json entry = {{"unit", unit}, {"columns", columns}};
     out.entries.push_back(entry);
   } else {
-    for (const std::string& marker : markersRead(file, bases, import)) {
+    // A marker's columns are among those the joints do not take (a machine tool's X is an axis).
+    std::vector<std::string> free = bases;
+    for (const int f : joint_field)
+      if (f >= 0) free[static_cast<std::size_t>(f)].clear();
+    for (const std::string& marker : markersRead(file, free, import)) {
       json entry = {{"unit", unit}};
       json marker_columns = columns;
-      readMarkerColumns(file, fields, bases, marker, import, pose, used, entry, marker_columns);
+      readMarkerColumns(file, fields, free, marker, import, pose, used, entry, marker_columns);
       entry["columns"] = marker_columns;
       if (import.markers.size() > 1) entry["tip"] = marker;
       out.entries.push_back(entry);
     }
   }
-  for (std::size_t f = 0; f < fields.size(); ++f)
-    if (!used[f] && !trimmedField(fields[f]).empty())
-      out.ignored.push_back(trimmedField(fields[f]));
   std::vector<int> selected;
   for (const int f : joint_field)
     if (f >= 0) selected.push_back(f);
-  if (const auto [shift, row] = namedFieldShift(file, selected); shift > 0) {
+  const auto [shift, row] = namedFieldShift(file, selected);
+  if (shift > 0) {
     out.note = file.string() + ": its header names its rows' last " + std::to_string(row - shift) +
                " fields (the first " + std::to_string(shift) +
                " are unnamed, an export's labels): read so";
+  }
+  for (std::size_t f = 0; f < fields.size(); ++f) {
+    if (used[f]) continue;
+    if (!trimmedField(fields[f]).empty())
+      out.ignored.push_back(trimmedField(fields[f]));
+    else if (shift == 0)  // an index as pandas writes it, first or last
+      out.ignored.push_back("(unnamed column " + std::to_string(f + 1) + ")");
   }
   return out;
 }
@@ -680,10 +930,8 @@ json heldColumns(const MachineReadings& machine, const ReadingsImport& import,
     return text;
   };
   for (std::size_t j = 0; j < machine.kinds.size(); ++j) {
-    const auto held = std::find_if(import.holds.begin(), import.holds.end(), [&](const auto& h) {
-      return j < machine.names.size() && h.first == machine.names[j];
-    });
-    if (held == import.holds.end()) {
+    const auto* held = holdOf(machine, import, j);
+    if (held == nullptr) {
       columns.push_back(position());
     } else {
       columns.push_back(machine.kinds[j] == JointKind::Revolute
@@ -696,11 +944,6 @@ json heldColumns(const MachineReadings& machine, const ReadingsImport& import,
 }
 
 // ------------------------------------------------------------------ an instrument's stations
-
-/// The coordinates an instrument reports per reading: a point's x, y, z; a pose's x, y, z, then
-/// its orientation as a rotation vector rx, ry, rz.
-constexpr std::size_t kPointColumns = 3;
-constexpr std::size_t kPoseColumns = 6;
 
 /// The CSV files of a folder, in name order.
 std::vector<fs::path> csvFiles(const fs::path& folder) {
@@ -799,7 +1042,9 @@ std::vector<json> stationEntries(const fs::path& file, const ReadingsImport& imp
               orientation_unit = import.orientation_unit;
   const std::vector<std::string> fields = headerFields(file);
   // Joints held (--hold) have no column; a quaternion takes 4 columns.
-  const int joints = static_cast<int>(machine.kinds.size() - import.holds.size());
+  int joints = 0;
+  for (std::size_t j = 0; j < machine.kinds.size(); ++j)
+    joints += holdOf(machine, import, j) == nullptr ? 1 : 0;
   const bool quaternion = pose && import.orientation == "quaternion";
   checkStationWidth(file, fields.size() - (quaternion ? 1 : 0), joints, pose);
   const std::size_t measured = pose ? kPoseColumns + (quaternion ? 1 : 0) : kPointColumns;
@@ -861,12 +1106,35 @@ std::vector<json> stationEntries(const fs::path& file, const ReadingsImport& imp
   return {entry};
 }
 
-json stationPlacements(const fs::path& dir, const ReadingsImport& import,
-                       const fs::path& plan_folder, const std::string& instrument_id,
-                       const MachineReadings& machine, bool pose,
+/// The stations of CSV files given one by one: each file one station, named after its stem.
+std::vector<std::pair<std::string, std::vector<fs::path>>> stationsOfFiles(
+    const std::vector<std::string>& inputs) {
+  std::vector<std::pair<std::string, std::vector<fs::path>>> out;
+  std::set<std::string> names;
+  for (const std::string& input : inputs) {
+    const fs::path path = fs::path(input).lexically_normal();
+    std::error_code ec;
+    if (!csvName(path) || !fs::is_regular_file(path, ec)) {
+      throw InputError(input, "",
+                       "expected a folder of stations (one CSV file or sub-folder each), or CSV "
+                       "files of one station each (*.csv)");
+    }
+    if (!names.insert(path.stem().string()).second) {
+      throw InputError(input, "",
+                       "a second file named " + path.stem().string() +
+                           ".csv: stations need names of their own; rename one");
+    }
+    out.emplace_back(path.stem().string(), std::vector<fs::path>{path});
+  }
+  return out;
+}
+
+json stationPlacements(const std::vector<std::pair<std::string, std::vector<fs::path>>>& sources,
+                       const ReadingsImport& import, const fs::path& plan_folder,
+                       const std::string& instrument_id, const MachineReadings& machine, bool pose,
                        std::vector<std::string>& ignored) {
   json placements = json::array();
-  for (const auto& [name, files] : stations(dir)) {
+  for (const auto& [name, files] : sources) {
     json measurements = json::array();
     for (const fs::path& file : files)
       for (json& entry : stationEntries(file, import, plan_folder, machine, pose, ignored))
@@ -1107,6 +1375,43 @@ std::optional<std::string> placementTip(const ReadingsImport& import,
                        "=TIP");
 }
 
+/// --tip-of checked whole before any placement is read: each names a placement of the import
+/// and a tip of the machine; a placement given twice is refused unless both say the same tip; a
+/// machine of one tip takes --tip-of naming that tip with a note (every placement is its), and
+/// refuses any other.
+void checkTipOf(const ReadingsImport& import, const std::vector<std::string>& tips,
+                const std::vector<PlacementSource>& sources, std::vector<std::string>& notes) {
+  std::map<std::string, std::string> chosen;
+  for (const auto& [placement, tip] : import.tip_of) {
+    const std::string given = placement + "=" + tip;
+    if (std::none_of(sources.begin(), sources.end(),
+                     [&](const PlacementSource& s) { return s.name == placement; }))
+      throw InputError("--tip-of", given, "no placement of that name");
+    const auto [at, inserted] = chosen.emplace(placement, tip);
+    if (!inserted && at->second != tip) {
+      throw InputError("--tip-of", given,
+                       "placement " + placement + " is given two tips, " + at->second + " and " +
+                           tip + ": give one --tip-of per placement");
+    }
+    if (tips.empty()) {
+      if (!import.tip.empty() && tip == import.tip) continue;
+      throw InputError("--tip-of", given,
+                       "the machine has one tip" +
+                           (import.tip.empty() ? std::string() : " (" + import.tip + ")") +
+                           ": --tip-of says which of several --tip touched; drop it");
+    }
+    if (std::find(tips.begin(), tips.end(), tip) == tips.end()) {
+      std::string listed;
+      for (const std::string& t : tips) listed += (listed.empty() ? "" : ", ") + t;
+      throw InputError("--tip-of", given, "not a tip of the machine (its tips: " + listed + ")");
+    }
+  }
+  if (tips.empty() && !import.tip_of.empty()) {
+    notes.push_back("--tip-of: the machine has one tip, " + import.tip +
+                    ": every placement is its (--tip-of chooses among several --tip)");
+  }
+}
+
 /// Largest revolute range a widened limit may reach, deg: beyond it a reading is taken for one
 /// in the wrong unit.
 constexpr double kWidestRevoluteDeg = 360.0;
@@ -1154,7 +1459,12 @@ std::vector<std::string> widenJointLimits(json& document, const std::string& sou
   for (int i = 0; i < mech.jointCount(); ++i) {
     auto limits = machine.joint_limits[static_cast<std::size_t>(i)];
     if (lo[i] >= limits[0] && hi[i] <= limits[1]) continue;
-    const double widest = degToRad(kWidestRevoluteDeg);
+    // A joint whose limits span a whole turn (a URDF continuous joint, [-180, 180]) turns on:
+    // its readings may reach a turn beyond its limits (a continuous joint at 400 deg).
+    const bool whole_turn = limits[1] - limits[0] >= 2.0 * std::numbers::pi - 1e-9;
+    const double widest = whole_turn
+                              ? std::max(-limits[0], limits[1]) + degToRad(kWidestRevoluteDeg)
+                              : degToRad(kWidestRevoluteDeg);
     const bool revolute = kinds[static_cast<std::size_t>(i)] == JointKind::Revolute;
     // A prismatic joint: within a tenth of its range (at least 1 mm) of its limits; a reading in
     // the wrong unit is 1000 times off.
@@ -1190,16 +1500,31 @@ MachineReadings machineReadings(const json& machine, const json& artifacts,
   const Mechanism& mech = *plan.machine.mechanism;
   MachineReadings out;
   out.names = mech.readingNames();
+  out.labels = mech.jointLabels();
   if (mech.stylusNames().size() > 1) out.tips = mech.stylusNames();
   for (int i = 0; i < mech.jointCount(); ++i) out.kinds.push_back(mech.jointKind(i));
+  std::map<std::size_t, double> held;
   for (const auto& [name, value] : import.holds) {
-    if (std::find(out.names.begin(), out.names.end(), name) == out.names.end()) {
+    std::size_t joint = 0;
+    while (joint < out.kinds.size() && !namesJoint(out, name, joint)) ++joint;
+    if (joint == out.kinds.size()) {
       std::string names;
-      for (const std::string& n : out.names) names += (names.empty() ? "" : ", ") + n;
-      throw InputError("--hold", name,
-                       "not a joint the machine reads" +
-                           (names.empty() ? std::string(" (its model names no joints)")
-                                          : " (it reads " + names + ")"));
+      for (std::size_t j = 0; j < out.kinds.size(); ++j)
+        names += (names.empty() ? "" : ", ") + jointName(out, j);
+      throw InputError(
+          "--hold", name,
+          "not a joint the machine reads (it reads " + names +
+              (out.names.empty() ? std::string(", also j1, joint_1, q1, ...") : std::string()) +
+              ")");
+    }
+    // Given twice: the same value is one hold; two values conflict (options given twice are
+    // refused where they conflict, docs/hardening.md).
+    const auto [at, inserted] = held.emplace(joint, value);
+    if (!inserted && at->second != value) {
+      throw InputError("--hold", name + "=" + formatShortest(value),
+                       "joint \"" + jointName(out, joint) + "\" is held twice, at " +
+                           formatShortest(at->second) + " and " + formatShortest(value) +
+                           ": give one --hold per joint");
     }
   }
   return out;
@@ -1238,24 +1563,16 @@ ImportedPlan importReadings(const ReadingsImport& import) {
   const MachineReadings readings = machineReadings(machine, artifacts, source, import);
   std::vector<std::string> ignored;  // columns of header-named files not read
   std::vector<std::string> notes;    // headers naming their rows' last fields only
-  if (instrument && files_given) {
-    throw InputError(inputs.front(), "",
-                     "an instrument's readings are read from a folder (one CSV file or sub-folder "
-                     "per station): give the folder");
-  }
   if (instrument) {
     const auto measures = artifact.find("measures");
     const bool pose = measures != artifact.end() && *measures == "pose";
-    placements = stationPlacements(dir, import, plan_folder, artifact_id, readings, pose, ignored);
+    placements = stationPlacements(files_given ? stationsOfFiles(inputs) : stations(dir), import,
+                                   plan_folder, artifact_id, readings, pose, ignored);
   }
   const std::vector<std::string>& tips = readings.tips;
   const std::vector<PlacementSource> sources =
       instrument ? std::vector<PlacementSource>{} : placementSources(import);
-  for (const auto& given : import.tip_of) {
-    if (std::none_of(sources.begin(), sources.end(),
-                     [&](const PlacementSource& s) { return s.name == given.first; }))
-      throw InputError("--tip-of", given.first + "=" + given.second, "no placement of that name");
-  }
+  checkTipOf(import, tips, sources, notes);
   for (const PlacementSource& source : sources) {
     const std::optional<std::string> tip = placementTip(import, tips, source.name);
     json measurements = json::array();

@@ -3,6 +3,9 @@
 // HELD=CALIBRATED`): one split for all of them, each caller naming its own option and form in its
 // message.
 
+#include <cctype>
+#include <charconv>
+#include <cmath>
 #include <optional>
 #include <string>
 #include <utility>
@@ -16,6 +19,34 @@ inline std::optional<std::pair<std::string, std::string>> splitAssignment(
   const auto equals = entry.find('=');
   if (equals == std::string::npos || equals == 0 || equals + 1 == entry.size()) return std::nullopt;
   return std::make_pair(entry.substr(0, equals), entry.substr(equals + 1));
+}
+
+/// `text` as a decimal number: an optional sign, digits with at most one '.', an optional
+/// exponent (1.5, -2, 3e-4); std::nullopt for anything else, hexadecimal (0x10), inf and nan
+/// among them, and for a value that is not finite (1e400).
+inline std::optional<double> decimalNumber(const std::string& text) {
+  std::size_t i = 0;
+  if (i < text.size() && (text[i] == '+' || text[i] == '-')) ++i;
+  std::size_t digits = 0, dots = 0;
+  for (; i < text.size() && (std::isdigit(static_cast<unsigned char>(text[i])) || text[i] == '.');
+       ++i) {
+    text[i] == '.' ? ++dots : ++digits;
+  }
+  if (digits == 0 || dots > 1) return std::nullopt;
+  if (i < text.size() && (text[i] == 'e' || text[i] == 'E')) {
+    ++i;
+    if (i < text.size() && (text[i] == '+' || text[i] == '-')) ++i;
+    const std::size_t start = i;
+    while (i < text.size() && std::isdigit(static_cast<unsigned char>(text[i]))) ++i;
+    if (i == start) return std::nullopt;
+  }
+  if (i != text.size()) return std::nullopt;
+  const char* begin = text.data() + (text[0] == '+' ? 1 : 0);
+  double value = 0.0;
+  const auto [end, ec] = std::from_chars(begin, text.data() + text.size(), value);
+  if (ec != std::errc() || end != text.data() + text.size() || !std::isfinite(value))
+    return std::nullopt;
+  return value;
 }
 
 }  // namespace artcal

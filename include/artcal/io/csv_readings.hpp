@@ -1,14 +1,17 @@
 #pragma once
 // Joint readings from CSV files (docs/models.md section 7). Each row is one posture's readings of
-// the movable joints in chain order, comma-separated; the first line may be a header of joint names
-// (a line of which no field is a number). Blank lines are skipped. `unit` names the unit of the
-// readings of its kind: "deg" (default) or "rad" for the revolute joints, "mm" or "m" for the
-// prismatic ones; the joints of the other kind keep their file unit (deg, mm). Every fault raises
-// InputError naming the CSV file and the line ("hole_0.csv: line 12: expected 7 numbers, got 6").
+// the movable joints in chain order, comma-separated (or ';' with decimal commas, or tabs:
+// CsvDialect, read from the first line; fields may be quoted); the first line may be a header of
+// joint names (a line of which no field is a number). Blank lines are skipped. `unit` names the
+// unit of the readings of its kind: "deg" (default) or "rad" for the revolute joints, "mm" or "m"
+// for the prismatic ones; the joints of the other kind keep their file unit (deg, mm). Every fault
+// raises InputError naming the CSV file and the line ("hole_0.csv: line 12: expected 7 numbers, got
+// 6").
 
 #include <Eigen/Core>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "artcal/model/mechanism.hpp"
@@ -42,17 +45,41 @@ struct CsvColumn {
 /// reads). InputError naming the entry's pointer when malformed.
 std::vector<CsvColumn> parseCsvColumns(const Node& columns, std::size_t count);
 
+/// How a CSV file separates its fields, read from its first line (the header, or the first
+/// row): ';' when the line holds one (a ',' in a field is then a decimal comma, "1,5"); a tab
+/// when it holds one and its only commas stand between digits (decimal commas); else ','. A field
+/// may be quoted ("j1"): its quotes are not part of it, a separator inside them is.
+struct CsvDialect {
+  char separator = ',';
+  /// "','", "';'" or "tabs", as a message names it.
+  std::string name() const;
+};
+CsvDialect csvDialect(std::string_view first_line);
+
 /// How many fields right of where its header puts them a row's named fields are. The candidate:
 /// the shift that puts the header's names, less its trailing empty ones, on the row's last
-/// fields. Taken when the row's fields at `selected` (header positions) all hold numbers under
-/// it, and either they do not as the header stands or the header ends in as many empty names as
-/// the shift (names written left of their values, the values' last fields unnamed); else 0 (the
-/// reading then names the field that is not a number).
+/// fields; taken when the row's fields at `selected` (header positions) all hold numbers under
+/// it, and either they do not as the header stands (a header narrower than its rows), or the
+/// header, as wide as the row and ending in as many empty names as the shift, puts fewer names
+/// over fields that are not numbers shifted than as it stands (names written left of their
+/// values, the values' last fields unnamed). A trailing unnamed column over numbers (an index
+/// written last) is not a shift. Else 0 (the reading then names the field that is not a number).
 std::size_t headerShift(const std::vector<std::string_view>& header,
-                        const std::vector<std::string_view>& row, const std::vector<int>& selected);
+                        const std::vector<std::string_view>& row, const std::vector<int>& selected,
+                        CsvDialect dialect = {});
 
-/// The fields of a CSV line, each without its surrounding blanks.
-std::vector<std::string_view> csvFields(std::string_view line);
+/// The fields of a CSV line, each without its surrounding blanks and quotes. `bad_quote`, when
+/// given, is set to the first field (from 0) whose opening quote is not closed or whose closing
+/// quote is followed by more text, or to -1.
+std::vector<std::string_view> csvFields(std::string_view line, CsvDialect dialect = {},
+                                        int* bad_quote = nullptr);
+
+/// A field as a number (decimal, a leading '+' allowed; a decimal comma with ';' or tabs), or
+/// std::nullopt.
+std::optional<double> csvNumber(std::string_view field, CsvDialect dialect = {});
+
+/// A message's hint when `line` holds other separators than the file's: "" when it holds none.
+std::string separatorHint(std::string_view line, CsvDialect dialect);
 
 /// Largest number of rows read from one CSV file.
 inline constexpr std::size_t kMaxCsvRows = 100'000;
