@@ -2,13 +2,16 @@
 // readings (a pose's point, its rotation vector, roll-pitch-yaw, a quaternion; inline and from
 // CSV) and in a URDF. Each is refused where it is read, exit 2 with one line naming the file, the
 // pointer (or the CSV line and column) and what to check: never "inf mm", "turns inf deg", a
-// 300-digit norm, or "not a number" for a number.
+// 300-digit norm, or "not a number" for a number. Then the outputs: no temporary file left by a
+// run a signal ends while it writes; `plan --complete` of a design without placements.
 
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -248,6 +251,38 @@ TEST(HostileNumbersIV, AUrdfNumberOf1e306IsOutOfRangeNotNotANumber) {
   expectRefusedWith(import, "error: " + angles +
                                 ": line 26: <origin rpy>: \"-1e306\" is beyond 1.7e7 rad (1e9 "
                                 "deg): check the value (a URDF's angles are in radians)");
+}
+
+// ------------------------------------------------------------------------------------ outputs
+
+TEST(HostileOutputsIV, AnOutputCutShortByASignalLeavesNoTemporaryFile) {
+  // simulate writes its output to a temporary file beside it, renamed into place when whole. A
+  // file size limit of 16 blocks (8 or 16 KB) ends the run by SIGXFSZ in the middle of that
+  // write, as a SIGTERM would at that moment, but at the same byte every time (no timing): the
+  // run's handler removes the temporary file (it was left, cut short), then dies by the signal.
+  Scratch scratch;
+  json document = json::parse(readText(planFile("paper-2r-5bars.json")));
+  const json placements = document["placements"];
+  document["placements"] = json::array();
+  for (std::size_t i = 0; i < 1000; ++i)
+    document["placements"].push_back(placements[i % placements.size()]);
+  const std::string plan =
+      inQuotes(scratch.write("plan.json", document.dump())) + " --truth " +
+      inQuotes(scratch.write("truth.json", R"({"parameters": {"l1": 150.02}})"));
+  const std::string whole = scratch.file("whole/simulated.json");
+  fs::create_directories(scratch.dir / "whole");
+  ASSERT_EQ(runCli("simulate " + plan + " --seed 1 -o " + inQuotes(whole)).status, 0);
+  ASSERT_GT(fs::file_size(whole), 64u * 1024u);  // the control: larger than the limit
+  const fs::path folder = scratch.dir / "cut";
+  fs::create_directories(folder);
+  const std::string command = "ulimit -c 0; ulimit -f 16; exec " + std::string(ARTCAL_CLI) +
+                              " simulate " + plan + " --seed 1 -o " +
+                              inQuotes((folder / "simulated.json").string()) + " 2>/dev/null";
+  const int status = std::system(("sh -c " + inQuotes(command) + " 2>/dev/null").c_str());
+  ASSERT_TRUE(WIFSIGNALED(status) || (WIFEXITED(status) && WEXITSTATUS(status) > 128)) << status;
+  std::vector<std::string> left;
+  for (const auto& entry : fs::directory_iterator(folder)) left.push_back(entry.path().string());
+  EXPECT_TRUE(left.empty()) << left.size() << " file(s) left, the first " << left.front();
 }
 
 }  // namespace hostile_inputs_iv_test
