@@ -285,4 +285,20 @@ TEST(HostileOutputsIV, AnOutputCutShortByASignalLeavesNoTemporaryFile) {
   EXPECT_TRUE(left.empty()) << left.size() << " file(s) left, the first " << left.front();
 }
 
+TEST(HostileOutputsIV, PlanCompleteOfADesignWithoutPlacementsSaysWhatPlansIt) {
+  // An instrument's design (stations and readings, no placements): it was "/placements: missing
+  // field", a field of the completed copy the user never wrote.
+  Scratch scratch;
+  const std::string spec = planFile("tracker-arm6.spec.json");
+  const std::string out = scratch.file("out.json");
+  expectRefusedWith("plan --complete " + inQuotes(spec) + " -o " + inQuotes(out),
+                    "error: " + spec +
+                        ": no placements: nothing to complete (plan --complete plans the "
+                        "readings of placements that ask for them, {\"feature\": k, "
+                        "\"postures\": N}); this plan's \"design\" is planned by `artcal "
+                        "optimize " +
+                        spec + " -o PLAN`");
+  EXPECT_FALSE(fs::exists(out));
+}
+
 }  // namespace hostile_inputs_iv_test
