@@ -107,6 +107,7 @@ std::string implausibleOrientation(const Eigen::VectorXd& coordinates, const Art
          "(x, y, z, then rx, ry, rz)";
 }
 
+/// A number as a message shows it (4 significant digits: 1e+300, 1.5e+11).
 std::string shortValue(double v) {
   char text[32];
   std::snprintf(text, sizeof text, "%.4g", v);
