@@ -77,6 +77,18 @@ void addPlanCommand(CLI::App& app, Action& action) {
       }
       const json document = readJsonFile(args->plan);
       const Plan plan = parsePlan(document, args->plan, /*require_placements=*/false);
+      // A spec without placements (an instrument's design of stations and readings, an
+      // optimizer's spec) has nothing to complete: say what plans it, not "/placements: missing
+      // field" of the completed copy (issue 44).
+      if (plan.placements.empty()) {
+        throw InputError(
+            args->plan, "",
+            std::string("no placements: nothing to complete (plan --complete plans the readings "
+                        "of placements that ask for them, {\"feature\": k, \"postures\": N})") +
+                (plan.design ? "; this plan's \"design\" is planned by `artcal optimize " +
+                                   args->plan + " -o PLAN`"
+                             : ""));
+      }
       for (const std::string& warning : plan.warnings) std::cerr << "warning: " << warning << "\n";
       const std::uint64_t seed = seeded ? args->seed : plan.design ? plan.design->seed : 1;
       const json completed = completedDocument(document, plan, plannedReadings(plan, seed));

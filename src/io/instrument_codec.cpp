@@ -96,12 +96,61 @@ void appendReading(Measurement measurement, const Eigen::VectorXd& measured, Art
 /// the reading (docs/hardening.md); "" when the orientation is plausible.
 std::string implausibleOrientation(const Eigen::VectorXd& coordinates, const Artifact& instrument) {
   if (!instrument.measures_pose) return "";
-  const double turned = coordinates.tail(3).norm();
-  if (std::isfinite(turned) && turned <= 360.0 + 1e-9) return "";
+  // The coordinates are within 1e9 deg (checked where they are read; 5.7e10 deg for rad): the
+  // length is finite.
+  const double turned = coordinates.tail(3).stableNorm();
+  if (turned <= 360.0 + 1e-9) return "";
   char text[48];
   std::snprintf(text, sizeof text, "%.4g", turned);
   return std::string("the measured orientation (a rotation vector) turns ") + text +
          " deg, more than a turn: check its unit (orientation_unit deg or rad) and the columns "
+         "(x, y, z, then rx, ry, rz)";
+}
+
+/// A number as a message shows it (4 significant digits: 1e+300, 1.5e+11).
+std::string shortValue(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.4g", v);
+  return text;
+}
+
+/// A measured coordinate of a CSV row that no reading can be, as the file writes it (`raw`, in
+/// the file's unit): a point's beyond 1e9 mm (1000 km, the bound of every length), a rotation
+/// vector's beyond 1e9 deg, a roll-pitch-yaw angle beyond a turn, a unit quaternion's component
+/// beyond 1. Checked before any arithmetic on the row, so that no message says "inf". "" when in
+/// range; else what to check.
+std::string coordinateOutOfRange(int k, double raw, int d, OrientationForm form, double point_scale,
+                                 const std::string& point_unit, double orientation_scale,
+                                 const std::string& orientation_unit) {
+  static const char* const kPoint[] = {"x", "y", "z"};
+  static const char* const kRotationVector[] = {"rx", "ry", "rz"};
+  static const char* const kRollPitchYaw[] = {"roll", "pitch", "yaw"};
+  static const char* const kQuaternion[] = {"w", "x", "y", "z"};
+  if (k < d) {
+    if (std::abs(raw) <= kMaxInputMagnitude / point_scale) return "";
+    return std::string("the measured ") + (d <= 3 ? kPoint[k] : "coordinate") + " is " +
+           shortValue(raw) + " " + point_unit + ", beyond " + shortValue(kMaxInputMagnitude) +
+           " mm (1000 km): check the value, its unit (point_unit mm or m) and the columns "
+           "(the joints, then x, y, z)";
+  }
+  const int o = k - d;
+  if (form == OrientationForm::Quaternion) {
+    if (std::abs(raw) <= 1.0 + 1e-3) return "";
+    return std::string("the quaternion's ") + kQuaternion[o] + " is " + shortValue(raw) +
+           ", beyond 1 (a unit quaternion's components are within [-1, 1]): check the columns "
+           "(w, x, y, z) and the entry's \"orientation\"";
+  }
+  if (form == OrientationForm::RollPitchYaw) {
+    if (std::abs(raw) <= (360.0 + 1e-9) / orientation_scale) return "";
+    return std::string("the measured ") + kRollPitchYaw[o] + " is " + shortValue(raw) + " " +
+           orientation_unit +
+           ", more than a turn: check its unit (orientation_unit deg or rad) and the columns "
+           "(x, y, z, then roll, pitch, yaw)";
+  }
+  if (std::abs(raw) <= kMaxInputMagnitude / orientation_scale) return "";
+  return std::string("the measured orientation's ") + kRotationVector[o] +
+         " (a rotation vector) is " + shortValue(raw) + " " + orientation_unit +
+         ", more than a turn: check its unit (orientation_unit deg or rad) and the columns "
          "(x, y, z, then rx, ry, rz)";
 }
 
@@ -209,6 +258,15 @@ void appendCsvReadings(const Node& entry, const std::string& plan_source, const 
     measurement.entry = entry_index;
     measurement.stylus = stylus;
     measurement.stationing = stationing;
+    for (int k = 0; k < read; ++k) {
+      const double raw = rows[r][joints + k] / units.length_to_mm;
+      const std::string why =
+          coordinateOutOfRange(k, raw, d, form, point_scale, point_scale == 1.0 ? "mm" : "m",
+                               orientation_scale, orientation_scale == 1.0 ? "deg" : "rad");
+      if (why.empty()) continue;
+      const std::string column = columns ? "" : ": column " + std::to_string(joints + k + 1);
+      throw InputError(file, where + column, why);
+    }
     Eigen::VectorXd coordinates(measured);
     coordinates.head(d) = rows[r].segment(joints, d) / units.length_to_mm * point_scale;
     if (instrument.measures_pose) {
@@ -293,8 +351,19 @@ void parseStationReadings(const Node& measurements, const std::string& plan_sour
       measurement.stationing = stationing->value().get<bool>();
     }
     if (const auto given = m.find("point")) {
-      Eigen::VectorXd coordinates = given->finiteNumbers(measured);
-      coordinates.head(instrument.dimension) *= pointUnitToMm(m);
+      // Every coordinate within the input bound (Node::number: 1e9 mm or deg), the point once
+      // more in mm, so that no figure or message of the reading is inf.
+      Eigen::VectorXd coordinates = given->numbers(measured);
+      const double point_scale = pointUnitToMm(m);
+      coordinates.head(instrument.dimension) *= point_scale;
+      for (int k = 0; k < instrument.dimension; ++k) {
+        if (std::abs(coordinates[k]) > kMaxInputMagnitude) {
+          (*given)[static_cast<std::size_t>(k)].fail(
+              "the measured point's coordinate is " + shortValue(coordinates[k]) + " mm, beyond " +
+              shortValue(kMaxInputMagnitude) +
+              " mm (1000 km): check the value and its unit (point_unit mm or m)");
+        }
+      }
       const double orientation_scale = orientationUnitToDeg(m, instrument);
       if (instrument.measures_pose) coordinates.tail(3) *= orientation_scale;
       if (const std::string why = implausibleOrientation(coordinates, instrument); !why.empty())

@@ -163,9 +163,30 @@ void loadUrdf(const UrdfSource& source, UrdfDocument& doc) {
   }
 }
 
+// How a number of the URDF's text reads: a number within the input bound (kMaxInputMagnitude mm
+// or deg), not a number at all, or a number beyond the bound (a double's range included).
+enum class TextNumber { Ok, NotANumber, OutOfRange };
+
+// The whole token as a double ("inf" and "nan" are not numbers of a URDF). A number beyond a
+// double's range is OutOfRange; one below its smallest is its rounding (0 or a subnormal).
+TextNumber parseDouble(const std::string& token, double& value) {
+  const char* last = token.data() + token.size();
+  const auto [end, error] = std::from_chars(token.data(), last, value);
+  if (end != last || error == std::errc::invalid_argument) return TextNumber::NotANumber;
+  if (error == std::errc::result_out_of_range) {
+    const double rounded = std::strtod(token.c_str(), nullptr);
+    if (!(std::abs(rounded) < 1.0)) return TextNumber::OutOfRange;
+    value = rounded;
+  }
+  return std::isfinite(value) ? TextNumber::Ok : TextNumber::NotANumber;
+}
+
 // A number of the URDF's text in metres as mm, exactly as the decimal says: the exponent is
 // shifted by 3 before conversion ("0.333" -> "0.333e3" = 333, not 0.333 * 1000).
-bool metresTextToMillimetres(const std::string& token, double& mm) {
+TextNumber metresTextToMillimetres(const std::string& token, double& mm) {
+  double metres = 0.0;
+  if (const TextNumber read = parseDouble(token, metres); read != TextNumber::Ok) return read;
+  if (!(std::abs(metres) <= kMaxInputMagnitude / 1000.0)) return TextNumber::OutOfRange;
   std::string shifted = token;
   const std::size_t e = token.find_first_of("eE");
   if (e == std::string::npos) {
@@ -176,19 +197,33 @@ bool metresTextToMillimetres(const std::string& token, double& mm) {
     const char* last = token.data() + token.size();
     if (first != last && *first == '+') ++first;
     const auto [end, error] = std::from_chars(first, last, exponent);
-    if (error != std::errc() || end != last) return false;
+    // An exponent beyond int of a number within the bound: a subnormal's (-1e12); its metres.
+    if (error != std::errc() || end != last) {
+      mm = metres * 1000.0;
+      return TextNumber::Ok;
+    }
     shifted = token.substr(0, e) + "e" + std::to_string(exponent + 3);
   }
-  const auto [end, error] = std::from_chars(shifted.data(), shifted.data() + shifted.size(), mm);
-  return error == std::errc() && end == shifted.data() + shifted.size() && std::isfinite(mm) &&
-         std::abs(mm) <= kMaxInputMagnitude;
+  if (parseDouble(shifted, mm) != TextNumber::Ok || !(std::abs(mm) <= kMaxInputMagnitude))
+    return TextNumber::OutOfRange;
+  return TextNumber::Ok;
 }
 
 // A number of the URDF's text (an angle in rad, an axis component) within the input bound.
-bool boundedNumber(const std::string& token, double& value) {
-  const auto [end, error] = std::from_chars(token.data(), token.data() + token.size(), value);
-  return error == std::errc() && end == token.data() + token.size() && std::isfinite(value) &&
-         std::abs(radToDeg(value)) <= kMaxInputMagnitude;
+TextNumber boundedNumber(const std::string& token, double& value) {
+  if (const TextNumber read = parseDouble(token, value); read != TextNumber::Ok) return read;
+  return std::abs(radToDeg(value)) <= kMaxInputMagnitude ? TextNumber::Ok : TextNumber::OutOfRange;
+}
+
+// What a number of the URDF refused as `read` is: "is not a number" or beyond the bound (`bound`
+// says it in the URDF's unit and in artcal's), with what to check.
+std::string numberProblem(TextNumber read, const std::string& token, bool metres) {
+  if (read == TextNumber::NotANumber) return "\"" + token + "\" is not a number";
+  return "\"" + token + "\" is beyond " +
+         (metres ? std::string("1e6 m (1e9 mm, 1000 km): check the value (a URDF's lengths are in "
+                               "metres)")
+                 : std::string("1.7e7 rad (1e9 deg): check the value (a URDF's angles are in "
+                               "radians)"));
 }
 
 std::vector<std::string> tokens(const char* text) {
@@ -208,20 +243,21 @@ OriginValues readOrigin(const UrdfDocument& doc, const tinyxml2::XMLElement* joi
   OriginValues out;
   const tinyxml2::XMLElement* origin = joint->FirstChildElement("origin");
   if (!origin) return out;
-  const auto three = [&](const char* attribute, auto convert, Eigen::Vector3d& v) {
+  const auto three = [&](const char* attribute, auto convert, bool metres, Eigen::Vector3d& v) {
     const char* text = origin->Attribute(attribute);
     if (!text) return;
     const std::vector<std::string> t = tokens(text);
     if (t.size() != 3) doc.fail(origin, std::string("<origin ") + attribute + "> needs 3 numbers");
     for (int i = 0; i < 3; ++i) {
-      if (!convert(t[static_cast<std::size_t>(i)], v[i])) {
-        doc.fail(origin, std::string("<origin ") + attribute + ">: \"" + t[i] +
-                             "\" is not a number (or beyond 1e9 mm or deg)");
+      const std::string& token = t[static_cast<std::size_t>(i)];
+      if (const TextNumber read = convert(token, v[i]); read != TextNumber::Ok) {
+        doc.fail(origin,
+                 std::string("<origin ") + attribute + ">: " + numberProblem(read, token, metres));
       }
     }
   };
-  three("xyz", metresTextToMillimetres, out.xyz_mm);
-  three("rpy", boundedNumber, out.rpy);
+  three("xyz", metresTextToMillimetres, true, out.xyz_mm);
+  three("rpy", boundedNumber, false, out.rpy);
   return out;
 }
 
@@ -235,7 +271,7 @@ Eigen::Vector3d readAxis(const UrdfDocument& doc, const tinyxml2::XMLElement* jo
   const std::vector<std::string> t = tokens(text);
   Eigen::Vector3d v;
   for (int i = 0; i < 3; ++i) {
-    if (t.size() != 3 || !boundedNumber(t[static_cast<std::size_t>(i)], v[i])) {
+    if (t.size() != 3 || boundedNumber(t[static_cast<std::size_t>(i)], v[i]) != TextNumber::Ok) {
       doc.fail(axis, "joint \"" + name + "\": <axis xyz> needs 3 numbers within +-1e9");
     }
   }
@@ -437,11 +473,14 @@ json mimicJson(const UrdfDocument& doc, const urdf::Joint& joint) {
     if (!text) return absent;
     const std::vector<std::string> t = tokens(text);
     double value = 0.0;
-    const bool ok = t.size() == 1 &&
-                    (metres ? metresTextToMillimetres(t[0], value) : boundedNumber(t[0], value));
-    if (!ok) {
+    if (t.size() != 1) {
+      doc.fail(mimic, "joint \"" + joint.name + "\": <mimic " + name + "> needs one number");
+    }
+    const TextNumber read =
+        metres ? metresTextToMillimetres(t[0], value) : boundedNumber(t[0], value);
+    if (read != TextNumber::Ok) {
       doc.fail(mimic, "joint \"" + joint.name + "\": <mimic " + name +
-                          "> is not a number (or beyond 1e9 mm or deg)");
+                          ">: " + numberProblem(read, t[0], metres));
     }
     return value;
   };

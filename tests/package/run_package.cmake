@@ -3,8 +3,9 @@
 # (the program, the umbrella header, the CMake config, the Python module when built), then
 # tests/consumer configured against the unpacked /usr with find_package(artcal), built and run on
 # PLAN: it must print the u of l1 that the unpacked program's `evaluate --json` prints.
-# The packaged program also imports URDF (a UR5 to its ball), which loads the packaged URDF module
-# (src/urdf/urdf_module.hpp) from the scratch root, not the build tree's.
+# The package also installed with `dpkg -i` into a scratch root of its own: its program imports
+# URDF (a UR5 to its ball), run by its full path and by its name through PATH, which loads the
+# packaged URDF module (src/urdf/urdf_module.hpp) from that root, not the build tree's.
 # Variables: BUILD_DIR, WORK_DIR, CONSUMER_DIR, PLAN, URDF, CXX_COMPILER, BUILD_TYPE, GENERATOR, PYTHON
 # (empty without the module).
 cmake_minimum_required(VERSION 3.20)
@@ -46,16 +47,41 @@ file(GLOB_RECURSE urdf_modules ${root}/usr/*/libartcal_urdf.so)
 if(NOT urdf_modules MATCHES "/usr/lib[^;]*/artcal/libartcal_urdf[.]so")
   message(FATAL_ERROR "the package lacks the URDF module in /usr/lib.../artcal/: ${urdf_modules}")
 endif()
-execute_process(
-  COMMAND ${CMAKE_COMMAND} -E env --unset=ARTCAL_URDF_MODULE LD_DEBUG=files
-          ${root}/usr/bin/artcal import-urdf ${URDF} --base base_link --tip ball_link
-  RESULT_VARIABLE status OUTPUT_VARIABLE out ERROR_VARIABLE err)
-string(FIND "${err}" "file=${root}/usr/lib" loaded)
-if(NOT status EQUAL 0 OR NOT out MATCHES "\"model\": \"chain\"" OR loaded LESS 0)
-  message(FATAL_ERROR "the packaged import-urdf (${status}) did not import through the packaged "
-                      "module:\n${out}\n${err}")
-endif()
-message(STATUS "import-urdf loaded the packaged ${urdf_modules}")
+# The package installed with `dpkg -i` into a scratch root of its own (--root: its own dpkg
+# database, so the host's installed packages are not changed; --force-depends: that database
+# does not list the dependencies, the host has them). Its program by its full path, then by its
+# name through PATH (as a user runs it, issue 44) from a folder of its own: both load the
+# packaged module, found from the program's real path (<root>/usr/bin/artcal ->
+# <root>/usr/lib/artcal), not from the current folder nor from the configured install prefix
+# (/usr/local).
+set(installed ${WORK_DIR}/installed)
+file(MAKE_DIRECTORY ${installed}/var/lib/dpkg/info ${installed}/var/lib/dpkg/updates
+     ${installed}/var/lib/dpkg/triggers)
+file(TOUCH ${installed}/var/lib/dpkg/status ${installed}/var/lib/dpkg/available)
+run("dpkg -i" dpkg --root=${installed} --force-depends --force-not-root --force-script-chrootless
+    -i ${debs})
+find_program(ARTCAL_ENV env REQUIRED)
+file(GLOB_RECURSE urdf_modules ${installed}/usr/*/libartcal_urdf.so)
+list(GET urdf_modules 0 urdf_module)
+file(MAKE_DIRECTORY ${WORK_DIR}/elsewhere)
+foreach(how "full path" "name through PATH")
+  if(how STREQUAL "name through PATH")
+    set(program artcal)
+  else()
+    set(program ${installed}/usr/bin/artcal)
+  endif()
+  execute_process(
+    COMMAND ${ARTCAL_ENV} -u ARTCAL_URDF_MODULE PATH=${installed}/usr/bin:/usr/bin:/bin LD_DEBUG=files
+            ${program} import-urdf ${URDF} --base base_link --tip ball_link
+    WORKING_DIRECTORY ${WORK_DIR}/elsewhere
+    RESULT_VARIABLE status OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  string(FIND "${err}" "file=${urdf_module}" loaded)
+  if(NOT status EQUAL 0 OR NOT out MATCHES "\"model\": \"chain\"" OR loaded LESS 0)
+    message(FATAL_ERROR "the packaged import-urdf run by its ${how} (${status}) did not import "
+                        "through the packaged module:\n${out}\n${err}")
+  endif()
+  message(STATUS "import-urdf run by its ${how} loaded the packaged ${urdf_module}")
+endforeach()
 
 run("the packaged artcal evaluate --json" ${root}/usr/bin/artcal evaluate ${PLAN} --json)
 string(JSON expected GET "${output}" parameters 0 u)

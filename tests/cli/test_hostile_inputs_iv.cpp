@@ -1,0 +1,304 @@
+// Hardening IV (issue 44, docs/hardening.md "Hardening IV"): numbers of 1e300 in an instrument's
+// readings (a pose's point, its rotation vector, roll-pitch-yaw, a quaternion; inline and from
+// CSV) and in a URDF. Each is refused where it is read, exit 2 with one line naming the file, the
+// pointer (or the CSV line and column) and what to check: never "inf mm", "turns inf deg", a
+// 300-digit norm, or "not a number" for a number. Then the outputs: no temporary file left by a
+// run a signal ends while it writes; `plan --complete` of a design without placements.
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "cli_runner.hpp"
+#include "test_paths.hpp"
+
+namespace hostile_inputs_iv_test {
+
+using namespace artcal::test_support;
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+struct Scratch {
+  fs::path dir;
+  Scratch() {
+    std::string pattern = (fs::temp_directory_path() / "artcal-hostile4-XXXXXX").string();
+    dir = ::mkdtemp(pattern.data());
+  }
+  ~Scratch() {
+    std::error_code ignored;
+    fs::remove_all(dir, ignored);
+  }
+  Scratch(const Scratch&) = delete;
+  Scratch& operator=(const Scratch&) = delete;
+  std::string file(const std::string& name) const { return (dir / name).string(); }
+  std::string write(const std::string& name, const std::string& text) const {
+    std::ofstream(file(name), std::ios::binary) << text;
+    return file(name);
+  }
+};
+
+std::string readText(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+std::string inQuotes(const std::string& path) {
+  return "'" + path + "'";
+}
+
+/// Exit 2, nothing on stdout, and exactly the line `error: FILE: REST` on stderr.
+void expectRefusedWith(const std::string& arguments, const std::string& line) {
+  const CliRun err = runCli(arguments, Stderr::Only);
+  EXPECT_EQ(err.status, 2) << arguments;
+  EXPECT_EQ(err.out, line + "\n");
+  EXPECT_EQ(runCli(arguments).out, "");
+}
+
+json posePlan() {
+  return json::parse(readText(planFile("tracker-arm6-pose.json")));
+}
+
+// ------------------------------------------------------------------ a pose written in the plan
+
+TEST(HostileNumbersIV, APosesPointOf1e300IsRefusedAtItsCoordinate) {
+  Scratch scratch;
+  json plan = posePlan();
+  plan["placements"][1]["measurements"][3]["point"][0] = 1e300;
+  const std::string file = scratch.write("pose.json", plan.dump());
+  expectRefusedWith("check " + inQuotes(file),
+                    "error: " + file +
+                        ": /placements/1/measurements/3/point/0: magnitude 1e+300 beyond 1e+09: "
+                        "check the value and its units (mm, deg)");
+}
+
+TEST(HostileNumbersIV, APosesRotationVectorOf1e300IsRefusedAtItsCoordinateNotAsInfDeg) {
+  Scratch scratch;
+  json plan = posePlan();
+  plan["placements"][1]["measurements"][3]["point"][5] = -1e300;
+  const std::string file = scratch.write("pose.json", plan.dump());
+  expectRefusedWith("check " + inQuotes(file),
+                    "error: " + file +
+                        ": /placements/1/measurements/3/point/5: magnitude 1e+300 beyond 1e+09: "
+                        "check the value and its units (mm, deg)");
+}
+
+TEST(HostileNumbersIV, APointInMetresBeyond1e9MmIsRefused) {
+  // 1e8 m is within the bound of a number as written, 1e11 mm is beyond the bound of a length.
+  Scratch scratch;
+  json plan = posePlan();
+  json& reading = plan["placements"][1]["measurements"][3];
+  for (int k = 0; k < 3; ++k) reading["point"][k] = reading["point"][k].get<double>() / 1000.0;
+  reading["point_unit"] = "m";
+  reading["point"][1] = 1e8;
+  const std::string file = scratch.write("pose.json", plan.dump());
+  expectRefusedWith("check " + inQuotes(file),
+                    "error: " + file +
+                        ": /placements/1/measurements/3/point/1: the measured point's coordinate "
+                        "is 1e+11 mm, beyond 1e+09 mm (1000 km): check the value and its unit "
+                        "(point_unit mm or m)");
+}
+
+// ------------------------------------------------------------ a pose station read from a CSV
+
+/// The plan whose second station is read from station2.csv in orientation `form` (its readings
+/// converted from the plan's rotation vectors, deg): a header, then one row per reading.
+struct CsvStation {
+  Scratch scratch;
+  std::string plan, csv;
+  std::vector<std::vector<double>> rows;
+  std::string form;
+
+  explicit CsvStation(std::string orientation) : form(std::move(orientation)) {
+    json document = posePlan();
+    for (const json& m : document["placements"][1]["measurements"]) {
+      std::vector<double> row = m["joints"].get<std::vector<double>>();
+      const std::vector<double> point = m["point"].get<std::vector<double>>();
+      row.insert(row.end(), point.begin(), point.begin() + 3);
+      const Eigen::Vector3d w(point[3], point[4], point[5]);  // deg
+      const Eigen::AngleAxisd turn(w.norm() * M_PI / 180.0, w.normalized());
+      if (form == "rotation_vector") {
+        row.insert(row.end(), point.begin() + 3, point.end());
+      } else if (form == "rpy") {
+        // R = Rz(yaw) Ry(pitch) Rx(roll): eulerAngles(2, 1, 0) = (yaw, pitch, roll).
+        const Eigen::Vector3d ypr = turn.toRotationMatrix().eulerAngles(2, 1, 0) * 180.0 / M_PI;
+        row.insert(row.end(), {ypr[2], ypr[1], ypr[0]});
+      } else {
+        const Eigen::Quaterniond q(turn);
+        row.insert(row.end(), {q.w(), q.x(), q.y(), q.z()});
+      }
+      rows.push_back(row);
+    }
+    document["placements"][1]["measurements"] =
+        json::array({{{"csv", "station2.csv"}, {"orientation", form}}});
+    plan = scratch.write("plan.json", document.dump());
+    csv = scratch.file("station2.csv");
+    writeRows();
+  }
+
+  void writeRows() const {
+    std::ofstream out(csv);
+    out << "j1,j2,j3,j4,j5,j6,x,y,z,o1,o2,o3" << (form == "quaternion" ? ",o4" : "") << "\n";
+    out.precision(17);
+    for (const std::vector<double>& row : rows) {
+      for (std::size_t k = 0; k < row.size(); ++k) out << (k ? "," : "") << row[k];
+      out << "\n";
+    }
+  }
+
+  /// Row `row` (from 0) column `column` (from 0) set to `value`; the file written again.
+  void set(std::size_t row, std::size_t column, double value) {
+    rows[row][column] = value;
+    writeRows();
+  }
+};
+
+TEST(HostileNumbersIV, TheCsvStationsAreReadInEveryOrientationForm) {
+  // The control of the tests below: the files they spoil, unspoilt, are read (exit 0).
+  for (const char* form : {"rotation_vector", "rpy", "quaternion"}) {
+    const CsvStation station(form);
+    const CliRun run = runCli("check " + inQuotes(station.plan), Stderr::Merge);
+    EXPECT_EQ(run.status, 0) << form << "\n" << run.out;
+  }
+}
+
+TEST(HostileNumbersIV, ACsvPointOf1e300IsRefusedAtItsLineAndColumn) {
+  CsvStation station("rotation_vector");
+  station.set(3, 6, 1e300);  // line 5, x in column 7
+  expectRefusedWith("check " + inQuotes(station.plan),
+                    "error: " + station.csv +
+                        ": line 5 (row 4): column 7: the measured x is 1e+300 mm, beyond 1e+09 mm "
+                        "(1000 km): check the value, its unit (point_unit mm or m) and the "
+                        "columns (the joints, then x, y, z)");
+}
+
+TEST(HostileNumbersIV, ACsvRotationVectorOf1e300IsRefusedAtItsColumnNotAsInfDeg) {
+  CsvStation station("rotation_vector");
+  station.set(0, 11, 1e300);  // line 2, rz in column 12
+  expectRefusedWith("check " + inQuotes(station.plan),
+                    "error: " + station.csv +
+                        ": line 2 (row 1): column 12: the measured orientation's rz (a rotation "
+                        "vector) is 1e+300 deg, more than a turn: check its unit "
+                        "(orientation_unit deg or rad) and the columns (x, y, z, then rx, ry, "
+                        "rz)");
+  // Three coordinates of 1e200 (each within double, their squares not): the same, at the first.
+  station.set(0, 9, 1e200);
+  station.set(0, 10, 1e200);
+  station.set(0, 11, 1e200);
+  const CliRun run = runCli("check " + inQuotes(station.plan), Stderr::Only);
+  EXPECT_EQ(run.status, 2);
+  EXPECT_NE(run.out.find(": line 2 (row 1): column 10: the measured orientation's rx (a rotation "
+                         "vector) is 1e+200 deg"),
+            std::string::npos)
+      << run.out;
+}
+
+TEST(HostileNumbersIV, ACsvRollPitchYawOf1e300IsRefusedNotReadAsAnAngle) {
+  CsvStation station("rpy");
+  station.set(1, 10, 1e300);  // line 3, pitch in column 11
+  expectRefusedWith("check " + inQuotes(station.plan),
+                    "error: " + station.csv +
+                        ": line 3 (row 2): column 11: the measured pitch is 1e+300 deg, more than "
+                        "a turn: check its unit (orientation_unit deg or rad) and the columns (x, "
+                        "y, z, then roll, pitch, yaw)");
+}
+
+TEST(HostileNumbersIV, ACsvQuaternionOf1e300IsRefusedWithoutA300DigitNorm) {
+  CsvStation station("quaternion");
+  station.set(0, 9, 1e300);  // line 2, w in column 10
+  expectRefusedWith("check " + inQuotes(station.plan),
+                    "error: " + station.csv +
+                        ": line 2 (row 1): column 10: the quaternion's w is 1e+300, beyond 1 (a "
+                        "unit quaternion's components are within [-1, 1]): check the columns (w, "
+                        "x, y, z) and the entry's \"orientation\"");
+}
+
+// ------------------------------------------------------------------------------------- URDF
+
+/// tests/data/urdf/arm3-slide.urdf with the first occurrence of `from` replaced by `to`.
+std::string spoiltUrdf(const Scratch& scratch, const std::string& from, const std::string& to) {
+  std::string text = readText(testDataFile("urdf/arm3-slide.urdf"));
+  const std::size_t at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  if (at != std::string::npos) text.replace(at, from.size(), to);
+  return scratch.write("robot.urdf", text);
+}
+
+TEST(HostileNumbersIV, AUrdfNumberOf1e306IsOutOfRangeNotNotANumber) {
+  // j1's origin (line 26): 1e306 m is a number, 1e309 mm is beyond a double; 1e306 rad likewise
+  // beyond 1e9 deg.
+  Scratch scratch;
+  const std::string origin = "<origin xyz=\"0 0 0.3\" rpy=\"0 0 0.25\"/>";
+  const std::string lengths =
+      spoiltUrdf(scratch, origin, "<origin xyz=\"1e306 0 0.3\" rpy=\"0 0 0.25\"/>");
+  const std::string import = "import-urdf " + inQuotes(lengths) + " --base base --tip probe";
+  expectRefusedWith(import, "error: " + lengths +
+                                ": line 26: <origin xyz>: \"1e306\" is beyond 1e6 m (1e9 mm, 1000 "
+                                "km): check the value (a URDF's lengths are in metres)");
+  const std::string angles =
+      spoiltUrdf(scratch, origin, "<origin xyz=\"0 0 0.3\" rpy=\"0 0 -1e306\"/>");
+  expectRefusedWith(import, "error: " + angles +
+                                ": line 26: <origin rpy>: \"-1e306\" is beyond 1.7e7 rad (1e9 "
+                                "deg): check the value (a URDF's angles are in radians)");
+}
+
+// ------------------------------------------------------------------------------------ outputs
+
+TEST(HostileOutputsIV, AnOutputCutShortByASignalLeavesNoTemporaryFile) {
+  // simulate writes its output to a temporary file beside it, renamed into place when whole. A
+  // file size limit of 16 blocks (8 or 16 KB) ends the run by SIGXFSZ in the middle of that
+  // write, as a SIGTERM would at that moment, but at the same byte every time (no timing): the
+  // run's handler removes the temporary file (it was left, cut short), then dies by the signal.
+  Scratch scratch;
+  json document = json::parse(readText(planFile("paper-2r-5bars.json")));
+  const json placements = document["placements"];
+  document["placements"] = json::array();
+  for (std::size_t i = 0; i < 1000; ++i)
+    document["placements"].push_back(placements[i % placements.size()]);
+  const std::string plan =
+      inQuotes(scratch.write("plan.json", document.dump())) + " --truth " +
+      inQuotes(scratch.write("truth.json", R"({"parameters": {"l1": 150.02}})"));
+  const std::string whole = scratch.file("whole/simulated.json");
+  fs::create_directories(scratch.dir / "whole");
+  ASSERT_EQ(runCli("simulate " + plan + " --seed 1 -o " + inQuotes(whole)).status, 0);
+  ASSERT_GT(fs::file_size(whole), 64u * 1024u);  // the control: larger than the limit
+  const fs::path folder = scratch.dir / "cut";
+  fs::create_directories(folder);
+  const std::string command = "ulimit -c 0; ulimit -f 16; exec " + std::string(ARTCAL_CLI) +
+                              " simulate " + plan + " --seed 1 -o " +
+                              inQuotes((folder / "simulated.json").string()) + " 2>/dev/null";
+  const int status = std::system(("sh -c " + inQuotes(command) + " 2>/dev/null").c_str());
+  ASSERT_TRUE(WIFSIGNALED(status) || (WIFEXITED(status) && WEXITSTATUS(status) > 128)) << status;
+  std::vector<std::string> left;
+  for (const auto& entry : fs::directory_iterator(folder)) left.push_back(entry.path().string());
+  EXPECT_TRUE(left.empty()) << left.size() << " file(s) left, the first " << left.front();
+}
+
+TEST(HostileOutputsIV, PlanCompleteOfADesignWithoutPlacementsSaysWhatPlansIt) {
+  // An instrument's design (stations and readings, no placements): it was "/placements: missing
+  // field", a field of the completed copy the user never wrote.
+  Scratch scratch;
+  const std::string spec = planFile("tracker-arm6.spec.json");
+  const std::string out = scratch.file("out.json");
+  expectRefusedWith("plan --complete " + inQuotes(spec) + " -o " + inQuotes(out),
+                    "error: " + spec +
+                        ": no placements: nothing to complete (plan --complete plans the "
+                        "readings of placements that ask for them, {\"feature\": k, "
+                        "\"postures\": N}); this plan's \"design\" is planned by `artcal "
+                        "optimize " +
+                        spec + " -o PLAN`");
+  EXPECT_FALSE(fs::exists(out));
+}
+
+}  // namespace hostile_inputs_iv_test
