@@ -2,6 +2,7 @@
 
 #include <iostream>
 
+#include "artcal/calibration/calibrate_readings.hpp"
 #include "artcal/estimation/error_functions.hpp"
 #include "artcal/estimation/evaluator.hpp"
 #include "artcal/report/cartesian_report.hpp"
@@ -76,15 +77,25 @@ void addEvaluateCommand(CLI::App& app, Action& action) {
       ->capture_default_str();
   cmd->callback([&action, args] {
     action = [args] {
-      const Plan plan = loadPlanReporting(args->plan);
+      Plan plan = loadPlanReporting(args->plan);
+      // "estimate": the noise the readings tell where they are measured (predictionNoise).
+      const PredictionNoise noise = predictionNoise(plan);
+      plan.noise.probe = noise.probe;
       const Evaluation evaluation = evaluatePlan(plan, {args->rank_tolerance, args->profile_steps});
       const CartesianAnswers cmm = cartesianAnswers(plan, &evaluation);
       if (args->json) {
         nlohmann::json out = evaluationToJson(plan, evaluation);
         out.update(cartesianAnswersToJson(plan, cmm));
+        out["probe_noise"] = {{"value", noise.probe},
+                              {"unit", "mm"},
+                              {"estimated", noise.estimated},
+                              {"source", noise.source}};
         printJson(out);
       } else {
         std::cout << evaluationTable(plan, evaluation) << cartesianAnswersTable(plan, cmm);
+        if (plan.noise.estimate_probe)
+          std::cout << "probe noise \"estimate\": " << noise.probe << " mm, " << noise.source
+                    << "\n";
       }
       return evaluation.identifiable() ? 0 : 1;
     };

@@ -203,8 +203,6 @@ void addReportCommand(CLI::App& app, Action& action) {
       const nlohmann::json document = readJsonFile(args->plan);
       const Plan plan = parsePlan(document, args->plan);
       for (const std::string& warning : plan.warnings) std::cerr << "warning: " << warning << "\n";
-      const Evaluation evaluation = evaluatePlan(plan, {args->rank_tolerance, args->profile_steps});
-      const nlohmann::json evaluation_json = evaluationToJson(plan, evaluation);
       std::optional<nlohmann::json> calibration_json;
       std::optional<bool> converged;
       std::optional<Calibration> calibration;
@@ -221,11 +219,21 @@ void addReportCommand(CLI::App& app, Action& action) {
         converged = calibration->summary.converged();
       }
       const Plan& calibrated = decided ? *decided : plan;
+      // The tip map and the predictions with the noise the calibration estimated ("estimate"),
+      // or the plan's starting value where its readings cannot tell (predictionNoise).
+      Plan predicted = plan;
+      if (plan.noise.estimate_probe) {
+        const CalibrationRun run{calibration ? *calibration : Calibration{}, calibrated};
+        predicted.noise.probe = predictionNoise(plan, calibration ? &run : nullptr).probe;
+      }
+      const Evaluation evaluation =
+          evaluatePlan(predicted, {args->rank_tolerance, args->profile_steps});
+      const nlohmann::json evaluation_json = evaluationToJson(predicted, evaluation);
       std::optional<nlohmann::json> held_out_json;
       if (!args->held_out.empty())
         held_out_json = heldOutStations(args->held_out, calibrated, *calibration);
       // The plan's acceptance test, predicted by src/acceptance; the report reads it.
-      const std::optional<PlanAcceptance> acceptance = predictPlanAcceptance(plan, evaluation);
+      const std::optional<PlanAcceptance> acceptance = predictPlanAcceptance(predicted, evaluation);
       std::optional<nlohmann::json> acceptance_json;
       if (acceptance) acceptance_json = planAcceptanceToJson(*acceptance);
       std::string no_procedure;

@@ -515,6 +515,37 @@ CalibrationRun calibrateReadings(const Plan& given, const CalibrationOptions& op
   return withModelChoice(std::move(run), options);
 }
 
+PredictionNoise predictionNoise(const Plan& plan, const CalibrationRun* run) {
+  PredictionNoise out{plan.noise.probe, false, "stated"};
+  if (!plan.noise.estimate_probe) return out;
+  out.source = "the starting value";
+  std::optional<CalibrationRun> own;
+  if (!run) {
+    try {
+      own.emplace(calibrateReadings(plan));
+    } catch (const InputError& e) {
+      out.source += " (the readings cannot be calibrated: " + std::string(e.what()) + ")";
+      return out;
+    } catch (const std::exception& e) {
+      out.source += " (the calibration failed: " + std::string(e.what()) + ")";
+      return out;
+    }
+    run = &*own;
+  }
+  const Calibration& c = run->calibration;
+  if (!c.summary.converged()) {
+    out.source += " (the calibration of the readings did not converge)";
+  } else if (!c.noise_estimate || c.noise_estimate->probe <= kProbeNoiseFloor) {
+    out.source +=
+        " (the readings fit the model to rounding: planned readings, nothing to estimate)";
+  } else {
+    out.probe = c.noise_estimate->probe;
+    out.estimated = true;
+    out.source = "estimated by calibrating the plan's readings";
+  }
+  return out;
+}
+
 std::vector<std::string> countRepeatsOnce(std::vector<Placement>& placements) {
   std::vector<std::string> out;
   for (std::size_t j = 0; j < placements.size(); ++j) {

@@ -84,10 +84,15 @@ struct RowRange {
 };
 
 // Expected squared deviations of the held-out readings (header), summed over their rows `held_rows`
-// (with V_p, without); the station fitted on the fit readings' points (their first d rows).
+// (with V_p, without); the station fitted on the fit readings' points (their first d rows). With
+// `held_are_fit` the held-out readings are the fit's own, in its order (a station re-registered on
+// the readings it scores): a reading's deviation d_i = e_i - A_i K e_s then shares its own error
+// with the fit, E|d_i|^2 = tr Sigma_i - 2 tr(A_i K Cov(e_s, e_i)) + tr(A_i K Sigma_s K^T A_i^T),
+// the fit's share taken off (about (n - 6) / n of the noise over n readings of a 3-D point, where
+// the formula for independent readings would add 6 / n).
 double expectedSquares(const std::vector<ReadingLinearization>& fit,
                        const std::vector<ReadingLinearization>& held, const Eigen::MatrixXd* V,
-                       int d, RowRange held_rows) {
+                       int d, RowRange held_rows, bool held_are_fit) {
   const int n_r = static_cast<int>(fit.front().A.cols());
   const int n_s = static_cast<int>(fit.size());
   Eigen::MatrixXd A_s(d * n_s, n_r), J_s(d * n_s, fit.front().J.cols());
@@ -103,9 +108,14 @@ double expectedSquares(const std::vector<ReadingLinearization>& fit,
   const Eigen::MatrixXd KJ = K * J_s, KSK = K * Sigma_s * K.transpose();
   double total = 0.0;
   const int first = held_rows.first, count = held_rows.count;
-  for (const ReadingLinearization& r : held) {
+  for (std::size_t k = 0; k < held.size(); ++k) {
+    const ReadingLinearization& r = held[k];
     const Eigen::MatrixXd A = r.A.middleRows(first, count);
     total += r.Sigma.block(first, first, count, count).trace() + (A * KSK * A.transpose()).trace();
+    if (held_are_fit) {  // Cov(e_s, e_i): reading k's point rows against its rows held_rows
+      const Eigen::MatrixXd shared = r.Sigma.block(0, first, d, count);
+      total -= 2.0 * (A * K.middleCols(d * static_cast<Eigen::Index>(k), d) * shared).trace();
+    }
     if (V) {
       const Eigen::MatrixXd G = r.J.middleRows(first, count) - A * KJ;
       total += (G * (*V) * G.transpose()).trace();
@@ -198,7 +208,7 @@ StationVerification verifyStation(const Plan& plan, std::size_t j, const Eigen::
   summarize(deviations, station.summary);
   points.deviations.insert(points.deviations.end(), deviations.begin(), deviations.end());
   if (held_lin.empty()) return station;
-  const double expected = expectedSquares(fit_lin, held_lin, V, d, {0, d});
+  const double expected = expectedSquares(fit_lin, held_lin, V, d, {0, d}, !marked);
   points.expected += expected;
   addPrediction(station.summary, expected, held_lin.size(), 1.0);
   if (instrument.measures_pose) {
@@ -207,7 +217,7 @@ StationVerification verifyStation(const Plan& plan, std::size_t j, const Eigen::
     station.angular.emplace();
     summarize(angular, *station.angular);
     angles.deviations.insert(angles.deviations.end(), angular.begin(), angular.end());
-    const double expected_angles = expectedSquares(fit_lin, held_lin, V, d, {d, 3});
+    const double expected_angles = expectedSquares(fit_lin, held_lin, V, d, {d, 3}, !marked);
     angles.expected += expected_angles;
     addPrediction(*station.angular, expected_angles, held_lin.size(), radToDeg(1.0));
   }

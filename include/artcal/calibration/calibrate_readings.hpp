@@ -59,6 +59,18 @@ struct CalibrationRun {
 /// the last of which is the result's `decided`; a calibrator's plan never changes under it.
 CalibrationRun calibrateReadings(const Plan& plan, const CalibrationOptions& options = {});
 
+/// The probe noise `evaluate` and `report` predict with (issue 43): a stated one as stated; for a
+/// plan that says `"probe": "estimate"`, the estimate of the calibration of its own readings
+/// (`run`, or calibrated here when null) where they are measured, else the starting value, with
+/// the reason in `source` (planned readings fit to rounding; the fit did not converge; readings
+/// without their measured points).
+struct PredictionNoise {
+  double probe = 0.0;      ///< mm
+  bool estimated = false;  ///< the calibration's estimate
+  std::string source;      ///< in words, for the table and the JSON
+};
+PredictionNoise predictionNoise(const Plan& plan, const CalibrationRun* run = nullptr);
+
 /// Readings repeated bit for bit counted once (`calibrate --repeats once`, docs/hardening.md): in
 /// each placement every copy of an earlier reading (the same feature, tip, joints and measured
 /// point or pose) is removed. Returns one line per placement that had copies, naming how many.
