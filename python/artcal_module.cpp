@@ -281,15 +281,18 @@ py::dict tipPerConfiguration(const Plan& plan, const Evaluation& evaluation) {
 py::tuple evaluate(const PyPlan& p, double rank_tolerance, int profile_steps,
                    bool per_configuration) {
   noteInput(p.source);
-  const Plan& plan = p.plan;
   if (profile_steps < 2 || profile_steps > 10000)
     throw std::invalid_argument("--profile-steps: expected 2 to 10000");
-  const auto [evaluation, document] = withoutGil([&] {
-    Evaluation ev = evaluatePlan(plan, {rank_tolerance, profile_steps});
-    json out = evaluationToJson(plan, ev);
-    out.update(cartesianAnswersToJson(plan, cartesianAnswers(plan, &ev)));
+  // As `artcal evaluate --json`: "estimate" evaluated with the noise the readings tell.
+  const auto [noised, document] = withoutGil([&] {
+    NoisedEvaluation ev = evaluateWithPredictionNoise(p.plan, {rank_tolerance, profile_steps});
+    json out = evaluationToJson(ev.plan, ev.evaluation);
+    out.update(cartesianAnswersToJson(ev.plan, cartesianAnswers(ev.plan, &ev.evaluation)));
+    out["probe_noise"] = predictionNoiseToJson(ev.noise.probe, ev.noise.estimated, ev.noise.source);
     return std::make_pair(std::move(ev), std::move(out));
   });
+  const Plan& plan = noised.plan;
+  const Evaluation& evaluation = noised.evaluation;
   py::object covariance = py::none();
   if (evaluation.covariance)
     covariance = toPython(covarianceToJson(plan.machine, evaluation.covariance->V, 0.0));

@@ -77,19 +77,17 @@ void addEvaluateCommand(CLI::App& app, Action& action) {
       ->capture_default_str();
   cmd->callback([&action, args] {
     action = [args] {
-      Plan plan = loadPlanReporting(args->plan);
       // "estimate": the noise the readings tell where they are measured (predictionNoise).
-      const PredictionNoise noise = predictionNoise(plan);
-      plan.noise.probe = noise.probe;
-      const Evaluation evaluation = evaluatePlan(plan, {args->rank_tolerance, args->profile_steps});
+      const NoisedEvaluation noised = evaluateWithPredictionNoise(
+          loadPlanReporting(args->plan), {args->rank_tolerance, args->profile_steps});
+      const Plan& plan = noised.plan;
+      const Evaluation& evaluation = noised.evaluation;
+      const PredictionNoise& noise = noised.noise;
       const CartesianAnswers cmm = cartesianAnswers(plan, &evaluation);
       if (args->json) {
         nlohmann::json out = evaluationToJson(plan, evaluation);
         out.update(cartesianAnswersToJson(plan, cmm));
-        out["probe_noise"] = {{"value", noise.probe},
-                              {"unit", "mm"},
-                              {"estimated", noise.estimated},
-                              {"source", noise.source}};
+        out["probe_noise"] = predictionNoiseToJson(noise.probe, noise.estimated, noise.source);
         printJson(out);
       } else {
         std::cout << evaluationTable(plan, evaluation) << cartesianAnswersTable(plan, cmm);

@@ -546,6 +546,13 @@ PredictionNoise predictionNoise(const Plan& plan, const CalibrationRun* run) {
   return out;
 }
 
+NoisedEvaluation evaluateWithPredictionNoise(const Plan& plan, const EvaluateOptions& options) {
+  NoisedEvaluation out{plan, {}, predictionNoise(plan)};
+  out.plan.noise.probe = out.noise.probe;
+  out.evaluation = evaluatePlan(out.plan, options);
+  return out;
+}
+
 std::vector<std::string> countRepeatsOnce(std::vector<Placement>& placements) {
   std::vector<std::string> out;
   for (std::size_t j = 0; j < placements.size(); ++j) {

@@ -1,6 +1,7 @@
 #include "artcal/estimation/consistent_readings.hpp"
 
 #include <Eigen/Cholesky>
+#include <exception>
 #include <set>
 
 #include "artcal/estimation/design_matrix.hpp"
@@ -25,29 +26,38 @@ bool poseFittedToReadings(const Artifact& artifact, const Placement& placement) 
 }
 
 // One reading moved to consistency at (p, pose): the minimum-norm Gauss-Newton steps in q;
-// whether it moved (its misfit above kAlreadyConsistent).
+// whether it moved (its misfit above kAlreadyConsistent). A reading whose steps do not lower its
+// misfit (far from consistency, or whose forward kinematics fails on the way: a hexapod's
+// numerical one) stays as it is: the verdict is then that of the reading as measured.
 bool makeConsistent(const DesignMatrixBuilder& builder, const Artifact& artifact,
                     const Eigen::VectorXd& p, const RigidTransform& pose, const Eigen::VectorXd& c,
                     Measurement& reading) {
   std::vector<Measurement> one{reading};
   std::vector<ReadingMisfit> misfit;
   std::vector<Eigen::MatrixXd> jacobian;
-  for (int step = 0; step < kMaxSteps; ++step) {
-    misfit.clear();
-    jacobian.clear();
-    builder.misfits(artifact, one, p, pose, c, misfit, &jacobian);
-    const Eigen::VectorXd e = misfit.front().residual;
-    if (!e.allFinite()) break;
-    const double size = e.lpNorm<Eigen::Infinity>();
-    if (step == 0 && size <= kAlreadyConsistent) return false;
-    if (size <= kConsistent) break;
-    const Eigen::MatrixXd& J = jacobian.front();
-    Eigen::MatrixXd JJt = J * J.transpose();
-    JJt.diagonal().array() += kDamping * JJt.trace() + 1e-300;
-    const Eigen::VectorXd dq = -J.transpose() * JJt.ldlt().solve(e);
-    if (!dq.allFinite()) break;
-    one.front().joints += dq;
+  double first = 0.0, last = 0.0;
+  try {
+    for (int step = 0; step < kMaxSteps; ++step) {
+      misfit.clear();
+      jacobian.clear();
+      builder.misfits(artifact, one, p, pose, c, misfit, &jacobian);
+      const Eigen::VectorXd e = misfit.front().residual;
+      if (!e.allFinite()) return false;
+      last = e.lpNorm<Eigen::Infinity>();
+      if (step == 0) first = last;
+      if (step == 0 && last <= kAlreadyConsistent) return false;
+      if (last <= kConsistent) break;
+      const Eigen::MatrixXd& J = jacobian.front();
+      Eigen::MatrixXd JJt = J * J.transpose();
+      JJt.diagonal().array() += kDamping * JJt.trace() + 1e-300;
+      const Eigen::VectorXd dq = -J.transpose() * JJt.ldlt().solve(e);
+      if (!dq.allFinite()) return false;
+      one.front().joints += dq;
+    }
+  } catch (const std::exception&) {
+    return false;
   }
+  if (!(last < first)) return false;
   reading.joints = one.front().joints;
   return true;
 }

@@ -38,6 +38,11 @@ json countingToJson(const CountingCondition& counting) {
   return out;
 }
 
+json predictionNoiseToJson(double value, bool estimated, const std::string& source) {
+  return {
+      {"value", finiteOrNull(value)}, {"unit", "mm"}, {"estimated", estimated}, {"source", source}};
+}
+
 json calibrateSelectionToJson(const Plan& plan) {
   json out = json::object();
   if (!plan.calibrate_resolution) return out;

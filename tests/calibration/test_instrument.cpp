@@ -174,6 +174,33 @@ TEST(Instrument, VerifyHeldOutStationsAgainstThePrediction) {
   EXPECT_GT(nominal.all.rms, 2.0 * v.all.rms);
 }
 
+// Readings of the nominal machine of `plan` simulated 400 times with its noise (trial seeds of
+// `seed`), `mark` applied to each trial's placements, each verified at nominal: the mean of the
+// observed squared deviations (over `count` held-out readings) is `predicted2` within 4 of its
+// standard errors (from the trials' spread).
+template <typename Mark>
+void expectMonteCarloMeanSquare(const Plan& plan, std::uint64_t seed, Mark mark, int count,
+                                double predicted2) {
+  const Simulator simulator(plan);
+  constexpr int kTrials = 400;
+  double sum = 0.0, sum2 = 0.0;
+  for (int t = 0; t < kTrials; ++t) {
+    NormalSource normal(trialSeed(seed, static_cast<std::uint64_t>(t)));
+    Plan trial = plan;
+    trial.placements = simulator.simulate(plan.machine.nominal, normal).placements;
+    mark(trial.placements);
+    const StationsVerification v = verifyStations(trial, plan.machine.nominal, std::nullopt);
+    ASSERT_EQ(v.all.count, count);
+    const double mean_square = v.all.rms * v.all.rms;
+    sum += mean_square;
+    sum2 += mean_square * mean_square;
+  }
+  const double mean = sum / kTrials;
+  const double standard_error = std::sqrt((sum2 / kTrials - mean * mean) / (kTrials - 1));
+  EXPECT_NEAR(mean, predicted2, 4.0 * standard_error)
+      << "observed mean square " << mean << " mm^2, predicted " << predicted2 << " mm^2";
+}
+
 // The predicted RMS of held-out readings against a Monte-Carlo of the verification itself (fixed
 // seeds): readings of the nominal machine simulated 400 times with the plan's noise, each station
 // fitted on only 4 readings (the fit's own noise then adds about a third to the held-out mean
@@ -191,24 +218,7 @@ TEST(Instrument, PredictedRmsOfHeldOutReadingsAgreesWithAMonteCarloOfTheStationF
   const StationsVerification planned = verifyStations(plan, plan.machine.nominal, std::nullopt);
   const double predicted2 = planned.all.predicted_rms * planned.all.predicted_rms;
   ASSERT_GT(predicted2, 0.0);
-  const Simulator simulator(plan);
-  constexpr int kTrials = 400;
-  double sum = 0.0, sum2 = 0.0;
-  for (int t = 0; t < kTrials; ++t) {
-    NormalSource normal(trialSeed(43, static_cast<std::uint64_t>(t)));
-    Plan trial = plan;
-    trial.placements = simulator.simulate(plan.machine.nominal, normal).placements;
-    mark(trial.placements);
-    const StationsVerification v = verifyStations(trial, plan.machine.nominal, std::nullopt);
-    ASSERT_EQ(v.all.count, 2 * (25 - static_cast<int>(kStationing)));
-    const double mean_square = v.all.rms * v.all.rms;
-    sum += mean_square;
-    sum2 += mean_square * mean_square;
-  }
-  const double mean = sum / kTrials;
-  const double standard_error = std::sqrt((sum2 / kTrials - mean * mean) / (kTrials - 1));
-  EXPECT_NEAR(mean, predicted2, 4.0 * standard_error)
-      << "observed mean square " << mean << " mm^2, predicted " << predicted2 << " mm^2";
+  expectMonteCarloMeanSquare(plan, 43, mark, 2 * (25 - static_cast<int>(kStationing)), predicted2);
 }
 
 // The same Monte-Carlo with each station re-registered on the very readings it scores (no reading
@@ -221,23 +231,8 @@ TEST(Instrument, PredictedRmsOfReadingsRegisteredOnThemselvesAgreesWithAMonteCar
   const StationsVerification planned = verifyStations(plan, plan.machine.nominal, std::nullopt);
   const double predicted2 = planned.all.predicted_rms * planned.all.predicted_rms;
   ASSERT_GT(predicted2, 0.0);
-  const Simulator simulator(plan);
-  constexpr int kTrials = 400;
-  double sum = 0.0, sum2 = 0.0;
-  for (int t = 0; t < kTrials; ++t) {
-    NormalSource normal(trialSeed(47, static_cast<std::uint64_t>(t)));
-    Plan trial = plan;
-    trial.placements = simulator.simulate(plan.machine.nominal, normal).placements;
-    const StationsVerification v = verifyStations(trial, plan.machine.nominal, std::nullopt);
-    ASSERT_EQ(v.all.count, 2 * 25);
-    const double mean_square = v.all.rms * v.all.rms;
-    sum += mean_square;
-    sum2 += mean_square * mean_square;
-  }
-  const double mean = sum / kTrials;
-  const double standard_error = std::sqrt((sum2 / kTrials - mean * mean) / (kTrials - 1));
-  EXPECT_NEAR(mean, predicted2, 4.0 * standard_error)
-      << "observed mean square " << mean << " mm^2, predicted " << predicted2 << " mm^2";
+  expectMonteCarloMeanSquare(
+      plan, 47, [](std::vector<Placement>&) {}, 2 * 25, predicted2);
 }
 
 // The command line: a collinear station is exit 2 with one line naming it; verify of the

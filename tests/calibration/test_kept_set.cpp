@@ -21,6 +21,7 @@
 #include "artcal/core/units.hpp"
 #include "artcal/io/plan_io.hpp"
 #include "cli_runner.hpp"
+#include "plan_builders.hpp"
 #include "temp_folder.hpp"
 #include "test_paths.hpp"
 
@@ -141,13 +142,8 @@ Eigen::VectorXd toolTruth(const Plan& plan, std::uint64_t seed) {
 }
 
 /// The plan `document` with readings of the machine `truth` (noise seed), parsed as measured.
-Plan measuredPlan(json document, const Eigen::VectorXd& truth, std::uint64_t seed) {
-  const Plan planned = parsePlan(document, "planned.json");
-  NormalSource normal(seed);
-  Plan simulated = planned;
-  simulated.placements = Simulator(planned, {}).simulate(truth, normal).placements;
-  document["placements"] = placementsToJson(simulated);
-  return parsePlan(document, "measured.json");
+Plan measuredPlan(const json& document, const Eigen::VectorXd& truth, std::uint64_t seed) {
+  return testing::simulatedDocumentPlan(document, truth, seed);
 }
 
 /// The largest distance (mm) between the calibrated and the true tip over `configurations`, the

@@ -23,6 +23,7 @@
 #include "artcal/io/plan_io.hpp"
 #include "artcal/report/calibration_report.hpp"
 #include "cli_runner.hpp"
+#include "plan_builders.hpp"
 #include "temp_folder.hpp"
 #include "test_paths.hpp"
 
@@ -55,13 +56,8 @@ Eigen::VectorXd offNominal(const Plan& plan) {
 }
 
 /// `document` with its readings simulated by the machine `truth` (seed), parsed again.
-Plan simulatedPlan(json document, const Eigen::VectorXd& truth, std::uint64_t seed) {
-  const Plan plan = parsePlan(document, "planned.json");
-  NormalSource normal(seed);
-  Plan simulated = plan;
-  simulated.placements = Simulator(plan, {}).simulate(truth, normal).placements;
-  document["placements"] = placementsToJson(simulated);
-  return parsePlan(document, "simulated.json");
+Plan simulatedPlan(const json& document, const Eigen::VectorXd& truth, std::uint64_t seed) {
+  return testing::simulatedDocumentPlan(document, truth, seed);
 }
 
 /// The fraction of parameter `index`'s information that survives the elimination of each

@@ -160,4 +160,16 @@ inline nlohmann::json poseTrackerDocument() {
   return document;
 }
 
+/// The plan `document` with its readings simulated by the machine `truth` (full parameter vector,
+/// noise seed `seed`), parsed again as a plan of measured readings would be.
+inline Plan simulatedDocumentPlan(nlohmann::json document, const Eigen::VectorXd& truth,
+                                  std::uint64_t seed) {
+  const Plan planned = parsePlan(document, "planned.json");
+  NormalSource normal(seed);
+  Plan simulated = planned;
+  simulated.placements = Simulator(planned, {}).simulate(truth, normal).placements;
+  document["placements"] = placementsToJson(simulated);
+  return parsePlan(document, "simulated.json");
+}
+
 }  // namespace artcal::testing

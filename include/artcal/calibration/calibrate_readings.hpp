@@ -23,6 +23,7 @@
 #include <Eigen/Core>
 
 #include "artcal/calibration/calibrator.hpp"
+#include "artcal/estimation/evaluator.hpp"
 #include "artcal/plan/plan.hpp"
 
 namespace artcal {
@@ -70,6 +71,15 @@ struct PredictionNoise {
   std::string source;      ///< in words, for the table and the JSON
 };
 PredictionNoise predictionNoise(const Plan& plan, const CalibrationRun* run = nullptr);
+
+/// `evaluate` as the command line and Python run it: the plan with its prediction noise
+/// (predictionNoise), evaluated.
+struct NoisedEvaluation {
+  Plan plan;  ///< the plan evaluated: the given one, its probe noise the prediction noise
+  Evaluation evaluation;
+  PredictionNoise noise;
+};
+NoisedEvaluation evaluateWithPredictionNoise(const Plan& plan, const EvaluateOptions& options);
 
 /// Readings repeated bit for bit counted once (`calibrate --repeats once`, docs/hardening.md): in
 /// each placement every copy of an earlier reading (the same feature, tip, joints and measured

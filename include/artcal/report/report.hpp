@@ -27,6 +27,9 @@ nlohmann::json calibrateSelectionToJson(const Plan& plan);
 nlohmann::json tipToJson(const Machine& machine, const TipSummary& tip,
                          const std::vector<Eigen::VectorXd>& workspace);
 nlohmann::json evaluationToJson(const Plan& plan, const Evaluation& evaluation);
+/// The probe noise a prediction used (calibration/calibrate_readings.hpp, PredictionNoise):
+/// {"value", "unit": "mm", "estimated", "source"}.
+nlohmann::json predictionNoiseToJson(double value, bool estimated, const std::string& source);
 
 std::string identifiabilityTable(const Plan& plan, const Identifiability& identifiability);
 std::string evaluationTable(const Plan& plan, const Evaluation& evaluation);
