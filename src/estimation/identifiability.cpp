@@ -5,6 +5,7 @@
 #include "artcal/estimation/evaluator.hpp"
 #include "artcal/estimation/normal_matrix.hpp"
 
+#include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
 #include <limits>

@@ -1382,7 +1382,10 @@ std::optional<std::string> placementTip(const ReadingsImport& import,
 void checkTipOf(const ReadingsImport& import, const std::vector<std::string>& tips,
                 const std::vector<PlacementSource>& sources, std::vector<std::string>& notes) {
   std::map<std::string, std::string> chosen;
-  for (const auto& [placement, tip] : import.tip_of) {
+  for (const auto& entry : import.tip_of) {
+    // Named, not bound: a lambda below reads the placement (clang 14 captures no binding).
+    const std::string& placement = entry.first;
+    const std::string& tip = entry.second;
     const std::string given = placement + "=" + tip;
     if (std::none_of(sources.begin(), sources.end(),
                      [&](const PlacementSource& s) { return s.name == placement; }))
