@@ -10,6 +10,9 @@ mean over its held-out positions, the last line the mean over the folds.
 
 usage: tools/mukca_figures.py ARTCAL ROBOT {one,loo,POSITION} [--json]
          [--data DIR --urdf URDF --base LINK [--tip LINK] [--ball-bar MM] [--leave-out P ...]]
+  The last columns: held-out spread RMS observed / predicted (verify's total, with the unmodelled
+  error the calibration estimated by cross-validation; and without it), pooled over the held-out
+  positions as sqrt(sum observed^2 / sum predicted^2).
   one: trained on each position alone, the others held out; loo: each position held out,
   trained on the others; POSITION: trained on that position alone. ROBOT is a folder of DIR
   (default: the copied MUKCa data, where panda_2 and dinova_1 need no more options; the Panda's
@@ -94,15 +97,38 @@ def measure(artcal, setup, mode, folder):
                 "termination": calibration["termination"],
                 "iterations": calibration["iterations"],
                 "kept": len(calibration["parameters"]),
-                "calibrated": dict.fromkeys(FIGURES, 0.0), "nominal": dict.fromkeys(FIGURES, 0.0)}
+                "calibrated": dict.fromkeys(FIGURES, 0.0), "nominal": dict.fromkeys(FIGURES, 0.0),
+                "spread_rms_squares": {"observed": 0.0, "predicted": 0.0, "without_unmodelled": 0.0}}
         for position in held_out:
             verify = json.loads(run(artcal, "verify", plans.of([position]), "--json",
                                     "--machine", machine).stdout)["verify"]
             for figure in FIGURES:
                 fold["calibrated"][figure] += verify[figure] / len(held_out)
                 fold["nominal"][figure] += verify["nominal"][figure] / len(held_out)
+            squares = fold["spread_rms_squares"]
+            squares["observed"] += verify["spread_rms"] ** 2
+            squares["predicted"] += predicted_spread_rms(verify) ** 2
+            squares["without_unmodelled"] += predicted_spread_rms(verify, False) ** 2
         out.append(fold)
     return out
+
+
+def predicted_spread_rms(verify, with_unmodelled=True):
+    """verify's prediction of the held-out spread RMS: with the unmodelled error the calibration
+    estimated (its total), or without it the posterior one (readings that scatter as the
+    training's), else the stated noise's."""
+    names = ("predicted_spread_rms_posterior", "predicted_spread_rms")
+    for name in (("predicted_spread_rms_total",) if with_unmodelled else ()) + names:
+        if verify.get(name):
+            return verify[name]
+    return 0.0
+
+
+def observed_over_predicted(folds, prediction="predicted"):
+    """sqrt(sum observed spread_rms^2 / sum predicted^2) over the held-out positions."""
+    observed = sum(f["spread_rms_squares"]["observed"] for f in folds)
+    predicted = sum(f["spread_rms_squares"][prediction] for f in folds)
+    return (observed / predicted) ** 0.5 if predicted > 0 else 0.0
 
 
 def triple(figures):
@@ -140,20 +166,26 @@ def main():
     mean = {side: {f: sum(r[side][f] for r in result) / len(result) for f in FIGURES}
             for side in ("calibrated", "nominal")}
     if args.json:
-        json.dump({"robot": args.robot, "mode": args.mode, "folds": result, "mean": mean},
+        json.dump({"robot": args.robot, "mode": args.mode, "folds": result, "mean": mean,
+                   "observed_over_predicted_spread_rms": observed_over_predicted(result),
+                   "observed_over_predicted_without_unmodelled":
+                       observed_over_predicted(result, "without_unmodelled")},
                   sys.stdout, indent=1)
         print()
         return
     print(f"{args.robot}, {args.mode}: held-out MAE / RMS / distance error, mm")
     print(f"{'trained on':40s} {'termination':12s} {'its':>4s} {'kept':>4s}  "
-          f"{'nominal':>19s}  {'calibrated':>19s}")
+          f"{'nominal':>19s}  {'calibrated':>19s}  {'obs/pred':>8s} {'w/o s_u':>8s}")
     for r in result:
         label = r["training"][0] if len(r["training"]) == 1 else "all but " + "+".join(
             r["held_out"])
         print(f"{label[:40]:40s} {r['termination']:12s} {r['iterations']:4d} "
-              f"{r['kept']:4d}  {triple(r['nominal']):>19s}  {triple(r['calibrated']):>19s}")
+              f"{r['kept']:4d}  {triple(r['nominal']):>19s}  {triple(r['calibrated']):>19s}  "
+              f"{observed_over_predicted([r]):8.2f} "
+              f"{observed_over_predicted([r], 'without_unmodelled'):8.2f}")
     print(f"{'mean':40s} {'':12s} {'':4s} {'':4s}  {triple(mean['nominal']):>19s}  "
-          f"{triple(mean['calibrated']):>19s}")
+          f"{triple(mean['calibrated']):>19s}  {observed_over_predicted(result):8.2f} "
+          f"{observed_over_predicted(result, 'without_unmodelled'):8.2f}")
 
 
 if __name__ == "__main__":

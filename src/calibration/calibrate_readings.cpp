@@ -502,17 +502,29 @@ CalibrationRun withModelChoice(CalibrationRun run, const CalibrationOptions& opt
   return run;
 }
 
+// The unmodelled error by cross-validation (unmodelled_error.hpp), on readings that are measured
+// (not consistent to rounding) and a fit that converged with degrees of freedom to spare.
+CalibrationRun withUnmodelledError(CalibrationRun run, const CalibrationOptions& options) {
+  const Calibration& c = run.calibration;
+  if (!options.cross_validation || !c.summary.converged() || c.dof <= 0 ||
+      c.chi2_per_dof < kRoundingChi2PerDof || !c.covariance)
+    return run;
+  run.calibration.unmodelled = estimateUnmodelledError(run, options);
+  return run;
+}
+
 }  // namespace
 
 CalibrationRun calibrateReadings(const Plan& given, const CalibrationOptions& options) {
   requireMeasuredPoints(given);
   CalibrationRun run = calibrateAsListed(given, options);
-  if (!given.machine.calibrate_identifiable || !given.calibrate_resolution) return run;
+  if (!given.machine.calibrate_identifiable || !given.calibrate_resolution)
+    return withUnmodelledError(std::move(run), options);
   // A fit whose corrections are flagged is searched for a plausible minimum from the plan as
   // given (plausible_minimum.hpp); the kept set is then judged held out on the minimum taken.
   run = choosePlausibleMinimum(
       given, std::move(run), [&](const Plan& trial) { return calibrateAsListed(trial, options); });
-  return withModelChoice(std::move(run), options);
+  return withUnmodelledError(withModelChoice(std::move(run), options), options);
 }
 
 PredictionNoise predictionNoise(const Plan& plan, const CalibrationRun* run) {

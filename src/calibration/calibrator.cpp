@@ -53,7 +53,8 @@ double Calibration::birgeRatio() const {
 std::optional<ParameterUncertainty> Calibration::uncertainty(const Machine& machine) const {
   if (!covariance) return std::nullopt;
   return ParameterUncertainty{machine.calibrated, covariance->V, birgeRatio(),
-                              noise_estimate ? noise_estimate->probe : 0.0};
+                              noise_estimate ? noise_estimate->probe : 0.0,
+                              unmodelled ? unmodelled->sigma : 0.0};
 }
 
 Calibrator::Calibrator(const Plan& plan, const CalibrationOptions& options)

@@ -124,47 +124,111 @@ double expectedSquares(const std::vector<ReadingLinearization>& fit,
   return total;
 }
 
+/// The readings' linearisations with Sigma = I on their point rows and 0 elsewhere: expectedSquares
+/// of them without V_p is the unmodelled error's E|d|^2 per unit s_u^2 (verification.hpp).
+std::vector<ReadingLinearization> withUnitPointVariance(std::vector<ReadingLinearization> rows,
+                                                        int d) {
+  for (ReadingLinearization& r : rows) {
+    r.Sigma.setZero();
+    r.Sigma.topLeftCorner(d, d).setIdentity();
+  }
+  return rows;
+}
+
 /// A deviation kind's figures of one station, and the sums `all` is made of.
 struct DeviationTally {
   std::vector<double> deviations;
-  double expected = 0.0;  ///< summed expected squares
+  double expected = 0.0;    ///< summed expected squares (V_p and the noise)
+  double unmodelled = 0.0;  ///< summed expected squares of the unmodelled error
 };
 
 void addPrediction(DeviationSummary& summary, double expected, std::size_t count, double scale) {
   if (count > 0) summary.predicted_rms = scale * std::sqrt(expected / static_cast<double>(count));
 }
 
+void addUnmodelled(DeviationSummary& summary, double unmodelled, std::size_t count) {
+  if (count > 0)
+    summary.predicted_rms_unmodelled = std::sqrt(unmodelled / static_cast<double>(count));
+}
+
+// The posterior prediction (the Birge ratio's scaling of V_p and the noise, not of the unmodelled
+// error) and the total.
+void scalePosterior(DeviationSummary& s, double birge) {
+  if (birge > 0.0) s.predicted_rms_posterior = birge * s.predicted_rms;
+  const double base = basePrediction(s.predicted_rms, s.predicted_rms_posterior);
+  if (base > 0.0 || s.predicted_rms_unmodelled > 0.0)
+    s.predicted_rms_total = predictedTotal(base, s.predicted_rms_unmodelled);
+}
+
+// In the calibration's frame (header): E|d_i|^2 = tr(J_i V_p J_i^T) + tr Sigma_i, no fit.
+double inFrameSquares(const ReadingLinearization& r, const Eigen::MatrixXd* V, RowRange rows) {
+  double total = r.Sigma.block(rows.first, rows.first, rows.count, rows.count).trace();
+  if (V && r.J.cols() > 0) {
+    const Eigen::MatrixXd J = r.J.middleRows(rows.first, rows.count);
+    total += (J * (*V) * J.transpose()).trace();
+  }
+  return total;
+}
+
+/// The sums of an in-frame scoring: its predictions, summed over readings, to pool stations.
+struct InFrameTally {
+  double expected = 0.0, unmodelled = 0.0, expected_angles = 0.0;
+};
+
 /// One instrument placement: the station fitted, its held-out deviations (points, and a pose's
 /// angles in `angular`) and their predictions.
 /// The held-out readings of `station` scored with the calibration's `frame` as it is.
 InFrameDeviations inFrame(const Plan& plan, const Placement& placement,
                           const StationVerification& station, const CalibrationFrame& frame,
-                          const Eigen::VectorXd& p) {
+                          const Eigen::VectorXd& p,
+                          const std::optional<ParameterUncertainty>& uncertainty,
+                          InFrameTally& tally) {
   const Artifact& instrument = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
+  const int d = instrument.dimension;
+  const std::vector<int> no_indices;
+  const std::vector<int>& indices = uncertainty ? uncertainty->indices : no_indices;
+  const Eigen::MatrixXd* V = uncertainty ? &uncertainty->V : nullptr;
+  const double unmodelled = uncertainty ? uncertainty->unmodelled : 0.0;
   InFrameDeviations out;
   out.frame_of = frame.placement;
   std::vector<double> deviations, angular;
+  double expected = 0.0, expected_angles = 0.0;
   for (int i : station.held_out) {
     const Measurement& m = placement.measurements[static_cast<std::size_t>(i)];
-    const ReadingLinearization r = linearize(plan, instrument, m, p, frame.pose, {});
+    const ReadingLinearization r = linearize(plan, instrument, m, p, frame.pose, indices);
     deviations.push_back((m.point - r.W).norm());
     angular.push_back(radToDeg(r.e.norm()));
+    expected += inFrameSquares(r, V, {0, d});
+    if (instrument.measures_pose) expected_angles += inFrameSquares(r, V, {d, 3});
   }
   out.deviations =
       Eigen::Map<Eigen::VectorXd>(deviations.data(), static_cast<Eigen::Index>(deviations.size()));
   summarize(deviations, out.summary);
+  const double unmodelled_sum =
+      d * unmodelled * unmodelled * static_cast<double>(deviations.size());
+  if (uncertainty) {
+    addPrediction(out.summary, expected, deviations.size(), 1.0);
+    addUnmodelled(out.summary, unmodelled_sum, deviations.size());
+    tally.expected += expected;
+    tally.unmodelled += unmodelled_sum;
+  }
   if (instrument.measures_pose) {
     out.angular_deviations =
         Eigen::Map<Eigen::VectorXd>(angular.data(), static_cast<Eigen::Index>(angular.size()));
     out.angular.emplace();
     summarize(angular, *out.angular);
+    if (uncertainty) {
+      addPrediction(*out.angular, expected_angles, angular.size(), radToDeg(1.0));
+      tally.expected_angles += expected_angles;
+    }
   }
   return out;
 }
 
 StationVerification verifyStation(const Plan& plan, std::size_t j, const Eigen::VectorXd& p,
                                   const std::vector<int>& indices, const Eigen::MatrixXd* V,
-                                  DeviationTally& points, DeviationTally& angles) {
+                                  double unmodelled, DeviationTally& points,
+                                  DeviationTally& angles) {
   const Placement& placement = plan.placements[j];
   const Artifact& instrument = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
   const bool marked = std::any_of(placement.measurements.begin(), placement.measurements.end(),
@@ -211,6 +275,14 @@ StationVerification verifyStation(const Plan& plan, std::size_t j, const Eigen::
   const double expected = expectedSquares(fit_lin, held_lin, V, d, {0, d}, !marked);
   points.expected += expected;
   addPrediction(station.summary, expected, held_lin.size(), 1.0);
+  if (unmodelled > 0.0) {
+    const double per_unit =
+        expectedSquares(withUnitPointVariance(fit_lin, d), withUnitPointVariance(held_lin, d),
+                        nullptr, d, {0, d}, !marked);
+    const double share = unmodelled * unmodelled * std::max(0.0, per_unit);
+    points.unmodelled += share;
+    addUnmodelled(station.summary, share, held_lin.size());
+  }
   if (instrument.measures_pose) {
     station.angular_deviations =
         Eigen::Map<Eigen::VectorXd>(angular.data(), static_cast<Eigen::Index>(angular.size()));
@@ -224,10 +296,6 @@ StationVerification verifyStation(const Plan& plan, std::size_t j, const Eigen::
   return station;
 }
 
-void scalePosterior(DeviationSummary& s, double birge) {
-  s.predicted_rms_posterior = birge * s.predicted_rms;
-}
-
 }  // namespace
 
 StationsVerification verifyStations(const Plan& plan, const Eigen::VectorXd& p,
@@ -237,17 +305,30 @@ StationsVerification verifyStations(const Plan& plan, const Eigen::VectorXd& p,
   const std::vector<int> no_indices;
   const std::vector<int>& indices = uncertainty ? uncertainty->indices : no_indices;
   const Eigen::MatrixXd* V = uncertainty ? &uncertainty->V : nullptr;
+  const double unmodelled = uncertainty ? uncertainty->unmodelled : 0.0;
   DeviationTally points, angles;
+  InFrameTally in_frame_tally;
+  double reregistered_expected = 0.0, reregistered_unmodelled = 0.0,
+         reregistered_expected_angles = 0.0;
   std::vector<double> in_frame, reregistered, in_frame_angular, reregistered_angular;
   for (std::size_t j = 0; j < plan.placements.size(); ++j) {
     const Artifact& instrument =
         plan.artifacts[static_cast<std::size_t>(plan.placements[j].artifact)];
     if (!instrument.kind().readings_are_features) continue;
-    out.stations.push_back(verifyStation(plan, j, p, indices, V, points, angles));
+    out.stations.push_back(verifyStation(plan, j, p, indices, V, unmodelled, points, angles));
     StationVerification& station = out.stations.back();
     if (station.angular && !out.angular_all) out.angular_all.emplace();
     if (j < frames.size() && frames[j]) {
-      station.in_frame = inFrame(plan, plan.placements[j], station, *frames[j], p);
+      station.in_frame =
+          inFrame(plan, plan.placements[j], station, *frames[j], p, uncertainty, in_frame_tally);
+      const auto held = static_cast<double>(station.held_out.size());
+      const DeviationSummary& own = station.summary;
+      reregistered_expected += own.predicted_rms * own.predicted_rms * held;
+      reregistered_unmodelled += own.predicted_rms_unmodelled * own.predicted_rms_unmodelled * held;
+      if (station.angular) {
+        const double angle_rms = station.angular->predicted_rms / radToDeg(1.0);
+        reregistered_expected_angles += angle_rms * angle_rms * held;
+      }
       const InFrameDeviations& f = *station.in_frame;
       in_frame.insert(in_frame.end(), f.deviations.begin(), f.deviations.end());
       reregistered.insert(reregistered.end(), station.deviations.begin(), station.deviations.end());
@@ -257,28 +338,53 @@ StationsVerification verifyStations(const Plan& plan, const Eigen::VectorXd& p,
                                   station.angular_deviations.end());
     }
   }
+  const bool predicted = uncertainty.has_value();
   if (!in_frame.empty()) {
     summarize(in_frame, out.in_frame_all.emplace());
     summarize(reregistered, out.reregistered_all.emplace());
+    if (predicted) {
+      addPrediction(*out.in_frame_all, in_frame_tally.expected, in_frame.size(), 1.0);
+      addUnmodelled(*out.in_frame_all, in_frame_tally.unmodelled, in_frame.size());
+      addPrediction(*out.reregistered_all, reregistered_expected, reregistered.size(), 1.0);
+      addUnmodelled(*out.reregistered_all, reregistered_unmodelled, reregistered.size());
+    }
   }
-  if (!in_frame_angular.empty()) {
+  if (!in_frame_angular.empty() && out.angular_all) {
     summarize(in_frame_angular, out.in_frame_angular_all.emplace());
     summarize(reregistered_angular, out.reregistered_angular_all.emplace());
+    if (predicted) {
+      addPrediction(*out.in_frame_angular_all, in_frame_tally.expected_angles,
+                    in_frame_angular.size(), radToDeg(1.0));
+      addPrediction(*out.reregistered_angular_all, reregistered_expected_angles,
+                    reregistered_angular.size(), radToDeg(1.0));
+    }
   }
   summarize(points.deviations, out.all);
   addPrediction(out.all, points.expected, points.deviations.size(), 1.0);
+  addUnmodelled(out.all, points.unmodelled, points.deviations.size());
   if (out.angular_all) {
     summarize(angles.deviations, *out.angular_all);
     addPrediction(*out.angular_all, angles.expected, angles.deviations.size(), radToDeg(1.0));
   }
-  const double birge = uncertainty ? uncertainty->birge_ratio : 0.0;
-  if (birge > 0.0) {
+  if (predicted) {
+    const double birge = uncertainty->birge_ratio;
+    auto finish = [birge](std::optional<DeviationSummary>& s) {
+      if (s) scalePosterior(*s, birge);
+    };
     for (StationVerification& s : out.stations) {
       scalePosterior(s.summary, birge);
-      if (s.angular) scalePosterior(*s.angular, birge);
+      finish(s.angular);
+      if (s.in_frame) {
+        scalePosterior(s.in_frame->summary, birge);
+        finish(s.in_frame->angular);
+      }
     }
     scalePosterior(out.all, birge);
-    if (out.angular_all) scalePosterior(*out.angular_all, birge);
+    finish(out.angular_all);
+    finish(out.in_frame_all);
+    finish(out.reregistered_all);
+    finish(out.in_frame_angular_all);
+    finish(out.reregistered_angular_all);
   }
   return out;
 }

@@ -141,6 +141,15 @@ void setSpread(FeatureSpread& spread, const Eigen::VectorXd& deviations,
     spread.predicted_spread_rms_posterior = spread.predicted_spread_rms * uncertainty->birge_ratio;
 }
 
+// The unmodelled error's share of a feature's predicted spread (see the header): each posture's
+// deviation from the mean of n keeps (n - 1) / n of an independent error's variance d s_u^2.
+double unmodelledSpreadShare(int dimension, int postures,
+                             const std::optional<ParameterUncertainty>& uncertainty) {
+  if (!uncertainty || postures < 1) return 0.0;
+  const double n = postures;
+  return uncertainty->unmodelled * std::sqrt(dimension * (n - 1.0) / n);
+}
+
 /// Sums of squares of flush touches' height and tilts, and their count.
 struct FlushSums {
   int touches = 0;
@@ -331,6 +340,8 @@ PlacementVerification verifyPlacement(const Plan& plan, int index, const Eigen::
     const double predicted = predictedSquaredDeviations(models, acc.readings, uncertainty);
     predicted_sum += predicted;
     setSpread(spread, out.deviations, acc.readings, predicted, uncertainty);
+    spread.predicted_spread_rms_unmodelled =
+        unmodelledSpreadShare(plan.machine.dimension(), spread.postures, uncertainty);
     out.features.push_back(std::move(spread));
   }
   for (std::size_t a = 0; a < out.features.size(); ++a) {
@@ -385,6 +396,33 @@ PlacementVerification verifyPlacement(const Plan& plan, int index, const Eigen::
 
 }  // namespace
 
+double predictedTotal(double base, double unmodelled) {
+  return std::hypot(base, unmodelled);
+}
+
+namespace {
+
+// The unmodelled shares and the totals (see the header), once the posterior predictions are
+// final: per feature, and over every posture of every placement.
+void addUnmodelledShares(Verification& out, int readings) {
+  double unmodelled_sum = 0.0;
+  for (PlacementVerification& placement : out.placements) {
+    for (FeatureSpread& f : placement.features) {
+      const double share = f.predicted_spread_rms_unmodelled;
+      unmodelled_sum += share * share * f.postures;
+      f.predicted_spread_rms_total = predictedTotal(
+          basePrediction(f.predicted_spread_rms, f.predicted_spread_rms_posterior), share);
+    }
+  }
+  if (readings == 0) return;
+  out.predicted_spread_rms_unmodelled = std::sqrt(unmodelled_sum / readings);
+  out.predicted_spread_rms_total =
+      predictedTotal(basePrediction(out.predicted_spread_rms, out.predicted_spread_rms_posterior),
+                     out.predicted_spread_rms_unmodelled);
+}
+
+}  // namespace
+
 Noise withEstimatedProbeNoise(const Noise& noise,
                               const std::optional<ParameterUncertainty>& uncertainty) {
   Noise out = noise;
@@ -398,6 +436,7 @@ Verification verifyMachine(const Plan& plan, const Eigen::VectorXd& p,
                            const VerifyOptions& options) {
   Verification out;
   out.predicted = uncertainty.has_value();
+  out.unmodelled = uncertainty ? uncertainty->unmodelled : 0.0;
   DesignMatrixBuilder builder(plan.machine, plan.noise);
   const std::vector<RigidTransform> starts = fitPlacements(plan, plan.placements, p);
   double predicted_sum = 0.0, deviation_sum = 0.0, deviation_sum2 = 0.0, residual_sum2 = 0.0;
@@ -467,6 +506,7 @@ Verification verifyMachine(const Plan& plan, const Eigen::VectorXd& p,
             at_estimate.placements[j].length_errors[e].predicted_u * s;
     }
   }
+  if (out.predicted) addUnmodelledShares(out, readings);
   return out;
 }
 

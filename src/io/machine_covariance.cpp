@@ -40,6 +40,8 @@ nlohmann::json covarianceToJson(const Machine& machine, const ParameterUncertain
   nlohmann::json out = covarianceToJson(machine, uncertainty.V, uncertainty.birge_ratio);
   if (uncertainty.probe_noise > 0.0 && std::isfinite(uncertainty.probe_noise))
     out["probe_noise"] = uncertainty.probe_noise;
+  if (uncertainty.unmodelled > 0.0 && std::isfinite(uncertainty.unmodelled))
+    out["unmodelled"] = uncertainty.unmodelled;
   return out;
 }
 
@@ -87,6 +89,10 @@ std::optional<ParameterUncertainty> parseMachineCovariance(const nlohmann::json&
     matrix.fail("expected a positive semi-definite matrix");
   if (const auto birge = covariance->find("birge_ratio")) out.birge_ratio = birge->positive();
   if (const auto noise = covariance->find("probe_noise")) out.probe_noise = noise->positive();
+  if (const auto unmodelled = covariance->find("unmodelled")) {
+    out.unmodelled = unmodelled->number();
+    if (out.unmodelled < 0.0) unmodelled->fail("expected the unmodelled error in mm, >= 0");
+  }
   return out;
 }
 

@@ -251,6 +251,17 @@ std::string calibrationNotes(const Plan& plan, const Calibration& calibration) {
     for (const json& name : in_place) out << " " << name.get<std::string>();
     out << "\n";
   }
+  if (calibration.unmodelled) {
+    const UnmodelledError& u = *calibration.unmodelled;
+    out << "unmodelled error by cross-validation (" << u.folds << " folds of " << u.scheme
+        << " left out, " << u.readings << " readings scored): " << numberOrDash("%.4g", u.sigma)
+        << " mm per coordinate (left-out rms " << numberOrDash("%.4g", u.observed_rms)
+        << " mm where V_p and the noise predict " << numberOrDash("%.4g", u.predicted_rms)
+        << " mm); verify and the report add it to their predictions\n";
+    if (u.scheme == "regions")
+      out << "  (fewer than 3 placements: the folds left out regions of postures of the same "
+             "placements; errors on other placements of the artifact can be larger)\n";
+  }
   out << minimumText(plan.machine, calibration);
   if (calibration.model_choice) out << modelChoiceTable(plan, *calibration.model_choice) << "\n";
   for (const std::string& warning : calibration.warnings) out << "warning: " << warning << "\n";
@@ -277,6 +288,15 @@ json calibrationToJson(const Plan& plan, const std::vector<Placement>& placement
   out["birge_ratio"] = redundant ? finiteOrNull(calibration.birgeRatio()) : json(nullptr);
   out["u_posterior_caveat"] = posteriorCaveat(calibration.dof);
   if (calibration.noise_estimate) out["noise_estimate"] = noiseEstimateToJson(calibration);
+  if (calibration.unmodelled) {
+    const UnmodelledError& u = *calibration.unmodelled;
+    out["unmodelled_error"] = {{"sigma", finiteOrNull(u.sigma)},
+                               {"scheme", u.scheme},
+                               {"folds", u.folds},
+                               {"readings", u.readings},
+                               {"observed_rms", finiteOrNull(u.observed_rms)},
+                               {"predicted_rms", finiteOrNull(u.predicted_rms)}};
+  }
   out["weakly_determined"] = weaklyDeterminedToJson(plan);
   out["calibrated_in_place"] = inPlaceToJson(plan);
   if (calibration.model_choice)

@@ -24,6 +24,8 @@ json featureToJson(const FeatureSpread& f) {
           {"spread_rms", finiteOrNull(f.spread_rms)},
           {"predicted_spread_rms", finiteOrNull(f.predicted_spread_rms)},
           {"predicted_spread_rms_posterior", posteriorOrNull(f.predicted_spread_rms_posterior)},
+          {"predicted_spread_rms_unmodelled", finiteOrNull(f.predicted_spread_rms_unmodelled)},
+          {"predicted_spread_rms_total", finiteOrNull(f.predicted_spread_rms_total)},
           {"mean_position", std::vector<double>(f.mean.data(), f.mean.data() + f.mean.size())}};
 }
 
@@ -86,8 +88,9 @@ std::string flushTable(const Plan& plan, const Verification& verification,
   std::ostringstream out;
   out << "\nflush touches: RMS of the height (mm) and of the tool's tilts against the face (deg) "
          "about its own x (roll) and y (pitch)\n"
-      << heading << " touches   height   roll  pitch   in the calibration's frame: height   "
-                    "roll  pitch\n";
+      << heading
+      << " touches   height   roll  pitch   in the calibration's frame: height   "
+         "roll  pitch\n";
   auto row = [](const FlushFigures& f) {
     char text[80];
     std::snprintf(text, sizeof text, " %8.4f %6.3f %6.3f", f.height_rms, radToDeg(f.roll_rms),
@@ -187,18 +190,23 @@ json verificationToJson(const Plan& plan, const Verification& verification,
   json placements = json::array();
   for (const PlacementVerification& v : verification.placements)
     placements.push_back(placementToJson(plan, v));
-  json verify = {{"placements", placements},
-                 {"spread_rms", finiteOrNull(verification.spread_rms)},
-                 {"spread_mean", finiteOrNull(verification.spread_mean)},
-                 {"predicted_spread_rms", finiteOrNull(verification.predicted_spread_rms)},
-                 {"predicted_spread_rms_posterior",
-                  posteriorOrNull(verification.predicted_spread_rms_posterior)},
-                 {"birge_ratio", posteriorOrNull(verification.birge_ratio)},
-                 {"posterior_probe_noise", posteriorOrNull(verification.posterior_probe_noise)},
-                 {"predicted_from_calibration", verification.predicted},
-                 {"length_error_rms", finiteOrNull(verification.length_error_rms)},
-                 {"length_error_mean_abs", finiteOrNull(verification.length_error_mean_abs)},
-                 {"residual_rms", finiteOrNull(verification.residual_rms)}};
+  json verify = {
+      {"placements", placements},
+      {"spread_rms", finiteOrNull(verification.spread_rms)},
+      {"spread_mean", finiteOrNull(verification.spread_mean)},
+      {"predicted_spread_rms", finiteOrNull(verification.predicted_spread_rms)},
+      {"predicted_spread_rms_posterior",
+       posteriorOrNull(verification.predicted_spread_rms_posterior)},
+      {"predicted_spread_rms_unmodelled",
+       finiteOrNull(verification.predicted_spread_rms_unmodelled)},
+      {"predicted_spread_rms_total", finiteOrNull(verification.predicted_spread_rms_total)},
+      {"unmodelled_error", finiteOrNull(verification.unmodelled)},
+      {"birge_ratio", posteriorOrNull(verification.birge_ratio)},
+      {"posterior_probe_noise", posteriorOrNull(verification.posterior_probe_noise)},
+      {"predicted_from_calibration", verification.predicted},
+      {"length_error_rms", finiteOrNull(verification.length_error_rms)},
+      {"length_error_mean_abs", finiteOrNull(verification.length_error_mean_abs)},
+      {"residual_rms", finiteOrNull(verification.residual_rms)}};
   json largest = json::array();
   for (const ReadingPlace& r : largestDeviations(plan, verification, 10)) {
     json entry = {{"placement", r.placement},
@@ -297,6 +305,11 @@ std::string verificationTable(const Plan& plan, const Verification& verification
       << fixed(verification.predicted_spread_rms, 4);
   if (posterior)
     out << "   posterior rms " << fixed(verification.predicted_spread_rms_posterior, 4);
+  if (verification.predicted)
+    out << "\n  with the unmodelled error (" << fixed(verification.unmodelled, 4)
+        << " mm per coordinate, the calibration's cross-validation): its share "
+        << fixed(verification.predicted_spread_rms_unmodelled, 4) << "   predicted total rms "
+        << fixed(verification.predicted_spread_rms_total, 4);
   out << "\n"
       << "  length error mean |e| " << fixed(verification.length_error_mean_abs, 4) << "   rms "
       << fixed(verification.length_error_rms, 4) << "\n"

@@ -21,6 +21,7 @@
 //   readings that fit to rounding (planned readings calibrated as if measured).
 
 #include <Eigen/Core>
+#include <optional>
 
 #include "artcal/calibration/calibrator.hpp"
 #include "artcal/estimation/evaluator.hpp"
@@ -59,6 +60,13 @@ struct CalibrationRun {
 /// run: each decision (parameters held, a noise estimated, a kept set chosen) makes a new plan,
 /// the last of which is the result's `decided`; a calibrator's plan never changes under it.
 CalibrationRun calibrateReadings(const Plan& plan, const CalibrationOptions& options = {});
+
+/// The unmodelled error of a run by cross-validation (unmodelled_error.hpp): its folds
+/// calibrated with the run's decided set and noise model; std::nullopt when fewer than two folds
+/// could be calibrated and scored. calibrateReadings calls it (CalibrationOptions::
+/// cross_validation) on measured readings that converged.
+std::optional<UnmodelledError> estimateUnmodelledError(const CalibrationRun& run,
+                                                       const CalibrationOptions& options);
 
 /// The probe noise `evaluate` and `report` predict with (issue 43): a stated one as stated; for a
 /// plan that says `"probe": "estimate"`, the estimate of the calibration of its own readings

@@ -26,6 +26,7 @@
 #include "artcal/calibration/levenberg_marquardt.hpp"
 #include "artcal/calibration/model_choice_result.hpp"
 #include "artcal/calibration/plausible_minimum.hpp"
+#include "artcal/calibration/unmodelled_error.hpp"
 #include "artcal/calibration/verification.hpp"
 #include "artcal/core/enum_names.hpp"
 #include "artcal/estimation/design_matrix.hpp"
@@ -77,6 +78,8 @@ struct CalibrationOptions {
   bool details = true;
   /// How calibrateReadings settles `"calibrate": "identifiable"` (model_choice.hpp).
   ModelChoiceMode model_choice = ModelChoiceMode::HeldOut;
+  /// calibrateReadings estimates the unmodelled error by cross-validation (unmodelled_error.hpp).
+  bool cross_validation = true;
   bool isValid(std::string* error) const;
 };
 
@@ -129,6 +132,9 @@ struct Calibration {
   /// When the plain fit's corrections were flagged: the minimum taken, the other, and why
   /// (calibrateReadings, plausible_minimum.hpp).
   std::optional<MinimumChoice> minimum;
+  /// The error the model does not explain, by cross-validation (unmodelled_error.hpp), when
+  /// calibrateReadings estimated it.
+  std::optional<UnmodelledError> unmodelled;
   Eigen::VectorXd parameters;  ///< full parameter vector, internal units
   Eigen::VectorXd systematic;  ///< c over the GlobalLayout order, mm
   std::vector<RigidTransform> poses;

@@ -35,6 +35,10 @@ struct DeviationSummary {
   double max = 0.0;                      ///< mm
   double predicted_rms = 0.0;            ///< mm, 0 without V_p
   double predicted_rms_posterior = 0.0;  ///< mm, 0 without a Birge ratio
+  /// The unmodelled error's share (ParameterUncertainty::unmodelled): the same formula with
+  /// Sigma_i = s_u^2 I on the point rows, no V_p (mm; angles: 0, s_u is a point's).
+  double predicted_rms_unmodelled = 0.0;
+  double predicted_rms_total = 0.0;  ///< predictedTotal(posterior or plain, unmodelled), mm
 };
 
 /// A station's held-out readings scored with the station the calibration estimated (no
@@ -42,7 +46,10 @@ struct DeviationSummary {
 struct InFrameDeviations {
   std::string frame_of;        ///< the calibration's placement whose station scored them
   Eigen::VectorXd deviations;  ///< mm, per held-out reading, as StationVerification's
-  DeviationSummary summary;    ///< its predictions 0: the station's own uncertainty is not known
+  /// Its prediction: E|d_i|^2 = tr(J_i V_p J_i^T) + tr Sigma_i (+ 3 s_u^2), no fit's share taken
+  /// off; the calibration's own uncertainty of the station (of order the noise over the square
+  /// root of its readings) is left out.
+  DeviationSummary summary;
   Eigen::VectorXd angular_deviations;       ///< deg, a pose instrument only
   std::optional<DeviationSummary> angular;  ///< deg, a pose instrument only
 };

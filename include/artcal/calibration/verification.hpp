@@ -53,7 +53,21 @@ struct ParameterUncertainty {
   /// The probe noise the calibration estimated (`"probe": "estimate"`), mm; 0 when it was stated.
   /// V is in the units of that noise; a plan that also says "estimate" predicts with it.
   double probe_noise = 0.0;
+  /// The error the model does not explain (unmodelled_error.hpp), mm per coordinate of a point;
+  /// 0 when not estimated. It adds s_u^2 I to each held-out reading's point covariance in the
+  /// predictions, apart from the noise (not scaled by the Birge ratio).
+  double unmodelled = 0.0;
 };
+
+/// A predicted RMS of held-out deviations in its three parts (mm) and their sum in quadrature:
+/// `base` from the parameters' covariance and the noise (the posterior one when the Birge ratio
+/// is known, else the stated noise's), `unmodelled` from ParameterUncertainty::unmodelled.
+/// total = sqrt(base^2 + unmodelled^2).
+double predictedTotal(double base, double unmodelled);
+/// The base of a total: the posterior prediction when the Birge ratio gave one, else the plain.
+inline double basePrediction(double plain, double posterior) {
+  return posterior > 0.0 ? posterior : plain;
+}
 
 /// The noise a plan's held-out readings are predicted with: a probe noise of `"estimate"` is the
 /// one the calibration behind `uncertainty` estimated (verify's prediction of held-out readings
@@ -70,6 +84,12 @@ struct FeatureSpread {
   double predicted_spread_rms = 0.0;  ///< mm
   /// predicted_spread_rms times the calibration's Birge ratio, 0 when that is not known.
   double predicted_spread_rms_posterior = 0.0;
+  /// The unmodelled error's share of the predicted spread (mm): sqrt(d s_u^2 (n - 1) / n) over
+  /// n postures of a d-dimensional point (a posture's deviation from the mean of n keeps
+  /// (n - 1) / n of an independent error's variance).
+  double predicted_spread_rms_unmodelled = 0.0;
+  /// predictedTotal of the posterior (or plain) prediction and the unmodelled share, mm.
+  double predicted_spread_rms_total = 0.0;
 };
 
 struct LengthError {
@@ -133,6 +153,10 @@ struct Verification {
   double predicted_spread_rms = 0.0;            ///< sqrt of the mean predicted |d_i|^2
   double birge_ratio = 0.0;                     ///< the calibration's, 0 when not known
   double predicted_spread_rms_posterior = 0.0;  ///< predicted_spread_rms * birge_ratio
+  double predicted_spread_rms_unmodelled = 0.0;  ///< the unmodelled error's share, mm
+  double unmodelled = 0.0;  ///< ParameterUncertainty::unmodelled predicted with, mm
+  /// predictedTotal of the posterior (or plain) prediction and the unmodelled share, mm.
+  double predicted_spread_rms_total = 0.0;
   /// The calibration's estimated probe noise (mm) the posterior prediction was made with when
   /// the plan states another (see the header); 0 when the posterior is the Birge ratio's scaling.
   double posterior_probe_noise = 0.0;

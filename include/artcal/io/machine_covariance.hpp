@@ -7,7 +7,9 @@
 // in file units: entry (i, j) in the units of parameter i times those of parameter j (mm, deg);
 // "birge_ratio" (optional) is sqrt(chi2/dof) of the fit that produced the matrix; "probe_noise"
 // (optional, mm) the probe noise that fit estimated (`"probe": "estimate"`), which a plan saying
-// "estimate" then verifies with.
+// "estimate" then verifies with; "unmodelled" (optional, mm per coordinate) the error the model
+// does not explain, estimated by cross-validation (unmodelled_error.hpp), which verify's
+// predictions add apart from the noise.
 
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
