@@ -3,7 +3,10 @@
 // CSV) and in a URDF. Each is refused where it is read, exit 2 with one line naming the file, the
 // pointer (or the CSV line and column) and what to check: never "inf mm", "turns inf deg", a
 // 300-digit norm, or "not a number" for a number. Then the outputs: no temporary file left by a
-// run a signal ends while it writes; `plan --complete` of a design without placements.
+// run a signal ends while it writes; `plan --complete` of a design without placements. Then the
+// rest of issue 44's findings (docs/hardening.md "every finding answered"): options given twice
+// and numbers in options, copies of an instrument's readings, what a message names, flush
+// contacts read as lines.
 
 #include <gtest/gtest.h>
 #include <sys/wait.h>
@@ -299,6 +302,106 @@ TEST(HostileOutputsIV, PlanCompleteOfADesignWithoutPlacementsSaysWhatPlansIt) {
                         "optimize " +
                         spec + " -o PLAN`");
   EXPECT_FALSE(fs::exists(out));
+}
+
+// ---------------------------------------------------------------- options: one rule for all
+
+TEST(HostileOptionsIV, EveryNumberOptionReadsDecimalNumbersOnly) {
+  // CLI11 read --seed 0x10 as 16 and --cube 0x10 as 16 mm, with exit 0.
+  Scratch scratch;
+  const std::string plan = inQuotes(planFile("paper-2r-5bars.json"));
+  const std::string truth = inQuotes(scratch.write("truth.json", R"({"parameters": {}})"));
+  const std::string out = inQuotes(scratch.file("out.json"));
+  expectRefusedWith("simulate " + plan + " --truth " + truth + " --seed 0x10 -o " + out,
+                    "error: --seed: expected a decimal number, not \"0x10\" (decimal numbers "
+                    "only) (artcal --help; artcal COMMAND --help)");
+  EXPECT_FALSE(fs::exists(scratch.file("out.json")));
+  const std::string hexapod = inQuotes(planFile("hexapod-10bars.json"));
+  expectRefusedWith("acceptance " + hexapod + " --test iso9283 --cube 0x10 --center 0,0,500",
+                    "error: --cube: expected a decimal number, not \"0x10\" (decimal numbers "
+                    "only) (artcal --help; artcal COMMAND --help)");
+  expectRefusedWith("acceptance " + hexapod + " --test iso9283 --cube 1e300 --center 0,0,500",
+                    "error: --cube: expected a decimal number within 1e9, not \"1e300\" "
+                    "(artcal --help; artcal COMMAND --help)");
+  // The control: decimal numbers are read.
+  EXPECT_EQ(runCli("simulate " + plan + " --truth " + truth + " --seed 16 -o " + out).status, 0);
+  EXPECT_EQ(runCli("acceptance " + hexapod + " --test iso9283 --cube 16 --center 0,0,500").status,
+            0);
+}
+
+TEST(HostileOptionsIV, AStylusOffsetOf1e300IsRefusedNotWrittenAsNull) {
+  // It wrote "null" and quantiles of 1e296.
+  const std::string plan = inQuotes(planFile("cmm-plate-xy.json"));
+  expectRefusedWith("acceptance " + plan +
+                        " --test iso10360-2 --mpe '3 + L/300' --trials 10 --stylus-offset 1e300",
+                    "error: --stylus-offset: expected a number >= 0 within 1e9, not \"1e300\" "
+                    "(artcal --help; artcal COMMAND --help)");
+  EXPECT_EQ(runCli("acceptance " + plan +
+                   " --test iso10360-2 --mpe '3 + L/300' --trials 10 --stylus-offset 150")
+                .status,
+            0);
+}
+
+TEST(HostileOptionsIV, AnOptionGivenTwiceCountsOnceOrIsRefusedWhereItConflicts) {
+  // One rule for every option of every command: the same value again counts once (CLI11 refused
+  // it for an option of one value, while --hold took it once); two values are refused naming
+  // both, where a repeatable option kept the first (--hold, --tip-of) or the last (--frame-of).
+  Scratch scratch;
+  const std::string plan = inQuotes(planFile("paper-2r-5bars.json"));
+  const std::string truth = inQuotes(scratch.write("truth.json", R"({"parameters": {}})"));
+  const std::string once = scratch.file("once.json"), twice = scratch.file("twice.json");
+  ASSERT_EQ(
+      runCli("simulate " + plan + " --truth " + truth + " --seed 3 -o " + inQuotes(once)).status,
+      0);
+  ASSERT_EQ(
+      runCli("simulate " + plan + " --truth " + truth + " --seed 3 --seed 3 -o " + inQuotes(twice))
+          .status,
+      0);
+  EXPECT_EQ(readText(once), readText(twice));
+  expectRefusedWith("simulate " + plan + " --truth " + truth + " --seed 3 --seed 4 -o " +
+                        inQuotes(scratch.file("conflict.json")),
+                    "error: --seed: given twice, 3 and 4: give it once");
+  EXPECT_FALSE(fs::exists(scratch.file("conflict.json")));
+  EXPECT_EQ(runCli("check --json --json " + plan).status, 0);
+  // A repeatable option: the same tip twice is one tip (it was refused as "given twice").
+  const std::string urdf = inQuotes(testDataFile("urdf/humanoid-small.urdf")) +
+                           " --base left_sole_link --tip gripper_left_base_link";
+  const CliRun single = runCli("import-urdf " + urdf + " -o -");
+  const CliRun repeated = runCli("import-urdf " + urdf + " --tip gripper_left_base_link -o -");
+  ASSERT_EQ(single.status, 0);
+  EXPECT_EQ(repeated.status, 0);
+  EXPECT_EQ(repeated.out, single.out);
+}
+
+/// A flush plane plan simulated and calibrated in `scratch` (sim.json, cal.json), its first
+/// placement named `table` (the calibration's frames are named after its placements).
+void calibrateFlushPlanes(const Scratch& scratch, const std::string& table) {
+  json plan = json::parse(readText(planFile("planes/arm6-flush.json")));
+  plan["placements"].erase(3);  // the gauge block
+  plan["placements"][0]["name"] = table;
+  const std::string quiet = inQuotes(scratch.write("plan.json", plan.dump()));
+  const std::string truth = inQuotes(scratch.write("truth.json", R"({"parameters": {}})"));
+  const std::string sim = inQuotes(scratch.file("sim.json"));
+  ASSERT_EQ(runCli("simulate " + quiet + " --truth " + truth + " --seed 4 -o " + sim).status, 0);
+  ASSERT_EQ(
+      runCli("calibrate " + sim + " --write-machine " + inQuotes(scratch.file("cal.json"))).status,
+      0);
+}
+
+TEST(HostileOptionsIV, FrameOfGivenTwiceCountsOnceOrIsRefusedWhereItConflicts) {
+  // verify --frame-of HELD=A --frame-of HELD=B scored HELD in B's frame, the last, unchecked.
+  Scratch scratch;
+  calibrateFlushPlanes(scratch, "table");
+  const std::string verify = "verify --json " + inQuotes(scratch.file("sim.json")) + " --machine " +
+                             inQuotes(scratch.file("cal.json"));
+  const CliRun one = runCli(verify + " --frame-of wall=table");
+  const CliRun same = runCli(verify + " --frame-of wall=table --frame-of wall=table");
+  ASSERT_EQ(one.status, 0) << one.out;
+  EXPECT_EQ(same.status, 0);
+  EXPECT_EQ(same.out, one.out);
+  expectRefusedWith(verify + " --frame-of wall=table --frame-of wall=slanted",
+                    "error: --frame-of: wall=slanted: placement \"wall\" is paired twice, with "
+                    "\"table\" and \"slanted\": give one --frame-of per placement");
 }
 
 }  // namespace hostile_inputs_iv_test
