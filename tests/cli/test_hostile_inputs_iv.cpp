@@ -404,4 +404,45 @@ TEST(HostileOptionsIV, FrameOfGivenTwiceCountsOnceOrIsRefusedWhereItConflicts) {
                     "\"table\" and \"slanted\": give one --frame-of per placement");
 }
 
+// ------------------------------------------------------ copies of an instrument's readings
+
+/// `plan` with each placement's readings written `copies` times over.
+std::string withEveryReadingWritten(const Scratch& scratch, const std::string& plan, int copies) {
+  json document = json::parse(readText(planFile(plan)));
+  for (json& placement : document["placements"]) {
+    json written = json::array();
+    for (const json& reading : placement["measurements"])
+      for (int copy = 0; copy < copies; ++copy) written.push_back(reading);
+    placement["measurements"] = written;
+  }
+  return scratch.write(std::to_string(copies) + "-" + plan, document.dump());
+}
+
+TEST(HostileRepeatsIV, CopiesOfTrackerReadingsAreFoundAndCountedOnce) {
+  // Each instrument reading is a feature of its own, so the repeat key (the feature index among
+  // it) never matched: a tracker plan written twice calibrated on 567 degrees of freedom instead
+  // of 267, no warning, --repeats once removed nothing, every u sqrt(2) too small.
+  Scratch scratch;
+  for (const char* plan : {"tracker-arm6-pose.json", "tracker-arm6-2stations.json"}) {
+    const std::string once = inQuotes(planFile(plan));
+    const std::string twice = inQuotes(withEveryReadingWritten(scratch, plan, 2));
+    const json a = json::parse(runCli("calibrate --json " + once).out);
+    const json b = json::parse(runCli("calibrate --json --repeats once " + twice).out);
+    const json c = json::parse(runCli("calibrate --json " + twice).out);
+    EXPECT_EQ(b["dof"], a["dof"]) << plan;
+    ASSERT_EQ(b["parameters"].size(), a["parameters"].size()) << plan;
+    for (std::size_t k = 0; k < a["parameters"].size(); ++k) {
+      const double u = a["parameters"][k]["u"].get<double>();
+      EXPECT_NEAR(b["parameters"][k]["u"].get<double>(), u, 1e-9 * u) << plan;
+    }
+    bool warned = false;
+    for (const json& warning : c["warnings"]) {
+      const std::string text = warning.get<std::string>();
+      warned |= text.find("readings repeat another bit for bit") != std::string::npos &&
+                text.find("up to 1.41x too small") != std::string::npos;
+    }
+    EXPECT_TRUE(warned) << plan << ": " << c["warnings"].dump();
+  }
+}
+
 }  // namespace hostile_inputs_iv_test
