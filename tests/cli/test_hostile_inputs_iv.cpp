@@ -404,6 +404,26 @@ TEST(HostileOptionsIV, FrameOfGivenTwiceCountsOnceOrIsRefusedWhereItConflicts) {
                     "\"table\" and \"slanted\": give one --frame-of per placement");
 }
 
+TEST(HostileMessagesIV, TheFrameOfNoteSuggestsAnOptionThatIsTaken) {
+  // The note printed `--frame-of table day2=table day1`, which the shell splits and verify
+  // refuses: it quotes what it suggests, and the suggestion runs.
+  Scratch scratch;
+  calibrateFlushPlanes(scratch, "table day1");
+  json held = json::parse(readText(scratch.file("sim.json")));
+  held["placements"][0]["name"] = "table day2";
+  const std::string file = inQuotes(scratch.write("held.json", held.dump()));
+  const std::string against = file + " --machine " + inQuotes(scratch.file("cal.json"));
+  const CliRun noted = runCli("verify " + against, Stderr::Only);
+  ASSERT_EQ(noted.status, 0) << noted.out;
+  const std::string option = "--frame-of 'table day2=table day1'";
+  EXPECT_NE(noted.out.find("also score it in that frame: " + option + "\n"), std::string::npos)
+      << noted.out;
+  const CliRun taken = runCli("verify --json " + against + " " + option);
+  ASSERT_EQ(taken.status, 0) << taken.out;
+  const json placement = json::parse(taken.out)["verify"]["placements"][0];
+  EXPECT_EQ(placement["in_calibration_frame"]["frame_of"], "table day1") << placement.dump();
+}
+
 // ------------------------------------------------------ copies of an instrument's readings
 
 /// `plan` with each placement's readings written `copies` times over.
@@ -443,6 +463,108 @@ TEST(HostileRepeatsIV, CopiesOfTrackerReadingsAreFoundAndCountedOnce) {
     }
     EXPECT_TRUE(warned) << plan << ": " << c["warnings"].dump();
   }
+}
+
+// ------------------------------------------- what a message names: the option, the file read
+
+TEST(HostileMessagesIV, APriorOrAPoseFileIsNamedNotTheOutputPlan) {
+  // A bad --prior or a folder's pose.json was reported against the output plan, never written:
+  // "error: out.json: /machine/prior/default/length: ...", ".../placements/0/pose/center/2".
+  Scratch scratch;
+  fs::create_directories(scratch.dir / "bar");
+  scratch.write("bar/feature_0.csv", "j1 [deg],j2 [deg],j3 [mm]\n10,20,30\n11,21,31\n");
+  const std::string arm = " --urdf " + inQuotes(testDataFile("urdf/arm3-slide.urdf")) +
+                          " --base world --tip probe --ball-bar 100";
+  const std::string bar = "import-readings " + inQuotes(scratch.file("bar")) + arm;
+  const std::string out = " -o " + inQuotes(scratch.file("out.json"));
+  expectRefusedWith(bar + " --hold j4=0 --prior 1e300,1" + out,
+                    "error: --prior: 1e+300,1: expected LENGTH,ANGLE (mm, deg), each > 0 and "
+                    "within 1e9, e.g. 5,0.5");
+  const std::string pose =
+      scratch.write("bar/pose.json", R"({"center": [0, 0, 1e300], "direction": [0, 0, 1]})");
+  expectRefusedWith(bar + " --hold j4=0" + out,
+                    "error: " + pose +
+                        ": /center/2: magnitude 1e+300 beyond 1e+09: check the value and its "
+                        "units (mm, deg)");
+  scratch.write("bar/pose.json", R"({"center": "x"})");
+  expectRefusedWith(bar + " --hold j4=0" + out,
+                    "error: " + pose + ": /center: expected 3 numbers, got a string");
+  EXPECT_FALSE(fs::exists(scratch.file("out.json")));
+}
+
+TEST(HostileMessagesIV, AHeldValueIsNamedAtItsOptionNotAsACsvColumn) {
+  // --hold j4=1e300 was "feature_0.csv: /columns/3: magnitude ...", --hold j4=-1e8 "line 2 (row
+  // 1): reading -100000000 deg of joint 4", and --hold j4=500 widened j4's limits "to the
+  // readings".
+  Scratch scratch;
+  fs::create_directories(scratch.dir / "bar");
+  scratch.write("bar/feature_0.csv", "j1 [deg],j2 [deg],j3 [mm]\n10,20,30\n11,21,31\n");
+  const std::string bar = "import-readings " + inQuotes(scratch.file("bar")) + " --urdf " +
+                          inQuotes(testDataFile("urdf/arm3-slide.urdf")) +
+                          " --base world --tip probe --ball-bar 100 -o " +
+                          inQuotes(scratch.file("out.json"));
+  // j4 is continuous: its readings may reach a turn beyond its limits (540 deg).
+  expectRefusedWith(bar + " --hold j4=1e300",
+                    "error: --hold: j4=1e+300: joint \"j4\" held at 1e+300 deg, beyond what its "
+                    "readings may reach (-540 .. 540 deg, its joint_limits [-180, 180] deg): "
+                    "check the value (deg, or mm for a prismatic joint)");
+  expectRefusedWith(bar + " --hold j4=-1e8",
+                    "error: --hold: j4=-100000000: joint \"j4\" held at -100000000 deg, beyond "
+                    "what its readings may reach (-540 .. 540 deg, its joint_limits [-180, 180] "
+                    "deg): check the value (deg, or mm for a prismatic joint)");
+  EXPECT_EQ(runCli(bar + " --hold j4=90").status, 0);
+}
+
+// ------------------------------------------------------------ flush contacts: lines, not rays
+
+TEST(HostileValuesIV, FlushVerifyIsTheSameWithANormalOrAToolAxisOfTheOtherSign) {
+  // calibrate gives the same estimates bit for bit when a plane's normal (or the tool axis) is
+  // written with the other sign; verify said 180 deg of roll for every touch.
+  Scratch scratch;
+  json plan = json::parse(readText(planFile("planes/arm6-flush.json")));
+  plan["placements"].erase(3);  // the gauge block
+  const std::string quiet = inQuotes(scratch.write("plan.json", plan.dump()));
+  const std::string truth = inQuotes(scratch.write("truth.json", R"({"parameters": {}})"));
+  const std::string sim = scratch.file("sim.json");
+  ASSERT_EQ(
+      runCli("simulate " + quiet + " --truth " + truth + " --seed 4 -o " + inQuotes(sim)).status,
+      0);
+  json normals = json::parse(readText(sim));
+  for (json& placement : normals["placements"]) {
+    for (json& x : placement["pose"]["direction"]) x = -x.get<double>();
+  }
+  json axis = json::parse(readText(sim));
+  for (json& x : axis["artifacts"]["table"]["axis"]) x = -x.get<double>();
+  const auto flush = [](const std::string& file) {
+    const CliRun run = runCli("verify --json " + inQuotes(file));
+    EXPECT_EQ(run.status, 0) << run.out;
+    return json::parse(run.out)["verify"]["flush"];
+  };
+  const json as_written = flush(sim);
+  ASSERT_LT(as_written["roll_rms_deg"].get<double>(), 0.01);  // u_tilt 0.002 deg
+  for (const json& other : {flush(scratch.write("normals.json", normals.dump())),
+                            flush(scratch.write("axis.json", axis.dump()))}) {
+    for (const char* figure : {"height_rms", "roll_rms_deg", "pitch_rms_deg"}) {
+      EXPECT_NEAR(other[figure].get<double>(), as_written[figure].get<double>(),
+                  1e-9 * (1.0 + as_written[figure].get<double>()))
+          << figure;
+    }
+  }
+}
+
+TEST(HostileMessagesIV, ATableSpindleBarInAnOptimizeSpecIsNamedAtItsPointer) {
+  // It failed deep in the search: "the spindle's ball is at the table ball's centre: no bar
+  // direction", naming no field.
+  Scratch scratch;
+  json spec = json::parse(readText(planFile("machine-tool-trunnion-8probings.spec.json")));
+  spec["artifacts"] = {{"bar", {{"type", "ball_bar"}, {"ends", "table-spindle"}, {"length", 100}}}};
+  spec["design"]["artifact"] = "bar";
+  const std::string file = scratch.write("spec.json", spec.dump());
+  expectRefusedWith("optimize " + inQuotes(file) + " -o " + inQuotes(scratch.file("out.json")),
+                    "error: " + file +
+                        ": /design/artifact: \"bar\" is a table-spindle ball bar, which optimize "
+                        "does not place: write its placements and readings in a plan "
+                        "(docs/five-axis.md section 3), or design with a sphere");
 }
 
 }  // namespace hostile_inputs_iv_test
