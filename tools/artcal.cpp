@@ -18,6 +18,7 @@
 
 #include "artcal/core/assignment.hpp"
 #include "artcal/core/error.hpp"
+#include "artcal/io/json_node.hpp"
 #include "artcal/io/output_file.hpp"
 #include "artcal/io/plan_io.hpp"
 #include "commands.hpp"
@@ -45,7 +46,8 @@ std::vector<RegisteredCommand> registeredCommands() {
 namespace {
 
 /// A validator of the numbers `accept` takes, naming them as `expected` ("a number > 0"): decimal
-/// numbers only (0x10, inf, nan refused, docs/hardening.md "Hardening IV").
+/// numbers only (0x10, inf, nan refused, docs/hardening.md "Hardening IV"), within the bound of
+/// every number read (kMaxInputMagnitude: 1e9 mm, deg, or a count).
 CLI::Validator numberValidator(bool (*accept)(double), const std::string& expected) {
   return CLI::Validator(
       [accept, expected](std::string& input) -> std::string {
@@ -53,9 +55,64 @@ CLI::Validator numberValidator(bool (*accept)(double), const std::string& expect
         if (!value)
           return "expected " + expected + ", not \"" + input + "\" (decimal numbers only)";
         if (!accept(*value)) return "expected " + expected + ", not \"" + input + "\"";
+        if (std::abs(*value) > kMaxInputMagnitude)
+          return "expected " + expected + " within 1e9, not \"" + input + "\"";
         return {};
       },
       "NUMBER", "");
+}
+
+/// CLI11 reads an integer option's 0x10 as 16 and a floating one's 0x1p-2 as 0.25: every option
+/// of every command that takes a number reads it with decimalNumber (one rule for all options),
+/// the ones that check a range with positiveNumber or nonNegativeNumber besides. A seed is a
+/// count of its own (any whole number); every other number is within the input bound.
+void readNumbersAsDecimals(CLI::App& app) {
+  const CLI::Validator decimal = numberValidator([](double) { return true; }, "a decimal number");
+  const CLI::Validator any_decimal(
+      [](std::string& input) -> std::string {
+        if (decimalNumber(input)) return {};
+        return "expected a decimal number, not \"" + input + "\" (decimal numbers only)";
+      },
+      "", "");
+  for (CLI::App* command : app.get_subcommands([](const CLI::App*) { return true; })) {
+    for (CLI::Option* option : command->get_options()) {
+      const std::string type = option->get_type_name();
+      if (type != "INT" && type != "UINT" && type != "FLOAT") continue;
+      option->check(option->check_lname("seed") ? any_decimal : decimal);
+    }
+  }
+}
+
+/// An option given more than once (one rule for every option of every command): the same value
+/// again counts once; another value is refused, naming both (CLI11 refused even the same value
+/// twice, and a repeatable option kept the first or the last). The repeatable options (--hold,
+/// --tip, --tip-of, --frame-of, --marker) apply the same rule per joint, tip or placement where
+/// their entries are read.
+void takeOptionsGivenTwiceOnce(CLI::App& app) {
+  for (CLI::App* command : app.get_subcommands([](const CLI::App*) { return true; })) {
+    for (CLI::Option* option : command->get_options()) {
+      if (option->get_multi_option_policy() == CLI::MultiOptionPolicy::Throw &&
+          option->get_expected_max() == 1)
+        option->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+    }
+  }
+}
+
+/// The first option of the parsed command given twice with two values, as "--seed: given twice,
+/// 1 and 2: give it once", or "".
+std::string optionGivenTwice(CLI::App& app) {
+  for (CLI::App* command : app.get_subcommands()) {
+    for (const CLI::Option* option : command->get_options()) {
+      if (option->get_multi_option_policy() != CLI::MultiOptionPolicy::TakeLast) continue;
+      const CLI::results_t& values = option->results();
+      for (const std::string& value : values) {
+        if (value == values.front()) continue;
+        return option->get_name() + ": given twice, " + values.front() + " and " + value +
+               ": give it once";
+      }
+    }
+  }
+  return "";
 }
 
 }  // namespace
@@ -267,6 +324,8 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", "artcal 0.1.0");
   artcal::cli::Action action;
   addSubcommands(app, action, argc, argv);
+  artcal::cli::readNumbersAsDecimals(app);
+  artcal::cli::takeOptionsGivenTwiceOnce(app);
   if (const std::string bad = nonFiniteArgument(argc, argv); !bad.empty()) {
     std::cerr << "error: " << bad << ": expected a finite number (every number option)"
               << std::endl;
@@ -283,6 +342,10 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     // One line, as every input error: what is wrong, and where to look.
     std::cerr << "error: " << e.what() << " (artcal --help; artcal COMMAND --help)" << std::endl;
+    return 2;
+  }
+  if (const std::string twice = artcal::cli::optionGivenTwice(app); !twice.empty()) {
+    std::cerr << "error: " << twice << std::endl;
     return 2;
   }
   const std::string input = noteCommandLineInputs(app);

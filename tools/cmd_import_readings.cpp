@@ -133,6 +133,8 @@ void addImportReadingsCommand(CLI::App& app, Action& action) {
       ->capture_default_str();
   cmd->callback([&action, args, probe] {
     ReadingsImport& given = args->import;
+    given.tips = distinctEntries(given.tips);
+    given.markers = distinctEntries(given.markers);
     given.tip = given.tips.size() == 1 ? given.tips.front() : std::string();
     if (given.tips.size() == 1) given.tips.clear();
     if (given.machine_file.empty() && given.urdf.empty())

@@ -1,8 +1,12 @@
 // artcal verify (docs/models.md section 6): a (calibrated) machine on readings it has not seen.
 
+#include <algorithm>
+#include <cctype>
 #include <iostream>
+#include <string_view>
 
 #include "artcal/calibration/verification.hpp"
+#include "artcal/core/error.hpp"
 #include "artcal/io/machine_covariance.hpp"
 #include "artcal/io/machine_frames.hpp"
 #include "artcal/io/plan_io.hpp"
@@ -23,21 +27,42 @@ struct VerifyArguments {
   bool json = false;
 };
 
+/// `word` as a shell reads it back as one argument: as it is, or in single quotes (a placement
+/// named "table day1").
+std::string shellWord(const std::string& word) {
+  const bool plain = !word.empty() && std::all_of(word.begin(), word.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) ||
+           std::string_view("_-.,:/=+@%").find(c) != std::string_view::npos;
+  });
+  if (plain) return word;
+  std::string quoted = "'";
+  for (const char c : word) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return quoted + "'";
+}
+
 /// A plane placement the calibration's frames do not score, where the machine file holds a frame
 /// of the same artifact: a table touched on two days under two names (docs/planes.md) is scored
-/// in the calibration's frame only when asked; say how.
+/// in the calibration's frame only when asked; say how, with an option that is then taken (a
+/// name with a space quoted; none where the names cannot be paired, a held name holding '=').
 void hintFrameOf(const Plan& plan, const std::vector<CalibratedFrame>& calibrated,
-                 const std::vector<std::optional<CalibrationFrame>>& frames) {
+                 const std::vector<std::optional<CalibrationFrame>>& frames,
+                 const std::string& machine) {
   for (std::size_t j = 0; j < plan.placements.size() && j < frames.size(); ++j) {
     const Artifact& artifact =
         plan.artifacts[static_cast<std::size_t>(plan.placements[j].artifact)];
     if (frames[j] || !artifact.kind().touches_faces) continue;
     for (const CalibratedFrame& frame : calibrated) {
       if (frame.artifact != artifact.id) continue;
+      const std::string pair = placementLabel(plan.placements, j) + "=" + frame.placement;
+      try {
+        framesForPlacements(plan, calibrated, std::vector<std::string>{pair}, machine);
+      } catch (const InputError&) {
+        break;
+      }
       std::cerr << "note: placement " << placementLabel(plan.placements, j)
                 << " is refitted only; if its plane stayed where the calibration's "
                 << frame.placement << " was, also score it in that frame: --frame-of "
-                << placementLabel(plan.placements, j) << "=" << frame.placement << "\n";
+                << shellWord(pair) << "\n";
       break;
     }
   }
@@ -65,7 +90,7 @@ int runVerify(const VerifyArguments& args) {
         parseMachineFrames(document, args.machine, plan.machine.dimension());
     const auto frames = framesForPlacements(plan, calibrated, args.frame_of, args.machine);
     for (const auto& frame : frames) options.calibration_frames.push_back(frame);
-    hintFrameOf(plan, calibrated, frames);
+    hintFrameOf(plan, calibrated, frames, args.machine);
   }
   // An instrument's stations (instruments.md): held-out readings against a fitted station.
   const StationsVerification stations =

@@ -10,6 +10,7 @@ See docs/python.md.
 from __future__ import annotations
 
 import copy
+import functools
 import os
 import warnings
 from typing import Any, Callable, Mapping, Optional, Sequence, Tuple, Union
@@ -105,15 +106,42 @@ def _feature_blocks(joints: Any, features: Any) -> list[tuple[int, np.ndarray]]:
     return blocks
 
 
-def _finite(**numbers: Any) -> None:
-    """InputError naming the option, as the command line does (``--cube: inf: expected a finite
-    number``), for a number argument that is NaN or infinite."""
+def _numbers(check_finite: bool = False, **numbers: Any) -> None:
+    """InputError naming the option, as the command line does, for a number argument that is not
+    a number: True is not 1, "5" not 5 (the command line reads decimal numbers only); with
+    ``check_finite`` also for NaN and inf (``--cube: inf: expected a finite number``)."""
     for name, value in numbers.items():
         if value is None:
             continue
-        for x in np.ravel(np.asarray(value, dtype=float)):
-            if not np.isfinite(x):
-                raise InputError(f"--{name.replace('_', '-')}: {x}: expected a finite number")
+        option = f"--{name.replace('_', '-')}"
+        for x in np.ravel(np.asarray(value, dtype=object)):
+            if isinstance(x, (bool, np.bool_)) or not isinstance(x, (int, float, np.integer,
+                                                                     np.floating)):
+                raise InputError(f"{option}: {x!r}: expected a number, got "
+                                 f"{type(x).__name__}")
+            if check_finite and not np.isfinite(float(x)):
+                raise InputError(f"{option}: {float(x)}: expected a finite number")
+
+
+def _finite(**numbers: Any) -> None:
+    """_numbers, finite."""
+    _numbers(True, **numbers)
+
+
+def _input_errors(function: Callable) -> Callable:
+    """``function`` raising InputError with one short line where the C++ core refuses an
+    argument's type (pybind11's TypeError prints every overload's signature)."""
+    @functools.wraps(function)
+    def call(*args: Any, **kwargs: Any) -> Any:
+        try:
+            return function(*args, **kwargs)
+        except TypeError as error:
+            if "incompatible function arguments" not in str(error) and \
+                    "incompatible constructor arguments" not in str(error):
+                raise
+            raise InputError(f"{function.__qualname__}: an argument is not of its type "
+                             f"(help(artcal.{function.__qualname__}) lists them)") from None
+    return call
 
 
 def placement(artifact: str, joints: Any, features: Any = None, *,
@@ -391,6 +419,7 @@ class Plan:
         ``calibrate().machine``) ``artcal acceptance MACHINE --plan PLAN [--posterior]``: the
         calibrated machine's covariance on this plan's noise and workspace. ``stylus_offset``
         (mm, e.g. 150): ``--stylus-offset``, the E150 test."""
+        _numbers(stylus_offset=stylus_offset)  # its range: the prediction's own check
         return Result(self._plan.acceptance_length(mpe, trials, seed, threads,
                                                    _machine_arg(machine), posterior,
                                                    stylus_offset))
@@ -410,6 +439,13 @@ class Plan:
         return f"artcal.Plan({self.source!r})"
 
 
+for _method in ("__init__", "add_artifact", "add_placement", "add_station", "readings", "check",
+                "evaluate", "calibrate", "verify", "simulate", "confirm", "acceptance_length",
+                "acceptance_pose"):
+    setattr(Plan, _method, _input_errors(getattr(Plan, _method)))
+Plan.from_dict = classmethod(_input_errors(Plan.from_dict.__func__))
+
+
 class Evaluator:
     """The prepared evaluation of a plan's placements (the optimizer's inner loop):
     ``tip()`` returns (worst, mean, rms) of the tip uncertainty, mm, or None."""
@@ -424,11 +460,13 @@ class Evaluator:
         return self._evaluator.tip()
 
 
+@_input_errors
 def load_plan(path: PathLike, *, require_placements: bool = True) -> Plan:
     """Reads a plan file (same as ``Plan(path)``)."""
     return Plan(path, require_placements=require_placements)
 
 
+@_input_errors
 def import_urdf(path: PathLike, base: str, tip: Union[str, Sequence[str]]) -> dict[str, Any]:
     """``artcal import-urdf URDF --base BASE --tip TIP [--tip TIP2 ...]``: the machine block
     (mm, deg); several tips give one machine whose shared joints appear once (docs/urdf.md)."""
@@ -462,6 +500,7 @@ def _optimize_knobs(starts, seed, time_limit, threads, pool, evaluations, polish
     return knobs
 
 
+@_input_errors
 def optimize(spec: Union[PathLike, Mapping[str, Any], Plan], *, starts: Optional[int] = None,
              seed: Optional[int] = None, time_limit: Optional[float] = None, threads: int = 0,
              pool: Optional[int] = None, evaluations: Optional[int] = None,
@@ -479,6 +518,7 @@ def optimize(spec: Union[PathLike, Mapping[str, Any], Plan], *, starts: Optional
     return Plan.from_dict(document, source=native.source)
 
 
+@_input_errors
 def optimize_sweep(spec: Union[PathLike, Mapping[str, Any], Plan], placements: str,
                    directory: PathLike, *, target_tip: Optional[float] = None,
                    starts: Optional[int] = None, seed: Optional[int] = None,
@@ -503,6 +543,17 @@ def optimize_sweep(spec: Union[PathLike, Mapping[str, Any], Plan], placements: s
     return Result(summary, plans=plans)
 
 
+def _prior_tolerances(prior: Any) -> None:
+    """``prior`` as the command line's --prior LENGTH,ANGLE: two numbers, each > 0 ((0, 0) is no
+    prior the command line would take, True no 1)."""
+    numbers = list(prior) if isinstance(prior, (tuple, list)) else [prior]
+    _finite(prior=numbers)
+    if len(numbers) != 2 or not all(float(x) > 0.0 for x in numbers):
+        raise InputError(f"--prior: {tuple(numbers)!r}: expected (LENGTH, ANGLE), numbers > 0 "
+                         "(mm, deg), e.g. (5, 0.5)")
+
+
+@_input_errors
 def import_readings(folder: Union[PathLike, Sequence[PathLike]], *,
                     urdf: Optional[PathLike] = None, base: Optional[str] = None,
                     tip: Union[str, Sequence[str], None] = None,
@@ -541,8 +592,14 @@ def import_readings(folder: Union[PathLike, Sequence[PathLike]], *,
 
     if probe is None:
         probe = "estimate" if instrument is not None else 0.1
+    _finite(ball_bar=ball_bar, u_length=u_length, encoder=encoder, instrument=instrument,
+            instrument_angle=instrument_angle, probe=None if isinstance(probe, str) else probe)
+    _finite(**{f"hold {joint}": value for joint, value in (hold or {}).items()})
+    if prior is not None:
+        _prior_tolerances(prior)
     files = [] if isinstance(folder, (str, os.PathLike)) else [text(f) for f in folder]
-    tips = [] if tip is None or isinstance(tip, str) else list(tip)
+    # An entry given twice counts once (options given twice, docs/hardening.md).
+    tips = [] if tip is None or isinstance(tip, str) else list(dict.fromkeys(tip))
     single_tip = tip if isinstance(tip, str) else (tips[0] if len(tips) == 1 else "")
     native = _native.import_readings("" if files else text(folder), text(machine), text(urdf),
                                      base or "", single_tip, ball_bar, u_length, text(artifact),
@@ -550,7 +607,8 @@ def import_readings(folder: Union[PathLike, Sequence[PathLike]], *,
                                      encoder, unit or "", keep_calibrate, keep_limits,
                                      text(output), instrument, point_unit or "",
                                      instrument_angle, orientation_unit or "",
-                                     [marker] if isinstance(marker, str) else list(marker or []),
+                                     [marker] if isinstance(marker, str)
+                                     else list(dict.fromkeys(marker or [])),
                                      orientation or "", dict(hold or {}), files, tips,
                                      dict(tip_of or {}), prior)
     plan = Plan.__new__(Plan)
@@ -559,6 +617,7 @@ def import_readings(folder: Union[PathLike, Sequence[PathLike]], *,
     return plan
 
 
+@_input_errors
 def export_urdf(machine: Union[PathLike, Mapping[str, Any]], urdf: PathLike,
                 output: Optional[PathLike] = None) -> str:
     """``artcal export-urdf --machine MACHINE --urdf URDF -o OUTPUT``: the URDF with the chain's

@@ -335,9 +335,14 @@ void addOffsetPositions(const AcceptanceInput& input, const LengthTestOptions& o
 
 LengthTestPrediction predictLengthTestLinear(const AcceptanceInput& input,
                                              const LengthTestOptions& options) {
-  if (!(std::isfinite(options.stylus_offset) && options.stylus_offset >= 0.0))
+  // Within the bound of every length read (1e9 mm, io/json_node.hpp's kMaxInputMagnitude): 1e300
+  // wrote null and quantiles of 1e296 (issue 44).
+  constexpr double kLargestStylusOffset = 1e9;
+  if (!(std::isfinite(options.stylus_offset) && options.stylus_offset >= 0.0 &&
+        options.stylus_offset <= kLargestStylusOffset))
     throw InputError("--stylus-offset", "",
-                     "expected a finite number of mm, >= 0 (ISO 10360-2's E150: 150)");
+                     "expected a finite number of mm, >= 0 and within 1e9 (ISO 10360-2's E150: "
+                     "150)");
   checkMachineAxes(input);
   LengthTestPrediction prediction;
   prediction.mpe = options.mpe;

@@ -301,14 +301,18 @@ void nearestTurn(const Plan& plan, Calibration& calibration) {
   }
 }
 
-/// A reading's identity bit for bit: its feature, tip, joints and measured point or pose.
+/// A reading's identity bit for bit: its feature, tip, joints and measured point or pose. An
+/// instrument's reading is a feature of its own (its measured point), so its feature index never
+/// repeats: its identity is the station's (the placement's) tip, joints and measured values.
 std::string readingBits(const Measurement& m) {
   const auto bytes = [](std::string& key, const Eigen::VectorXd& v) {
     key.append(reinterpret_cast<const char*>(v.data()),
                static_cast<std::size_t>(v.size()) * sizeof(double));
     key += '|';
   };
-  std::string key = std::to_string(m.feature) + "/" + std::to_string(m.stylus) + "|";
+  const bool instrument_reading = m.point.size() > 0;
+  std::string key = (instrument_reading ? std::string("instrument") : std::to_string(m.feature)) +
+                    "/" + std::to_string(m.stylus) + "|";
   bytes(key, m.joints);
   bytes(key, m.point);
   bytes(key, m.orientation);

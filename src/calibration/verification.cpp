@@ -187,10 +187,14 @@ Eigen::Matrix3d toolFrame(const Eigen::Vector3d& tool_axis) {
 
 // A flush touch's tilts (rad), as roll and pitch of R_face^T R_tool (x-y-z fixed axes): the
 // face's outward normal n seen in the tool frame R_tool (machine frame), roll = atan2(n_y, n_z),
-// pitch = atan2(-n_x, |(n_y, n_z)|): the tool's tilt about its own x and y axes.
+// pitch = atan2(-n_x, |(n_y, n_z)|): the tool's tilt about its own x and y axes. A plane's
+// normal and the tool axis are lines, as calibrate reads them (its tilt rows are the tool axis's
+// components across the normal): written with the other sign, the normal seen along -z is the
+// same flush contact, not one tilted by half a turn (issue 44: verify said 180 deg of roll).
 void addFlushTouch(double height, const Eigen::Matrix3d& R_tool, const Eigen::Vector3d& n,
                    FlushSums& sums) {
-  const Eigen::Vector3d in_tool = R_tool.transpose() * n;
+  Eigen::Vector3d in_tool = R_tool.transpose() * n;
+  if (in_tool.z() < 0.0) in_tool = -in_tool;
   const double roll = std::atan2(in_tool.y(), in_tool.z());
   const double pitch = std::atan2(-in_tool.x(), std::hypot(in_tool.y(), in_tool.z()));
   ++sums.touches;
@@ -534,12 +538,13 @@ double lengthErrorUncertainty(const Verification& v) {
 std::vector<std::string> worseThanNominal(const Verification& calibrated,
                                           const Verification& nominal) {
   std::vector<std::string> worse;
+  const auto printed = [](double mm) { return std::round(mm / kComparedFigureResolution); };
   for (const ComparedFigure& figure : kComparedFigures) {
     const double tolerance = figure.value == &Verification::length_error_mean_abs
                                  ? 2.0 * lengthErrorUncertainty(calibrated)
                                  : 0.0;
-    if (calibrated.*figure.value - nominal.*figure.value > tolerance)
-      worse.emplace_back(figure.name);
+    const double c = calibrated.*figure.value, n = nominal.*figure.value;
+    if (c - n > tolerance && printed(c) > printed(n)) worse.emplace_back(figure.name);
   }
   return worse;
 }

@@ -1,6 +1,7 @@
 #include "artcal/io/machine_frames.hpp"
 
 #include <Eigen/LU>
+#include <map>
 #include <set>
 
 #include "artcal/core/assignment.hpp"
@@ -114,7 +115,9 @@ std::vector<std::optional<CalibrationFrame>> framesForPlacements(
     const std::vector<std::string>& frame_of, const std::string& source) {
   std::vector<std::string> names;
   std::vector<std::pair<std::string, std::string>> pairs;
-  for (const std::string& entry : frame_of) {
+  // Given twice: the same entry again counts once; a placement paired twice with two frames is
+  // refused (options given twice, docs/hardening.md).
+  for (const std::string& entry : distinctEntries(frame_of)) {
     if (entry.find('=') == std::string::npos) {
       names.push_back(entry);
     } else if (auto assignment = splitAssignment(entry)) {
@@ -130,9 +133,16 @@ std::vector<std::optional<CalibrationFrame>> framesForPlacements(
   }
   auto out =
       framesForPlacements(plan, frames, names.empty() ? std::string() : names.front(), source);
+  std::map<std::string, std::string> paired;  // held -> calibrated
   for (const auto& pair : pairs) {
     const std::string& held = pair.first;
     const std::string& calibrated = pair.second;
+    const auto [earlier, first] = paired.emplace(held, calibrated);
+    if (!first) {
+      throw InputError("--frame-of", held + "=" + calibrated,
+                       "placement \"" + held + "\" is paired twice, with \"" + earlier->second +
+                           "\" and \"" + calibrated + "\": give one --frame-of per placement");
+    }
     const auto frame = std::find_if(frames.begin(), frames.end(), [&](const CalibratedFrame& f) {
       return f.placement == calibrated;
     });

@@ -210,6 +210,8 @@ Noise parseNoise(const Node& node, const Machine& machine, std::vector<std::stri
   return noise;
 }
 
+}  // namespace
+
 Pose parsePose(const Node& node, int dimension, std::vector<std::string>& warnings,
                bool centre_only) {
   node.object();
@@ -230,6 +232,8 @@ Pose parsePose(const Node& node, int dimension, std::vector<std::string>& warnin
   }
   return pose;
 }
+
+namespace {
 
 Eigen::VectorXd jointsFromFile(const Mechanism& mech, const Eigen::VectorXd& values) {
   Eigen::VectorXd q(values.size());
@@ -752,6 +756,16 @@ DesignSpec parseDesign(const Node& node, const Plan& plan, std::vector<std::stri
   const Node artifact = node.at("artifact");
   design.artifact = plan.artifactIndex(artifact.string());
   if (design.artifact < 0) artifact.fail("unknown artifact \"" + artifact.string() + "\"");
+  // The optimizer places an artifact and its features in the region; a table-spindle bar's
+  // readings are the spindle's positions on a sphere about the table ball (it failed deep in the
+  // search, "no bar direction", naming no field).
+  if (plan.artifacts[static_cast<std::size_t>(design.artifact)].plane.shape ==
+      PlaneShape::TableBall) {
+    artifact.fail("\"" + artifact.string() +
+                  "\" is a table-spindle ball bar, which optimize does not place: write its "
+                  "placements and readings in a plan (docs/five-axis.md section 3), or design "
+                  "with a sphere");
+  }
   if (plan.artifacts[static_cast<std::size_t>(design.artifact)].kind().readings_are_features) {
     parseInstrumentDesign(node, plan, design, warnings);
   } else {

@@ -1419,6 +1419,22 @@ void checkTipOf(const ReadingsImport& import, const std::vector<std::string>& ti
 /// in the wrong unit.
 constexpr double kWidestRevoluteDeg = 360.0;
 
+/// The range a joint's readings may reach and its limits be widened to (internal units): a
+/// revolute joint up to kWidestRevoluteDeg, or, where its limits span a whole turn (a URDF
+/// continuous joint, [-180, 180]: it turns on), a turn beyond them (a continuous joint at 400
+/// deg); a prismatic joint a tenth of its range (at least 1 mm) beyond its limits, a reading in
+/// the wrong unit being 1000 times off.
+std::array<double, 2> widenableRange(const std::array<double, 2>& limits, bool revolute) {
+  if (!revolute) {
+    const double reach = std::max(0.1 * (limits[1] - limits[0]), 1.0);
+    return {limits[0] - reach, limits[1] + reach};
+  }
+  const bool whole_turn = limits[1] - limits[0] >= 2.0 * std::numbers::pi - 1e-9;
+  const double widest = whole_turn ? std::max(-limits[0], limits[1]) + degToRad(kWidestRevoluteDeg)
+                                   : degToRad(kWidestRevoluteDeg);
+  return {-widest, widest};
+}
+
 /// The machine's joint limits widened to the range of the plan's CSV readings (see the header).
 std::vector<std::string> widenJointLimits(json& document, const std::string& source,
                                           const fs::path& folder) {
@@ -1462,18 +1478,9 @@ std::vector<std::string> widenJointLimits(json& document, const std::string& sou
   for (int i = 0; i < mech.jointCount(); ++i) {
     auto limits = machine.joint_limits[static_cast<std::size_t>(i)];
     if (lo[i] >= limits[0] && hi[i] <= limits[1]) continue;
-    // A joint whose limits span a whole turn (a URDF continuous joint, [-180, 180]) turns on:
-    // its readings may reach a turn beyond its limits (a continuous joint at 400 deg).
-    const bool whole_turn = limits[1] - limits[0] >= 2.0 * std::numbers::pi - 1e-9;
-    const double widest = whole_turn
-                              ? std::max(-limits[0], limits[1]) + degToRad(kWidestRevoluteDeg)
-                              : degToRad(kWidestRevoluteDeg);
     const bool revolute = kinds[static_cast<std::size_t>(i)] == JointKind::Revolute;
-    // A prismatic joint: within a tenth of its range (at least 1 mm) of its limits; a reading in
-    // the wrong unit is 1000 times off.
-    const double reach = std::max(0.1 * (limits[1] - limits[0]), 1.0);
-    const bool widen = revolute ? lo[i] >= -widest && hi[i] <= widest
-                                : lo[i] >= limits[0] - reach && hi[i] <= limits[1] + reach;
+    const auto widest = widenableRange(limits, revolute);
+    const bool widen = lo[i] >= widest[0] && hi[i] <= widest[1];
     if (!widen) continue;  // refused when the plan is parsed, naming the file and row
     const double to_file = revolute ? radToDeg(1.0) : 1.0;
     const char* unit = revolute ? "deg" : "mm";
@@ -1489,6 +1496,26 @@ std::vector<std::string> widenJointLimits(json& document, const std::string& sou
     warnings.emplace_back(text);
   }
   return warnings;
+}
+
+/// A --hold value where the option gives it, not as the CSV column it becomes (issue 44): within
+/// the range the joint's readings may reach (widenableRange), in deg (mm for a prismatic joint).
+void checkHeldValue(const Machine& machine, const MachineReadings& readings, std::size_t joint,
+                    const std::string& name, double value) {
+  const bool revolute = readings.kinds[joint] == JointKind::Revolute;
+  const auto limits = machine.joint_limits[joint];
+  const auto range = widenableRange(limits, revolute);
+  const double to_file = revolute ? radToDeg(1.0) : 1.0;
+  const double internal = value / to_file;
+  if (std::abs(value) <= kMaxInputMagnitude && internal >= range[0] && internal <= range[1]) return;
+  const char* unit = revolute ? " deg" : " mm";
+  throw InputError(
+      "--hold", name + "=" + formatShortest(value),
+      "joint \"" + jointName(readings, joint) + "\" held at " + formatShortest(value) + unit +
+          ", beyond what its readings may reach (" + formatShortest(range[0] * to_file) + " .. " +
+          formatShortest(range[1] * to_file) + unit + ", its joint_limits [" +
+          formatShortest(limits[0] * to_file) + ", " + formatShortest(limits[1] * to_file) + "]" +
+          unit + "): check the value (deg, or mm for a prismatic joint)");
 }
 
 /// The joint readings per row of the machine block `machine` (its driving joints), read beside
@@ -1520,6 +1547,7 @@ MachineReadings machineReadings(const json& machine, const json& artifacts,
               (out.names.empty() ? std::string(", also j1, joint_1, q1, ...") : std::string()) +
               ")");
     }
+    checkHeldValue(plan.machine, out, joint, name, value);
     // Given twice: the same value is one hold; two values conflict (options given twice are
     // refused where they conflict, docs/hardening.md).
     const auto [at, inserted] = held.emplace(joint, value);
@@ -1533,13 +1561,30 @@ MachineReadings machineReadings(const json& machine, const json& artifacts,
   return out;
 }
 
+/// A folder's pose.json, checked as a placement's pose against that file (its pointer, its
+/// numbers' bounds) where it is read: the plan written from it is the import's output, not yet
+/// written, and no place to point at. The 2-D form is the one with an "angle".
+json readPoseFile(const std::string& path) {
+  json document = readJsonFile(path);
+  const Node pose(document, "", path);
+  const bool planar = document.is_object() && document.contains("angle");
+  std::vector<std::string> warnings;  // the plan's own reading warns once more, where it is used
+  parsePose(pose, planar ? 2 : 3, warnings, /*centre_only=*/true);
+  return document;
+}
+
 }  // namespace
 
 ImportedPlan importReadings(const ReadingsImport& import) {
   const bool prior = import.prior_length != 0.0 || import.prior_angle != 0.0;
-  if (prior && !(import.prior_length > 0.0 && import.prior_angle > 0.0 &&
-                 std::isfinite(import.prior_length) && std::isfinite(import.prior_angle))) {
-    throw InputError("--prior", "", "expected LENGTH,ANGLE (mm, deg), each > 0, e.g. 5,0.5");
+  const auto tolerance = [](double v) { return v > 0.0 && v <= kMaxInputMagnitude; };
+  if (prior && !(tolerance(import.prior_length) && tolerance(import.prior_angle))) {
+    const bool finite = std::isfinite(import.prior_length) && std::isfinite(import.prior_angle);
+    throw InputError(
+        "--prior",
+        finite ? formatShortest(import.prior_length) + "," + formatShortest(import.prior_angle)
+               : std::string(),
+        "expected LENGTH,ANGLE (mm, deg), each > 0 and within 1e9, e.g. 5,0.5");
   }
   if (!import.unit.empty() && !readingUnitsFromName(import.unit)) {
     throw InputError(
@@ -1594,7 +1639,7 @@ ImportedPlan importReadings(const ReadingsImport& import) {
     // Where the artifact stood (a plane's placement, docs/planes.md): the folder's pose.json,
     // {"center": [...], "direction": [...], "roll": deg}, checked when the plan is read; without
     // one a plane's placement is where its touches put it.
-    if (!source.pose.empty()) placements.back()["pose"] = readJsonFile(source.pose.string());
+    if (!source.pose.empty()) placements.back()["pose"] = readPoseFile(source.pose.string());
   }
   checkEachFileReadOnce(placements, plan_folder);
   const std::string plan_name = !files_given         ? folderName(dir)

@@ -8,6 +8,7 @@
 #include <console_bridge/console.h>
 #include <urdf_parser/urdf_parser.h>
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <fstream>
@@ -516,13 +517,14 @@ json importUrdf(const UrdfSource& urdf, const std::string& base,
   std::map<std::string, bool> direction;  // joint -> reversed
   json tip_list = json::array();
   for (const std::string& tip : tips) {
+    // Given twice: the same tip again counts once (options given twice, docs/hardening.md).
+    if (std::any_of(tip_list.begin(), tip_list.end(),
+                    [&](const json& other) { return other["name"] == tip; }))
+      continue;
     json path = json::array();
     for (const PathJoint& step : chainJoints(doc, base, tip)) {
       path.push_back(step.joint->name);
       if (direction.emplace(step.joint->name, step.reversed).second) chain.push_back(step);
-    }
-    for (const json& other : tip_list) {
-      if (other["name"] == tip) doc.fail(nullptr, "--tip \"" + tip + "\" given twice");
     }
     tip_list.push_back({{"name", tip}, {"joints", path}});
   }
@@ -561,7 +563,7 @@ json importUrdf(const UrdfSource& urdf, const std::string& base,
     joints.push_back(entry);
   }
   json machine = {{"model", "chain"}, {"joints", joints}};
-  if (tips.size() > 1) machine["tips"] = tip_list;
+  if (tip_list.size() > 1) machine["tips"] = tip_list;
   if (!limits.empty()) machine["joint_limits"] = limits;
   machine["calibrate"] = "identifiable";
   return machine;

@@ -249,6 +249,21 @@ TEST(Verification, WorseThanNominalCountsALengthErrorBeyondTwiceItsPosteriorU) {
             (std::vector<std::string>{"spread_mean", "spread_rms"}));
 }
 
+// Figures printed alike to the micrometre are not called worse (issue 44 warned "0.009 mm > 0.009
+// mm"); a micrometre more is.
+TEST(Verification, WorseThanNominalIgnoresFiguresThatPrintAlike) {
+  const auto spreads = [](double mean, double rms) {
+    Verification v;
+    v.spread_mean = mean;
+    v.spread_rms = rms;
+    return v;
+  };
+  const Verification nominal = spreads(0.0081, 0.0089);                     // 0.008, 0.009 mm
+  EXPECT_TRUE(worseThanNominal(spreads(0.0084, 0.0093), nominal).empty());  // 0.008, 0.009
+  EXPECT_EQ(worseThanNominal(spreads(0.0084, 0.0096), nominal),             // 0.008, 0.010
+            std::vector<std::string>{"spread_rms"});
+}
+
 // The pairs' u the rule reads is their RMS, the root of the mean u^2 (the expected mean square
 // of the calibrated machine's length errors), not their mean: pairs of posterior u 0.03 and
 // 0.09 mm have RMS sqrt((0.03^2 + 0.09^2) / 2) = 0.06708 mm (mean 0.06 mm). A calibrated mean |e|

@@ -139,3 +139,41 @@ def test_instrument_readings_are_built_with_add_station():
     assert built == [{"artifact": p["artifact"], "name": p["name"],
                       "measurements": p["measurements"]} for p in reference["placements"]]
     assert plan.check() == artcal.Plan(TRACKER).check()
+
+
+# Issue 44: the Python entry points read numbers and types as the command line does.
+MUKCA = "tests/data/mukca/mukca"
+PANDA = dict(urdf=f"{MUKCA}/urdf/panda.urdf", base="panda_link0", tip="ball_link", ball_bar=50)
+
+
+@pytest.mark.parametrize("prior", [(0, 0), (0.0, 0.5), (True, True), (5.0, True), (5.0,),
+                                   ("5", "0.5")])
+def test_a_prior_the_command_line_refuses_is_refused(prior):
+    # (0, 0) dropped the prior (the command line refuses --prior 0,0); True was taken as 1.
+    with pytest.raises(artcal.InputError) as raised:
+        artcal.import_readings(f"{MUKCA}/panda_2", prior=prior, **PANDA)
+    assert str(raised.value).startswith("--prior: "), str(raised.value)
+    assert "\n" not in str(raised.value)
+
+
+@pytest.mark.parametrize("arguments", [dict(ball_bar=True), dict(encoder="0.1"),
+                                       dict(u_length=1j), dict(hold={"j4": True})])
+def test_a_number_argument_of_another_type_names_it(arguments):
+    options = dict(PANDA, **arguments)
+    with pytest.raises(artcal.InputError) as raised:
+        artcal.import_readings(f"{MUKCA}/panda_2", **options)
+    assert "expected a number" in str(raised.value), str(raised.value)
+
+
+@pytest.mark.parametrize("call", [
+    lambda: artcal.import_readings(f"{MUKCA}/panda_2", urdf=f"{MUKCA}/urdf/panda.urdf",
+                                   base=7, tip="ball_link", ball_bar=50),
+    lambda: artcal.import_urdf(f"{MUKCA}/urdf/panda.urdf", base=["panda_link0"], tip="ball_link"),
+    lambda: artcal.Plan(REF).calibrate(max_iterations="ten"),
+    lambda: artcal.Plan(REF).confirm(trials=2.5),
+])
+def test_a_type_error_is_an_input_error_of_one_line_not_a_signature_dump(call):
+    with pytest.raises(artcal.InputError) as raised:
+        call()
+    message = str(raised.value)
+    assert "\n" not in message and "incompatible" not in message and len(message) < 200, message

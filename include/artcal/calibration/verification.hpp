@@ -207,8 +207,12 @@ inline constexpr ComparedFigure kComparedFigures[] = {
     {"spread_rms", "spread rms", &Verification::spread_rms},
     {"length_error_mean_abs", "length error mean |e|", &Verification::length_error_mean_abs}};
 
+/// The figures are printed to the micrometre: two that print alike are not called worse ("0.009 mm
+/// > 0.009 mm" was warned).
+inline constexpr double kComparedFigureResolution = 1e-3;  // mm
+
 /// The overall figures (kComparedFigures) in which `calibrated` does worse than `nominal` on the
-/// same readings, by their JSON names.
+/// same readings, by their JSON names, by more than kComparedFigureResolution shows.
 /// A spread averages every posture's deviation, and the two machines see the same readings, so a
 /// larger one is worse. A length error is one number per pair, the nominal one can be small by
 /// chance: its mean |e| counts as worse only beyond twice the RMS of the calibrated machine's

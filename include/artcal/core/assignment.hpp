@@ -3,12 +3,14 @@
 // HELD=CALIBRATED`): one split for all of them, each caller naming its own option and form in its
 // message.
 
+#include <algorithm>
 #include <cctype>
 #include <charconv>
 #include <cmath>
 #include <optional>
 #include <string>
 #include <utility>
+#include <vector>
 
 namespace artcal {
 
@@ -19,6 +21,16 @@ inline std::optional<std::pair<std::string, std::string>> splitAssignment(
   const auto equals = entry.find('=');
   if (equals == std::string::npos || equals == 0 || equals + 1 == entry.size()) return std::nullopt;
   return std::make_pair(entry.substr(0, equals), entry.substr(equals + 1));
+}
+
+/// A repeatable option's entries with an entry given again counted once, in the order first
+/// given (options given twice, docs/hardening.md: the same value again counts once; entries that
+/// conflict are refused where they are read).
+inline std::vector<std::string> distinctEntries(const std::vector<std::string>& entries) {
+  std::vector<std::string> out;
+  for (const std::string& entry : entries)
+    if (std::find(out.begin(), out.end(), entry) == out.end()) out.push_back(entry);
+  return out;
 }
 
 /// `text` as a decimal number: an optional sign, digits with at most one '.', an optional

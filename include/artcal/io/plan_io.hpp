@@ -44,6 +44,13 @@ Plan parsePlan(const nlohmann::json& document, const std::string& source,
 
 // loadPlan (readJsonFile + parsePlan): io/plan_file.hpp.
 
+/// A placement's "pose" ({"center", "direction", "roll"}; 2-D: {"center", "angle"}) in internal
+/// units; `centre_only`: an artifact placed by its centre alone may leave out its direction.
+/// Unknown fields add to `warnings` (a misspelled one is refused). Also what checks a folder's
+/// pose.json where import-readings reads it, against that file.
+Pose parsePose(const Node& node, int dimension, std::vector<std::string>& warnings,
+               bool centre_only);
+
 /// The stylus a reading entry chooses: its "tip" (one of mech.stylusNames(), a chain's "tips")
 /// or its "stylus" (an index); 0 when it names neither. InputError at the entry otherwise.
 int readStylus(const Node& entry, const Mechanism& mech);
