@@ -71,17 +71,6 @@ void crossValidate(const Linearization& linearization, const std::vector<Placeme
   candidate.predicted = dof > 0.0 ? candidate.chi2_per_dof * (1.0 + trace / dof) : 0.0;
 }
 
-// The one-sided sign test over the folds: the probability that a candidate no better than the
-// reference is lower in at least `lower` of `folds` folds (each fold a fair coin).
-double signTestLevel(int lower, int folds) {
-  double tail = 0.0, choose = 1.0;  // C(folds, i)
-  for (int i = 0; i <= folds; ++i) {
-    if (i >= lower) tail += choose;
-    choose = choose * (folds - i) / (i + 1);
-  }
-  return tail / std::pow(2.0, folds);
-}
-
 // In how many of the folds `candidate`'s held-out error is below `reference`'s.
 int foldsLower(const ModelChoiceCandidate& candidate, const ModelChoiceCandidate& reference) {
   int lower = 0;
@@ -117,6 +106,15 @@ std::string percent(double value) {
 }
 
 }  // namespace
+
+double signTestLevel(int lower, int folds) {
+  double tail = 0.0, choose = 1.0;  // C(folds, i)
+  for (int i = 0; i <= folds; ++i) {
+    if (i >= lower) tail += choose;
+    choose = choose * (folds - i) / (i + 1);
+  }
+  return tail / std::pow(2.0, folds);
+}
 
 std::vector<PlacementTerms> placementTerms(const Plan& plan,
                                            const std::vector<Placement>& placements,

@@ -7,6 +7,8 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <algorithm>
+#include <bit>
 #include <cmath>
 #include <nlohmann/json.hpp>
 #include <vector>
@@ -33,6 +35,20 @@ json pandaDocument() {
 
 Plan pandaPlan() {
   return parsePlan(pandaDocument(), test_support::planFile("panda-8positions.json"));
+}
+
+/// The Panda's first position alone, probe noise only (Cp's case: nothing to leave out).
+Plan onePlacementPanda() {
+  json document = pandaDocument();
+  document["placements"] = json::array({document["placements"][0]});
+  document["noise"]["encoder"] = 0.0;
+  return parsePlan(document, test_support::planFile("panda-8positions.json"));
+}
+
+CalibrationOptions rankRuleOnly() {
+  CalibrationOptions options;
+  options.model_choice = ModelChoiceMode::Rank;
+  return options;
 }
 
 /// The Panda's plan with readings simulated for the machine the real readings calibrate to (the
@@ -226,12 +242,8 @@ TEST(HeldOutModelChoice, DropsOnlyParametersWhoseTruthIsNominal) {
 
 // One placement: nothing to leave out. Cp is shown for information; the rank rule decides.
 TEST(HeldOutModelChoice, OnePlacementNeverChangesTheSet) {
-  json document = pandaDocument();
-  document["placements"] = json::array({document["placements"][0]});
-  document["noise"]["encoder"] = 0.0;
-  const Plan plan = parsePlan(document, test_support::planFile("panda-8positions.json"));
-  CalibrationOptions rank_only;
-  rank_only.model_choice = ModelChoiceMode::Rank;
+  const Plan plan = onePlacementPanda();
+  const CalibrationOptions rank_only = rankRuleOnly();
   const Calibration by_rank = calibrateReadings(plan, rank_only).calibration;
   const Calibration calibration = calibrateReadings(plan).calibration;
   ASSERT_TRUE(calibration.summary.converged());
@@ -248,6 +260,75 @@ TEST(HeldOutModelChoice, OnePlacementNeverChangesTheSet) {
   EXPECT_NEAR(first.observed,
               calibration.chi2_per_dof * (calibration.dof + 2.0 * k) / (calibration.dof + k),
               1e-9 * first.observed);
+}
+
+// The sign test's level against a count of every equally likely pattern of folds (2^folds
+// patterns, each fold lower or not): the share with at least `lower` folds lower. And the
+// thresholds the header names: all 5 of 5, all 7 of 7, 7 of 8, 8 of 9 at 5 %.
+TEST(HeldOutModelChoice, SignTestLevelIsTheShareOfFoldPatternsAtLeastThatLow) {
+  for (int folds = 1; folds <= 12; ++folds) {
+    for (int lower = 0; lower <= folds + 1; ++lower) {
+      long count = 0;
+      for (unsigned pattern = 0; pattern < (1u << folds); ++pattern)
+        if (std::popcount(pattern) >= lower) ++count;
+      const double share = static_cast<double>(count) / static_cast<double>(1u << folds);
+      EXPECT_NEAR(signTestLevel(lower, folds), share, 1e-15)
+          << lower << " of " << folds << " folds";
+    }
+  }
+  auto fewestLower = [](int folds) {
+    int lower = 0;
+    while (lower <= folds && signTestLevel(lower, folds) > kSignificance) ++lower;
+    return lower;
+  };
+  EXPECT_EQ(fewestLower(5), 5);
+  EXPECT_EQ(fewestLower(7), 7);
+  EXPECT_EQ(fewestLower(8), 7);
+  EXPECT_EQ(fewestLower(9), 8);
+  EXPECT_GT(fewestLower(4), 4);  // fewer than kMinFolds: never significant
+}
+
+// Mallows' Cp of every candidate with one placement (model_choice.hpp): each candidate's kept set
+// refitted here to every reading on its own, Cp = (chi2_k + 2 k s^2) / (dof_k + k) with s^2 the
+// rank rule's chi2 / dof (a calibration with the rank rule alone), and its prediction
+// chi2_k / dof_k (1 + k / (dof_k + k)). dof_k + k is the same for every candidate (the same
+// readings).
+TEST(HeldOutModelChoice, EveryCandidatesCpIsItsOwnRefitsChi2PlusTwoKTimesTheRankRulesScatter) {
+  const Plan plan = onePlacementPanda();
+  const CalibrationOptions rank_only = rankRuleOnly();
+  const CalibrationRun by_rank = calibrateReadings(plan, rank_only);
+  const CalibrationRun run = calibrateReadings(plan);
+  ASSERT_TRUE(by_rank.calibration.summary.converged());
+  ASSERT_TRUE(run.calibration.model_choice.has_value());
+  const ModelChoice& choice = *run.calibration.model_choice;
+  ASSERT_GE(choice.candidates.size(), 3u);
+  const double s2 = by_rank.calibration.chi2 / by_rank.calibration.dof;
+  const int n =
+      by_rank.calibration.dof + static_cast<int>(by_rank.decided.machine.calibrated.size());
+  CalibrationOptions options;
+  options.details = false;
+  int judged = 0;
+  for (const ModelChoiceCandidate& c : choice.candidates) {
+    if (!c.converged) continue;
+    Plan fitted = by_rank.decided;
+    fitted.machine.calibrated = c.kept;
+    // From the rank rule's estimate, the parameters it kept that this candidate does not held at
+    // nominal (the weak ones restored are at nominal there).
+    Eigen::VectorXd start = by_rank.calibration.parameters;
+    for (const int i : by_rank.decided.machine.calibrated)
+      if (std::find(c.kept.begin(), c.kept.end(), i) == c.kept.end())
+        start[i] = plan.machine.nominal[i];
+    const Calibration fit = Calibrator(fitted, options).run(plan.placements, start);
+    ASSERT_TRUE(fit.summary.converged()) << "candidate of " << c.size;
+    const auto k = static_cast<double>(c.kept.size());
+    EXPECT_EQ(fit.dof + static_cast<int>(c.kept.size()), n);
+    const double cp = (fit.chi2 + 2.0 * k * s2) / (fit.dof + k);
+    EXPECT_NEAR(c.observed, cp, 1e-5 * cp) << "candidate of " << c.size;
+    const double predicted = fit.chi2 / fit.dof * (1.0 + k / (fit.dof + k));
+    EXPECT_NEAR(c.predicted, predicted, 1e-5 * predicted) << "candidate of " << c.size;
+    ++judged;
+  }
+  EXPECT_GE(judged, 3);
 }
 
 }  // namespace model_choice_test

@@ -124,6 +124,48 @@ TEST(VerifyInCalibrationFrame, ArtifactPlacementResidualsInAGivenPose) {
   EXPECT_EQ(v.in_frame_placements, 2);
 }
 
+// The figures over every placement scored in a frame: the in-frame RMS pools the residuals of
+// placements 0 and 1 (each computed here from the forward kinematics in its frame), the
+// re-registered RMS the same readings in their refitted poses; placement 2, which has no frame,
+// is in neither. Every placement's frame moved by its own offset so that no placement's
+// residuals are another's.
+TEST(VerifyInCalibrationFrame, AllPlacementsInFrameRmsPoolsExactlyThePlacementsWithAFrame) {
+  const Plan plan = loadPlan(test_support::planFile("aacmm-6axis-3bars.json"));
+  ASSERT_EQ(plan.placements.size(), 3u);
+  const Eigen::VectorXd& p = plan.machine.nominal;
+  const Verification refit = verifyMachine(plan, p, std::nullopt);
+  VerifyOptions options;
+  options.calibration_frames.resize(plan.placements.size());
+  const std::vector<Eigen::Vector3d> offsets = {Eigen::Vector3d(0.2, 0.0, 0.1),
+                                                Eigen::Vector3d(0.0, -0.7, 0.3)};
+  for (std::size_t j = 0; j < offsets.size(); ++j) {
+    RigidTransform frame = refit.placements[j].pose;
+    frame.t += offsets[j];
+    options.calibration_frames[j] = CalibrationFrame{"placement " + std::to_string(j), frame};
+  }
+  const Verification v = verifyMachine(plan, p, std::nullopt, options);
+  double in_frame2 = 0.0, reregistered2 = 0.0;
+  int readings = 0;
+  for (std::size_t j = 0; j < offsets.size(); ++j) {
+    const Placement& placement = plan.placements[j];
+    const Artifact& artifact = plan.artifacts[static_cast<std::size_t>(placement.artifact)];
+    const RigidTransform& frame = options.calibration_frames[j]->pose;
+    const RigidTransform& fitted = refit.placements[j].pose;
+    for (const Measurement& m : placement.measurements) {
+      Eigen::VectorXd x;
+      forwardOrThrow(*plan.machine.mechanism, p, m.joints, x);
+      const Eigen::VectorXd feature = artifact.feature(m.feature, Eigen::VectorXd());
+      const int k = artifact.valuedPerFeature();
+      in_frame2 += (frame.R * x + frame.t - feature).head(k).squaredNorm();
+      reregistered2 += (fitted.R * x + fitted.t - feature).head(k).squaredNorm();
+      ++readings;
+    }
+  }
+  EXPECT_EQ(v.in_frame_placements, 2);
+  EXPECT_NEAR(v.in_frame_residual_rms, std::sqrt(in_frame2 / readings), 1e-9);
+  EXPECT_NEAR(v.reregistered_residual_rms, std::sqrt(reregistered2 / readings), 1e-9);
+}
+
 class VerifyFrameCli : public test_support::TempFolder {
  protected:
   VerifyFrameCli() : TempFolder("verify-frame") {}

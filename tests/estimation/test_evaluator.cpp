@@ -603,5 +603,27 @@ TEST(Evaluator, PoseObservationRowsMatchCentralDifferences) {
   }
 }
 
+// The confounding index on a hand-made information (evaluation_result.hpp): N = D M D with M
+// unit-diagonal, parameters 1 and 2 correlated by r, 3 alone, D scaling mm against rad by 1e10.
+// In closed form (M^-1 of the 2x2 block is [[1, -r], [-r, 1]] / (1 - r^2)): u_k = 1 / (D_k
+// sqrt(1 - r^2)) for k = 1, 2 and 1 / D_3, so F = 1 / sqrt(1 - r^2), 1 / sqrt(1 - r^2), 1, whatever
+// D is.
+TEST(Evaluator, ConfoundingIndexOfACorrelatedPairIsOneOverSqrtOneMinusRSquared) {
+  const double r = 0.96;
+  const Eigen::Vector3d D(1e6, 1.0, 1e-4);
+  Eigen::Matrix3d M = Eigen::Matrix3d::Identity();
+  M(0, 1) = M(1, 0) = r;
+  const Eigen::MatrixXd N = D.asDiagonal() * M * D.asDiagonal();
+  const auto covariance = covarianceFromInformation(N);
+  ASSERT_TRUE(covariance.has_value());
+  const double paired = 1.0 / std::sqrt(1.0 - r * r);  // 3.571...
+  const Eigen::Vector3d F(paired, paired, 1.0);
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_NEAR(covariance->confounding[k], F[k], 1e-12 * F[k]) << k;
+    EXPECT_NEAR(covariance->u[k], F[k] / D[k], 1e-12 * F[k] / D[k]) << k;
+  }
+  EXPECT_NEAR(covariance->correlation(0, 1), -r, 1e-12);
+}
+
 }  // namespace evaluator_test
 }  // namespace artcal

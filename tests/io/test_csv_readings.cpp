@@ -211,5 +211,88 @@ TEST_F(CsvFolder, CommandLineAnswersWithOneLineAndStatusTwo) {
             std::string::npos);
 }
 
+/// `line` split at `separator` (no quotes in these lines).
+std::vector<std::string_view> fieldsOf(std::string_view line, char separator = ',') {
+  std::vector<std::string_view> out;
+  for (std::size_t start = 0;;) {
+    const std::size_t end = line.find(separator, start);
+    out.push_back(line.substr(start, end == std::string_view::npos ? end : end - start));
+    if (end == std::string_view::npos) return out;
+    start = end + 1;
+  }
+}
+
+// headerShift on hand-made lines, each answer read off the line by eye (csv_readings.hpp): the
+// names over the row's last fields when the header is narrower and its names do not stand over
+// numbers as written; a header as wide as the row, ending in empty names, shifted only when its
+// names stood over text (a peer's export), not over an index written last (pandas).
+TEST(HeaderShift, HandMadeHeadersAndRows) {
+  struct Case {
+    std::string header, row;
+    std::vector<int> selected;
+    std::size_t shift;
+  };
+  const std::vector<Case> cases = {
+      {"j1,j2,j3", "1,2,3", {0, 1, 2}, 0},                // as written
+      {"j1,j2,j3", "front,1,2,3", {0, 1, 2}, 1},          // one leading label unnamed
+      {"j1,j2,j3", "front,7,1,2,3", {0, 1, 2}, 2},        // two leading fields unnamed
+      {"j1,j2,j3", "4,1,2,3", {0, 1, 2}, 0},              // numbers as written: no shift
+      {"j1,j2,j3,", "1,2,3,4", {0, 1, 2}, 0},             // a trailing index (pandas)
+      {"j1,j2,j3,", "front,1,2,3", {0, 1, 2}, 1},         // names written left of their values
+      {"j1,j2,j3,,", "front,label,1,2,3", {0, 1, 2}, 2},  // two of them
+      {"j1,j2,j3", "1,2", {0, 1, 2}, 0},                  // a row narrower than its header
+      {"t,j1,j2", "front,x,1,2", {1, 2}, 1},              // a named column of text, shifted
+  };
+  for (const Case& c : cases) {
+    EXPECT_EQ(headerShift(fieldsOf(c.header), fieldsOf(c.row), c.selected), c.shift)
+        << "header \"" << c.header << "\", row \"" << c.row << "\"";
+  }
+  // With ';' and decimal commas: "1,5" is one number.
+  const CsvDialect semicolon = csvDialect("j1;j2;j3");
+  EXPECT_EQ(headerShift(fieldsOf("j1;j2;j3", ';'), fieldsOf("front;1,5;2,5;3,5", ';'), {0, 1, 2},
+                        semicolon),
+            1u);
+}
+
+// The readings a header-named file gives, whatever unnamed fields its rows carry first or last:
+// the numbers written under each name, in radians (the oracle: the values written).
+TEST_F(CsvFolder, NamedColumnsReadTheValuesWrittenUnderTheirNames) {
+  const std::vector<JointKind> kinds(3, JointKind::Revolute);
+  std::vector<CsvColumn> columns(3);
+  columns[0].name = "j1";
+  columns[1].name = "j2";
+  columns[2].name = "j3";
+  const std::vector<std::vector<double>> written = {{10.0, -20.0, 30.5}, {11.0, 21.0, -31.25}};
+  struct Layout {
+    std::string header, before, after;
+  };
+  for (const Layout& layout :
+       {Layout{"j1,j2,j3", "", ""}, Layout{"j1,j2,j3", "front,", ""},
+        Layout{"j1,j2,j3", "front,0.5,", ""}, Layout{"j1,j2,j3,", "", ",7"},
+        Layout{"j1,j2,j3,", "front,", ""}, Layout{"t,j2,j1,j3", "0.25,", ""}}) {
+    std::string text = layout.header + "\n";
+    const bool swapped = layout.header.rfind("t,j2", 0) == 0;
+    for (const auto& r : written) {
+      std::ostringstream row;
+      row << layout.before;
+      if (swapped)
+        row << r[1] << "," << r[0] << "," << r[2];
+      else
+        row << r[0] << "," << r[1] << "," << r[2];
+      row << layout.after << "\n";
+      text += row.str();
+    }
+    const std::string file = (dir_ / "named.csv").string();
+    std::ofstream(file) << text;
+    const std::vector<Eigen::VectorXd> read = readJointCsv(file, kinds, {}, nullptr, &columns);
+    ASSERT_EQ(read.size(), written.size()) << text;
+    for (std::size_t r = 0; r < written.size(); ++r)
+      for (int j = 0; j < 3; ++j)
+        EXPECT_NEAR(read[r][j], written[r][static_cast<std::size_t>(j)] * std::numbers::pi / 180.0,
+                    1e-15)
+            << text << "row " << r << " joint " << j;
+  }
+}
+
 }  // namespace csv_readings_test
 }  // namespace artcal

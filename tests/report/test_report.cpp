@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <numbers>
 #include <optional>
 #include <random>
 #include <regex>
@@ -23,6 +24,7 @@
 #include "artcal/internal.hpp"
 #include "artcal/model/cartesian.hpp"
 #include "artcal/report/cartesian_report.hpp"
+#include "artcal/report/location_errors.hpp"
 #include "artcal/report/text_format.hpp"
 #include "test_paths.hpp"
 
@@ -1317,6 +1319,75 @@ TEST_F(ReportCli, CartesianReportDrawsTheErrorFunctions) {
       EXPECT_EQ(xmlFault(svg), std::nullopt) << name;
       EXPECT_NE(svg.find("data-curve=\"upper\""), std::string::npos) << name;
     }
+  }
+}
+
+// The controller table and the location-error table of a machine tool read their numbers in the
+// units their headings name (docs/five-axis.md): a parameter vector with a distinct value in each
+// location error (offsets in mm, orientations in rad internally), the oracle here from the ISO
+// 230-7 names alone: E_<error>0<axis> is the row of <axis>, column <error>; A, B, C in deg
+// (180 / pi per rad) and urad, X, Y, Z in mm and um.
+TEST(LocationErrors, ControllerAndLocationTablesShowEachValueInItsHeadingsUnit) {
+  const Plan base = loadPlan(test_support::planFile("machine-tool-trunnion-2spheres.json"));
+  const auto& infos = base.machine.mechanism->parameters();
+  Plan plan = base;
+  plan.machine.calibrated.clear();
+  Eigen::VectorXd p = base.machine.nominal;
+  for (std::size_t i = 0; i < infos.size(); ++i) {
+    const std::string& name = infos[i].name;
+    if (name.size() != 5 || name.rfind("E_", 0) != 0) continue;
+    const bool angle = name[2] >= 'A' && name[2] <= 'C';
+    const auto k = static_cast<double>(i + 1);
+    p[static_cast<Eigen::Index>(i)] = angle ? -1e-4 * k : 0.01 * k;  // rad or mm
+    plan.machine.calibrated.push_back(static_cast<int>(i));
+  }
+  ASSERT_GE(plan.machine.calibrated.size(), 8u);
+  constexpr double kDegPerRad = 180.0 / std::numbers::pi;
+  const json table = controllerTableToJson(plan, p);
+  const std::string text = controllerTable(plan, p);
+  std::map<char, std::map<char, double>> cells;  // axis -> column -> expected value
+  for (const int i : plan.machine.calibrated) {
+    const std::string& name = infos[static_cast<std::size_t>(i)].name;
+    const bool angle = name[2] >= 'A' && name[2] <= 'C';
+    cells[name[4]][name[2]] = angle ? p[i] * kDegPerRad : p[i];
+  }
+  ASSERT_EQ(table["axes"].size(), cells.size());
+  for (const json& row : table["axes"]) {
+    const char axis = row["axis"].get<std::string>()[0];
+    ASSERT_TRUE(cells.count(axis)) << axis;
+    std::map<char, double>& expected = cells[axis];
+    for (const char c : {'X', 'Y', 'Z'})
+      EXPECT_NEAR(row["offset_mm"][std::string(1, c)].get<double>(), expected[c], 1e-12)
+          << axis << c;
+    for (const char c : {'A', 'B', 'C'})
+      EXPECT_NEAR(row["orientation_deg"][std::string(1, c)].get<double>(), expected[c], 1e-12)
+          << axis << c;
+    // The printed row: the same numbers, formatted as its heading says.
+    char line[160];
+    std::snprintf(
+        line, sizeof line, "  %c     %+10.4f  %+10.4f  %+10.4f  %+10.6f  %+10.6f  %+10.6f\n", axis,
+        expected['X'], expected['Y'], expected['Z'], expected['A'], expected['B'], expected['C']);
+    EXPECT_NE(text.find(line), std::string::npos) << line << text;
+  }
+  // The location errors: u and the estimate in deg and urad or mm and um.
+  ParameterCovariance covariance;
+  const auto n = static_cast<Eigen::Index>(plan.machine.calibrated.size());
+  covariance.u = Eigen::VectorXd::LinSpaced(n, 1e-6, 2e-5);
+  covariance.confounding = Eigen::VectorXd::LinSpaced(n, 1.0, 3.0);
+  const json errors = locationErrorsToJson(plan, covariance, &p);
+  ASSERT_EQ(errors.size(), static_cast<std::size_t>(n));
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const json& row = errors[static_cast<std::size_t>(k)];
+    const int i = plan.machine.calibrated[static_cast<std::size_t>(k)];
+    const bool angle = infos[static_cast<std::size_t>(i)].name[2] <= 'C';
+    const double u = covariance.u[k];
+    EXPECT_EQ(row["unit"], angle ? "deg" : "mm");
+    EXPECT_EQ(row["unit_fine"], angle ? "urad" : "um");
+    EXPECT_NEAR(row["u"].get<double>(), angle ? u * kDegPerRad : u, 1e-15);
+    EXPECT_NEAR(row["u_fine"].get<double>(), angle ? u * 1e6 : u * 1e3, 1e-12);
+    EXPECT_NEAR(row["estimate"].get<double>(), angle ? p[i] * kDegPerRad : p[i], 1e-12);
+    EXPECT_NEAR(row["estimate_fine"].get<double>(), angle ? p[i] * 1e6 : p[i] * 1e3, 1e-9);
+    EXPECT_DOUBLE_EQ(row["confounding_index"].get<double>(), covariance.confounding[k]);
   }
 }
 

@@ -51,6 +51,11 @@ inline constexpr int kMinFolds = 5;
 /// The sign test's level: how often chance may make a candidate look better in the folds.
 inline constexpr double kSignificance = 0.05;
 
+/// The one-sided sign test over the folds: the probability that a candidate no better than the
+/// reference is lower in at least `lower` of `folds` folds (each fold a fair coin), the binomial
+/// tail sum_{i >= lower} C(folds, i) / 2^folds.
+double signTestLevel(int lower, int folds);
+
 /// One placement's part of a linearisation at an estimate, its rigid motion eliminated:
 /// cost_j(dg) ~ misfit - 2 b^T dg + dg^T N dg over g = (p, c), dof its coordinates less its
 /// observed rigid directions.
