@@ -7,7 +7,9 @@
 #include <sstream>
 
 #include "artcal/acceptance/length_acceptance.hpp"
+#include "artcal/acceptance/plan_acceptance.hpp"
 #include "artcal/acceptance/pose_acceptance.hpp"
+#include "artcal/core/units.hpp"
 #include "artcal/io/acceptance_spec.hpp"
 #include "artcal/io/output_file.hpp"
 #include "artcal/io/plan_io.hpp"
@@ -20,8 +22,9 @@ namespace artcal::cli {
 namespace {
 
 struct AcceptanceArguments {
-  std::string file, plan, test, mpe, lines, center, svg;
+  std::string file, plan, test, mpe, lines, center, svg, orientation, seed_posture;
   double cube = 0.0, stylus_offset = 0.0;
+  std::optional<double> unmodelled;
   bool posterior = false;
   bool json = false;
   MonteCarloOptions monte_carlo;
@@ -38,8 +41,9 @@ bool isPlanDocument(const nlohmann::json& document) {
   return document.is_object() && document.contains("format");
 }
 
-LoadedInput loadFromPlan(const std::string& path, const nlohmann::json& document) {
-  LoadedInput loaded{loadPlanReporting(path), {}, parseAcceptanceSpec(document, path)};
+LoadedInput loadFromPlan(const std::string& path) {
+  LoadedInput loaded{loadPlanReporting(path), {}, {}};
+  loaded.spec = loaded.plan.acceptance;
   loaded.input = evaluatedAcceptanceInput(loaded.plan, path);
   return loaded;
 }
@@ -49,8 +53,8 @@ LoadedInput loadFromMachine(const AcceptanceArguments& args, const nlohmann::jso
     throw InputError(args.file, "",
                      "a machine file needs --plan PLAN, the plan it was calibrated from (its "
                      "noise and workspace)");
-  LoadedInput loaded{
-      loadPlanReporting(args.plan), {}, parseAcceptanceSpec(readJsonFile(args.plan), args.plan)};
+  LoadedInput loaded{loadPlanReporting(args.plan), {}, {}};
+  loaded.spec = loaded.plan.acceptance;
   loaded.input = acceptanceInputFromMachineFile(document, args.file, loaded.plan, args.posterior);
   return loaded;
 }
@@ -62,7 +66,7 @@ LoadedInput loadInput(const AcceptanceArguments& args) {
       throw InputError(args.file, "", "--plan goes with a machine file, not with a plan");
     if (args.posterior)
       throw InputError(args.file, "", "--posterior goes with a calibrated machine file");
-    return loadFromPlan(args.file, document);
+    return loadFromPlan(args.file);
   }
   return loadFromMachine(args, document);
 }
@@ -104,18 +108,51 @@ Mpe parseMpeOption(const std::string& text) {
   return *mpe;
 }
 
-Eigen::Vector3d parseCenter(const std::string& text) {
+/// "a,b,c,...": exactly `count` finite numbers separated by commas; InputError naming `option`
+/// with `expected` (what to give) otherwise.
+Eigen::VectorXd parseNumberList(const std::string& option, const std::string& text, int count,
+                                const std::string& expected) {
   std::istringstream in(text);
-  Eigen::Vector3d center;
+  Eigen::VectorXd values(count);
   char comma = ',';
-  for (int k = 0; k < 3; ++k) {
-    if ((k > 0 && !(in >> comma)) || comma != ',' || !(in >> center[k]))
-      throw InputError("--center", "", "expected X,Y,Z in mm, e.g. 500,0,400");
+  for (int k = 0; k < count; ++k) {
+    if ((k > 0 && !(in >> comma)) || comma != ',' || !(in >> values[k]))
+      throw InputError(option, "", expected);
   }
   std::string rest;
-  if (in >> rest || !center.allFinite())
-    throw InputError("--center", "", "expected X,Y,Z in mm, e.g. 500,0,400");
-  return center;
+  if (in >> rest || !values.allFinite()) throw InputError(option, "", expected);
+  return values;
+}
+
+Eigen::Vector3d parseCenter(const std::string& text) {
+  return parseNumberList("--center", text, 3, "expected X,Y,Z in mm, e.g. 500,0,400");
+}
+
+/// The ISO 9283 options the command line gives over the plan's block (`spec`, when its test is
+/// iso9283): orientation, seed posture, unmodelled error.
+void takePoseSetUp(const AcceptanceArguments& args, const Machine& machine,
+                   const std::optional<AcceptanceSpec>& spec, PoseTestOptions& options) {
+  const bool from_plan = spec && spec->test == "iso9283";
+  if (from_plan) options = poseTestOptionsFrom(*spec);
+  if (!args.orientation.empty())
+    options.orientation =
+        parseNumberList("--orientation", args.orientation, 3,
+                        "expected ROLL,PITCH,YAW in deg (the cube's axes), e.g. 0,0,30") *
+        kDegree;
+  if (!args.seed_posture.empty()) {
+    const int n = machine.jointCount();
+    options.seed_posture = jointsFromFile(
+        *machine.mechanism,
+        parseNumberList("--seed-posture", args.seed_posture, n,
+                        "expected " + std::to_string(n) +
+                            " joint values separated by commas (deg, mm), the arm's posture"));
+    // As a reading of the plan: beyond the joint_limits it states, refused (docs/hardening.md).
+    if (machine.limits_stated && !machine.withinLimits(*options.seed_posture))
+      throw InputError("--seed-posture", "",
+                       "the posture is outside the plan's joint_limits: check its values and "
+                       "units (deg, mm)");
+  }
+  if (args.unmodelled) options.unmodelled = *args.unmodelled;
 }
 
 int runLengthTest(const AcceptanceArguments& args, const LoadedInput& loaded) {
@@ -146,6 +183,7 @@ int runPoseTest(const AcceptanceArguments& args, const LoadedInput& loaded) {
   if (args.stylus_offset != 0.0)
     throw InputError("--stylus-offset", "", "the stylus offset (E150) belongs to the length test");
   PoseTestOptions options;
+  takePoseSetUp(args, *loaded.input.machine, loaded.spec, options);
   options.cube = args.cube;
   options.center = parseCenter(args.center);
   if (!args.mpe.empty()) {
@@ -223,6 +261,16 @@ void addAcceptanceCommand(CLI::App& app, Action& action) {
       ->check(nonNegativeNumber());
   cmd->add_option("--cube", args->cube, "iso9283: the cube's edge, mm");
   cmd->add_option("--center", args->center, "iso9283: the cube's centre X,Y,Z, mm (base frame)");
+  cmd->add_option("--orientation", args->orientation,
+                  "iso9283: the cube's orientation ROLL,PITCH,YAW, deg (R = Rz(yaw) Ry(pitch) "
+                  "Rx(roll), its columns the cube's axes; default 0,0,0: along the base frame)");
+  cmd->add_option("--seed-posture", args->seed_posture,
+                  "iso9283: the arm's posture Q1,...,Qn (deg, mm) the inverse kinematics stays "
+                  "near (default: the workspace sample nearest each point)");
+  cmd->add_option("--unmodelled", args->unmodelled,
+                  "iso9283: the error the model does not explain, standard deviation per "
+                  "coordinate, mm (default 0)")
+      ->check(nonNegativeNumber());
   cmd->add_option("--trials", mc.trials, "Monte-Carlo trials (0: adaptive, GUM S1 7.9)")
       ->check(CLI::Range(0L, 10000000L))
       ->capture_default_str();

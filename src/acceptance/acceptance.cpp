@@ -2,6 +2,8 @@
 
 #include <cctype>
 #include <cmath>
+#include <limits>
+#include <numbers>
 #include <regex>
 #include <sstream>
 
@@ -113,6 +115,28 @@ Eigen::MatrixXd covarianceFactor(const Eigen::MatrixXd& V) {
   const SymmetricEigenSolver solver(0.5 * (V + V.transpose()));
   const Eigen::VectorXd roots = solver.eigenvalues().cwiseMax(0.0).cwiseSqrt();
   return solver.eigenvectors() * roots.asDiagonal();
+}
+
+double expectedGaussianNorm(const Eigen::MatrixXd& covariance) {
+  if (covariance.size() == 0) return 0.0;
+  const SymmetricEigenSolver solver(0.5 * (covariance + covariance.transpose()),
+                                    Eigen::EigenvaluesOnly);
+  const Eigen::VectorXd lambda = solver.eigenvalues().cwiseMax(0.0);
+  const double largest = lambda.maxCoeff();
+  if (!std::isfinite(largest)) return std::numeric_limits<double>::quiet_NaN();
+  if (largest <= 0.0) return 0.0;
+  // t = e^u / largest, dt = t du: the integrand in u is (1 - prod) t^(-1/2); |u| <= 60 leaves
+  // tails below e^-30 of the result.
+  constexpr double kStep = 0.05, kEnd = 60.0;
+  double sum = 0.0;
+  for (double u = -kEnd; u <= kEnd + 0.5 * kStep; u += kStep) {
+    const double t = std::exp(u) / largest;
+    // 1 - prod without cancellation at small t: -expm1(-1/2 sum log1p(2 t lambda)).
+    double log_sum = 0.0;
+    for (const double l : lambda) log_sum += std::log1p(2.0 * t * l);
+    sum += -std::expm1(-0.5 * log_sum) / std::sqrt(t);
+  }
+  return sum * kStep / (2.0 * std::sqrt(std::numbers::pi));
 }
 
 }  // namespace artcal

@@ -14,6 +14,9 @@ PoseTestOptions poseTestOptionsFrom(const AcceptanceSpec& spec) {
   PoseTestOptions options;
   options.cube = spec.cube.value_or(0.0);
   options.center = spec.center.value_or(Eigen::Vector3d::Zero());
+  options.orientation = spec.orientation.value_or(Eigen::Vector3d::Zero());
+  options.seed_posture = spec.seed_posture;
+  options.unmodelled = spec.unmodelled.value_or(0.0);
   if (!spec.mpe.empty()) options.mpe = std::stod(spec.mpe);  // checked when the plan was read
   return options;
 }

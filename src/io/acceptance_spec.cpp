@@ -3,6 +3,7 @@
 #include <sstream>
 
 #include "artcal/acceptance/acceptance.hpp"
+#include "artcal/core/units.hpp"
 #include "artcal/io/json_node.hpp"
 
 namespace artcal {
@@ -17,10 +18,30 @@ void parseLengthTest(const Node& node, AcceptanceSpec& spec, std::vector<std::st
   if (!parseMpe(spec.mpe, &error)) mpe.fail(error);
 }
 
+/// The cube as the user sets it up: {"center": [x, y, z], "edge": E, "orientation": [roll,
+/// pitch, yaw]} (mm, deg; orientation optional).
+void parseCubeObject(const Node& cube, AcceptanceSpec& spec, std::vector<std::string>& warnings) {
+  cube.warnUnknown({"center", "edge", "orientation"}, warnings);
+  spec.cube = cube.at("edge").positive();
+  spec.center = Eigen::Vector3d(cube.at("center").numbers(3));
+  if (const auto orientation = cube.find("orientation"))
+    spec.orientation = Eigen::Vector3d(orientation->numbers(3)) * kDegree;
+}
+
 void parsePoseTest(const Node& node, AcceptanceSpec& spec, std::vector<std::string>& warnings) {
-  node.warnUnknown({"test", "mpe", "cube", "center"}, warnings);
-  spec.cube = node.at("cube").positive();
-  spec.center = Eigen::Vector3d(node.at("center").numbers(3));
+  node.warnUnknown({"test", "mpe", "cube", "center", "seed_posture", "unmodelled"}, warnings);
+  const Node cube = node.at("cube");
+  if (cube.value().is_object()) {
+    if (node.find("center"))
+      node.at("center").fail("the cube's centre goes in cube.center when the cube is an object");
+    parseCubeObject(cube, spec, warnings);
+  } else {
+    spec.cube = cube.positive();  // the first form: edge, then "center"
+    spec.center = Eigen::Vector3d(node.at("center").numbers(3));
+  }
+  if (const auto unmodelled = node.find("unmodelled"))
+    spec.unmodelled = unmodelled->standardDeviation(true);
+  // "seed_posture" needs the machine (its joints' units and limits): parsePlan reads it.
   if (const auto mpe = node.find("mpe")) {
     std::ostringstream text;
     text.precision(17);

@@ -233,14 +233,14 @@ Pose parsePose(const Node& node, int dimension, std::vector<std::string>& warnin
   return pose;
 }
 
-namespace {
-
 Eigen::VectorXd jointsFromFile(const Mechanism& mech, const Eigen::VectorXd& values) {
   Eigen::VectorXd q(values.size());
   for (int i = 0; i < values.size(); ++i)
     q[i] = fromFileUnit(jointQuantity(mech.jointKind(i)), values[i]);
   return q;
 }
+
+namespace {
 
 // A reading outside the plan's joint_limits is a typo, other units (radians, metres) or the wrong
 // machine: the machine never reported it (docs/hardening.md). Only limits the plan states are
@@ -272,6 +272,16 @@ std::optional<std::pair<int, std::string>> jointLimitViolation(const Machine& ma
 void checkWithinJointLimits(const Node& joints, const Machine& machine, const Eigen::VectorXd& q) {
   if (const auto violation = jointLimitViolation(machine, q))
     joints[static_cast<std::size_t>(violation->first)].fail(violation->second);
+}
+
+/// The ISO 9283 block's "seed_posture" (deg, mm per joint), within the limits the plan states.
+void readSeedPosture(const Node& acceptance, const Machine& machine, AcceptanceSpec& spec) {
+  const auto seed = acceptance.find("seed_posture");
+  if (!seed || spec.test != "iso9283") return;
+  const Mechanism& mech = *machine.mechanism;
+  spec.seed_posture =
+      jointsFromFile(mech, seed->finiteNumbers(static_cast<std::size_t>(mech.jointCount())));
+  if (machine.limits_stated) checkWithinJointLimits(*seed, machine, *spec.seed_posture);
 }
 
 /// The "exclude_rows" of a CSV measurement entry: data rows (from 1) a person has judged gross
@@ -937,6 +947,7 @@ Plan parsePlan(const nlohmann::json& document, const std::string& source, bool r
     plan.workspace = parseWorkspace(*workspace, plan.machine, plan.warnings);
   }
   plan.acceptance = parseAcceptanceSpec(document, source);
+  if (plan.acceptance) readSeedPosture(root.at("acceptance"), plan.machine, *plan.acceptance);
   if (const auto design = root.find("design"))
     plan.design = parseDesign(*design, plan, plan.warnings);
   if (check_plausibility) checkPlausibility(plan);  // only wrong units or a wrong pose explain

@@ -30,12 +30,8 @@ void applyJointLimits(const Machine& machine, Eigen::VectorXd& q) {
   }
 }
 
-namespace {
-
-// Each angle moved by whole turns to the representative nearest q0 inside the limits (a
-// prismatic joint must already be inside them); false when some joint has none.
-bool nearestRepresentativeWithinLimits(const Machine& machine, const Eigen::VectorXd& q0,
-                                       Eigen::VectorXd& q) {
+bool nearestEquivalentWithinLimits(const Machine& machine, const Eigen::VectorXd& q0,
+                                   Eigen::VectorXd& q) {
   constexpr double kTurn = 2 * std::numbers::pi;
   for (int i = 0; i < q.size(); ++i) {
     const auto [lo, hi] = machine.joint_limits[static_cast<std::size_t>(i)];
@@ -59,6 +55,8 @@ bool nearestRepresentativeWithinLimits(const Machine& machine, const Eigen::Vect
   return true;
 }
 
+namespace {
+
 // The closed-form solution nearest q0 within the limits (Mechanism::closedFormInverse).
 std::optional<Eigen::VectorXd> closedFormNear(const Machine& machine, const Eigen::VectorXd& p,
                                               const Eigen::VectorXd& target,
@@ -66,7 +64,7 @@ std::optional<Eigen::VectorXd> closedFormNear(const Machine& machine, const Eige
   std::optional<Eigen::VectorXd> best;
   double best_distance = 0.0;
   for (Eigen::VectorXd q : machine.mechanism->closedFormInverse(p, target, stylus)) {
-    if (!nearestRepresentativeWithinLimits(machine, q0, q)) continue;
+    if (!nearestEquivalentWithinLimits(machine, q0, q)) continue;
     Eigen::VectorXd x;
     if (machine.mechanism->forwardStylus(stylus, p, q, x) != ForwardStatus::Ok) continue;
     if ((x - target).norm() > 1e-6) continue;
@@ -145,6 +143,11 @@ std::optional<Eigen::VectorXd> solveInverseKinematics(const Machine& machine,
     }
   }
   if (error.norm() > std::max(options.tolerance, 1e-9)) return std::nullopt;
+  // applyJointLimits wrapped full-turn joints into [lo, lo + 360 deg): back to the equivalent
+  // angle nearest the start (a UR's 54 deg, not -306 deg, for limits of +-360 deg). A start with
+  // no equivalent within the limits keeps the wrapped angle.
+  Eigen::VectorXd nearest = q;
+  if (nearestEquivalentWithinLimits(machine, q0, nearest)) return nearest;
   return q;
 }
 

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <sstream>
 
+#include "artcal/core/units.hpp"
 #include "artcal/report/report.hpp"
 #include "artcal/report/svg.hpp"
 
@@ -239,6 +240,18 @@ std::string planAcceptanceTable(const PlanAcceptance& acceptance) {
   return poseTestTable(acceptance.input, *acceptance.pose, acceptance.pose_options);
 }
 
+namespace {
+
+/// The cube's set-up as the JSON states it (mm, deg; the seed posture in the joints' units).
+void addPoseSetUp(json& out, const AcceptanceInput& input, const PoseTestOptions& options) {
+  out["orientation"] = vectorJson(Eigen::Vector3d(options.orientation / kDegree));
+  out["seed_posture"] =
+      options.seed_posture ? json(jointsToFile(*input.machine, *options.seed_posture)) : json();
+  out["unmodelled"] = options.unmodelled;
+}
+
+}  // namespace
+
 json poseTestToJson(const AcceptanceInput& input, const PoseTestPrediction& prediction,
                     const PoseTestOptions& options) {
   json points = json::array();
@@ -251,6 +264,9 @@ json poseTestToJson(const AcceptanceInput& input, const PoseTestPrediction& pred
                       {"joints", jointsToFile(*input.machine, point.joints)},
                       {"sigma_sys", finiteOrNull(point.sigma_sys)},
                       {"sigma_noise", finiteOrNull(point.sigma_noise)},
+                      {"sigma_unmodelled", finiteOrNull(point.sigma_unmodelled)},
+                      {"ap_expected", finiteOrNull(point.ap_expected)},
+                      {"rp", finiteOrNull(point.rp)},
                       {"ap", quantilesJson(point.ap)}});
   }
   const MonteCarloSummary& mc = prediction.monte_carlo;
@@ -259,13 +275,17 @@ json poseTestToJson(const AcceptanceInput& input, const PoseTestPrediction& pred
               {"center", vectorJson(options.center)},
               {"cycles", options.cycles},
               {"units",
-               {{"commanded, sigma_sys, sigma_noise, ap, max_ap, mpe", "mm"},
-                {"joints", "deg or mm per joint"}}},
+               {{"commanded, sigma_sys, sigma_noise, sigma_unmodelled, ap_expected, rp, ap, "
+                 "max_ap, mpe, unmodelled",
+                 "mm"},
+                {"orientation", "deg"},
+                {"joints, seed_posture", "deg or mm per joint"}}},
               {"noise", noiseJson(input)},
               {"calibrated", calibratedNames(input)},
               {"items", points},
               {"max_ap", quantilesJson(prediction.max_ap)},
               {"monte_carlo", monteCarloJson(mc, options.monte_carlo)}};
+  addPoseSetUp(out, input, options);
   if (prediction.mpe) {
     out["mpe"] = *prediction.mpe;
     out["p_pass"] = finiteOrNull(mc.p_pass);
@@ -278,18 +298,23 @@ std::string poseTestTable(const AcceptanceInput& input, const PoseTestPrediction
                           const PoseTestOptions& options) {
   std::ostringstream out;
   const MonteCarloSummary& mc = prediction.monte_carlo;
+  const Eigen::Vector3d rpy = options.orientation / kDegree;
   out << "ISO 9283 pose accuracy predicted: cube " << fixed(options.cube, 1) << " mm at ("
       << fixed(options.center.x(), 1) << ", " << fixed(options.center.y(), 1) << ", "
-      << fixed(options.center.z(), 1) << ") mm, " << options.cycles << " cycles\n\n";
-  out << "point  commanded/mm                    sigma_sys/mm  sigma_noise/mm  AP mean/mm  "
-         "AP 50%/mm  AP 95%/mm  joints\n";
+      << fixed(options.center.z(), 1) << ") mm, roll-pitch-yaw (" << fixed(rpy.x(), 1) << ", "
+      << fixed(rpy.y(), 1) << ", " << fixed(rpy.z(), 1) << ") deg, " << options.cycles
+      << " cycles, unmodelled error " << fixed(options.unmodelled, 5) << " mm per coordinate\n\n";
+  out << "point  commanded/mm                    sigma_sys/mm  sigma_noise/mm  sigma_unmod/mm  "
+         "E[AP]/mm  AP mean/mm  AP 50%/mm  AP 95%/mm  RP/mm     joints\n";
   for (std::size_t i = 0; i < prediction.points.size(); ++i) {
     const PosePoint& p = prediction.points[i];
-    char row[200];
+    char row[240];
     std::snprintf(row, sizeof row,
-                  "P%zu     (%8.2f, %8.2f, %8.2f)  %12.5f  %14.5f  %10.5f  %9.5f  %9.5f  ", i + 1,
-                  p.commanded.x(), p.commanded.y(), p.commanded.z(), p.sigma_sys, p.sigma_noise,
-                  p.ap.mean, p.ap.median, p.ap.q95);
+                  "P%zu     (%8.2f, %8.2f, %8.2f)  %12.5f  %14.5f  %14.5f  %8.5f  %10.5f  %9.5f  "
+                  "%9.5f  %8.5f  ",
+                  i + 1, p.commanded.x(), p.commanded.y(), p.commanded.z(), p.sigma_sys,
+                  p.sigma_noise, p.sigma_unmodelled, p.ap_expected, p.ap.mean, p.ap.median,
+                  p.ap.q95, p.rp);
     out << row;
     for (double v : jointsToFile(*input.machine, p.joints)) out << fixed(v, 3) << " ";
     out << "\n";

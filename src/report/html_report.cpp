@@ -1061,24 +1061,30 @@ void writePoseTest(std::ostream& out, const json& test) {
       << svg::escape(jsonText(test.at("cube"))) << " mm centred at ("
       << svg::escape(jsonText(center.at(0))) << ", " << svg::escape(jsonText(center.at(1))) << ", "
       << svg::escape(jsonText(center.at(2))) << ") mm, " << svg::escape(jsonText(test.at("cycles")))
-      << " cycles; AP_P = |mean attained - commanded position| in mm, its mean, 50 % and 95 % "
-         "quantiles over the calibration's residual error and the encoder noise.</p>\n<table>\n"
+      << " cycles, unmodelled error " << svg::escape(jsonText(test.value("unmodelled", json(0))))
+      << " mm per coordinate; AP_P = |mean attained - commanded position| in mm, its expectation "
+         "E[AP], mean, 50 % and 95 % quantiles over the calibration's residual error, the "
+         "unmodelled error and the encoder noise; RP the predicted repeatability (method.md "
+         "section 9).</p>\n<table>\n"
          "<tr><th>point</th><th>commanded x</th><th>y</th><th>z (mm)</th><th>joints (deg or "
-         "mm)</th><th>sigma_sys</th><th>sigma_noise</th><th>AP mean</th><th>AP 50 %</th><th>AP "
-         "95 %</th></tr>\n";
+         "mm)</th><th>sigma_sys</th><th>sigma_noise</th><th>sigma_unmodelled</th><th>E[AP]</th>"
+         "<th>AP mean</th><th>AP 50 %</th><th>AP 95 %</th><th>RP</th></tr>\n";
   const json& items = test.at("items");
   for (std::size_t i = 0; i < items.size(); ++i) {
     const std::string at = "/items/" + std::to_string(i);
     out << "<tr><td>" << svg::escape(jsonText(items[i].value("point", json("?")))) << "</td>";
     acceptanceCells(out, test, at, {"/commanded/0", "/commanded/1", "/commanded/2"}, "%.2f");
     out << jointsCell(items[i].at("joints"), at + "/joints");
-    acceptanceCells(out, test, at, {"/sigma_sys", "/sigma_noise", "/ap/mean", "/ap/50", "/ap/95"},
+    acceptanceCells(out, test, at,
+                    {"/sigma_sys", "/sigma_noise", "/sigma_unmodelled", "/ap_expected", "/ap/mean",
+                     "/ap/50", "/ap/95", "/rp"},
                     "%.5f");
     out << "</tr>\n";
   }
-  out << "<tr><td>max over the points</td><td></td><td></td><td></td><td></td><td></td><td></td>";
+  out << "<tr><td>max over the points</td><td></td><td></td><td></td><td></td><td></td><td></td>"
+         "<td></td><td></td>";
   acceptanceCells(out, test, "/max_ap", {"/mean", "/50", "/95"}, "%.5f");
-  out << "</tr>\n</table>\n";
+  out << "<td></td></tr>\n</table>\n";
   if (!test.contains("p_pass")) return;
   out << "<table>\n<tr><th>MPE (mm)</th><th>P(every AP_P &lt;= MPE)</th><th>standard error</th>"
          "<th>Monte-Carlo trials</th></tr>\n<tr>";

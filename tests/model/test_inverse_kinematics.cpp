@@ -120,6 +120,45 @@ TEST(SolveInverseKinematics, SerialRespectsNarrowLimits) {
   EXPECT_GE(solved, 30);
 }
 
+// Limits of +-360 deg (a UR's) hold two equivalents of every angle: the solver returns the one
+// nearest its start, e.g. 54 deg rather than -306 deg (it wrapped into [lo, lo + 360) before).
+// The expected posture is the start moved a few degrees: every joint of the solution is within
+// 180 deg of the start (no other equivalent is nearer), and the minimum-norm steps of the damped
+// solver keep it within 30 deg of it.
+TEST(SolveInverseKinematics, FullTurnJointsReturnTheEquivalentNearestTheStart) {
+  const nlohmann::json limits = {{-360, 360}, {-360, 360}, {-360, 360},
+                                 {-360, 360}, {-360, 360}, {-360, 360}};
+  const Plan plan = aacmmPlan(&limits);
+  std::mt19937_64 rng(19);
+  for (int trial = 0; trial < 20; ++trial) {
+    Eigen::VectorXd start(6), moved(6);
+    for (int i = 0; i < 6; ++i) {
+      start[i] = (-170.0 + 340.0 * unitUniform(rng)) * kDeg;
+      moved[i] = start[i] + (-5.0 + 10.0 * unitUniform(rng)) * kDeg;
+    }
+    const Eigen::VectorXd target = forward(plan.machine, moved);
+    const auto q = solveInverseKinematics(plan.machine, plan.machine.nominal, target, start);
+    ASSERT_TRUE(q.has_value()) << trial;
+    EXPECT_LT((forward(plan.machine, *q) - target).norm(), 1e-9);
+    for (int i = 0; i < 6; ++i) {
+      EXPECT_LE(std::abs((*q)[i] - start[i]), 180.0 * kDeg) << "joint " << i + 1;
+      EXPECT_LE(std::abs((*q)[i] - start[i]), 30.0 * kDeg) << "joint " << i + 1;
+    }
+  }
+  // The case: a first joint started at 54 deg stays near 54 deg, not -306 deg.
+  Eigen::VectorXd start(6);
+  start << 54.0, 30.0, -60.0, 40.0, 70.0, 52.0;
+  start *= kDeg;
+  Eigen::VectorXd moved = start;
+  moved[0] += 2.0 * kDeg;
+  const auto q = solveInverseKinematics(plan.machine, plan.machine.nominal,
+                                        forward(plan.machine, moved), start);
+  ASSERT_TRUE(q.has_value());
+  EXPECT_GT((*q)[0], 0.0);
+  EXPECT_LT(std::abs((*q)[0] - 56.0 * kDeg), 5.0 * kDeg);
+  EXPECT_LT(std::abs((*q)[5] - 52.0 * kDeg), 5.0 * kDeg);
+}
+
 TEST(DiversePostures, SerialPosturesAreDistinct) {
   const Plan plan = aacmmPlan();
   std::mt19937_64 rng(17);

@@ -76,4 +76,14 @@ Eigen::MatrixXd calibratedColumns(const Eigen::MatrixXd& J_full, const std::vect
 /// V_p = 0, is allowed.
 Eigen::MatrixXd covarianceFactor(const Eigen::MatrixXd& V);
 
+/// E|b| for b ~ N(0, covariance), covariance symmetric positive semi-definite (negative round-off
+/// eigenvalues taken as 0). With lambda_i its eigenvalues, |b|^2 = sum_i lambda_i z_i^2, and
+/// sqrt(s) = 1/(2 sqrt(pi)) int_0^inf (1 - e^(-t s)) t^(-3/2) dt with E e^(-t |b|^2) =
+/// prod_i (1 + 2 t lambda_i)^(-1/2) give the one-dimensional integral
+///   E|b| = 1/(2 sqrt(pi)) int_0^inf (1 - prod_i (1 + 2 t lambda_i)^(-1/2)) t^(-3/2) dt,
+/// computed by the trapezoidal rule in log t (exponentially convergent: the integrand decays
+/// exponentially in log t at both ends). sigma sqrt(2/pi) in 1-D, 2 sigma sqrt(2/pi) for sigma^2
+/// I_3.
+double expectedGaussianNorm(const Eigen::MatrixXd& covariance);
+
 }  // namespace artcal

@@ -27,7 +27,8 @@ struct PlanAcceptance {
 /// The ISO 10360-2 options of an "acceptance" block (its MPE; the default layout and
 /// Monte-Carlo).
 LengthTestOptions lengthTestOptionsFrom(const AcceptanceSpec& spec);
-/// The ISO 9283 options of an "acceptance" block (cube, centre, the MPE when it has one).
+/// The ISO 9283 options of an "acceptance" block (cube, centre, orientation, seed posture,
+/// unmodelled error, the MPE when it has one).
 PoseTestOptions poseTestOptionsFrom(const AcceptanceSpec& spec);
 
 /// The plan's acceptance test predicted from its V_p; std::nullopt when the plan names no test

@@ -55,6 +55,10 @@ Pose parsePose(const Node& node, int dimension, std::vector<std::string>& warnin
 /// or its "stylus" (an index); 0 when it names neither. InputError at the entry otherwise.
 int readStylus(const Node& entry, const Mechanism& mech);
 
+/// Joint values as a file writes them (deg per revolute joint, mm per prismatic one) in
+/// internal units.
+Eigen::VectorXd jointsFromFile(const Mechanism& mech, const Eigen::VectorXd& values);
+
 /// The placements of a plan as plan-file JSON (file units), e.g. for a plan the tool writes.
 nlohmann::json placementsToJson(const Plan& plan);
 /// The machine block with the given full parameter vector as nominal values (file units).

@@ -3,7 +3,8 @@
 //   a model with a closed form (Mechanism::closedFormInverse; planar2r: both elbow branches):
 //   the solution nearest the start within the limits.
 //   any other model (serial-dh): damped least squares (Levenberg-Marquardt on |f(p, q) - x*|^2),
-//   joint limits respected (revolute joints with a full turn of range wrap, others are clamped).
+//   joint limits respected (revolute joints with a full turn of range wrap, others are clamped),
+//   each angle returned as the equivalent (by whole turns) nearest the start.
 // `diversePostures` returns genuinely different postures for the same point (the seed's o > 1):
 // many seeded starts, then a farthest-point choice in joint space.
 
@@ -65,5 +66,11 @@ std::optional<Eigen::VectorXd> solveHoldingJoints(const Machine& machine, const 
 
 /// Puts q inside the joint limits: revolute joints with at least a full turn wrap, others clamp.
 void applyJointLimits(const Machine& machine, Eigen::VectorXd& q);
+
+/// Each revolute angle of q moved by whole turns to the equivalent angle nearest `reference`
+/// within the limits (a prismatic joint must already be inside them); false, q partly moved,
+/// when some joint has no equivalent within its limits.
+bool nearestEquivalentWithinLimits(const Machine& machine, const Eigen::VectorXd& reference,
+                                   Eigen::VectorXd& q);
 
 }  // namespace artcal

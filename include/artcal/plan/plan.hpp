@@ -234,10 +234,13 @@ struct CalibratedSetResolution {
 /// The plan's optional `acceptance` block (docs/plan-format.md; docs/method.md section 9): the test
 /// the calibrated machine must pass, as the file states it.
 struct AcceptanceSpec {
-  std::string test;                       ///< "iso10360-2" or "iso9283"
-  std::string mpe;                        ///< "A + L/K" (um, mm) or, for iso9283, mm as text
-  std::optional<double> cube;             ///< iso9283, mm
-  std::optional<Eigen::Vector3d> center;  ///< iso9283, mm
+  std::string test;                             ///< "iso10360-2" or "iso9283"
+  std::string mpe;                              ///< "A + L/K" (um, mm) or, for iso9283, mm as text
+  std::optional<double> cube;                   ///< iso9283, mm
+  std::optional<Eigen::Vector3d> center;        ///< iso9283, mm
+  std::optional<Eigen::Vector3d> orientation;   ///< iso9283, the cube's roll, pitch, yaw, rad
+  std::optional<Eigen::VectorXd> seed_posture;  ///< iso9283, internal units (parsePlan)
+  std::optional<double> unmodelled;             ///< iso9283, mm per coordinate
 };
 
 struct Plan {
