@@ -39,13 +39,14 @@ install_missing_packages() {
 }
 
 # build_in DIR [CMAKE_OPTION...]: configures a Release build in DIR (more options may override)
-# and builds everything there.
+# and builds everything there, or only the targets named in ARTCAL_BUILD_TARGETS (a list).
 build_in() {
-  local dir=$1
+  local dir=$1 target targets=()
   shift
-  echo "==> building in $dir"
+  for target in ${ARTCAL_BUILD_TARGETS:-}; do targets+=(--target "$target"); done
+  echo "==> building in $dir${ARTCAL_BUILD_TARGETS:+ (${ARTCAL_BUILD_TARGETS})}"
   cmake -S . -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=Release -DARTCAL_UNITY=ON "$@" >/dev/null
-  cmake --build "$dir" -j 2
+  cmake --build "$dir" -j 2 "${targets[@]}"
 }
 
 # run_example PLAN: the walk-through of README.md, check then evaluate, tables printed.

@@ -1,6 +1,6 @@
 #include "artcal/calibration/levenberg_marquardt.hpp"
 
-#include <Eigen/Cholesky>
+#include "artcal/core/dense_decompositions.hpp"
 #include <algorithm>
 #include <cmath>
 

@@ -1,6 +1,6 @@
 #include "artcal/calibration/model_choice.hpp"
 
-#include <Eigen/Cholesky>
+#include "artcal/core/dense_decompositions.hpp"
 #include <algorithm>
 #include <cmath>
 #include <cstdio>

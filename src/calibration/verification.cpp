@@ -1,7 +1,7 @@
 #include "artcal/calibration/verification.hpp"
 
 #include <Eigen/Geometry>
-#include <Eigen/QR>
+#include "artcal/core/dense_decompositions.hpp"
 #include <cmath>
 #include <map>
 #include <numbers>

@@ -1,7 +1,6 @@
 #include "artcal/core/linear_algebra.hpp"
 
-#include <Eigen/Eigenvalues>
-#include <Eigen/SVD>
+#include "artcal/core/dense_decompositions.hpp"
 #include <limits>
 
 namespace artcal {

@@ -1,6 +1,6 @@
 #include "artcal/estimation/consistent_readings.hpp"
 
-#include <Eigen/Cholesky>
+#include "artcal/core/dense_decompositions.hpp"
 #include <exception>
 #include <set>
 

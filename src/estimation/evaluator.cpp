@@ -1,6 +1,6 @@
 #include "artcal/estimation/evaluator.hpp"
 
-#include <Eigen/Cholesky>
+#include "artcal/core/dense_decompositions.hpp"
 #include <cmath>
 #include <string>
 

@@ -5,7 +5,7 @@
 #include "artcal/estimation/evaluator.hpp"
 #include "artcal/estimation/normal_matrix.hpp"
 
-#include <Eigen/Cholesky>
+#include "artcal/core/dense_decompositions.hpp"
 #include <algorithm>
 #include <cmath>
 #include <limits>

@@ -1,6 +1,7 @@
 #include "artcal/estimation/plane_rows.hpp"
 
-#include <Eigen/Dense>
+#include "artcal/core/dense_decompositions.hpp"
+#include <Eigen/Geometry>
 #include <cmath>
 #include <optional>
 

@@ -1,6 +1,6 @@
 #include "artcal/estimation/tip.hpp"
 
-#include <Eigen/Cholesky>
+#include "artcal/core/dense_decompositions.hpp"
 #include <algorithm>
 #include <array>
 #include <cmath>

@@ -1,7 +1,6 @@
 #include "artcal/model/inverse_kinematics.hpp"
 
-#include <Eigen/Cholesky>
-#include <Eigen/QR>
+#include "artcal/core/dense_decompositions.hpp"
 #include <algorithm>
 #include <cmath>
 #include <limits>

@@ -1,6 +1,6 @@
 #include "artcal/planning/optimizer.hpp"
 
-#include <Eigen/Cholesky>
+#include "artcal/core/dense_decompositions.hpp"
 #include <algorithm>
 #include <atomic>
 #include <chrono>
