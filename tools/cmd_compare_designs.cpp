@@ -30,6 +30,8 @@ struct CompareArguments {
   int threads = 0;
   double time_limit = 60.0;
   double prior_tolerance = 1.0;
+  std::string workspace = "plan";
+  std::string calibrated_set = "pool";
   bool json = false;
   bool quiet = false;
 };
@@ -120,6 +122,9 @@ int runCompare(const CompareArguments& args) {
   options.draws = args.draws;
   options.seed = static_cast<std::uint64_t>(args.seed);
   options.prior_tolerance = args.prior_tolerance;
+  options.calibrated_set = args.calibrated_set == "pool" ? ReadingPool::CalibratedSet::Pool
+                                                         : ReadingPool::CalibratedSet::Subset;
+  options.workspace = args.workspace == "pool" ? PoolWorkspace::Pool : PoolWorkspace::Plan;
   options.criteria.clear();
   for (const std::string& name : args.criteria)
     options.criteria.push_back(*criterionFromName(name));
@@ -169,6 +174,16 @@ void addCompareCommand(CLI::App& app, Action& action) {
       ->capture_default_str();
   cmd->add_option("--time-limit", args->time_limit, "seconds per choice")
       ->check(positiveNumber())
+      ->capture_default_str();
+  cmd->add_option("--calibrated-set", args->calibrated_set,
+                  "with \"calibrate\": \"identifiable\": the set resolved on every recorded "
+                  "reading (pool), or on each subset's own readings (subset)")
+      ->check(CLI::IsMember({"pool", "subset"}))
+      ->capture_default_str();
+  cmd->add_option("--workspace", args->workspace,
+                  "the configurations G and I look at: the plan's workspace, or the pool's "
+                  "own readings")
+      ->check(CLI::IsMember({"plan", "pool"}))
       ->capture_default_str();
   cmd->add_option("--prior-tolerance", args->prior_tolerance,
                   "mm: the standard deviation of the nominal parameters the machine states no "

@@ -41,6 +41,7 @@ struct OptimizeArguments {
   std::optional<int> choose;         ///< --choose N: SPEC is a pool of readings
   std::string criterion = "worst-tip";
   double prior_tolerance = 1.0;
+  std::string workspace = "plan";
   int slot_candidates = 0;
 };
 
@@ -177,7 +178,8 @@ int runChoose(const OptimizeArguments& args) {
   nlohmann::json document = readJsonFile(args.spec);
   const Plan pool_plan = parsePlan(document, args.spec);
   for (const std::string& warning : pool_plan.warnings) std::cerr << "warning: " << warning << "\n";
-  const ReadingPool pool(pool_plan, args.prior_tolerance);
+  const ReadingPool pool(pool_plan, args.prior_tolerance,
+                         args.workspace == "pool" ? PoolWorkspace::Pool : PoolWorkspace::Plan);
   PoolOptions options;
   options.criterion = *criterionFromName(args.criterion);
   if (args.starts) options.starts = *args.starts;
@@ -310,6 +312,12 @@ void addOptimizeCommand(CLI::App& app, Action& action) {
       ->check(CLI::Range(1, 100000000));
   cmd->add_option("--criterion", args->criterion, "with --choose: the criterion")
       ->check(CLI::IsMember({"worst-tip", "mean-tip", "D", "A"}))
+      ->capture_default_str();
+  cmd->add_option(
+         "--workspace", args->workspace,
+         "with --choose: the configurations G and I look at: the plan's workspace, or the pool's "
+         "own readings")
+      ->check(CLI::IsMember({"plan", "pool"}))
       ->capture_default_str();
   cmd->add_option("--prior-tolerance", args->prior_tolerance,
                   "with --choose: mm, the standard deviation of nominal parameters the machine "

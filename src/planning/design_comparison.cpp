@@ -39,12 +39,13 @@ std::vector<std::optional<CalibrationFrame>> calibrationFrames(const Plan& calib
 }
 
 /// Calibrates `subset` of the pool alone and scores it on the held-out readings.
-SubsetScore scoreSubset(const ReadingPool& pool, const Plan& held_out, std::vector<int> subset) {
+SubsetScore scoreSubset(const ReadingPool& pool, const Plan& held_out, std::vector<int> subset,
+                        ReadingPool::CalibratedSet set) {
   SubsetScore score;
   score.readings = std::move(subset);
   score.criterion = pool.value(score.readings, Criterion::WorstTip);
   try {
-    const Plan plan = pool.subsetPlan(score.readings);
+    const Plan plan = pool.subsetPlan(score.readings, set);
     const CalibrationRun run = calibrateReadings(plan);
     const StationsVerification verified =
         verifyStations(held_out, run.calibration.parameters, std::nullopt,
@@ -103,22 +104,23 @@ SizeComparison compareSize(const ReadingPool& pool, const Plan& held_out, int si
     const auto started = ComparisonClock::now();
     const PoolChoice choice = chooseReadings(pool, size, pool_options);
     method.seconds = std::chrono::duration<double>(ComparisonClock::now() - started).count();
-    method.subsets.push_back(scoreSubset(pool, held_out, choice.chosen));
+    method.subsets.push_back(scoreSubset(pool, held_out, choice.chosen, options.calibrated_set));
     summarizeMethod(method);
     reportMethod(options, size, method);
     out.methods.push_back(std::move(method));
   }
   MethodScore farthest;
   farthest.method = "farthest";
-  farthest.subsets.push_back(scoreSubset(pool, held_out, farthestReadings(pool, size)));
+  farthest.subsets.push_back(
+      scoreSubset(pool, held_out, farthestReadings(pool, size), options.calibrated_set));
   summarizeMethod(farthest);
   reportMethod(options, size, farthest);
   out.methods.push_back(std::move(farthest));
   MethodScore random;
   random.method = "random";
   for (int draw = 0; draw < options.draws; ++draw)
-    random.subsets.push_back(
-        scoreSubset(pool, held_out, randomReadings(pool, size, options.seed, draw)));
+    random.subsets.push_back(scoreSubset(
+        pool, held_out, randomReadings(pool, size, options.seed, draw), options.calibrated_set));
   summarizeMethod(random);
   reportMethod(options, size, random);
   out.methods.push_back(std::move(random));
@@ -129,7 +131,7 @@ SizeComparison compareSize(const ReadingPool& pool, const Plan& held_out, int si
 
 DesignComparison compareDesigns(const Plan& recorded, const Plan& held_out,
                                 const ComparisonOptions& options) {
-  const ReadingPool pool(recorded, options.prior_tolerance);
+  const ReadingPool pool(recorded, options.prior_tolerance, options.workspace);
   bool stations = false;
   for (const Placement& p : held_out.placements)
     stations =
@@ -154,7 +156,7 @@ DesignComparison compareDesigns(const Plan& recorded, const Plan& held_out,
     out.held_out += static_cast<int>(p.measurements.size());
   std::vector<int> every(static_cast<std::size_t>(pool.size()));
   for (int i = 0; i < pool.size(); ++i) every[static_cast<std::size_t>(i)] = i;
-  out.all = scoreSubset(pool, held_out, every);
+  out.all = scoreSubset(pool, held_out, every, options.calibrated_set);
   for (int size : options.sizes) out.sizes.push_back(compareSize(pool, held_out, size, options));
   return out;
 }

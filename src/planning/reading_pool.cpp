@@ -25,7 +25,7 @@ namespace artcal {
 namespace {
 
 constexpr double kNoPoolValue = std::numeric_limits<double>::infinity();
-// The ridge on the rigid motions, relative to the pool's largest information: it only keeps
+// The ridge on the rigid motions, relative to their information in the pool: it only keeps
 // M(S) invertible for a placement none of whose readings is chosen (its r is then decoupled).
 constexpr double kPoolRigidRidge = 1e-12;
 // G: configurations joining the active set at once, and refuted candidates before a slot is left.
@@ -65,13 +65,13 @@ std::vector<int> drawDistinctReadings(int n, int count, std::mt19937_64& rng) {
 // ---------------------------------------------------------------------------------------------
 // The pool
 
-ReadingPool::ReadingPool(const Plan& plan, double prior_tolerance)
+ReadingPool::ReadingPool(const Plan& plan, double prior_tolerance, PoolWorkspace workspace)
     : criterion_plan_(plan),
       plan_prior_(plan.machine.prior_sigma),
       n_p_(plan.machine.calibratedCount()) {
   if (!(prior_tolerance > 0.0))
     throw InputError(plan.source, "/machine/prior", "the prior tolerance must be positive");
-  buildWorkspace();
+  buildWorkspace(workspace);
   // The tolerance as the machine prior of every parameter that has none (angles at the reach).
   Machine& machine = criterion_plan_.machine;
   if (machine.prior_sigma.size() == 0)
@@ -83,10 +83,15 @@ ReadingPool::ReadingPool(const Plan& plan, double prior_tolerance)
   buildRows(plan);
 }
 
-void ReadingPool::buildWorkspace() {
+void ReadingPool::buildWorkspace(PoolWorkspace workspace) {
   const Machine& machine = criterion_plan_.machine;
-  std::vector<Eigen::VectorXd> configurations =
-      workspaceConfigurations(machine, criterion_plan_.workspace);
+  std::vector<Eigen::VectorXd> configurations;
+  if (workspace == PoolWorkspace::Pool) {
+    for (const Placement& placement : criterion_plan_.placements)
+      for (const Measurement& m : placement.measurements) configurations.push_back(m.joints);
+  } else {
+    configurations = workspaceConfigurations(machine, criterion_plan_.workspace);
+  }
   dimension_ = machine.dimension();
   J_.resize(dimension_ * static_cast<int>(configurations.size()), n_p_);
   Eigen::VectorXd x;
@@ -152,8 +157,12 @@ void ReadingPool::buildRows(const Plan& plan) {
   prior_ = Eigen::VectorXd::Zero(unknowns);
   prior_.head(n_p_) = layout.p_prior_weight;
   prior_.segment(n_p_, layout.systematicCount()) = layout.c_sigma.array().square().inverse();
-  const double largest = rows_.colwise().squaredNorm().maxCoeff();
-  prior_.tail(unknowns - n_g).setConstant(kPoolRigidRidge * std::max(largest, 1.0));
+  // Each rigid column's ridge relative to its own information in the pool (a translation's is a
+  // millionth of a rotation's at a metre): a common one would bias the translations.
+  const int n_r = unknowns - n_g;
+  const Eigen::ArrayXd information = rows_.rightCols(n_r).colwise().squaredNorm().transpose();
+  const double largest = n_r > 0 ? information.maxCoeff() : 0.0;
+  prior_.tail(n_r) = kPoolRigidRidge * information.max(kPoolRigidRidge * largest).max(1e-300);
 }
 
 Eigen::Ref<const Eigen::MatrixXd> ReadingPool::rows(int candidate) const {
@@ -203,7 +212,7 @@ double ReadingPool::value(const std::vector<int>& subset, Criterion criterion) c
   return valueOfCovariance(covariance(subset), criterion);
 }
 
-Plan ReadingPool::subsetPlan(const std::vector<int>& subset) const {
+Plan ReadingPool::subsetPlan(const std::vector<int>& subset, CalibratedSet set) const {
   Plan out = criterion_plan_;
   out.machine.prior_sigma = plan_prior_;
   std::vector<std::vector<bool>> keep(out.placements.size());
@@ -223,7 +232,7 @@ Plan ReadingPool::subsetPlan(const std::vector<int>& subset) const {
   }
   out.placements = std::move(placements);
   // "calibrate": "identifiable" decided on the subset's own readings, as loading them would.
-  if (out.calibrate_resolution) {
+  if (set == CalibratedSet::Subset && out.calibrate_resolution) {
     out.machine.calibrated = out.calibrate_resolution->listed;
     out.calibrate_resolution.reset();
     resolveCalibratedSet(out);

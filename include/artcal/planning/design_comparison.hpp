@@ -23,7 +23,11 @@ struct ComparisonOptions {
                                   Criterion::A};
   int draws = 12;  ///< random subsets per size (generator (seed, draw))
   std::uint64_t seed = 1;
-  double prior_tolerance = 1.0;                      ///< mm (ReadingPool)
+  double prior_tolerance = 1.0;  ///< mm (ReadingPool)
+  /// Each subset calibrates the set resolved on every recorded reading (the tool's offset
+  /// calibrated at every N, issue 45's protocol), or the set its own readings resolve.
+  ReadingPool::CalibratedSet calibrated_set = ReadingPool::CalibratedSet::Pool;
+  PoolWorkspace workspace = PoolWorkspace::Plan;     ///< where G and I look (ReadingPool)
   PoolOptions pool;                                  ///< its criterion is set per criterion
   std::function<void(const std::string&)> progress;  ///< one line per subset scored
 };

@@ -65,12 +65,17 @@ struct PoolChoice {
   double seconds = 0.0;
 };
 
+/// Where the tip criteria (G, I) look: the plan's workspace (what evaluate's tip map uses), or the
+/// pool's own configurations (where the machine was recorded working).
+enum class PoolWorkspace { Plan, Pool };
+
 class ReadingPool {
  public:
   /// `prior_tolerance` (mm; an angle's is this at the machine's reach): the standard deviation of
   /// the nominal values of parameters the machine gives no prior. InputError when a placement's
   /// readings do not each give the artifact's rows per reading (plane touches).
-  ReadingPool(const Plan& plan, double prior_tolerance = 1.0);
+  ReadingPool(const Plan& plan, double prior_tolerance = 1.0,
+              PoolWorkspace workspace = PoolWorkspace::Plan);
 
   int size() const { return static_cast<int>(readings_.size()); }
   const std::vector<PoolReading>& readings() const { return readings_; }
@@ -99,12 +104,15 @@ class ReadingPool {
   /// S(q)^2 at every workspace configuration for V_p.
   Eigen::VectorXd tipVariance(const Eigen::MatrixXd& V_p) const;
 
-  /// The pool plan with only the chosen readings (placements left without any dropped).
-  Plan subsetPlan(const std::vector<int>& subset) const;
+  /// The pool plan with only the chosen readings (placements left without any dropped). Its
+  /// `"calibrate": "identifiable"` is resolved on the whole pool (the set every
+  /// subset is compared on) or again on the subset's own readings, as loading them alone would.
+  enum class CalibratedSet { Pool, Subset };
+  Plan subsetPlan(const std::vector<int>& subset, CalibratedSet set = CalibratedSet::Subset) const;
 
  private:
   void buildRows(const Plan& plan);
-  void buildWorkspace();
+  void buildWorkspace(PoolWorkspace workspace);
   Plan criterion_plan_;
   Eigen::VectorXd plan_prior_;  ///< the plan's own machine prior (subsetPlan keeps it)
   std::vector<PoolReading> readings_;
