@@ -130,6 +130,7 @@ int runCompare(const CompareArguments& args) {
     options.criteria.push_back(*criterionFromName(name));
   options.pool.seed = static_cast<std::uint64_t>(args.seed);
   options.pool.starts = args.starts;
+  options.pool.slot_candidates = 1024;  // optimize --choose's default
   options.pool.threads = args.threads;
   options.pool.time_limit = args.time_limit;
   if (!args.quiet) options.progress = [](const std::string& line) { std::cerr << line << "\n"; };

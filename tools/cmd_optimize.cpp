@@ -42,7 +42,7 @@ struct OptimizeArguments {
   std::string criterion = "worst-tip";
   double prior_tolerance = 1.0;
   std::string workspace = "plan";
-  int slot_candidates = 0;
+  int slot_candidates = 1024;
 };
 
 double toMicrometres(double mm) {
@@ -325,7 +325,9 @@ void addOptimizeCommand(CLI::App& app, Action& action) {
       ->check(positiveNumber())
       ->capture_default_str();
   cmd->add_option("--slot-candidates", args->slot_candidates,
-                  "with --choose: candidates tried per slot of the exchange; 0: all")
+                  "with --choose: candidates tried per slot of the exchange (a fresh random subset "
+                  "of this many "
+                  "when the pool is larger); 0: all")
       ->check(CLI::Range(0, 100000000))
       ->capture_default_str();
   cmd->add_option("--algorithm", args->algorithm, "continuous refinement (NLopt)")
