@@ -14,6 +14,7 @@
 #include "artcal/io/output_file.hpp"
 #include "artcal/io/plan_io.hpp"
 #include "artcal/planning/optimizer.hpp"
+#include "artcal/planning/reading_pool.hpp"
 #include "artcal/report/report.hpp"
 #include "commands.hpp"
 #include "optimize_output.hpp"
@@ -37,6 +38,11 @@ struct OptimizeArguments {
   std::optional<int> polish, kicks;
   std::string sweep_range;           ///< --placements A..B: every count, -o is a directory
   std::optional<double> target_tip;  ///< with --placements: overrides design.target_tip
+  std::optional<int> choose;         ///< --choose N: SPEC is a pool of readings
+  std::string criterion = "worst-tip";
+  double prior_tolerance = 1.0;
+  std::string workspace = "plan";
+  int slot_candidates = 1024;
 };
 
 double toMicrometres(double mm) {
@@ -165,7 +171,68 @@ int runPlacementSweep(const nlohmann::json& spec_document, const Plan& spec,
   return 0;
 }
 
+/// `--choose N`: N readings of the readings plan SPEC (its readings are the candidates, docs/
+/// optimize.md "Choosing readings from a pool"); -o gets the plan of the chosen readings.
+int runChoose(const OptimizeArguments& args) {
+  checkOutputPath(args.output);
+  nlohmann::json document = readJsonFile(args.spec);
+  const Plan pool_plan = parsePlan(document, args.spec);
+  for (const std::string& warning : pool_plan.warnings) std::cerr << "warning: " << warning << "\n";
+  const ReadingPool pool(pool_plan, args.prior_tolerance,
+                         args.workspace == "pool" ? PoolWorkspace::Pool : PoolWorkspace::Plan);
+  PoolOptions options;
+  options.criterion = *criterionFromName(args.criterion);
+  if (args.starts) options.starts = *args.starts;
+  if (args.time_limit) options.time_limit = *args.time_limit;
+  if (args.seed) options.seed = static_cast<std::uint64_t>(*args.seed);
+  options.threads = args.threads;
+  options.slot_candidates = args.slot_candidates;
+  if (!args.quiet && isatty(STDERR_FILENO)) {
+    options.progress = [](const OptimizerProgress& p) {
+      std::fprintf(stderr, "\roptimize --choose: %d/%d starts, best %.3f um, %.1f s   ",
+                   p.starts_done, p.starts, p.best * 1000.0, p.elapsed);
+      std::fflush(stderr);
+    };
+  }
+  const PoolChoice choice = chooseReadings(pool, *args.choose, options);
+  if (options.progress) std::fprintf(stderr, "\n");
+  const Plan chosen = pool.subsetPlan(choice.chosen);
+  document["placements"] = placementsToJson(chosen);
+  writeJsonOutput(args.output, document);
+  nlohmann::json rows = nlohmann::json::array();
+  for (int i : choice.chosen) {
+    const PoolReading& r = pool.readings()[static_cast<std::size_t>(i)];
+    rows.push_back(
+        {{"placement", placementLabel(pool_plan.placements, static_cast<std::size_t>(r.placement))},
+         {"reading", r.measurement}});
+  }
+  const nlohmann::json summary = {{"plan", args.output},
+                                  {"criterion", criterionName(choice.criterion)},
+                                  {"value_mm", choice.value},
+                                  {"pool", pool.size()},
+                                  {"chosen", rows},
+                                  {"starts_done", choice.starts_done},
+                                  {"starts", choice.starts},
+                                  {"best_start", choice.best_start},
+                                  {"termination", choice.timed_out ? "time_limit" : "completed"},
+                                  {"seconds", choice.seconds}};
+  std::ostream& out = summaryStream(args.output);
+  if (args.json) {
+    out << summary.dump(2) << std::endl;
+  } else {
+    out << "artcal optimize --choose: " << choice.chosen.size() << " of " << pool.size()
+        << " readings of " << args.spec << " -> " << args.output << "\n  criterion "
+        << criterionName(choice.criterion) << " " << std::fixed << std::setprecision(3)
+        << choice.value * 1000.0 << " um (prior tolerance " << args.prior_tolerance << " mm)\n  "
+        << (choice.timed_out ? "time limit reached" : "completed") << ": " << choice.starts_done
+        << "/" << choice.starts << " starts, best start " << choice.best_start << ", "
+        << choice.seconds << " s\n";
+  }
+  return 0;
+}
+
 int runOptimize(const OptimizeArguments& args) {
+  if (args.choose) return runChoose(args);
   const bool sweep = !args.sweep_range.empty();
   if (!sweep) checkOutputPath(args.output);  // refused before the search, not after it
   const nlohmann::json spec_document = readJsonFile(args.spec);
@@ -239,6 +306,30 @@ void addOptimizeCommand(CLI::App& app, Action& action) {
   cmd->add_option("--target-tip", args->target_tip,
                   "with --placements: the criterion to reach, mm (overrides design.target_tip)")
       ->check(positiveNumber());
+  cmd->add_option("--choose", args->choose,
+                  "N: SPEC is a readings plan (an earlier session's, or imported readings); "
+                  "choose N of its readings by exchange and write their plan to -o")
+      ->check(CLI::Range(1, 100000000));
+  cmd->add_option("--criterion", args->criterion, "with --choose: the criterion")
+      ->check(CLI::IsMember({"worst-tip", "mean-tip", "D", "A"}))
+      ->capture_default_str();
+  cmd->add_option(
+         "--workspace", args->workspace,
+         "with --choose: the configurations G and I look at: the plan's workspace, or the pool's "
+         "own readings")
+      ->check(CLI::IsMember({"plan", "pool"}))
+      ->capture_default_str();
+  cmd->add_option("--prior-tolerance", args->prior_tolerance,
+                  "with --choose: mm, the standard deviation of nominal parameters the machine "
+                  "states no prior for (angles: at the reach)")
+      ->check(positiveNumber())
+      ->capture_default_str();
+  cmd->add_option("--slot-candidates", args->slot_candidates,
+                  "with --choose: candidates tried per slot of the exchange (a fresh random subset "
+                  "of this many "
+                  "when the pool is larger); 0: all")
+      ->check(CLI::Range(0, 100000000))
+      ->capture_default_str();
   cmd->add_option("--algorithm", args->algorithm, "continuous refinement (NLopt)")
       ->check(CLI::IsMember({"sbplx", "bobyqa", "neldermead", "cobyla", "none"}))
       ->capture_default_str();
