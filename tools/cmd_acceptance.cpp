@@ -129,9 +129,11 @@ Eigen::Vector3d parseCenter(const std::string& text) {
 }
 
 /// The ISO 9283 options the command line gives over the plan's block (`spec`, when its test is
-/// iso9283): orientation, seed posture, unmodelled error.
+/// iso9283): orientation, seed posture, unmodelled error (by default the one the calibration
+/// estimated, carried in the machine file).
 void takePoseSetUp(const AcceptanceArguments& args, const Machine& machine,
-                   const std::optional<AcceptanceSpec>& spec, PoseTestOptions& options) {
+                   const std::optional<AcceptanceSpec>& spec, double calibration_unmodelled,
+                   PoseTestOptions& options) {
   const bool from_plan = spec && spec->test == "iso9283";
   if (from_plan) options = poseTestOptionsFrom(*spec);
   if (!args.orientation.empty())
@@ -153,6 +155,10 @@ void takePoseSetUp(const AcceptanceArguments& args, const Machine& machine,
                        "units (deg, mm)");
   }
   if (args.unmodelled) options.unmodelled = *args.unmodelled;
+  // Neither the option nor the plan's block states it: the calibration's own estimate, by
+  // cross-validation, from the machine file's covariance (unmodelled_error.hpp).
+  else if (options.unmodelled == 0.0)
+    options.unmodelled = calibration_unmodelled;
 }
 
 int runLengthTest(const AcceptanceArguments& args, const LoadedInput& loaded) {
@@ -183,7 +189,8 @@ int runPoseTest(const AcceptanceArguments& args, const LoadedInput& loaded) {
   if (args.stylus_offset != 0.0)
     throw InputError("--stylus-offset", "", "the stylus offset (E150) belongs to the length test");
   PoseTestOptions options;
-  takePoseSetUp(args, *loaded.input.machine, loaded.spec, options);
+  takePoseSetUp(args, *loaded.input.machine, loaded.spec, loaded.input.uncertainty.unmodelled,
+                options);
   options.cube = args.cube;
   options.center = parseCenter(args.center);
   if (!args.mpe.empty()) {

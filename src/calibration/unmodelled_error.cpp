@@ -1,6 +1,6 @@
 #include "artcal/calibration/unmodelled_error.hpp"
 
-#include <Eigen/Eigenvalues>
+#include "artcal/core/dense_decompositions.hpp"
 #include <algorithm>
 #include <cmath>
 #include <numeric>
