@@ -5,8 +5,8 @@
 #include <sstream>
 
 #include "artcal/core/error.hpp"
-#include "artcal/model/chain.hpp"
 #include "artcal/model/inverse_kinematics.hpp"
+#include "artcal/model/rotation_vector.hpp"
 
 namespace artcal {
 

@@ -80,37 +80,6 @@ const OriginTurns& originTurns(const std::vector<int>& offsets, const Eigen::Vec
 
 }  // namespace
 
-Eigen::Matrix3d rpyToMatrix(const Eigen::Vector3d& rpy) {
-  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
-  turnAboutZ(R, rpy[2]);
-  turnAboutY(R, rpy[1]);
-  turnAboutX(R, rpy[0]);
-  return R;
-}
-
-// R = Rz(y) Ry(p) Rx(r): R(2,0) = -sin p, and cos p = |(R00, R10)| >= 0 (atan2, not asin: exact
-// near +-90 deg). Yaw from the first column (R00, R10) = cos p (cos y, sin y); roll is then
-// whatever is left, Rx(r) = Ry(p)^T Rz(y)^T R. Near the gimbal lock the yaw is poorly determined
-// (error e ~ rounding / cos p), but there a z turn after Ry(+-90) is an x turn: roll absorbs e and
-// the product misses R by only e cos p, i.e. rounding. At the lock itself atan2(0, 0) = 0 and
-// roll takes all of yaw -+ roll, the one combination defined there.
-Eigen::Vector3d rpyFromMatrix(const Eigen::Matrix3d& R) {
-  const double cos_pitch = std::hypot(R(0, 0), R(1, 0));
-  const double pitch = std::atan2(-R(2, 0), cos_pitch);
-  const double yaw = std::atan2(R(1, 0), R(0, 0));
-  // rest <- Ry(-pitch) Rz(-yaw) R = (R^T Rz(yaw) Ry(pitch))^T.
-  Eigen::Matrix3d T = R.transpose();
-  turnAboutZ(T, yaw);
-  turnAboutY(T, pitch);
-  const Eigen::Matrix3d rest = T.transpose();
-  const double roll = std::atan2(rest(2, 1), rest(1, 1));
-  return {roll, pitch, yaw};
-}
-
-Eigen::Matrix3d axisAngleMatrix(const Eigen::Vector3d& axis, double angle) {
-  return Eigen::AngleAxisd(angle, axis).toRotationMatrix();
-}
-
 Chain::Chain(std::vector<ChainJoint> joints, std::vector<ChainTip> tips)
     : joints_(std::move(joints)), tips_(std::move(tips)) {
   if (joints_.empty()) throw std::invalid_argument("chain: no joints");

@@ -122,7 +122,9 @@ TEST(PoseSetUp, TheCubesPointsFromItsCentreEdgeAndOrientation) {
     EXPECT_LT((points[i] - expected[i]).norm(), 1e-12) << "P" << i + 1;
     // In the measuring plane, P2 .. P5 0.8 of a half space diagonal from the centre.
     EXPECT_NEAR(normal.dot(points[i] - c), 0.0, 1e-12);
-    if (i > 0) EXPECT_NEAR((points[i] - c).norm(), 0.8 * h * std::sqrt(3.0), 1e-9);
+    if (i > 0) {
+      EXPECT_NEAR((points[i] - c).norm(), 0.8 * h * std::sqrt(3.0), 1e-9);
+    }
   }
   // Through the prediction: the orientation given as roll, pitch, yaw.
   const Prepared prepared = prepareArm();

@@ -31,6 +31,7 @@
 
 #include "artcal/core/enum_names.hpp"
 #include "artcal/model/mechanism.hpp"
+#include "artcal/model/rotation_vector.hpp"
 
 namespace artcal {
 
@@ -167,13 +168,5 @@ class Chain final : public Mechanism {
   std::vector<int> offsets_;
   std::vector<ParameterInfo> parameters_;
 };
-
-/// Rz(yaw) Ry(pitch) Rx(roll), URDF's fixed-axis roll-pitch-yaw (radians).
-Eigen::Matrix3d rpyToMatrix(const Eigen::Vector3d& rpy);
-/// Roll, pitch, yaw of a rotation matrix with rpyToMatrix(rpyFromMatrix(R)) == R to rounding,
-/// also at and near pitch = +-90 deg (there roll and yaw are not unique: one pair is returned).
-Eigen::Vector3d rpyFromMatrix(const Eigen::Matrix3d& R);
-/// Rotation by `angle` (rad) about the unit vector `axis` (Rodrigues).
-Eigen::Matrix3d axisAngleMatrix(const Eigen::Vector3d& axis, double angle);
 
 }  // namespace artcal

@@ -26,4 +26,12 @@ Eigen::Vector3d orientationResidual(const Eigen::Matrix3d& R_predicted,
                                     const Eigen::Vector3d& measured,
                                     Eigen::Matrix3d* J_e_w = nullptr);
 
+/// Rz(yaw) Ry(pitch) Rx(roll), URDF's fixed-axis roll-pitch-yaw (radians).
+Eigen::Matrix3d rpyToMatrix(const Eigen::Vector3d& rpy);
+/// Roll, pitch, yaw of a rotation matrix with rpyToMatrix(rpyFromMatrix(R)) == R to rounding,
+/// also at and near pitch = +-90 deg (there roll and yaw are not unique: one pair is returned).
+Eigen::Vector3d rpyFromMatrix(const Eigen::Matrix3d& R);
+/// Rotation by `angle` (rad) about the unit vector `axis` (Rodrigues).
+Eigen::Matrix3d axisAngleMatrix(const Eigen::Vector3d& axis, double angle);
+
 }  // namespace artcal
