@@ -150,7 +150,9 @@ void ReadingPool::buildRows(const Plan& plan) {
       auto out = rows_.middleRows(k_ * candidate, k);
       const int row = k * static_cast<int>(m);
       out.leftCols(n_p_) = block.A_p.middleRows(row, k);
-      out.middleCols(c_offset, block.A_c.cols()) = block.A_c.middleRows(row, k);
+      // An artifact without systematic errors has no A_c columns (and no data to offset).
+      if (block.A_c.cols() > 0)
+        out.middleCols(c_offset, block.A_c.cols()) = block.A_c.middleRows(row, k);
       out.middleCols(rigid_offset[j], block.A_r.cols()) = block.A_r.middleRows(row, k);
     }
   }
