@@ -286,9 +286,7 @@ py::tuple evaluate(const PyPlan& p, double rank_tolerance, int profile_steps,
   // As `artcal evaluate --json`: "estimate" evaluated with the noise the readings tell.
   const auto [noised, document] = withoutGil([&] {
     NoisedEvaluation ev = evaluateWithPredictionNoise(p.plan, {rank_tolerance, profile_steps});
-    json out = evaluationToJson(ev.plan, ev.evaluation);
-    out.update(cartesianAnswersToJson(ev.plan, cartesianAnswers(ev.plan, &ev.evaluation)));
-    out["probe_noise"] = predictionNoiseToJson(ev.noise.probe, ev.noise.estimated, ev.noise.source);
+    json out = evaluateCommandToJson(ev);
     return std::make_pair(std::move(ev), std::move(out));
   });
   const Plan& plan = noised.plan;

@@ -83,14 +83,13 @@ void addEvaluateCommand(CLI::App& app, Action& action) {
       const Plan& plan = noised.plan;
       const Evaluation& evaluation = noised.evaluation;
       const PredictionNoise& noise = noised.noise;
-      const CartesianAnswers cmm = cartesianAnswers(plan, &evaluation);
       if (args->json) {
-        nlohmann::json out = evaluationToJson(plan, evaluation);
-        out.update(cartesianAnswersToJson(plan, cmm));
-        out["probe_noise"] = predictionNoiseToJson(noise.probe, noise.estimated, noise.source);
-        printJson(out);
+        printJson(evaluateCommandToJson(noised));
       } else {
-        std::cout << evaluationTable(plan, evaluation) << cartesianAnswersTable(plan, cmm);
+        std::cout << evaluationTable(plan, evaluation)
+                  << cartesianAnswersTable(plan, cartesianAnswers(plan, &evaluation));
+        if (noised.tip_with_unmodelled)
+          std::cout << tipWithUnmodelledTable(*noised.tip_with_unmodelled, *noise.unmodelled);
         if (plan.noise.estimate_probe)
           std::cout << "probe noise \"estimate\": " << noise.probe << " mm, " << noise.source
                     << "\n";

@@ -228,7 +228,14 @@ void addReportCommand(CLI::App& app, Action& action) {
       }
       const Evaluation evaluation =
           evaluatePlan(predicted, {args->rank_tolerance, args->profile_steps});
-      const nlohmann::json evaluation_json = evaluationToJson(predicted, evaluation);
+      nlohmann::json evaluation_json = evaluationToJson(predicted, evaluation);
+      // The tip map with the error the model does not explain, where the calibration told it.
+      if (calibration && calibration->unmodelled) {
+        if (const auto with_unmodelled = tipWithUnmodelled(
+                evaluation, calibration->unmodelled->sigma, predicted.machine.dimension()))
+          evaluation_json["tip_with_unmodelled"] =
+              tipWithUnmodelledToJson(*with_unmodelled, *calibration->unmodelled);
+      }
       std::optional<nlohmann::json> held_out_json;
       if (!args->held_out.empty())
         held_out_json = heldOutStations(args->held_out, calibrated, *calibration);

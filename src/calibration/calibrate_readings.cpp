@@ -532,7 +532,7 @@ CalibrationRun calibrateReadings(const Plan& given, const CalibrationOptions& op
 }
 
 PredictionNoise predictionNoise(const Plan& plan, const CalibrationRun* run) {
-  PredictionNoise out{plan.noise.probe, false, "stated"};
+  PredictionNoise out{plan.noise.probe, false, "stated", std::nullopt};
   if (!plan.noise.estimate_probe) return out;
   out.source = "the starting value";
   std::optional<CalibrationRun> own;
@@ -558,14 +558,18 @@ PredictionNoise predictionNoise(const Plan& plan, const CalibrationRun* run) {
     out.probe = c.noise_estimate->probe;
     out.estimated = true;
     out.source = "estimated by calibrating the plan's readings";
+    out.unmodelled = c.unmodelled;
   }
   return out;
 }
 
 NoisedEvaluation evaluateWithPredictionNoise(const Plan& plan, const EvaluateOptions& options) {
-  NoisedEvaluation out{plan, {}, predictionNoise(plan)};
+  NoisedEvaluation out{plan, {}, predictionNoise(plan), std::nullopt};
   out.plan.noise.probe = out.noise.probe;
   out.evaluation = evaluatePlan(out.plan, options);
+  if (out.noise.unmodelled)
+    out.tip_with_unmodelled = tipWithUnmodelled(out.evaluation, out.noise.unmodelled->sigma,
+                                                out.plan.machine.dimension());
   return out;
 }
 

@@ -1,12 +1,12 @@
 #include "artcal/calibration/unmodelled_error.hpp"
 
-#include "artcal/core/dense_decompositions.hpp"
 #include <algorithm>
 #include <cmath>
 #include <numeric>
 #include <optional>
 #include <stdexcept>
 #include <vector>
+#include "artcal/core/dense_decompositions.hpp"
 
 #include "artcal/calibration/calibrate_readings.hpp"
 #include "artcal/calibration/station_verification.hpp"
@@ -215,6 +215,26 @@ std::optional<UnmodelledError> estimateUnmodelledError(const CalibrationRun& run
   out.observed_rms = std::sqrt(pooled.observed / pooled.readings);
   out.predicted_rms = std::sqrt(pooled.base / pooled.readings);
   out.sigma = std::sqrt(std::max(0.0, (pooled.observed - pooled.base) / pooled.per_unit));
+  return out;
+}
+
+std::optional<TipWithUnmodelled> tipWithUnmodelled(const Evaluation& evaluation, double sigma,
+                                                   int dimension) {
+  if (!evaluation.tip || evaluation.workspace_total.empty()) return std::nullopt;
+  TipWithUnmodelled out;
+  out.sigma = sigma;
+  const double share2 = dimension * sigma * sigma;
+  out.trace_share = std::sqrt(share2);
+  const double worst = evaluation.tip->worst.total;
+  out.worst_total = std::sqrt(worst * worst + share2);
+  double sum = 0.0, sum2 = 0.0;
+  for (const double s : evaluation.workspace_total) {
+    sum += std::sqrt(s * s + share2);
+    sum2 += s * s + share2;
+  }
+  const double n = static_cast<double>(evaluation.workspace_total.size());
+  out.mean_total = sum / n;
+  out.rms_total = std::sqrt(sum2 / n);
   return out;
 }
 

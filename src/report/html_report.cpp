@@ -422,18 +422,30 @@ ReportFigure residualFigure(const json& calibration, double threshold) {
 // ---------------------------------------------------------------------------------------------
 // HTML
 
-/// A table cell showing a number of `source` at `pointer`, scaled for display, with the exact
-/// JSON value in data-value.
+/// An element `tag` (with `attributes`) showing a number of `source` at `pointer`, scaled for
+/// display, with the exact JSON value in data-value (a dash for null).
+std::string numberElement(const char* tag, const char* attributes, const json& source,
+                          const std::string& pointer, double scale, const char* fmt,
+                          const std::string& field_prefix = {}) {
+  const json& value = source.at(json::json_pointer(pointer));
+  const std::string open = std::string("<") + tag + attributes + " data-field=\"" +
+                           svg::escape(field_prefix + pointer) + "\" data-value=\"";
+  const std::string close = std::string("</") + tag + ">";
+  if (!value.is_number()) return open + "null\">&#8212;" + close;
+  return open + exact(value.get<double>()) + "\">" +
+         svg::escape(format(fmt, value.get<double>() * scale)) + close;
+}
+
+/// A table cell showing a number of `source` at `pointer` (numberElement).
 std::string numberCell(const json& source, const std::string& pointer, double scale,
                        const char* fmt, const std::string& field_prefix = {}) {
-  const json& value = source.at(json::json_pointer(pointer));
-  const std::string field = svg::escape(field_prefix + pointer);
-  if (!value.is_number()) {
-    return "<td class=\"num\" data-field=\"" + field + "\" data-value=\"null\">&#8212;</td>";
-  }
-  return "<td class=\"num\" data-field=\"" + field + "\" data-value=\"" +
-         exact(value.get<double>()) + "\">" +
-         svg::escape(format(fmt, value.get<double>() * scale)) + "</td>";
+  return numberElement("td", " class=\"num\"", source, pointer, scale, fmt, field_prefix);
+}
+
+/// The same number in running text.
+std::string numberSpan(const json& source, const std::string& pointer, double scale,
+                       const char* fmt) {
+  return numberElement("span", "", source, pointer, scale, fmt);
 }
 
 /// The truth and (estimate - truth) / u of one calibrated parameter (calibrate --json's entry),
@@ -602,6 +614,20 @@ void writeControllerTable(std::ostream& out, const json& cal, const std::string&
   }
 }
 
+// The tip map with the unmodelled error the calibration estimated by cross-validation
+// (report.hpp, tipWithUnmodelledToJson), when it did.
+void writeTipWithUnmodelled(std::ostream& out, const json& ev) {
+  if (!ev.contains("tip_with_unmodelled")) return;
+  const json& t = ev.at("tip_with_unmodelled");
+  out << "<p>With the error the model does not explain, s_u = "
+      << numberSpan(ev, "/tip_with_unmodelled/sigma", 1e3, "%.2f") << " " << kMicro
+      << " per coordinate (cross-validation, " << t.at("folds").get<int>() << " folds by "
+      << svg::escape(t.at("scheme").get<std::string>())
+      << "): worst S_u = " << numberSpan(ev, "/tip_with_unmodelled/worst_total", 1e3, "%.3f") << " "
+      << kMicro << ", mean " << numberSpan(ev, "/tip_with_unmodelled/mean_total", 1e3, "%.3f")
+      << " " << kMicro << " (S_u<sup>2</sup> = S<sup>2</sup> + d s_u<sup>2</sup>).</p>\n";
+}
+
 void writeTipSummary(std::ostream& out, const Plan& plan, const json& ev) {
   if (!ev.contains("tip")) return;
   out << "<table>\n<tr><th>tip uncertainty (" << kMicro << ")</th><th>S</th><th>S_m</th>"
@@ -633,6 +659,7 @@ void writeTipSummary(std::ostream& out, const Plan& plan, const json& ev) {
     }
   }
   out << "</table>\n";
+  writeTipWithUnmodelled(out, ev);
 }
 
 void writeProfileTable(std::ostream& out, const json& ev) {

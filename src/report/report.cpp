@@ -1,4 +1,6 @@
 #include "artcal/report/report.hpp"
+#include "artcal/estimation/error_functions.hpp"
+#include "artcal/report/cartesian_report.hpp"
 #include "artcal/report/location_errors.hpp"
 #include "artcal/report/text_format.hpp"
 
@@ -41,6 +43,38 @@ json countingToJson(const CountingCondition& counting) {
 json predictionNoiseToJson(double value, bool estimated, const std::string& source) {
   return {
       {"value", finiteOrNull(value)}, {"unit", "mm"}, {"estimated", estimated}, {"source", source}};
+}
+
+json tipWithUnmodelledToJson(const TipWithUnmodelled& tip, const UnmodelledError& from) {
+  return {{"sigma", tip.sigma},
+          {"trace_share", tip.trace_share},
+          {"worst_total", tip.worst_total},
+          {"mean_total", tip.mean_total},
+          {"rms_total", tip.rms_total},
+          {"unit", "mm"},
+          {"scheme", from.scheme},
+          {"folds", from.folds}};
+}
+
+json evaluateCommandToJson(const NoisedEvaluation& noised) {
+  json out = evaluationToJson(noised.plan, noised.evaluation);
+  out.update(
+      cartesianAnswersToJson(noised.plan, cartesianAnswers(noised.plan, &noised.evaluation)));
+  const PredictionNoise& noise = noised.noise;
+  out["probe_noise"] = predictionNoiseToJson(noise.probe, noise.estimated, noise.source);
+  if (noised.tip_with_unmodelled)
+    out["tip_with_unmodelled"] =
+        tipWithUnmodelledToJson(*noised.tip_with_unmodelled, *noise.unmodelled);
+  return out;
+}
+
+std::string tipWithUnmodelledTable(const TipWithUnmodelled& tip, const UnmodelledError& from) {
+  return report_text::format(
+      "Tip uncertainty with the unmodelled error s_u = %.2f um per coordinate (cross-validation, "
+      "%d folds by %s; um)\n  worst  S_u = %.2f    mean S_u = %.2f    rms S_u = %.2f   "
+      "(S_u^2 = S^2 + d s_u^2, d s_u^2 = (%.2f)^2)\n",
+      tip.sigma * 1e3, from.folds, from.scheme.c_str(), tip.worst_total * 1e3, tip.mean_total * 1e3,
+      tip.rms_total * 1e3, tip.trace_share * 1e3);
 }
 
 json calibrateSelectionToJson(const Plan& plan) {

@@ -206,5 +206,56 @@ TEST(UnmodelledError, ZScoresOfEstimatesAgainstTheTruthHaveUnitRms) {
   EXPECT_LT(rms, 1.2);
 }
 
+// The tip map with the unmodelled error: S_u^2 = S^2 + d s_u^2 at every configuration, S^2 from
+// its two parts S_m^2 + S_q^2 (not from the total the function reads), the mean and rms of S_u
+// over the workspace and the worst at the evaluation's worst configuration.
+TEST(UnmodelledError, TipMapAddsTheTraceOfTheUnmodelledErrorAtEveryConfiguration) {
+  const Plan plan = testing::loadTestPlan("ref-aacmm-3bars-3postures");
+  const Evaluation ev = evaluatePlan(plan);
+  ASSERT_TRUE(ev.tip);
+  const double s_u = 0.03;
+  const auto tip = tipWithUnmodelled(ev, s_u, 3);
+  ASSERT_TRUE(tip);
+  double sum = 0.0, sum2 = 0.0;
+  const std::size_t n = ev.workspace_kinematic.size();
+  ASSERT_GT(n, 100u);
+  for (std::size_t g = 0; g < n; ++g) {
+    const double s2 = ev.workspace_kinematic[g] * ev.workspace_kinematic[g] +
+                      ev.workspace_encoder[g] * ev.workspace_encoder[g] + 3.0 * s_u * s_u;
+    sum += std::sqrt(s2);
+    sum2 += s2;
+  }
+  EXPECT_NEAR(tip->mean_total, sum / n, 1e-12);
+  EXPECT_NEAR(tip->rms_total, std::sqrt(sum2 / n), 1e-12);
+  const auto worst = static_cast<std::size_t>(ev.tip->worst_index);
+  EXPECT_NEAR(
+      tip->worst_total,
+      std::sqrt(ev.workspace_kinematic[worst] * ev.workspace_kinematic[worst] +
+                ev.workspace_encoder[worst] * ev.workspace_encoder[worst] + 3.0 * s_u * s_u),
+      1e-12);
+  EXPECT_NEAR(tip->trace_share, std::sqrt(3.0) * s_u, 1e-15);
+  EXPECT_FALSE(tipWithUnmodelled(Evaluation{}, s_u, 3));  // no tip map, no figure
+}
+
+// evaluate and report predict with the calibration's own estimate: for a plan of measured
+// readings whose noise is "estimate", the prediction noise carries the unmodelled error that
+// calibrate reports for the same readings, bit for bit.
+TEST(UnmodelledError, EvaluateUsesTheUnmodelledErrorCalibrateEstimates) {
+  nlohmann::json document = readJsonFile(test_support::planFile("panda-8positions.json"));
+  document["noise"]["probe"] = "estimate";
+  const Plan plan = parsePlan(document, test_support::planFile("panda-8positions.json"));
+  const PredictionNoise noise = predictionNoise(plan);
+  const CalibrationRun run = calibrateReadings(plan);
+  ASSERT_TRUE(run.calibration.unmodelled);
+  ASSERT_TRUE(noise.unmodelled);
+  EXPECT_EQ(noise.unmodelled->sigma, run.calibration.unmodelled->sigma);
+  EXPECT_GT(noise.unmodelled->sigma, 0.0);  // real readings: the model does not explain all
+  EXPECT_EQ(noise.unmodelled->scheme, "placements");
+  // With the noise stated, evaluate predicts before any measurement: no unmodelled term.
+  document["noise"]["probe"] = 0.12;
+  EXPECT_FALSE(predictionNoise(parsePlan(document, test_support::planFile("panda-8positions.json")))
+                   .unmodelled);
+}
+
 }  // namespace
 }  // namespace artcal

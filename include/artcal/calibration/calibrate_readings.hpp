@@ -77,6 +77,9 @@ struct PredictionNoise {
   double probe = 0.0;      ///< mm
   bool estimated = false;  ///< the calibration's estimate
   std::string source;      ///< in words, for the table and the JSON
+  /// The unmodelled error the same calibration estimated by cross-validation, when it did
+  /// (measured readings that converged): the tip map's S_u (tipWithUnmodelled).
+  std::optional<UnmodelledError> unmodelled;
 };
 PredictionNoise predictionNoise(const Plan& plan, const CalibrationRun* run = nullptr);
 
@@ -86,6 +89,8 @@ struct NoisedEvaluation {
   Plan plan;  ///< the plan evaluated: the given one, its probe noise the prediction noise
   Evaluation evaluation;
   PredictionNoise noise;
+  /// The tip map with the unmodelled error (tipWithUnmodelled), where noise.unmodelled is known.
+  std::optional<TipWithUnmodelled> tip_with_unmodelled;
 };
 NoisedEvaluation evaluateWithPredictionNoise(const Plan& plan, const EvaluateOptions& options);
 

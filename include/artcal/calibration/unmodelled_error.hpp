@@ -21,7 +21,10 @@
 //   same station, the station re-registered on them).
 // Plain data; calibrateReadings fills it (estimateUnmodelledError, calibrate_readings.hpp).
 
+#include <optional>
 #include <string>
+
+#include "artcal/estimation/evaluation_result.hpp"
 
 namespace artcal {
 
@@ -36,5 +39,23 @@ struct UnmodelledError {
   double observed_rms = 0.0;   ///< mm, sqrt(sum o_k / readings)
   double predicted_rms = 0.0;  ///< mm, sqrt(sum b_k / readings): V_p and the noise alone
 };
+
+/// The tip uncertainty of the calibrated machine with the unmodelled error (issue 43): at each
+/// configuration of the workspace S_u^2 = S^2 + d s_u^2, S the evaluation's S (the parameters'
+/// and the encoders' terms, tip.hpp) and d s_u^2 the trace of s_u^2 I over the point's d
+/// coordinates (pose_acceptance.hpp's sigma_unmodelled for d = 3). The unmodelled term is the
+/// same everywhere: it shifts the map, it does not move its worst point.
+struct TipWithUnmodelled {
+  double sigma = 0.0;        ///< s_u, mm per coordinate
+  double trace_share = 0.0;  ///< sqrt(d) s_u, mm
+  double worst_total = 0.0;  ///< S_u at the evaluation's worst configuration, mm
+  double mean_total = 0.0;   ///< mean of S_u over the workspace, mm
+  double rms_total = 0.0;    ///< sqrt(mean of S_u^2), mm
+};
+
+/// S_u over `evaluation`'s workspace (its tip summary and workspace_total) for s_u = `sigma` (mm)
+/// and points of `dimension` coordinates; std::nullopt when the evaluation has no tip map.
+std::optional<TipWithUnmodelled> tipWithUnmodelled(const Evaluation& evaluation, double sigma,
+                                                   int dimension);
 
 }  // namespace artcal

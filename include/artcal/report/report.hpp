@@ -5,6 +5,8 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "artcal/calibration/calibrate_readings.hpp"
+#include "artcal/calibration/unmodelled_error.hpp"
 #include "artcal/estimation/evaluation_result.hpp"
 #include "artcal/plan/plan.hpp"
 
@@ -30,6 +32,14 @@ nlohmann::json evaluationToJson(const Plan& plan, const Evaluation& evaluation);
 /// The probe noise a prediction used (calibration/calibrate_readings.hpp, PredictionNoise):
 /// {"value", "unit": "mm", "estimated", "source"}.
 nlohmann::json predictionNoiseToJson(double value, bool estimated, const std::string& source);
+/// The tip map with the unmodelled error (unmodelled_error.hpp, tipWithUnmodelled):
+/// {"sigma", "trace_share", "worst_total", "mean_total", "rms_total", "unit": "mm", "scheme",
+/// "folds"}, and its table: two lines in um.
+nlohmann::json tipWithUnmodelledToJson(const TipWithUnmodelled& tip, const UnmodelledError& from);
+/// `artcal evaluate --json`'s document, for the command line and Python alike: the evaluation,
+/// the Cartesian answers, "probe_noise" and, where the readings told it, "tip_with_unmodelled".
+nlohmann::json evaluateCommandToJson(const NoisedEvaluation& noised);
+std::string tipWithUnmodelledTable(const TipWithUnmodelled& tip, const UnmodelledError& from);
 
 std::string identifiabilityTable(const Plan& plan, const Identifiability& identifiability);
 std::string evaluationTable(const Plan& plan, const Evaluation& evaluation);
