@@ -205,4 +205,11 @@ std::string exportUrdf(const Chain& chain, const Eigen::VectorXd& p, const std::
   return urdfModule().export_urdf(chain, p, source, machine_source);
 }
 
+std::vector<OriginEdit> calibratedOrigins(const Chain& chain, const Eigen::VectorXd& p,
+                                          const std::string& urdf_path,
+                                          const std::string& machine_source) {
+  const urdf_module::UrdfSource source = urdfSource(urdf_path);
+  return urdfModule().origins(chain, p, source, machine_source);
+}
+
 }  // namespace artcal

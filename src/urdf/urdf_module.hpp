@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "artcal/io/urdf.hpp"
+#include "artcal/io/urdf_origin_edit.hpp"
 #include "artcal/model/chain.hpp"
 
 namespace artcal {
@@ -30,6 +31,9 @@ nlohmann::json importUrdf(const UrdfSource& urdf, const std::string& base,
 Eigen::VectorXd urdfNominal(const Chain& chain, const Eigen::VectorXd& p, const UrdfSource& urdf);
 std::string exportUrdf(const Chain& chain, const Eigen::VectorXd& p, const UrdfSource& urdf,
                        const std::string& machine_source);
+std::vector<OriginEdit> calibratedOrigins(const Chain& chain, const Eigen::VectorXd& p,
+                                          const UrdfSource& urdf,
+                                          const std::string& machine_source);
 }  // namespace urdf_module
 
 /// What the module and its loader must agree on: the artcal version, the compiler and the sizes
@@ -37,7 +41,8 @@ std::string exportUrdf(const Chain& chain, const Eigen::VectorXd& p, const UrdfS
 inline std::string urdfModuleAbi() {
   return std::string("artcal " ARTCAL_VERSION_STRING "; " __VERSION__ "; ") +
          std::to_string(sizeof(nlohmann::json)) + " " + std::to_string(sizeof(Chain)) + " " +
-         std::to_string(sizeof(std::string)) + " " + std::to_string(sizeof(Eigen::VectorXd));
+         std::to_string(sizeof(std::string)) + " " + std::to_string(sizeof(Eigen::VectorXd)) + " " +
+         std::to_string(sizeof(OriginEdit));
 }
 
 /// The module's entry points, returned by its one exported C function, kUrdfModuleSymbol.
@@ -48,6 +53,8 @@ struct UrdfModuleTable {
   Eigen::VectorXd (*nominal)(const Chain&, const Eigen::VectorXd&, const urdf_module::UrdfSource&);
   std::string (*export_urdf)(const Chain&, const Eigen::VectorXd&, const urdf_module::UrdfSource&,
                              const std::string&);
+  std::vector<OriginEdit> (*origins)(const Chain&, const Eigen::VectorXd&,
+                                     const urdf_module::UrdfSource&, const std::string&);
 };
 inline constexpr const char* kUrdfModuleSymbol = "artcal_urdf_module";
 

@@ -28,6 +28,7 @@
 #include <string>
 #include <vector>
 
+#include "artcal/io/urdf_origin_edit.hpp"
 #include "artcal/model/chain.hpp"
 
 namespace artcal {
@@ -54,5 +55,10 @@ Eigen::VectorXd urdfNominal(const Chain& chain, const Eigen::VectorXd& p,
 /// with no joint below it to fold into).
 std::string exportUrdf(const Chain& chain, const Eigen::VectorXd& p, const std::string& urdf_path,
                        const std::string& machine_source);
+/// The origins exportUrdf writes (xyz m, rpy rad): every chain joint's and those of off-chain
+/// joints an offset is folded into, in that order.
+std::vector<OriginEdit> calibratedOrigins(const Chain& chain, const Eigen::VectorXd& p,
+                                          const std::string& urdf_path,
+                                          const std::string& machine_source);
 
 }  // namespace artcal
