@@ -949,6 +949,76 @@ TEST_F(ReportCli, MachineToolShowsLocationErrorsAndTheControllerTable) {
   EXPECT_NE(html.find("<th>A / deg</th><th>C / deg</th>"), std::string::npos);
 }
 
+// The controller table cannot be mistyped (docs/five-axis.md section 5): on the trunnion's
+// sphere probing (calibrate "identifiable"), E_A0C, E_C0C and L, which the rank rule drops, are
+// marked dropped with no value (null in JSON, "NOT MEASURED" in the table), each with the kept
+// parameters it is tied to (E_A0A, none, E_Z0A); every determined entry carries calibrate's
+// estimate and u (parameters) and U = 2 u; the chained form's C-from-A Y offset is E_Y0C - E_Y0A
+// with u from the covariance --write-machine writes (var + var - 2 cov); calibrate's table names
+// the dropped parameters and its JSON lists them.
+TEST_F(ReportCli, ControllerTableMarksEachEntryDeterminedOrDroppedWithUAndU) {
+  const auto [html, cal] =
+      reportOfSimulated(test_support::planFile("machine-tool-trunnion-2spheres.json"),
+                        R"({"E_X0C": -0.04, "E_Y0A": 0.03, "E_Y0C": 0.01, "E_B0A": 0.002})");
+  ASSERT_FALSE(HasFailure());
+  EXPECT_EQ(cal["calibrate_dropped"], json::array({"E_A0C", "E_C0C", "L"}));
+  std::map<std::string, json> parameters, entries;
+  for (const json& p : cal["parameters"]) parameters[p["name"]] = p;
+  const json& table = cal["controller_table"];
+  EXPECT_EQ(table["kind"], "actual location");
+  EXPECT_DOUBLE_EQ(table["coverage_factor"].get<double>(), 2.0);
+  for (const json& e : table["entries"]) entries[e["name"]] = e;
+  ASSERT_EQ(entries.size(), 14u);
+  const std::map<std::string, std::vector<std::string>> dropped = {
+      {"E_A0C", {"E_A0A"}}, {"E_C0C", {}}, {"L", {"E_Z0A"}}};
+  for (const auto& [name, e] : entries) {
+    if (dropped.count(name)) {
+      EXPECT_EQ(e["status"], "dropped") << name;
+      EXPECT_TRUE(e["value"].is_null() && e["u"].is_null() && e["U"].is_null()) << name;
+      EXPECT_EQ(e["tied_to"], json(dropped.at(name))) << name;
+      continue;
+    }
+    ASSERT_TRUE(parameters.count(name)) << name;
+    EXPECT_EQ(e["status"], "determined") << name;
+    EXPECT_DOUBLE_EQ(e["value"].get<double>(), parameters[name]["estimate"].get<double>()) << name;
+    EXPECT_DOUBLE_EQ(e["u"].get<double>(), parameters[name]["u"].get<double>()) << name;
+    EXPECT_DOUBLE_EQ(e["U"].get<double>(), 2.0 * parameters[name]["u"].get<double>()) << name;
+  }
+  EXPECT_NE(entries["E_Z0A"]["note"].get<std::string>().find("dropped L"), std::string::npos);
+  // The chained form against the machine file's covariance.
+  const fs::path sim = dir_ / "sim.json", machine = dir_ / "cal.json";
+  const CliRun text =
+      run("calibrate \"" + sim.string() + "\" --write-machine \"" + machine.string() + "\"");
+  ASSERT_EQ(text.status, 0);
+  const json covariance = readJsonFile(machine.string())["covariance"];
+  std::map<std::string, std::size_t> at;
+  for (std::size_t i = 0; i < covariance["parameters"].size(); ++i)
+    at[covariance["parameters"][i]] = i;
+  const json& V = covariance["matrix"];
+  const std::size_t ya = at.at("E_Y0A"), yc = at.at("E_Y0C");
+  const double expected_u =
+      std::sqrt(V[ya][ya].get<double>() + V[yc][yc].get<double>() - 2.0 * V[ya][yc].get<double>());
+  const json& chained = table["chained_form"]["entries"];
+  ASSERT_EQ(chained.size(), 3u);
+  EXPECT_EQ(chained[1]["entry"], "Y offset from A");
+  EXPECT_NEAR(
+      chained[1]["value"].get<double>(),
+      parameters["E_Y0C"]["estimate"].get<double>() - parameters["E_Y0A"]["estimate"].get<double>(),
+      1e-15);
+  EXPECT_NEAR(chained[1]["u"].get<double>(), expected_u, 1e-9 * expected_u);
+  // The table: the dropped rows say NOT MEASURED and hold no number before their note.
+  for (const char* row : {"  C     tilt about X         dropped      NOT MEASURED\n",
+                          "  C     zero                 dropped      NOT MEASURED\n",
+                          "  tool  tool length          dropped      NOT MEASURED\n"})
+    EXPECT_NE(text.out.find(row), std::string::npos) << row << text.out;
+  EXPECT_NE(text.out.find("not calibrated, dropped by the rank rule"), std::string::npos);
+  EXPECT_NE(text.out.find("  L: +1 L  -"), std::string::npos) << text.out;
+  EXPECT_NE(
+      html.find(
+          "data-field=\"/calibration/controller_table/entries/13/value\" data-value=\"null\""),
+      std::string::npos);
+}
+
 /// A planar 2R plan with `count` ball-bar placements spread over the reach annulus, readings by
 /// inverse kinematics (fixed seed).
 // An instrument plan's held-out stations (report --held-out): the table and histogram read the
