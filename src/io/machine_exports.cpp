@@ -84,7 +84,10 @@ json combination(const MachineFile& file, const std::vector<std::pair<std::strin
                                                   : "not determined"},
               {"not_calibrated", not_calibrated}};
   if (!terms.empty() && not_calibrated.empty() && has_u) {
-    const double u = std::sqrt(std::max(0.0, w.dot(file.uncertainty->V * w)));
+    // V is in internal units (mm, rad); the terms of one combination share a quantity.
+    const int first = machine.mechanism->parameterIndex(terms.front().first);
+    const Quantity& q = machine.mechanism->parameters()[static_cast<std::size_t>(first)].quantity;
+    const double u = toFileUnit(q, std::sqrt(std::max(0.0, w.dot(file.uncertainty->V * w))));
     out["u"] = u;
     out["U"] = kCoverage * u;
   } else {
@@ -112,13 +115,13 @@ std::string numberText(double v) {
 
 // " determined, u 0.85 um, U (k = 2) 1.71 um" or " not determined (E_X0C not calibrated)".
 std::string statusText(const json& entry, const std::string& unit) {
+  if (entry["status"] == "given") return "given (--pivot)";
   if (entry["status"] != "determined") {
     std::string names;
     for (const json& n : entry["not_calibrated"])
       names += (names.empty() ? "" : ", ") + n.get<std::string>();
     return "NOT DETERMINED (" + names + " not calibrated: the file's value, not measured)";
   }
-  if (entry["status"] == "given") return "given (--pivot)";
   if (!entry["u"].is_number()) return "determined";
   const double u = entry["u"].get<double>(), U = entry["U"].get<double>();
   std::ostringstream out;
@@ -246,8 +249,12 @@ Eigen::Isometry3d shift(const Eigen::Vector3d& v) {
 
 // A DH parameter by name ("j3.alpha"), internal units; absent (beta): 0.
 double dh(const Machine& machine, int joint, const char* what) {
-  const int index =
-      machine.mechanism->parameterIndex("j" + std::to_string(joint) + "." + std::string(what));
+  // Appended piece by piece: GCC 12 warns falsely (-Wrestrict) on "j" + std::string.
+  std::string name = "j";
+  name += std::to_string(joint);
+  name += '.';
+  name += what;
+  const int index = machine.mechanism->parameterIndex(name);
   return index < 0 ? 0.0 : machine.nominal[index];
 }
 

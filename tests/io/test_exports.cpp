@@ -165,6 +165,8 @@ TEST(MachineExports, AnOrientationErrorLinuxcncCannotCarryIsListedAndMovesTheTip
   EXPECT_EQ(b0a["name"], "E_B0A");
   EXPECT_EQ(b0a["status"], "determined");
   EXPECT_DOUBLE_EQ(b0a["value"].get<double>(), 0.003);
+  EXPECT_NEAR(b0a["u"].get<double>(), 1e-5, 1e-15);      // sqrt(1e-10 deg^2)
+  EXPECT_EQ(e.summary["values"][2]["status"], "given");  // z-rot-point: the pivot alone
   // 3 mdeg over a few hundred mm: microns LinuxCNC does not reproduce (the test can fail).
   EXPECT_GT(linuxcncLargestDifference(file, setpValues(e.text), Eigen::Vector3d::Zero()), 1e-3);
 }
