@@ -31,6 +31,21 @@ std::vector<std::string> implausibleCorrectionLines(const MachineBlock& block,
   return lines;
 }
 
+/// The model indices of a machine block's (or a plan's machine's) "calibrate" list; empty (every
+/// joint) when it is not a list of names of the model.
+std::vector<int> calibratedIndices(const nlohmann::json& machine, const Mechanism& mechanism) {
+  std::vector<int> out;
+  const nlohmann::json& block = machine.contains("machine") ? machine.at("machine") : machine;
+  const auto list = block.find("calibrate");
+  if (list == block.end() || !list->is_array()) return out;
+  for (const nlohmann::json& name : *list) {
+    const int k = name.is_string() ? mechanism.parameterIndex(name.get<std::string>()) : -1;
+    if (k < 0) return {};
+    out.push_back(k);
+  }
+  return out;
+}
+
 }  // namespace
 
 CalibratedUrdf calibratedUrdf(const nlohmann::json& machine, const std::string& machine_source,
@@ -38,7 +53,8 @@ CalibratedUrdf calibratedUrdf(const nlohmann::json& machine, const std::string& 
   const MachineBlock block = readChainMachine(machine, machine_source);
   const auto& chain = static_cast<const Chain&>(*block.mechanism);
   CalibratedUrdf out;
-  out.text = exportUrdf(chain, block.nominal, urdf_path, machine_source);
+  out.text = exportUrdf(chain, block.nominal, urdf_path, machine_source,
+                        calibratedIndices(machine, chain));
   out.warnings = implausibleCorrectionLines(block, urdfNominal(chain, block.nominal, urdf_path));
   return out;
 }
@@ -64,8 +80,8 @@ XacroProperties calibratedXacro(const nlohmann::json& machine, const std::string
                                 const std::string& urdf_path) {
   const MachineBlock block = readChainMachine(machine, machine_source);
   const auto& chain = static_cast<const Chain&>(*block.mechanism);
-  const std::vector<OriginEdit> origins =
-      calibratedOrigins(chain, block.nominal, urdf_path, machine_source);
+  const std::vector<OriginEdit> origins = calibratedOrigins(
+      chain, block.nominal, urdf_path, machine_source, calibratedIndices(machine, chain));
   std::ostringstream text;
   text << "<?xml version=\"1.0\"?>\n<!-- artcal export-xacro of " << machine_source << " for "
        << urdf_path

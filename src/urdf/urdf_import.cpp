@@ -604,8 +604,8 @@ void checkPaths(const Chain& chain, const UrdfDocument& doc, const std::string& 
 }  // namespace
 
 std::vector<OriginEdit> calibratedOrigins(const Chain& chain, const Eigen::VectorXd& p,
-                                          const UrdfSource& urdf,
-                                          const std::string& machine_source) {
+                                          const UrdfSource& urdf, const std::string& machine_source,
+                                          const std::vector<int>& calibrated) {
   UrdfDocument doc;
   loadUrdf(urdf, doc);
   // Each chain joint's origin, then what each joint's origin is premultiplied by: the offset of
@@ -660,11 +660,22 @@ std::vector<OriginEdit> calibratedOrigins(const Chain& chain, const Eigen::Vecto
     for (const urdf::JointSharedPtr& below : child->child_joints) folds[below->name] = M;
   }
   checkPaths(chain, doc, machine_source, urdf.path);
+  // A joint none of whose parameters is calibrated, and into which no offset is folded, keeps
+  // its text (docs/exports.md: the diff shows the calibrated joints only).
+  const auto written = [&](int i) {
+    if (calibrated.empty()) return true;
+    const int begin = chain.parameterOffset(i);
+    const int end = i + 1 < n ? chain.parameterOffset(i + 1) : chain.parameterCount();
+    return std::any_of(calibrated.begin(), calibrated.end(),
+                       [&](int k) { return k >= begin && k < end; });
+  };
   std::vector<OriginEdit> edits;
   for (int i = 0; i < n; ++i) {
     const ChainJoint& joint = chain.joints()[static_cast<std::size_t>(i)];
     Eigen::Isometry3d T = origins[static_cast<std::size_t>(i)];
-    if (const auto fold = folds.find(joint.name); fold != folds.end()) T = fold->second * T;
+    const auto fold = folds.find(joint.name);
+    if (fold == folds.end() && !written(i)) continue;
+    if (fold != folds.end()) T = fold->second * T;
     edits.push_back(originEdit(joint.name, T, p.segment<3>(chain.parameterOffset(i) + 3)));
   }
   // Joints off the chain that hang from a link with a folded offset (e.g. a gripper's fingers).
@@ -679,8 +690,9 @@ std::vector<OriginEdit> calibratedOrigins(const Chain& chain, const Eigen::Vecto
 }
 
 std::string exportUrdf(const Chain& chain, const Eigen::VectorXd& p, const UrdfSource& urdf,
-                       const std::string& machine_source) {
-  const std::vector<OriginEdit> edits = calibratedOrigins(chain, p, urdf, machine_source);
+                       const std::string& machine_source, const std::vector<int>& calibrated) {
+  const std::vector<OriginEdit> edits =
+      calibratedOrigins(chain, p, urdf, machine_source, calibrated);
   // The file's own text with the origins' values replaced (io/urdf_origin_edit.hpp), read back
   // here: it must be the URDF it was with these origins.
   const std::string text = editJointOrigins(urdf.text, edits, urdf.path);
