@@ -18,6 +18,7 @@
 #include "artcal/io/plan_io.hpp"
 #include "artcal/io/urdf.hpp"
 #include "cli_runner.hpp"
+#include "test_paths.hpp"
 
 namespace artcal {
 namespace urdf_test {
@@ -471,6 +472,38 @@ TEST(UrdfCli, ImportWritesAMachineTheExportReadsBack) {
   EXPECT_LT(largestTipDifference(chainOf(a), a.nominal, chainOf(b), b.nominal, 80), 1e-9);
   std::filesystem::remove(machine);
   std::filesystem::remove(out);
+}
+
+// The Panda's calibrated machine file (calibrate --write-machine): export-urdf changes the
+// origin lines of the joints its "calibrate" list names (panda_joint2 .. panda_joint8) and no
+// other line; the ball joint, which the machine file holds rounded to 1e-9 mm but does not
+// calibrate, keeps the URDF's text.
+TEST(UrdfCli, ExportChangesTheCalibratedJointsLinesOnly) {
+  const std::string machine = test_support::planFile("panda-8positions.machine.json");
+  const std::string out = temporaryPath("cli-calibrated");
+  const auto run = runCli(
+      "export-urdf --machine " + machine + " --urdf " + kPandaUrdf + " -o " + out, Stderr::Merge);
+  ASSERT_EQ(run.status, 0) << run.out;
+  std::set<std::string> calibrated;
+  for (const nlohmann::json& name : readJsonFile(machine)["calibrate"]) {
+    const std::string n = name.get<std::string>();
+    calibrated.insert(n.substr(0, n.find('.')));
+  }
+  const std::vector<std::string> a = linesOf(fileText(kPandaUrdf)), b = linesOf(fileText(out));
+  std::filesystem::remove(out);
+  ASSERT_EQ(a.size(), b.size());
+  std::set<std::string> changed;
+  std::string joint;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    std::smatch name;
+    if (std::regex_search(a[i], name, std::regex("<joint name=\"([^\"]+)\""))) joint = name[1];
+    if (a[i] == b[i]) continue;
+    EXPECT_TRUE(calibrated.count(joint)) << b[i];
+    EXPECT_NE(b[i].find("<origin"), std::string::npos) << b[i];
+    EXPECT_TRUE(changed.insert(joint).second) << joint;
+  }
+  EXPECT_EQ(changed, calibrated);
+  EXPECT_EQ(changed.size(), 7u);
 }
 
 // One line "error: FILE: ..." and exit status 2.
