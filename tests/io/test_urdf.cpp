@@ -485,7 +485,8 @@ TEST(UrdfCli, ExportChangesTheCalibratedJointsLinesOnly) {
       "export-urdf --machine " + machine + " --urdf " + kPandaUrdf + " -o " + out, Stderr::Merge);
   ASSERT_EQ(run.status, 0) << run.out;
   std::set<std::string> calibrated;
-  for (const nlohmann::json& name : readJsonFile(machine)["calibrate"]) {
+  const nlohmann::json document = readJsonFile(machine);  // kept: the loop reads into it
+  for (const nlohmann::json& name : document["calibrate"]) {
     const std::string n = name.get<std::string>();
     calibrated.insert(n.substr(0, n.find('.')));
   }
