@@ -92,7 +92,9 @@ void addXacro(CLI::App& app, Action& action) {
       checkOutputPath(args->output);
       const XacroProperties x =
           calibratedXacro(readJsonFile(args->machine), args->machine, args->urdf);
-      return finish(*args, x.text, x.summary);
+      const int status = finish(*args, x.text, x.summary);
+      for (const std::string& warning : x.warnings) std::cerr << "warning: " << warning << "\n";
+      return status;
     };
   });
 }

@@ -110,6 +110,7 @@ XacroProperties calibratedXacro(const nlohmann::json& machine, const std::string
   }
   text << "</robot>\n";
   XacroProperties out;
+  out.warnings = implausibleCorrectionLines(block, urdfNominal(chain, block.nominal, urdf_path));
   out.text = text.str();
   out.summary = {
       {"format", "xacro-properties"},

@@ -113,6 +113,12 @@ std::string numberText(double v) {
   return shortestNumber(v);
 }
 
+// "x y z" of a JSON array of three numbers, each in its shortest text ("0", never "-0.0").
+std::string triple(const json& v) {
+  return numberText(v[0].get<double>()) + " " + numberText(v[1].get<double>()) + " " +
+         numberText(v[2].get<double>());
+}
+
 // " determined, u 0.85 um, U (k = 2) 1.71 um" or " not determined (E_X0C not calibrated)".
 std::string statusText(const json& entry, const std::string& unit) {
   if (entry["status"] == "given") return "given (--pivot)";
@@ -355,11 +361,11 @@ MachineExport urKinematicsExport(const MachineFile& file) {
   std::ostringstream text;
   text << "# artcal export-ur of " << file.source
        << ": Universal Robots kinematics_config (ur_description, ur_robot_driver)\n"
-       << "# joint origins of the calibrated arm, metres and radians; NOT CARRIED: the TCP "
-          "(wrist_3_link "
-          "to the probe centre, mm and deg: "
-       << tcp.translation().transpose().format(Eigen::IOFormat(Eigen::FullPrecision, 0, " ", " "))
-       << " mm), uncertainties, the controller's own calibration\n"
+       << "# joint origins of the calibrated arm, metres and radians\n"
+       << "# NOT CARRIED: the TCP, wrist_3_link to the probe centre: xyz "
+       << triple(not_carried[0]["pose"]["xyz_mm"]) << " mm, rpy "
+       << triple(not_carried[0]["pose"]["rpy_deg"])
+       << " deg (set it as the tool); the uncertainties; the controller's own calibration\n"
        << "kinematics:\n"
        << body.str() << "  hash: " << hash << "\n";
   MachineExport out;
@@ -378,12 +384,11 @@ std::string exportSummaryTable(const json& summary) {
     if (v.contains("pin")) {
       out << "  " << v["pin"].get<std::string>() << " = " << numberText(v["value"].get<double>())
           << " mm  (" << v["from"].get<std::string>() << "; " << statusText(v, "mm") << ")\n";
-    } else if (v.contains("xyz_m")) {
-      out << "  " << v["name"].get<std::string>() << ": xyz " << v["xyz_m"].dump() << " m, rpy "
-          << v["rpy_rad"].dump() << " rad\n";
-    } else if (v.contains("joint")) {
-      out << "  " << v["joint"].get<std::string>() << ": xyz " << v["xyz_m"].dump() << " m, rpy "
-          << v["rpy_rad"].dump() << " rad\n";
+    } else {  // a joint origin: UR's by "name", xacro's by "joint"
+      const std::string name =
+          v.contains("joint") ? v["joint"].get<std::string>() : v["name"].get<std::string>();
+      out << "  " << name << ": xyz " << triple(v["xyz_m"]) << " m, rpy " << triple(v["rpy_rad"])
+          << " rad\n";
     }
   }
   out << "not carried by this format:\n";
@@ -392,7 +397,9 @@ std::string exportSummaryTable(const json& summary) {
     if (e.contains("value"))
       out << " = " << numberText(e["value"].get<double>()) << " " << e["unit"].get<std::string>()
           << " (" << statusText(e, e["unit"].get<std::string>()) << ")";
-    if (e.contains("pose")) out << " " << e["pose"].dump();
+    if (e.contains("pose"))
+      out << ": xyz " << triple(e["pose"]["xyz_mm"]) << " mm, rpy " << triple(e["pose"]["rpy_deg"])
+          << " deg";
     out << ": " << e["why"].get<std::string>() << "\n";
   }
   return out.str();

@@ -28,6 +28,7 @@ CalibratedUrdf calibratedUrdf(const nlohmann::json& machine, const std::string& 
 struct XacroProperties {
   std::string text;
   nlohmann::json summary;
+  std::vector<std::string> warnings;  ///< as CalibratedUrdf's
 };
 XacroProperties calibratedXacro(const nlohmann::json& machine, const std::string& machine_source,
                                 const std::string& urdf_path);
