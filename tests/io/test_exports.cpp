@@ -24,6 +24,7 @@
 #include "artcal/io/plan_file.hpp"
 #include "artcal/io/plan_io.hpp"
 #include "artcal/io/urdf.hpp"
+#include "cli_runner.hpp"
 #include "temp_folder.hpp"
 #include "test_paths.hpp"
 
@@ -318,6 +319,42 @@ TEST_F(XacroExport, PropertiesSubstitutedIntoTheUrdfReproduceTheCalibratedMachin
         worst, (tipOf(*block.mechanism, p, q) - tipOf(*again.mechanism, again.nominal, q)).norm());
   }
   EXPECT_LT(worst, 1e-9);
+}
+
+}  // namespace exports_test
+}  // namespace artcal
+
+namespace artcal {
+namespace exports_test {
+
+class ExportCli : public test_support::TempFolder {
+ protected:
+  ExportCli() : TempFolder("export-cli") {}
+};
+
+// Bad input: exit 2, one line naming the file and what to check, no output file.
+TEST_F(ExportCli, AMachineTheFormatCannotHoldIsOneLineAndExitStatus2) {
+  const Plan head = loadPlan(test_support::planFile("machine-tool-head-table-2spheres.json"));
+  write("head.json", machineToJson(head.machine, head.machine.nominal).dump());
+  const std::string ur5 = test_support::testDataFile("ur5-tracker/ur5.machine.json");
+  const std::pair<std::string, std::string> cases[] = {
+      {"export-linuxcnc --machine " + path("head.json") + " --pivot 0 0 0 -o " + path("x.hal"),
+       "head.json: /configuration: LinuxCNC's tilting-table kinematics"},
+      {"export-ur --machine " + path("head.json") + " -o " + path("x.yaml"),
+       "head.json: /model: export-ur takes a serial-dh arm of 6 revolute joints"},
+      {"export-linuxcnc --machine " + ur5 + " --pivot 0 0 0 -o " + path("x.hal"),
+       "ur5.machine.json: /model: export-linuxcnc takes a five-axis machine tool"},
+      {"export-xacro --machine " + ur5 + " --urdf " +
+           test_support::testDataFile("urdf/arm3-slide.urdf") + " -o " + path("x.xacro"),
+       "ur5.machine.json"}};
+  for (const auto& [arguments, expected] : cases) {
+    const test_support::CliRun run = test_support::runCli(arguments, test_support::Stderr::Only);
+    EXPECT_EQ(run.status, 2) << arguments;
+    EXPECT_NE(run.out.find(expected), std::string::npos) << run.out;
+    EXPECT_EQ(std::count(run.out.begin(), run.out.end(), '\n'), 1) << run.out;
+  }
+  for (const char* name : {"x.hal", "x.yaml", "x.xacro"})
+    EXPECT_FALSE(std::filesystem::exists(path(name))) << name;
 }
 
 }  // namespace exports_test
