@@ -204,8 +204,10 @@ MachineExport linuxcncExport(const MachineFile& file, const Eigen::Vector3d& piv
        << "'s default (conventional-directions 0 where that pin exists) does.\n";
   json values = json::array();
   for (const Pin& p : pins) {
-    text << "setp " << kins << "." << p.pin << " " << numberText(p.value["value"].get<double>())
-         << "  # " << p.formula << "; " << statusText(p.value, "mm") << "\n";
+    // The comment on a line of its own: halcmd reads a '#' at the start of a line.
+    text << "# " << p.pin << " = " << p.formula << ", mm; " << statusText(p.value, "mm") << "\n"
+         << "setp " << kins << "." << p.pin << " " << numberText(p.value["value"].get<double>())
+         << "\n";
     json v = p.value;
     v["pin"] = kins + "." + p.pin;
     v["from"] = p.formula;
