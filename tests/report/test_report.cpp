@@ -1454,5 +1454,51 @@ TEST(LocationErrors, ControllerAndLocationTablesShowEachValueInItsHeadingsUnit) 
   }
 }
 
+// An entry the plan's calibrate list leaves out is held, with no value and the reason; with the
+// rank rule's resolution, a weakly determined one is held with its surviving fraction, a dropped
+// one is dropped with the kept ones its tie names. Built here by hand (no fit): L left out, E_C0C
+// weak (fraction 3e-9), E_A0C dropped tied to E_A0A, the rest determined with u = 1e-3 mm or rad.
+TEST(LocationErrors, HeldAndDroppedEntriesHaveNoValueAndSayWhy) {
+  Plan plan = loadPlan(test_support::planFile("machine-tool-trunnion-2spheres.json"));
+  const Mechanism& m = *plan.machine.mechanism;
+  const int l = m.parameterIndex("L"), c0c = m.parameterIndex("E_C0C"),
+            a0c = m.parameterIndex("E_A0C"), a0a = m.parameterIndex("E_A0A");
+  plan.machine.calibrated.clear();
+  for (int i = 0; i < m.parameterCount(); ++i)
+    if (i != l && i != c0c && i != a0c) plan.machine.calibrated.push_back(i);
+  CalibratedSetResolution resolution;
+  resolution.dropped = {a0c};
+  resolution.ties = {{{a0c, 1.0}, {a0a, -0.7}}};
+  resolution.weak = {c0c};
+  resolution.weak_fraction = {3e-9};
+  plan.calibrate_resolution = resolution;
+  ParameterCovariance covariance;
+  const auto n = static_cast<Eigen::Index>(plan.machine.calibrated.size());
+  covariance.V = Eigen::MatrixXd::Identity(n, n) * 1e-6;
+  covariance.u = Eigen::VectorXd::Constant(n, 1e-3);
+  Eigen::VectorXd p = plan.machine.nominal;
+  p[l] = 123.0;
+  const json table = controllerTableToJson(plan, p, &covariance);
+  std::map<std::string, json> entries;
+  for (const json& e : table["entries"]) entries[e["name"]] = e;
+  EXPECT_EQ(entries["L"]["status"], "held");
+  EXPECT_TRUE(entries["L"]["value"].is_null());
+  EXPECT_DOUBLE_EQ(entries["L"]["kept_value"].get<double>(), 123.0);
+  EXPECT_NE(entries["L"]["note"].get<std::string>().find("calibrate list"), std::string::npos);
+  EXPECT_EQ(entries["E_C0C"]["status"], "held");
+  EXPECT_NE(entries["E_C0C"]["note"].get<std::string>().find("3e-09"), std::string::npos)
+      << entries["E_C0C"]["note"];
+  EXPECT_EQ(entries["E_A0C"]["status"], "dropped");
+  EXPECT_EQ(entries["E_A0C"]["tied_to"], json::array({"E_A0A"}));
+  EXPECT_EQ(entries["E_Y0A"]["status"], "determined");
+  EXPECT_DOUBLE_EQ(entries["E_Y0A"]["U"].get<double>(), 2e-3);                             // mm
+  EXPECT_NEAR(entries["E_B0A"]["u"].get<double>(), 1e-3 * 180 / std::numbers::pi, 1e-15);  // deg
+  const std::string text = controllerTable(plan, p, &covariance);
+  EXPECT_NE(text.find("  tool  tool length          held         NOT MEASURED\n        L held at "
+                      "123.0000 mm in the fit; fixed by the plan's calibrate list"),
+            std::string::npos)
+      << text;
+}
+
 }  // namespace report_test
 }  // namespace artcal
