@@ -598,6 +598,15 @@ TEST_F(ImportFolder, AProbingLogWithASphereColumnIsOnePlacementPerSphere) {
     }
   }
   EXPECT_EQ(runCli("calibrate " + path("plan.json")).status, 0);
+  // A value no row holds is refused at its pointer.
+  json document = readJsonFile(path("plan.json"));
+  document["placements"][1]["measurements"][0]["rows"]["value"] = "s3";
+  write("s3.json", document.dump());
+  const test_support::CliRun s3 = runCli("check " + path("s3.json"), Stderr::Only);
+  EXPECT_EQ(s3.status, 2);
+  EXPECT_NE(s3.out.find("s3.json: /placements/1/measurements/0/rows/value: no row of "),
+            std::string::npos)
+      << s3.out;
   // A value missing in the column is refused naming the file and line.
   write("gap.csv", "sphere,X_mm,Y_mm,Z_mm,A_deg,C_deg\ns1,1,2,3,4,5\n,1,2,3,4,6\n");
   const test_support::CliRun gap =
