@@ -601,6 +601,19 @@ void writeControllerTable(std::ostream& out, const json& cal, const std::string&
         << svg::escape(e.at("unit").get<std::string>()) << "</td><td>"
         << svg::escape(e.at("note").get<std::string>()) << "</td></tr>\n";
   }
+  // The chained form's rows (C relative to A on the trunnion), mm.
+  const json& chained = table.at("/chained_form/entries"_json_pointer);
+  for (std::size_t i = 0; i < chained.size(); ++i) {
+    const json& c = chained[i];
+    const std::string base = format("/controller_table/chained_form/entries/%zu/", i);
+    out << "<tr><td>" << svg::escape(c.at("axis").get<std::string>()) << "</td><td>"
+        << svg::escape(c.at("entry").get<std::string>()) << "</td><td>"
+        << svg::escape(c.at("status").get<std::string>()) << "</td>"
+        << numberCell(cal, base + "value", 1, "%+.4f", prefix)
+        << numberCell(cal, base + "u", 1, "%.4f", prefix)
+        << numberCell(cal, base + "U", 1, "%.4f", prefix) << "<td>mm</td><td>"
+        << svg::escape(c.value("note", std::string())) << "</td></tr>\n";
+  }
   out << "</table>\n";
 }
 

@@ -257,6 +257,8 @@ json combinationToJson(const Plan& plan, const ChainedEntry& c, const Eigen::Vec
     out["status"] = "not determined";
     out["value"] = nullptr;
     out["not_measured"] = missing;
+    out["u"] = nullptr;
+    out["U"] = nullptr;
     return out;
   }
   const double u =
