@@ -80,8 +80,10 @@ XacroProperties calibratedXacro(const nlohmann::json& machine, const std::string
                                 const std::string& urdf_path) {
   const MachineBlock block = readChainMachine(machine, machine_source);
   const auto& chain = static_cast<const Chain&>(*block.mechanism);
-  const std::vector<OriginEdit> origins = calibratedOrigins(
-      chain, block.nominal, urdf_path, machine_source, calibratedIndices(machine, chain));
+  // Every chain joint's: the same properties whatever a calibration calibrates, so that the
+  // description's joints use them once and a later calibration replaces the file only.
+  const std::vector<OriginEdit> origins =
+      calibratedOrigins(chain, block.nominal, urdf_path, machine_source);
   std::ostringstream text;
   text << "<?xml version=\"1.0\"?>\n<!-- artcal export-xacro of " << machine_source << " for "
        << urdf_path
