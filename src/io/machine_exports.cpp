@@ -163,61 +163,72 @@ MachineFile readMachineFile(const json& document, const std::string& source) {
   return file;
 }
 
-MachineExport linuxcncExport(const MachineFile& file, const Eigen::Vector3d& pivot) {
-  requireLocationErrors(file);
-  const std::string kins = "xyzac-trt-kins";
-  // trtfuncs (LinuxCNC 2.9+): the C line through (x-rot-point, y-rot-point) vertical at A = 0;
-  // the A line along X through (y-rot-point + y-offset, z-rot-point + z-offset) (the tip's Z).
-  struct Pin {
-    std::string pin, formula;
-    json value;
-  };
-  const std::vector<Pin> pins = {
-      {"x-rot-point", "pivot X + E_X0C", combination(file, {{"E_X0C", 1.0}}, pivot.x())},
-      {"y-rot-point", "pivot Y + E_Y0C", combination(file, {{"E_Y0C", 1.0}}, pivot.y())},
-      {"z-rot-point", "pivot Z", combination(file, {}, pivot.z())},
-      {"y-offset", "E_Y0A - E_Y0C", combination(file, {{"E_Y0A", 1.0}, {"E_Y0C", -1.0}}, 0.0)},
-      {"z-offset", "E_Z0A", combination(file, {{"E_Z0A", 1.0}}, 0.0)}};
+namespace {
+
+constexpr const char* kKins = "xyzac-trt-kins";
+
+// A pin of xyzac-trt-kins and the value written to it.
+struct Pin {
+  std::string pin, formula;
+  json value;
+};
+
+// trtfuncs (LinuxCNC 2.9+): the C line through (x-rot-point, y-rot-point), vertical at A = 0;
+// the A line along X through (y-rot-point + y-offset, z-rot-point + z-offset) in the slides' Z
+// (tool-offset added by the kinematics). artcal's lines: C through (E_X0C, E_Y0C), A through
+// (E_Y0A, E_Z0A), about the pivot (docs/exports.md).
+std::vector<Pin> linuxcncPins(const MachineFile& file, const Eigen::Vector3d& pivot) {
+  return {{"x-rot-point", "pivot X + E_X0C", combination(file, {{"E_X0C", 1.0}}, pivot.x())},
+          {"y-rot-point", "pivot Y + E_Y0C", combination(file, {{"E_Y0C", 1.0}}, pivot.y())},
+          {"z-rot-point", "pivot Z", combination(file, {}, pivot.z())},
+          {"y-offset", "E_Y0A - E_Y0C", combination(file, {{"E_Y0A", 1.0}, {"E_Y0C", -1.0}}, 0.0)},
+          {"z-offset", "E_Z0A", combination(file, {{"E_Z0A", 1.0}}, 0.0)}};
+}
+
+// What xyzac-trt cannot hold: its axes exact, its slides square, no zero offsets, no tool.
+json linuxcncNotCarried(const MachineFile& file) {
   const std::string square = "xyzac-trt's slides are square";
   const std::string along_x = "xyzac-trt's A axis lies exactly along X";
   const std::string along_z = "xyzac-trt's C axis lies exactly along Z at A = 0";
   const std::string zero = "xyzac-trt takes the axis reading as the angle (no zero offset)";
-  json not_carried = json::array(
+  return json::array(
       {notCarried(file, "E_B0A", along_x), notCarried(file, "E_C0A", along_x),
        notCarried(file, "E_A0A", zero), notCarried(file, "E_A0C", along_z),
        notCarried(file, "E_B0C", along_z), notCarried(file, "E_C0C", zero),
        notCarried(file, "E_C0Y", square), notCarried(file, "E_B0Z", square),
        notCarried(file, "E_A0Z", square),
        notCarried(file, "L",
-                  "the tool length is the tool table's (motion.tooloffset.z, netted to " + kins +
-                      ".tool-offset), not a kinematics value")});
+                  std::string("the tool length is the tool table's (motion.tooloffset.z, netted "
+                              "to ") +
+                      kKins + ".tool-offset), not a kinematics value")});
+}
+
+// The HAL file: a header, each pin's setp with its status on the line above, the notes.
+std::string halText(const MachineFile& file, const Eigen::Vector3d& pivot,
+                    const std::vector<Pin>& pins, const json& not_carried) {
+  const std::string kins = kKins;
   std::ostringstream text;
   text << "# artcal export-linuxcnc of " << file.source << ": LinuxCNC " << kins
        << " (trtfuncs, LinuxCNC 2.9 and later)\n"
        << "# HAL: loadrt " << kins
-       << ", then these setp lines. Units mm. u standard uncertainty, "
-          "U = 2 u (k = 2).\n"
+       << ", then these setp lines. Units mm. u standard uncertainty, U = 2 u (k = 2).\n"
        << "# pivot (LinuxCNC machine coordinates of the slides at artcal's zero readings): "
        << numberText(pivot.x()) << " " << numberText(pivot.y()) << " " << numberText(pivot.z())
        << " mm\n"
        << "# Rotary directions: artcal's positive A and C turn the table as " << kins
        << "'s default (conventional-directions 0 where that pin exists) does.\n";
-  json values = json::array();
   for (const Pin& p : pins) {
     // The comment on a line of its own: halcmd reads a '#' at the start of a line.
     text << "# " << p.pin << " = " << p.formula << ", mm; " << statusText(p.value, "mm") << "\n"
          << "setp " << kins << "." << p.pin << " " << numberText(p.value["value"].get<double>())
          << "\n";
-    json v = p.value;
-    v["pin"] = kins + "." + p.pin;
-    v["from"] = p.formula;
-    v["unit"] = "mm";
-    values.push_back(v);
   }
-  if (!calibrated(file, file.plan.machine.mechanism->parameterIndex("L"))) {
+  const Machine& machine = file.plan.machine;
+  const int l = machine.mechanism->parameterIndex("L");
+  if (!calibrated(file, l)) {
     text << "# z-offset holds E_Z0A, which sphere probing determines only relative to the probe's "
             "length L = "
-         << numberText(file.plan.machine.nominal[file.plan.machine.mechanism->parameterIndex("L")])
+         << numberText(machine.nominal[l])
          << " mm (docs/five-axis.md section 4): the tool table must give the probe that length.\n";
   }
   text << "# " << kins << ".x-offset is not read by xyzac-trt; " << kins
@@ -229,10 +240,27 @@ MachineExport linuxcncExport(const MachineFile& file, const Eigen::Vector3d& piv
          << statusText(e, e["unit"].get<std::string>()) << "): " << e["why"].get<std::string>()
          << "\n";
   }
+  return text.str();
+}
+
+}  // namespace
+
+MachineExport linuxcncExport(const MachineFile& file, const Eigen::Vector3d& pivot) {
+  requireLocationErrors(file);
+  const std::vector<Pin> pins = linuxcncPins(file, pivot);
+  const json not_carried = linuxcncNotCarried(file);
+  json values = json::array();
+  for (const Pin& p : pins) {
+    json v = p.value;
+    v["pin"] = std::string(kKins) + "." + p.pin;
+    v["from"] = p.formula;
+    v["unit"] = "mm";
+    values.push_back(v);
+  }
   MachineExport out;
-  out.text = text.str();
+  out.text = halText(file, pivot, pins, not_carried);
   out.summary = {{"format", "linuxcnc-hal"},
-                 {"kinematics", kins},
+                 {"kinematics", kKins},
                  {"pivot_mm", {pivot.x(), pivot.y(), pivot.z()}},
                  {"coverage_factor", kCoverage},
                  {"values", values},

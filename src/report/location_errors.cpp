@@ -113,7 +113,7 @@ std::string entryName(const std::string& name) {
   return std::string("tilt about ") + about;
 }
 
-// The kept parameters of a dropped one's tie, and the tie as text.
+// The kept parameters of a dropped one's tie (the tie lists the dropped one first).
 std::vector<std::string> tiedNames(const Plan& plan,
                                    const std::vector<std::pair<int, double>>& tie) {
   std::vector<std::string> names;
@@ -141,13 +141,14 @@ void describeUncalibrated(const Plan& plan, int index, ControllerEntry& e) {
   for (std::size_t w = 0; w < r.weak.size(); ++w) {
     if (r.weak[w] != index) continue;
     e.note = format(
-        "weakly determined (surviving fraction %.2g of its information): held at the "
-        "plan's value",
+        "weakly determined (surviving fraction %.2g of its information): held at its "
+        "nominal value",
         r.weak_fraction[w]);
   }
 }
 
-// A determined parameter that a dropped one is tied to carries it: "carries L (tie ...)".
+// A determined parameter that a dropped one is tied to carries it: "estimated together with
+// dropped L (+1 L  -0.92 E_Z0A ...)" (docs/five-axis.md section 4).
 std::string carriedNote(const Plan& plan, int index) {
   if (!plan.calibrate_resolution) return {};
   const CalibratedSetResolution& r = *plan.calibrate_resolution;
