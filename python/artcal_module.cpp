@@ -33,6 +33,7 @@
 #include "artcal/io/acceptance_spec.hpp"
 #include "artcal/io/calibrated_urdf.hpp"
 #include "artcal/io/machine_covariance.hpp"
+#include "artcal/io/machine_exports.hpp"
 #include "artcal/io/machine_frames.hpp"
 #include "artcal/io/output_file.hpp"
 #include "artcal/io/plan_io.hpp"
@@ -638,6 +639,35 @@ py::tuple exportCalibratedUrdf(const py::object& machine, const std::string& urd
   return py::make_tuple(exported.text, exported.warnings);
 }
 
+/// `artcal export-xacro` ("xacro", `urdf`), `export-ur` ("ur"), `export-linuxcnc` ("linuxcnc",
+/// `pivot`) [-o OUT] (docs/exports.md): the file's text, its summary and its warnings.
+py::tuple exportMachine(const std::string& format, const py::object& machine,
+                        const std::string& urdf, const std::vector<double>& pivot,
+                        const std::string& output) {
+  if (!urdf.empty()) noteInput(urdf);
+  if (!output.empty()) checkOutputPath(output);
+  const auto [document, source] = machineDocument(machine, "machine");
+  std::string text;
+  json summary;
+  std::vector<std::string> warnings;
+  if (format == "xacro") {
+    const XacroProperties x = calibratedXacro(document, source, urdf);
+    text = x.text;
+    summary = x.summary;
+    warnings = x.warnings;
+  } else {
+    const MachineFile file = readMachineFile(document, source);
+    if (format == "linuxcnc" && pivot.size() != 3)
+      throw InputError("pivot", "", "expected 3 numbers (mm)");
+    const MachineExport e = format == "ur" ? urKinematicsExport(file)
+                                           : linuxcncExport(file, Eigen::Vector3d(pivot.data()));
+    text = e.text;
+    summary = e.summary;
+  }
+  if (!output.empty()) writeOutputFile(output, text);
+  return py::make_tuple(text, toPython(summary), warnings);
+}
+
 // ------------------------------------------------------------------------------ the module
 
 void registerExceptions(py::module_& m) {
@@ -841,6 +871,8 @@ PYBIND11_MODULE(_native, m) {
       py::arg("files"), py::arg("tips"), py::arg("tip_of"), py::arg("prior"));
   m.def("export_urdf", &exportCalibratedUrdf, py::arg("machine"), py::arg("urdf"),
         py::arg("output"));
+  m.def("export_machine", &exportMachine, py::arg("format"), py::arg("machine"), py::arg("urdf"),
+        py::arg("pivot"), py::arg("output"));
   py::class_<PyEvaluator>(m, "_Evaluator")
       .def(py::init<std::shared_ptr<PyPlan>>(), py::keep_alive<1, 2>())
       .def("tip", &PyEvaluator::tip);

@@ -13,7 +13,7 @@ import copy
 import functools
 import os
 import warnings
-from typing import Any, Callable, Mapping, Optional, Sequence, Tuple, Union
+from typing import Any, Callable, Dict, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
@@ -22,6 +22,7 @@ from ._native import Error, InputError, RunError
 
 __all__ = [
     "Error", "InputError", "RunError", "Plan", "Result", "Evaluator", "export_urdf",
+    "export_xacro", "export_ur", "export_linuxcnc",
     "import_readings", "import_urdf", "load_plan", "optimize", "optimize_sweep", "placement",
     "station",
 ]
@@ -615,6 +616,40 @@ def import_readings(folder: Union[PathLike, Sequence[PathLike]], *,
     plan._require_placements = True
     plan._set_native(native)
     return plan
+
+
+def _export(format_: str, machine: Union[PathLike, Mapping[str, Any]], urdf: str,
+            pivot: Sequence[float], output: Optional[PathLike]) -> Tuple[str, Dict[str, Any]]:
+    text, summary, warnings_ = _native.export_machine(
+        format_, _machine_arg(machine), urdf, [float(v) for v in pivot],
+        "" if output is None else os.fspath(output))
+    for line in warnings_:
+        warnings.warn(line, UserWarning, stacklevel=3)
+    return text, summary
+
+
+@_input_errors
+def export_xacro(machine: Union[PathLike, Mapping[str, Any]], urdf: PathLike,
+                 output: Optional[PathLike] = None) -> Tuple[str, Dict[str, Any]]:
+    """``artcal export-xacro --machine MACHINE --urdf URDF -o OUTPUT`` (docs/exports.md): the
+    xacro properties of the calibrated origins and the summary (``--json``'s document)."""
+    return _export("xacro", machine, os.fspath(urdf), [], output)
+
+
+@_input_errors
+def export_ur(machine: Union[PathLike, Mapping[str, Any]],
+              output: Optional[PathLike] = None) -> Tuple[str, Dict[str, Any]]:
+    """``artcal export-ur --machine MACHINE -o OUTPUT`` (docs/exports.md): the Universal Robots
+    kinematics_config YAML and the summary (what it cannot carry: the TCP, ...)."""
+    return _export("ur", machine, "", [], output)
+
+
+@_input_errors
+def export_linuxcnc(machine: Union[PathLike, Mapping[str, Any]], pivot: Sequence[float],
+                    output: Optional[PathLike] = None) -> Tuple[str, Dict[str, Any]]:
+    """``artcal export-linuxcnc --machine MACHINE --pivot X Y Z -o OUTPUT`` (docs/exports.md):
+    the HAL setp lines of xyzac-trt-kins and the summary (what it cannot carry)."""
+    return _export("linuxcnc", machine, "", pivot, output)
 
 
 @_input_errors

@@ -1,7 +1,7 @@
 """Type stubs of the artcal package (docs/python.md). Units: mm and degrees, as the files."""
 
 import os
-from typing import Any, Callable, Mapping, Optional, Sequence, Union
+from typing import Any, Callable, Dict, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
@@ -218,6 +218,20 @@ def export_urdf(
     machine: Union[PathLike, Mapping[str, Any]], urdf: PathLike, output: Optional[PathLike] = None
 ) -> str:
     """artcal export-urdf --machine M --urdf U -o OUTPUT: the URDF text (warnings: UserWarning)."""
+def export_xacro(
+    machine: Union[PathLike, Mapping[str, Any]], urdf: PathLike, output: Optional[PathLike] = None
+) -> Tuple[str, Dict[str, Any]]:
+    """artcal export-xacro --machine M --urdf U -o OUTPUT: the properties' text and the summary."""
+def export_ur(
+    machine: Union[PathLike, Mapping[str, Any]], output: Optional[PathLike] = None
+) -> Tuple[str, Dict[str, Any]]:
+    """artcal export-ur --machine M -o OUTPUT: the kinematics_config YAML and the summary."""
+def export_linuxcnc(
+    machine: Union[PathLike, Mapping[str, Any]],
+    pivot: Sequence[float],
+    output: Optional[PathLike] = None,
+) -> Tuple[str, Dict[str, Any]]:
+    """artcal export-linuxcnc --machine M --pivot X Y Z -o OUTPUT: the HAL text and the summary."""
 def optimize(
     spec: Union[PathLike, Mapping[str, Any], Plan],
     *,

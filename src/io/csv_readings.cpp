@@ -387,4 +387,35 @@ std::vector<Eigen::VectorXd> readJointCsv(const std::string& path,
   return rows;
 }
 
+std::vector<std::pair<long, std::string>> readCsvColumn(const std::string& path,
+                                                        const std::string& column) {
+  const std::string text = readInputFile(path);
+  std::vector<std::pair<long, std::string>> out;
+  std::string_view rest(text);
+  CsvDialect dialect;
+  int field = -1;
+  for (long line_number = 1; !rest.empty(); ++line_number) {
+    const auto newline = rest.find('\n');
+    const std::string_view line = trimmed(rest.substr(0, newline));
+    rest = newline == std::string_view::npos ? std::string_view{} : rest.substr(newline + 1);
+    if (line.empty()) continue;
+    const std::string where = "line " + std::to_string(line_number);
+    if (field < 0) {  // the header
+      dialect = csvDialect(line);
+      const std::vector<std::string_view> fields = splitFields(line, dialect.separator, nullptr);
+      const auto found = std::find(fields.begin(), fields.end(), column);
+      if (found == fields.end())
+        throw InputError(path, where, "no column named \"" + shown(column) + "\" in the header");
+      field = static_cast<int>(found - fields.begin());
+      continue;
+    }
+    const std::vector<std::string_view> fields = splitFields(line, dialect.separator, nullptr);
+    if (static_cast<std::size_t>(field) >= fields.size())
+      throw InputError(path, where, "no field in column \"" + shown(column) + "\"");
+    out.emplace_back(line_number, std::string(fields[static_cast<std::size_t>(field)]));
+  }
+  if (field < 0) throw InputError(path, "", "empty file: no header");
+  return out;
+}
+
 }  // namespace artcal

@@ -400,13 +400,31 @@ void checkCsvReadingsInAll(const Node& placements, const Plan& plan, CsvFiles& f
   }
 }
 
+/// The lines of the rows a CSV entry's "rows": {"column", "value"} selects (a probing log with a
+/// sphere column: one placement per sphere, docs/plan-format.md); std::nullopt without "rows".
+std::optional<std::set<long>> selectedLines(const Node& entry, const std::string& file) {
+  const auto rows = entry.find("rows");
+  if (!rows) return std::nullopt;
+  std::vector<std::string> warnings;
+  rows->warnUnknown({"column", "value"}, warnings);
+  const std::string column = rows->at("column").string();
+  const std::string value = rows->at("value").string();
+  std::set<long> out;
+  for (const auto& [line, field] : readCsvColumn(file, column))
+    if (field == value) out.insert(line);
+  if (out.empty())
+    rows->at("value").fail("no row of " + file + " has \"" + value + "\" in column \"" + column +
+                           "\"");
+  return out;
+}
+
 /// A measurement entry {"feature", "csv", "unit", "exclude_rows"}: one measurement per row of
 /// the CSV file, which is relative to the plan file (docs/models.md section 7), but the rows
 /// excluded.
 void appendCsvMeasurements(const Node& entry, const Plan& plan, const Artifact& artifact,
                            CsvFiles& files, bool explicit_limits, int entry_index,
                            std::vector<Measurement>& out, std::vector<std::string>& warnings) {
-  entry.warnUnknown({"feature", "csv", "unit", "columns", "exclude_rows", "tip"}, warnings);
+  entry.warnUnknown({"feature", "csv", "unit", "columns", "exclude_rows", "tip", "rows"}, warnings);
   const int feature = static_cast<int>(entry.at("feature").integer(0, artifact.featureCount() - 1));
   const int stylus = readStylus(entry, *plan.machine.mechanism);
   const Node csv = entry.at("csv");
@@ -417,9 +435,10 @@ void appendCsvMeasurements(const Node& entry, const Plan& plan, const Artifact& 
   const std::string file = csvFileOf(entry, plan);
   const Mechanism& mech = *plan.machine.mechanism;
   const std::set<long> excluded = excludedRows(entry, rows.size());
+  const std::optional<std::set<long>> selected = selectedLines(entry, file);
   for (std::size_t r = 0; r < rows.size(); ++r) {
     const long row = static_cast<long>(r) + 1;
-    if (excluded.count(row)) continue;
+    if (excluded.count(row) || (selected && !selected->count(lines[r]))) continue;
     // A fault of a row names the file and its line and row, like the CSV reader's own errors.
     const std::string where =
         "line " + std::to_string(lines[r]) + " (row " + std::to_string(row) + ")";

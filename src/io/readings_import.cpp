@@ -1306,7 +1306,35 @@ struct PlacementSource {
   std::string name;
   std::vector<FeatureFile> files;
   fs::path pose;  ///< empty: none
+  /// A log of several placements in one file: the rows whose `rows_column` holds `rows_value`.
+  std::string rows_column, rows_value;
 };
+
+/// The header field naming each row's placement in a log of several ("sphere", "placement",
+/// any case, a unit word aside), or std::nullopt.
+std::optional<std::string> placementColumn(const fs::path& file) {
+  for (const std::string& field : headerFields(file)) {
+    const std::string base = lowered(withoutUnit(field));
+    if (base == "sphere" || base == "placement") return trimmedField(field);
+  }
+  return std::nullopt;
+}
+
+/// One placement per value of the log's placement column, in the order the values first
+/// appear (docs/five-axis.md: a probing log of several spheres).
+std::vector<PlacementSource> placementsOfLog(const fs::path& path, const std::string& column,
+                                             const std::string& unit) {
+  std::vector<PlacementSource> out;
+  std::set<std::string> seen;
+  for (const auto& [line, value] : readCsvColumn(path.string(), column)) {
+    if (value.empty())
+      throw InputError(path.string(), "line " + std::to_string(line),
+                       "no value in column \"" + column + "\": name each row's placement");
+    if (seen.insert(value).second)
+      out.push_back({value, {FeatureFile{0, path, unit}}, {}, column, value});
+  }
+  return out;
+}
 
 /// The inputs of the import: DIR, or CSV files.
 std::vector<std::string> importInputs(const ReadingsImport& import) {
@@ -1327,7 +1355,7 @@ std::vector<PlacementSource> placementSources(const ReadingsImport& import) {
   if (!filesGiven(import)) {
     const fs::path dir = fs::path(importInputs(import).front()).lexically_normal();
     for (const fs::path& folder : placementFolders(dir, import.unit)) {
-      PlacementSource source{folderName(folder), featureFiles(folder, import.unit), {}};
+      PlacementSource source{folderName(folder), featureFiles(folder, import.unit), {}, {}, {}};
       if (const fs::path pose = folder / "pose.json"; fs::exists(pose)) source.pose = pose;
       out.push_back(std::move(source));
     }
@@ -1342,13 +1370,19 @@ std::vector<PlacementSource> placementSources(const ReadingsImport& import) {
                        "expected a folder of placement sub-folders, or CSV files of one placement "
                        "each (*.csv)");
     }
-    const std::string name = path.stem().string();
-    if (!names.insert(name).second)
-      throw InputError(input, "",
-                       "a second file named " + name +
-                           ".csv: placements need names "
-                           "of their own; rename one");
-    out.push_back({name, {FeatureFile{0, path, import.unit}}, {}});
+    std::vector<PlacementSource> sources;
+    if (const auto column = placementColumn(path))
+      sources = placementsOfLog(path, *column, import.unit);
+    else
+      sources.push_back({path.stem().string(), {FeatureFile{0, path, import.unit}}, {}, {}, {}});
+    for (PlacementSource& source : sources) {
+      if (!names.insert(source.name).second)
+        throw InputError(input, "",
+                         "a second placement named " + source.name +
+                             ": placements need names of their own; rename one (a file, or a "
+                             "value of its sphere column)");
+      out.push_back(std::move(source));
+    }
   }
   return out;
 }
@@ -1633,6 +1667,11 @@ ImportedPlan importReadings(const ReadingsImport& import) {
       }
       measurements.push_back(featureEntry(file, import, plan_folder, readings, ignored, notes));
       if (tip) measurements.back()["tip"] = *tip;
+      if (!source.rows_column.empty()) {
+        measurements.back()["rows"] = {{"column", source.rows_column},
+                                       {"value", source.rows_value}};
+        std::erase(ignored, source.rows_column);
+      }
     }
     placements.push_back(
         {{"name", source.name}, {"artifact", artifact_id}, {"measurements", measurements}});

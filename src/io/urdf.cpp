@@ -200,9 +200,17 @@ Eigen::VectorXd urdfNominal(const Chain& chain, const Eigen::VectorXd& p,
 }
 
 std::string exportUrdf(const Chain& chain, const Eigen::VectorXd& p, const std::string& urdf_path,
-                       const std::string& machine_source) {
+                       const std::string& machine_source, const std::vector<int>& calibrated) {
   const urdf_module::UrdfSource source = urdfSource(urdf_path);
-  return urdfModule().export_urdf(chain, p, source, machine_source);
+  return urdfModule().export_urdf(chain, p, source, machine_source, calibrated);
+}
+
+std::vector<OriginEdit> calibratedOrigins(const Chain& chain, const Eigen::VectorXd& p,
+                                          const std::string& urdf_path,
+                                          const std::string& machine_source,
+                                          const std::vector<int>& calibrated) {
+  const urdf_module::UrdfSource source = urdfSource(urdf_path);
+  return urdfModule().origins(chain, p, source, machine_source, calibrated);
 }
 
 }  // namespace artcal

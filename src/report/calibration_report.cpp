@@ -227,6 +227,22 @@ std::string minimumText(const Machine& machine, const Calibration& calibration) 
   return out;
 }
 
+// The parameters the rank rule dropped (calibrate "identifiable"), each with what it is tied
+// to: held at their nominal values, not measured (docs/models.md section 1).
+std::string droppedText(const Plan& plan) {
+  if (!plan.calibrate_resolution || plan.calibrate_resolution->dropped.empty()) return {};
+  const CalibratedSetResolution& r = *plan.calibrate_resolution;
+  const auto& parameters = plan.machine.mechanism->parameters();
+  std::ostringstream out;
+  out << "not calibrated, dropped by the rank rule (the readings cannot separate them; held at "
+         "their nominal values, not measured):\n";
+  for (std::size_t d = 0; d < r.dropped.size(); ++d) {
+    out << "  " << parameters[static_cast<std::size_t>(r.dropped[d])].name << ": "
+        << tieText(plan, r.ties[d]) << "\n";
+  }
+  return out.str();
+}
+
 // The noise estimate, the parameters held at nominal, the minimum taken and the warnings, for
 // the table.
 std::string calibrationNotes(const Plan& plan, const Calibration& calibration) {
@@ -237,6 +253,7 @@ std::string calibrationNotes(const Plan& plan, const Calibration& calibration) {
         << numberOrDash("%.2g", e.u) << " mm; started from " << numberOrDash("%.4g", e.stated)
         << " mm, " << e.fits << (e.fits == 1 ? " fit" : " fits") << ")\n";
   }
+  out << droppedText(plan);
   const json weak = weaklyDeterminedToJson(plan);
   if (!weak.empty()) {
     out << "held at nominal, weakly determined (surviving fraction of their information < 1e-6: "
@@ -297,6 +314,7 @@ json calibrationToJson(const Plan& plan, const std::vector<Placement>& placement
                                {"observed_rms", finiteOrNull(u.observed_rms)},
                                {"predicted_rms", finiteOrNull(u.predicted_rms)}};
   }
+  out.update(calibrateSelectionToJson(plan));
   out["weakly_determined"] = weaklyDeterminedToJson(plan);
   out["calibrated_in_place"] = inPlaceToJson(plan);
   if (calibration.model_choice)
@@ -323,7 +341,8 @@ json calibrationToJson(const Plan& plan, const std::vector<Placement>& placement
   if (machine.mechanism->hasLocationErrors() && calibration.covariance) {
     out["location_errors"] =
         locationErrorsToJson(plan, *calibration.covariance, &calibration.parameters);
-    out["controller_table"] = controllerTableToJson(plan, calibration.parameters);
+    out["controller_table"] =
+        controllerTableToJson(plan, calibration.parameters, &*calibration.covariance);
   }
   json systematic = json::array();
   const std::vector<int> offsets = systematicOffsets(plan);
@@ -438,7 +457,7 @@ std::string calibrationTable(const Plan& plan, const std::vector<Placement>& pla
   }
   if (machine.mechanism->hasLocationErrors() && calibration.covariance) {
     out << locationErrorTable(plan, *calibration.covariance, &calibration.parameters);
-    out << controllerTable(plan, calibration.parameters);
+    out << controllerTable(plan, calibration.parameters, &*calibration.covariance);
   }
   if (calibration.systematic.size() > 0) {
     out << "\nartifact systematic errors (estimate, prior u, mm):\n";

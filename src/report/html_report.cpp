@@ -586,32 +586,47 @@ void writeLocationErrors(std::ostream& out, const json& source, const std::strin
   out << "</table>\n";
 }
 
-/// A calibrated machine tool's controller table (calibrate --json "controller_table").
+/// A calibrated machine tool's controller table (calibrate --json "controller_table"): one row
+/// per entry with its status; only a determined entry shows a value (with u and U, k = 2).
 void writeControllerTable(std::ostream& out, const json& cal, const std::string& prefix) {
   if (!cal.contains("controller_table")) return;
   const json& table = cal.at("controller_table");
-  out << "<h3>Controller table</h3>\n<p>One row per axis: its offsets (mm) and orientation "
-         "errors (deg) as identified, the "
+  out << "<h3>Controller table</h3>\n<p>"
       << svg::escape(table.value("sign", std::string("actual location of each axis")))
-      << "; a controller that asks for corrections takes them with the opposite sign.</p>\n"
-         "<table>\n<tr><th>axis</th><th>X / mm</th><th>Y / mm</th><th>Z / mm</th>"
-         "<th>A / deg</th><th>B / deg</th><th>C / deg</th></tr>\n";
-  const json& axes = table.at("axes");
-  for (std::size_t i = 0; i < axes.size(); ++i) {
-    const std::string base = format("/controller_table/axes/%zu/", i);
-    out << "<tr><td>" << svg::escape(axes[i].at("axis").get<std::string>()) << "</td>";
-    for (const char* c : {"X", "Y", "Z"})
-      out << numberCell(cal, base + "offset_mm/" + c, 1, "%+.4f", prefix);
-    for (const char* c : {"A", "B", "C"})
-      out << numberCell(cal, base + "orientation_deg/" + c, 1, "%+.6f", prefix);
-    out << "</tr>\n";
+      << ". Chained form: "
+      << svg::escape(table.at("/chained_form/description"_json_pointer).get<std::string>())
+      << ". Only determined entries have a value; a dropped or held entry was not measured. U = "
+      << format("%g", table.value("coverage_factor", 2.0))
+      << " u.</p>\n<table>\n<tr><th>axis</th><th>entry</th><th>status</th><th>value</th>"
+         "<th>u</th><th>U</th><th>unit</th><th>note</th></tr>\n";
+  const json& entries = table.at("entries");
+  for (std::size_t i = 0; i < entries.size(); ++i) {
+    const json& e = entries[i];
+    const std::string base = format("/controller_table/entries/%zu/", i);
+    const bool angle = e.at("unit") == "deg";
+    out << "<tr><td>" << svg::escape(e.at("axis").get<std::string>()) << "</td><td>"
+        << svg::escape(e.at("entry").get<std::string>()) << "</td><td>"
+        << svg::escape(e.at("status").get<std::string>()) << "</td>"
+        << numberCell(cal, base + "value", 1, angle ? "%+.6f" : "%+.4f", prefix)
+        << numberCell(cal, base + "u", 1, angle ? "%.6f" : "%.4f", prefix)
+        << numberCell(cal, base + "U", 1, angle ? "%.6f" : "%.4f", prefix) << "<td>"
+        << svg::escape(e.at("unit").get<std::string>()) << "</td><td>"
+        << svg::escape(e.at("note").get<std::string>()) << "</td></tr>\n";
+  }
+  // The chained form's rows (C relative to A on the trunnion), mm.
+  const json& chained = table.at("/chained_form/entries"_json_pointer);
+  for (std::size_t i = 0; i < chained.size(); ++i) {
+    const json& c = chained[i];
+    const std::string base = format("/controller_table/chained_form/entries/%zu/", i);
+    out << "<tr><td>" << svg::escape(c.at("axis").get<std::string>()) << "</td><td>"
+        << svg::escape(c.at("entry").get<std::string>()) << "</td><td>"
+        << svg::escape(c.at("status").get<std::string>()) << "</td>"
+        << numberCell(cal, base + "value", 1, "%+.4f", prefix)
+        << numberCell(cal, base + "u", 1, "%.4f", prefix)
+        << numberCell(cal, base + "U", 1, "%.4f", prefix) << "<td>mm</td><td>"
+        << svg::escape(c.value("note", std::string())) << "</td></tr>\n";
   }
   out << "</table>\n";
-  if (table.contains("tool_length_mm")) {
-    out << "<p>Tool length L: <span data-field=\"" << prefix << "/controller_table/tool_length_mm"
-        << "\" data-value=\"" << exact(table.at("tool_length_mm").get<double>()) << "\">"
-        << format("%.4f", table.at("tool_length_mm").get<double>()) << "</span> mm</p>\n";
-  }
 }
 
 // The tip map with the unmodelled error the calibration estimated by cross-validation

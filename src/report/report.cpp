@@ -240,8 +240,8 @@ std::string termText(bool first, double coefficient, const std::string& name) {
   return (first ? "" : "  ") + number + " " + name;
 }
 
-// How a dropped parameter is tied to the kept ones: "not observed, ..." when alone, otherwise
-// the combination the plan cannot tell from zero (scaled parameters).
+}  // namespace
+
 std::string tieText(const Plan& plan, const std::vector<std::pair<int, double>>& tie) {
   const auto& params = plan.machine.mechanism->parameters();
   if (tie.size() == 1) return "not observed, or absorbed by the placements' rigid motions";
@@ -251,6 +251,8 @@ std::string tieText(const Plan& plan, const std::vector<std::pair<int, double>>&
   }
   return out + "   (scaled parameters)";
 }
+
+namespace {
 
 // "calibrate": "identifiable" resolved: the kept set, the dropped parameters, and the
 // combination tying each dropped one to the kept ones (docs/models.md section 1).

@@ -21,6 +21,7 @@
 #include "artcal/core/units.hpp"
 #include "artcal/io/json_node.hpp"
 #include "artcal/io/plan_io.hpp"
+#include "artcal/io/urdf_origin_edit.hpp"
 
 namespace artcal::urdf_module {
 
@@ -373,19 +374,6 @@ json vectorJson(const Eigen::Vector3d& v) {
   return json::array({v[0], v[1], v[2]});
 }
 
-// Shortest text that reads back as the same double.
-std::string shortest(double v) {
-  if (v == 0.0) v = 0.0;  // no "-0"
-  char buffer[64];
-  const auto [end, error] = std::to_chars(buffer, buffer + sizeof buffer, v);
-  (void)error;
-  return std::string(buffer, end);
-}
-
-std::string tripleText(const Eigen::Vector3d& v) {
-  return shortest(v[0]) + " " + shortest(v[1]) + " " + shortest(v[2]);
-}
-
 // Every rotation has two roll-pitch-yaw triples: rpyFromMatrix's, |pitch| <= 90 deg, and
 // (roll + 180, 180 - pitch, yaw + 180) deg (Rz(180) Ry(180 - p) Rx(180) = Ry(p)). The one nearer
 // `near` (the machine's own values, angles compared modulo a turn): a UR's shoulder origin, rpy
@@ -404,16 +392,10 @@ Eigen::Vector3d rpyNear(const Eigen::Matrix3d& R, const Eigen::Vector3d& near) {
   return distance(b) < distance(a) ? b : a;
 }
 
-void writeOrigin(UrdfDocument& doc, tinyxml2::XMLElement* joint, const Eigen::Isometry3d& T,
-                 const Eigen::Vector3d& near_rpy) {
-  tinyxml2::XMLElement* origin = joint->FirstChildElement("origin");
-  if (!origin) {
-    origin = doc.xml.NewElement("origin");
-    joint->InsertFirstChild(origin);
-  }
-  const Eigen::Vector3d xyz_m = T.translation() / 1000.0;
-  origin->SetAttribute("rpy", tripleText(rpyNear(T.linear(), near_rpy)).c_str());
-  origin->SetAttribute("xyz", tripleText(xyz_m).c_str());
+// The origin a joint is written with: T in metres, its rpy the triple nearer `near_rpy`.
+OriginEdit originEdit(const std::string& joint, const Eigen::Isometry3d& T,
+                      const Eigen::Vector3d& near_rpy) {
+  return {joint, T.translation() / 1000.0, rpyNear(T.linear(), near_rpy)};
 }
 
 Eigen::Isometry3d originTransform(const Eigen::Vector3d& xyz_mm, const Eigen::Vector3d& rpy) {
@@ -621,8 +603,9 @@ void checkPaths(const Chain& chain, const UrdfDocument& doc, const std::string& 
 
 }  // namespace
 
-std::string exportUrdf(const Chain& chain, const Eigen::VectorXd& p, const UrdfSource& urdf,
-                       const std::string& machine_source) {
+std::vector<OriginEdit> calibratedOrigins(const Chain& chain, const Eigen::VectorXd& p,
+                                          const UrdfSource& urdf, const std::string& machine_source,
+                                          const std::vector<int>& calibrated) {
   UrdfDocument doc;
   loadUrdf(urdf, doc);
   // Each chain joint's origin, then what each joint's origin is premultiplied by: the offset of
@@ -677,11 +660,23 @@ std::string exportUrdf(const Chain& chain, const Eigen::VectorXd& p, const UrdfS
     for (const urdf::JointSharedPtr& below : child->child_joints) folds[below->name] = M;
   }
   checkPaths(chain, doc, machine_source, urdf.path);
+  // A joint none of whose parameters is calibrated, and into which no offset is folded, keeps
+  // its text (docs/exports.md: the diff shows the calibrated joints only).
+  const auto written = [&](int i) {
+    if (calibrated.empty()) return true;
+    const int begin = chain.parameterOffset(i);
+    const int end = i + 1 < n ? chain.parameterOffset(i + 1) : chain.parameterCount();
+    return std::any_of(calibrated.begin(), calibrated.end(),
+                       [&](int k) { return k >= begin && k < end; });
+  };
+  std::vector<OriginEdit> edits;
   for (int i = 0; i < n; ++i) {
     const ChainJoint& joint = chain.joints()[static_cast<std::size_t>(i)];
     Eigen::Isometry3d T = origins[static_cast<std::size_t>(i)];
-    if (const auto fold = folds.find(joint.name); fold != folds.end()) T = fold->second * T;
-    writeOrigin(doc, jointElement(doc, joint.name), T, p.segment<3>(chain.parameterOffset(i) + 3));
+    const auto fold = folds.find(joint.name);
+    if (fold == folds.end() && !written(i)) continue;
+    if (fold != folds.end()) T = fold->second * T;
+    edits.push_back(originEdit(joint.name, T, p.segment<3>(chain.parameterOffset(i) + 3)));
   }
   // Joints off the chain that hang from a link with a folded offset (e.g. a gripper's fingers).
   for (const auto& [name, M] : folds) {
@@ -689,11 +684,28 @@ std::string exportUrdf(const Chain& chain, const Eigen::VectorXd& p, const UrdfS
     tinyxml2::XMLElement* element = jointElement(doc, name);
     if (!element) doc.fail(nullptr, "joint \"" + name + "\" not found in the XML");
     const OriginValues origin = readOrigin(doc, element);
-    writeOrigin(doc, element, M * originTransform(origin.xyz_mm, origin.rpy), origin.rpy);
+    edits.push_back(originEdit(name, M * originTransform(origin.xyz_mm, origin.rpy), origin.rpy));
   }
-  tinyxml2::XMLPrinter printer;
-  doc.xml.Print(&printer);
-  return std::string(printer.CStr(), static_cast<std::size_t>(printer.CStrSize() - 1));
+  return edits;
+}
+
+std::string exportUrdf(const Chain& chain, const Eigen::VectorXd& p, const UrdfSource& urdf,
+                       const std::string& machine_source, const std::vector<int>& calibrated) {
+  const std::vector<OriginEdit> edits =
+      calibratedOrigins(chain, p, urdf, machine_source, calibrated);
+  // The file's own text with the origins' values replaced (io/urdf_origin_edit.hpp), read back
+  // here: it must be the URDF it was with these origins.
+  const std::string text = editJointOrigins(urdf.text, edits, urdf.path);
+  UrdfDocument check;
+  loadUrdf({urdf.path, text}, check);
+  for (const OriginEdit& edit : edits) {
+    const OriginValues origin = readOrigin(check, jointElement(check, edit.joint));
+    if ((origin.xyz_mm - edit.xyz_m * 1000.0).norm() > 1e-9 ||
+        (origin.rpy - edit.rpy).norm() > 1e-12)
+      check.fail(jointElement(check, edit.joint),
+                 "joint \"" + edit.joint + "\": its origin could not be rewritten in place");
+  }
+  return text;
 }
 
 }  // namespace artcal::urdf_module

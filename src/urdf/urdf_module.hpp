@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "artcal/io/urdf.hpp"
+#include "artcal/io/urdf_origin_edit.hpp"
 #include "artcal/model/chain.hpp"
 
 namespace artcal {
@@ -29,15 +30,21 @@ nlohmann::json importUrdf(const UrdfSource& urdf, const std::string& base,
                           const std::vector<std::string>& tips);
 Eigen::VectorXd urdfNominal(const Chain& chain, const Eigen::VectorXd& p, const UrdfSource& urdf);
 std::string exportUrdf(const Chain& chain, const Eigen::VectorXd& p, const UrdfSource& urdf,
-                       const std::string& machine_source);
+                       const std::string& machine_source, const std::vector<int>& calibrated);
+std::vector<OriginEdit> calibratedOrigins(const Chain& chain, const Eigen::VectorXd& p,
+                                          const UrdfSource& urdf, const std::string& machine_source,
+                                          const std::vector<int>& calibrated);
 }  // namespace urdf_module
 
 /// What the module and its loader must agree on: the artcal version, the compiler and the sizes
 /// of the types that cross between them.
 inline std::string urdfModuleAbi() {
-  return std::string("artcal " ARTCAL_VERSION_STRING "; " __VERSION__ "; ") +
+  // "table 2": the entry points' signatures below (a module built before a change of them is
+  // refused, not called with other arguments).
+  return std::string("artcal " ARTCAL_VERSION_STRING "; table 2; " __VERSION__ "; ") +
          std::to_string(sizeof(nlohmann::json)) + " " + std::to_string(sizeof(Chain)) + " " +
-         std::to_string(sizeof(std::string)) + " " + std::to_string(sizeof(Eigen::VectorXd));
+         std::to_string(sizeof(std::string)) + " " + std::to_string(sizeof(Eigen::VectorXd)) + " " +
+         std::to_string(sizeof(OriginEdit));
 }
 
 /// The module's entry points, returned by its one exported C function, kUrdfModuleSymbol.
@@ -47,7 +54,10 @@ struct UrdfModuleTable {
                                 const std::vector<std::string>&);
   Eigen::VectorXd (*nominal)(const Chain&, const Eigen::VectorXd&, const urdf_module::UrdfSource&);
   std::string (*export_urdf)(const Chain&, const Eigen::VectorXd&, const urdf_module::UrdfSource&,
-                             const std::string&);
+                             const std::string&, const std::vector<int>&);
+  std::vector<OriginEdit> (*origins)(const Chain&, const Eigen::VectorXd&,
+                                     const urdf_module::UrdfSource&, const std::string&,
+                                     const std::vector<int>&);
 };
 inline constexpr const char* kUrdfModuleSymbol = "artcal_urdf_module";
 

@@ -18,7 +18,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const nlohmann::json document = {{"machine", machine}};
     const MachineBlock block = readChainMachine(document, "machine.json");
     const auto& chain = static_cast<const Chain&>(*block.mechanism);
-    (void)urdf_module::exportUrdf(chain, block.nominal, source, "machine.json");
+    (void)urdf_module::exportUrdf(chain, block.nominal, source, "machine.json", {});
   } catch (const InputError&) {
     return 0;
   }

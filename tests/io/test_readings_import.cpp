@@ -542,3 +542,81 @@ TEST_F(ImportFolder, PlacementNamesAreOptionalUniqueAndUsedByVerify) {
 
 }  // namespace readings_import_test
 }  // namespace artcal
+
+namespace artcal {
+namespace readings_import_test {
+
+// A probing log of two spheres in one file, a sphere column naming each row's sphere (rows of
+// the two interleaved, the column between the axes, a unit-less header word): one placement per
+// sphere, named by the column's value in the order they first appear, each reading exactly the
+// rows written for it, in file order, each row numbered as in the file (exclude_rows and gross
+// errors name the file's rows); the column is not reported as unread; the plan calibrates.
+TEST_F(ImportFolder, AProbingLogWithASphereColumnIsOnePlacementPerSphere) {
+  const json trunnion = readJsonFile(test_support::planFile("machine-tool-trunnion-2spheres.json"));
+  write("mt.json", trunnion["machine"].dump());
+  write("sphere.json", json{{"sphere1", trunnion["artifacts"]["sphere1"]}}.dump());
+  std::map<std::string, std::vector<std::vector<double>>> written;
+  std::vector<std::string> row_sphere;
+  std::string log = "X_mm,Y_mm,Sphere,Z_mm,A_deg,C_deg\n";
+  const std::size_t n0 = trunnion["placements"][0]["measurements"].size();
+  const std::size_t n1 = trunnion["placements"][1]["measurements"].size();
+  for (std::size_t r = 0; r < n0 + n1; ++r) {
+    // Alternating while both last: s2 first, then s1, ...
+    const int j = (r < 2 * std::min(n0, n1)) ? static_cast<int>((r + 1) % 2) : (n0 > n1 ? 0 : 1);
+    const std::string name = j == 0 ? "front sphere" : "s2";
+    const std::size_t k = written[name].size();
+    const json& q =
+        trunnion["placements"][static_cast<std::size_t>(j)]["measurements"][k]["joints"];
+    written[name].push_back(q.get<std::vector<double>>());
+    row_sphere.push_back(name);
+    char line[256];
+    std::snprintf(line, sizeof line, "%.17g,%.17g,%s,%.17g,%.17g,%.17g\n", q[0].get<double>(),
+                  q[1].get<double>(), name.c_str(), q[2].get<double>(), q[3].get<double>(),
+                  q[4].get<double>());
+    log += line;
+  }
+  write("probing.csv", log);
+  const test_support::CliRun run =
+      runCli("import-readings " + path("probing.csv") + " --machine " + path("mt.json") +
+                 " --artifact " + path("sphere.json") + " --probe 0.001 -o " + path("plan.json"),
+             Stderr::Merge);
+  ASSERT_EQ(run.status, 0) << run.out;
+  EXPECT_EQ(run.out.find("columns not read"), std::string::npos) << run.out;
+  const Plan plan = loadPlan(path("plan.json"));
+  ASSERT_EQ(plan.placements.size(), 2u);
+  EXPECT_EQ(plan.placements[0].name, "s2");
+  EXPECT_EQ(plan.placements[1].name, "front sphere");
+  for (const Placement& placement : plan.placements) {
+    const auto& rows = written.at(placement.name);
+    ASSERT_EQ(placement.measurements.size(), rows.size()) << placement.name;
+    for (std::size_t k = 0; k < rows.size(); ++k) {
+      const Measurement& m = placement.measurements[k];
+      EXPECT_EQ(row_sphere[static_cast<std::size_t>(m.csv_row - 1)], placement.name);
+      const Eigen::VectorXd expected = jointsFromFile(
+          *plan.machine.mechanism, Eigen::Map<const Eigen::VectorXd>(rows[k].data(), 5));
+      EXPECT_LT((m.joints - expected).norm(), 1e-12) << placement.name << " " << k;
+    }
+  }
+  EXPECT_EQ(runCli("calibrate " + path("plan.json")).status, 0);
+  // A value no row holds is refused at its pointer.
+  json document = readJsonFile(path("plan.json"));
+  document["placements"][1]["measurements"][0]["rows"]["value"] = "s3";
+  write("s3.json", document.dump());
+  const test_support::CliRun s3 = runCli("check " + path("s3.json"), Stderr::Only);
+  EXPECT_EQ(s3.status, 2);
+  EXPECT_NE(s3.out.find("s3.json: /placements/1/measurements/0/rows/value: no row of "),
+            std::string::npos)
+      << s3.out;
+  // A value missing in the column is refused naming the file and line.
+  write("gap.csv", "sphere,X_mm,Y_mm,Z_mm,A_deg,C_deg\ns1,1,2,3,4,5\n,1,2,3,4,6\n");
+  const test_support::CliRun gap =
+      runCli("import-readings " + path("gap.csv") + " --machine " + path("mt.json") +
+                 " --artifact " + path("sphere.json") + " -o " + path("gap.json"),
+             Stderr::Only);
+  EXPECT_EQ(gap.status, 2);
+  EXPECT_NE(gap.out.find("gap.csv: line 3: no value in column \"sphere\""), std::string::npos)
+      << gap.out;
+}
+
+}  // namespace readings_import_test
+}  // namespace artcal

@@ -5,16 +5,21 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <filesystem>
 #include <fstream>
 #include <numbers>
 #include <random>
+#include <regex>
+#include <set>
+#include <sstream>
 #include <tuple>
 
 #include "artcal/io/chain_codec.hpp"
 #include "artcal/io/plan_io.hpp"
 #include "artcal/io/urdf.hpp"
 #include "cli_runner.hpp"
+#include "test_paths.hpp"
 
 namespace artcal {
 namespace urdf_test {
@@ -221,11 +226,105 @@ TEST(UrdfExport, EverythingButTheChainsOriginsIsKept) {
   EXPECT_LT(text.find("<origin", mount), text.find("</joint>", mount));
 }
 
-TEST(UrdfExport, NominalMachineReproducesTheInputOrigins) {
+std::string fileText(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+std::vector<std::string> linesOf(const std::string& text) {
+  std::vector<std::string> out;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) out.push_back(line);
+  return out;
+}
+
+// The nominal machine exported is the input file, byte for byte.
+TEST(UrdfExport, NominalMachineReproducesTheInputFile) {
   const MachineBlock block = readMachine(importUrdf(kPandaUrdf, "panda_link0", "ball_link"));
-  const std::string text = exportUrdf(chainOf(block), block.nominal, kPandaUrdf, "machine");
-  EXPECT_NE(text.find("<origin rpy=\"0 0 0\" xyz=\"0 0 0.333\"/>"), std::string::npos);
-  EXPECT_NE(text.find("xyz=\"0 -0.316 0\""), std::string::npos);
+  EXPECT_EQ(exportUrdf(chainOf(block), block.nominal, kPandaUrdf, "machine"), fileText(kPandaUrdf));
+  const MachineBlock small = readMachine(importUrdf(kSmallUrdf, "world", "probe"));
+  EXPECT_EQ(exportUrdf(chainOf(small), small.nominal, kSmallUrdf, "machine"), fileText(kSmallUrdf));
+}
+
+// A diff of input and output shows the calibrated joints' origin lines only: the Panda with
+// joints 2 and 5 calibrated (their origin values moved) has every other line byte-identical, the
+// same number of lines, and each changed line is an <origin> inside joint 2's or 5's element.
+TEST(UrdfExport, TheOutputDiffersFromTheInputInTheCalibratedJointsOriginsOnly) {
+  const MachineBlock block = readMachine(importUrdf(kPandaUrdf, "panda_link0", "ball_link"));
+  const Chain& chain = chainOf(block);
+  Eigen::VectorXd p = block.nominal;
+  const std::set<std::string> calibrated = {"panda_joint2", "panda_joint5"};
+  for (const std::string& name : calibrated) {
+    int joint = -1;
+    for (int i = 0; i < static_cast<int>(chain.joints().size()); ++i)
+      if (chain.joints()[static_cast<std::size_t>(i)].name == name) joint = i;
+    ASSERT_GE(joint, 0) << name;
+    p.segment<6>(chain.parameterOffset(joint)) += randomVector(6, 90 + joint, 0.01);
+  }
+  const std::string input = fileText(kPandaUrdf);
+  const std::string output = exportUrdf(chain, p, kPandaUrdf, "machine");
+  const std::vector<std::string> a = linesOf(input), b = linesOf(output);
+  ASSERT_EQ(a.size(), b.size());
+  int changed = 0;
+  std::string joint;  // the joint element the line lies in
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    std::smatch name;
+    if (std::regex_search(a[i], name, std::regex("<joint name=\"([^\"]+)\""))) joint = name[1];
+    if (a[i].find("</joint>") != std::string::npos) joint.clear();
+    if (a[i] == b[i]) continue;
+    ++changed;
+    EXPECT_TRUE(calibrated.count(joint)) << "line " << i + 1 << ": " << b[i];
+    EXPECT_NE(b[i].find("<origin"), std::string::npos) << b[i];
+  }
+  EXPECT_EQ(changed, 2);
+  const std::string out = temporaryPath("diff");
+  writeText(out, output);
+  const MachineBlock again = readMachine(importUrdf(out, "panda_link0", "ball_link"));
+  std::filesystem::remove(out);
+  EXPECT_LT(largestTipDifference(chain, p, chainOf(again), again.nominal, 95), 1e-9);
+}
+
+// The scanner edits what tinyxml2 reads and nothing else: a joint named in a comment and in a
+// CDATA section keeps that text; CRLF line ends stay; an <origin> with xyz only gets rpy added
+// after its last attribute; a joint with no <origin> gets one on a line of its own, indented
+// below the joint; the result round-trips the forward kinematics.
+TEST(UrdfExport, CommentsCrlfAndMissingAttributesAreEditedInPlace) {
+  const std::string input =
+      "<?xml version=\"1.0\"?>\r\n<robot name='r'>\r\n"
+      "  <!-- <joint name=\"a\"><origin xyz=\"9 9 9\"/></joint> -->\r\n"
+      "  <link name=\"l0\"/><link name=\"l1\"/><link name=\"l2\"/>\r\n"
+      "  <joint name=\"a\" type=\"revolute\">\r\n"
+      "    <parent link=\"l0\"/><child link=\"l1\"/>\r\n"
+      "    <axis xyz=\"0 0 1\"/><limit lower=\"-1\" upper=\"1\" effort=\"1\" velocity=\"1\"/>\r\n"
+      "  </joint>\r\n"
+      "  <gazebo><![CDATA[ <joint name=\"b\"><origin xyz=\"7 7 7\"/></joint> ]]></gazebo>\r\n"
+      "  <joint name=\"b\" type=\"fixed\">\r\n"
+      "    <parent link=\"l1\"/><child link=\"l2\"/>\r\n"
+      "    <origin   xyz='0.1 0 0' />\r\n"
+      "  </joint>\r\n</robot>\r\n";
+  const std::string in = temporaryPath("crlf-in");
+  writeText(in, input);
+  const MachineBlock block = readMachine(importUrdf(in, "l0", "l2"));
+  const Eigen::VectorXd p = calibrated(block, 0.02, 97);
+  const std::string output = exportUrdf(chainOf(block), p, in, "machine");
+  EXPECT_NE(output.find("<!-- <joint name=\"a\"><origin xyz=\"9 9 9\"/></joint> -->\r\n"),
+            std::string::npos);
+  EXPECT_NE(output.find("<![CDATA[ <joint name=\"b\"><origin xyz=\"7 7 7\"/></joint> ]]>"),
+            std::string::npos);
+  EXPECT_NE(output.find("<joint name=\"a\" type=\"revolute\">\r\n    <origin xyz=\""),
+            std::string::npos)
+      << output;
+  EXPECT_TRUE(std::regex_search(output, std::regex("<origin   xyz='[^']*' rpy=\"[^\"]*\" />")))
+      << output;
+  EXPECT_EQ(output.find("\n\n"), std::string::npos);
+  for (std::size_t at = output.find('\n'); at != std::string::npos; at = output.find('\n', at + 1))
+    EXPECT_EQ(output[at - 1], '\r') << at;
+  const std::string out = temporaryPath("crlf-out");
+  writeText(out, output);
+  const MachineBlock again = readMachine(importUrdf(out, "l0", "l2"));
+  std::filesystem::remove(in);
+  std::filesystem::remove(out);
+  EXPECT_LT(largestTipDifference(chainOf(block), p, chainOf(again), again.nominal, 98), 1e-9);
 }
 
 // ---- the command line
@@ -374,6 +473,39 @@ TEST(UrdfCli, ImportWritesAMachineTheExportReadsBack) {
   EXPECT_LT(largestTipDifference(chainOf(a), a.nominal, chainOf(b), b.nominal, 80), 1e-9);
   std::filesystem::remove(machine);
   std::filesystem::remove(out);
+}
+
+// The Panda's calibrated machine file (calibrate --write-machine): export-urdf changes the
+// origin lines of the joints its "calibrate" list names (panda_joint2 .. panda_joint8) and no
+// other line; the ball joint, which the machine file holds rounded to 1e-9 mm but does not
+// calibrate, keeps the URDF's text.
+TEST(UrdfCli, ExportChangesTheCalibratedJointsLinesOnly) {
+  const std::string machine = test_support::planFile("panda-8positions.machine.json");
+  const std::string out = temporaryPath("cli-calibrated");
+  const auto run = runCli(
+      "export-urdf --machine " + machine + " --urdf " + kPandaUrdf + " -o " + out, Stderr::Merge);
+  ASSERT_EQ(run.status, 0) << run.out;
+  std::set<std::string> calibrated;
+  const nlohmann::json document = readJsonFile(machine);  // kept: the loop reads into it
+  for (const nlohmann::json& name : document["calibrate"]) {
+    const std::string n = name.get<std::string>();
+    calibrated.insert(n.substr(0, n.find('.')));
+  }
+  const std::vector<std::string> a = linesOf(fileText(kPandaUrdf)), b = linesOf(fileText(out));
+  std::filesystem::remove(out);
+  ASSERT_EQ(a.size(), b.size());
+  std::set<std::string> changed;
+  std::string joint;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    std::smatch name;
+    if (std::regex_search(a[i], name, std::regex("<joint name=\"([^\"]+)\""))) joint = name[1];
+    if (a[i] == b[i]) continue;
+    EXPECT_TRUE(calibrated.count(joint)) << b[i];
+    EXPECT_NE(b[i].find("<origin"), std::string::npos) << b[i];
+    EXPECT_TRUE(changed.insert(joint).second) << joint;
+  }
+  EXPECT_EQ(changed, calibrated);
+  EXPECT_EQ(changed.size(), 7u);
 }
 
 // One line "error: FILE: ..." and exit status 2.

@@ -179,3 +179,29 @@ def test_import_urdf_with_several_tips_equals_cli():
     assert [t["name"] for t in machine["tips"]] == tips
     assert machine["joints"][0] == {**machine["joints"][0], "reversed": True}
     assert "tips" not in artcal.import_urdf(humanoid, "left_sole_link", tips[0])
+
+
+def test_exports_equal_cli_bytes_and_json(tmp_path):
+    """export_xacro, export_ur and export_linuxcnc write the command's bytes and return its --json
+    summary (docs/exports.md)."""
+    ur5 = "tests/data/ur5-tracker/ur5.machine.json"
+    trunnion = tmp_path / "trunnion.json"
+    trunnion.write_text(json.dumps(json.load(open("plans/machine-tool-trunnion/machine.json"))))
+    cases = [
+        (["export-xacro", "--machine", MACHINE, "--urdf", URDF],
+         lambda out: artcal.export_xacro(MACHINE, URDF, output=out)),
+        (["export-ur", "--machine", ur5], lambda out: artcal.export_ur(ur5, output=out)),
+        (["export-linuxcnc", "--machine", str(trunnion), "--pivot", "1", "2", "3"],
+         lambda out: artcal.export_linuxcnc(str(trunnion), [1, 2, 3], output=out)),
+    ]
+    for k, (arguments, export) in enumerate(cases):
+        cli_out, py_out = tmp_path / f"cli{k}", tmp_path / f"py{k}"
+        summary = json.loads(run_cli(*arguments, "-o", str(cli_out), "--json").stdout)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            text, py_summary = export(py_out)
+        assert py_out.read_bytes() == cli_out.read_bytes(), arguments[0]
+        assert text == cli_out.read_text()
+        assert py_summary == summary, arguments[0]
+    with pytest.raises(artcal.InputError):
+        artcal.export_linuxcnc(ur5, [0, 0, 0])

@@ -939,14 +939,84 @@ TEST_F(ReportCli, MachineToolShowsLocationErrorsAndTheControllerTable) {
     EXPECT_NEAR(errors[k]["estimate_fine"].get<double>(), -40.0,
                 3.0 * errors[k]["u_fine"].get<double>());
   }
-  const json& axes = cal.at("controller_table").at("axes");
-  for (std::size_t i = 0; i < axes.size(); ++i) {
+  const json& entries = cal.at("controller_table").at("entries");
+  for (std::size_t i = 0; i < entries.size(); ++i) {
     const std::string field =
-        "data-field=\"/calibration/controller_table/axes/" + std::to_string(i) + "/offset_mm/X\"";
+        "data-field=\"/calibration/controller_table/entries/" + std::to_string(i) + "/value\"";
     EXPECT_NE(html.find(field), std::string::npos) << field;
   }
   // The procedure's columns are the machine's axes.
   EXPECT_NE(html.find("<th>A / deg</th><th>C / deg</th>"), std::string::npos);
+}
+
+// The controller table cannot be mistyped (docs/five-axis.md section 5): on the trunnion's
+// sphere probing (calibrate "identifiable"), E_A0C, E_C0C and L, which the rank rule drops, are
+// marked dropped with no value (null in JSON, "NOT MEASURED" in the table), each with the kept
+// parameters it is tied to (E_A0A, none, E_Z0A); every determined entry carries calibrate's
+// estimate and u (parameters) and U = 2 u; the chained form's C-from-A Y offset is E_Y0C - E_Y0A
+// with u from the covariance --write-machine writes (var + var - 2 cov); calibrate's table names
+// the dropped parameters and its JSON lists them.
+TEST_F(ReportCli, ControllerTableMarksEachEntryDeterminedOrDroppedWithUAndU) {
+  const auto [html, cal] =
+      reportOfSimulated(test_support::planFile("machine-tool-trunnion-2spheres.json"),
+                        R"({"E_X0C": -0.04, "E_Y0A": 0.03, "E_Y0C": 0.01, "E_B0A": 0.002})");
+  ASSERT_FALSE(HasFailure());
+  EXPECT_EQ(cal["calibrate_dropped"], json::array({"E_A0C", "E_C0C", "L"}));
+  std::map<std::string, json> parameters, entries;
+  for (const json& p : cal["parameters"]) parameters[p["name"]] = p;
+  const json& table = cal["controller_table"];
+  EXPECT_EQ(table["kind"], "actual location");
+  EXPECT_DOUBLE_EQ(table["coverage_factor"].get<double>(), 2.0);
+  for (const json& e : table["entries"]) entries[e["name"]] = e;
+  ASSERT_EQ(entries.size(), 14u);
+  const std::map<std::string, std::vector<std::string>> dropped = {
+      {"E_A0C", {"E_A0A"}}, {"E_C0C", {}}, {"L", {"E_Z0A"}}};
+  for (const auto& [name, e] : entries) {
+    if (dropped.count(name)) {
+      EXPECT_EQ(e["status"], "dropped") << name;
+      EXPECT_TRUE(e["value"].is_null() && e["u"].is_null() && e["U"].is_null()) << name;
+      EXPECT_EQ(e["tied_to"], json(dropped.at(name))) << name;
+      continue;
+    }
+    ASSERT_TRUE(parameters.count(name)) << name;
+    EXPECT_EQ(e["status"], "determined") << name;
+    EXPECT_DOUBLE_EQ(e["value"].get<double>(), parameters[name]["estimate"].get<double>()) << name;
+    EXPECT_DOUBLE_EQ(e["u"].get<double>(), parameters[name]["u"].get<double>()) << name;
+    EXPECT_DOUBLE_EQ(e["U"].get<double>(), 2.0 * parameters[name]["u"].get<double>()) << name;
+  }
+  EXPECT_NE(entries["E_Z0A"]["note"].get<std::string>().find("dropped L"), std::string::npos);
+  // The chained form against the machine file's covariance.
+  const fs::path sim = dir_ / "sim.json", machine = dir_ / "cal.json";
+  const CliRun text =
+      run("calibrate \"" + sim.string() + "\" --write-machine \"" + machine.string() + "\"");
+  ASSERT_EQ(text.status, 0);
+  const json covariance = readJsonFile(machine.string())["covariance"];
+  std::map<std::string, std::size_t> at;
+  for (std::size_t i = 0; i < covariance["parameters"].size(); ++i)
+    at[covariance["parameters"][i]] = i;
+  const json& V = covariance["matrix"];
+  const std::size_t ya = at.at("E_Y0A"), yc = at.at("E_Y0C");
+  const double expected_u =
+      std::sqrt(V[ya][ya].get<double>() + V[yc][yc].get<double>() - 2.0 * V[ya][yc].get<double>());
+  const json& chained = table["chained_form"]["entries"];
+  ASSERT_EQ(chained.size(), 3u);
+  EXPECT_EQ(chained[1]["entry"], "Y offset from A");
+  EXPECT_NEAR(
+      chained[1]["value"].get<double>(),
+      parameters["E_Y0C"]["estimate"].get<double>() - parameters["E_Y0A"]["estimate"].get<double>(),
+      1e-15);
+  EXPECT_NEAR(chained[1]["u"].get<double>(), expected_u, 1e-9 * expected_u);
+  // The table: the dropped rows say NOT MEASURED and hold no number before their note.
+  for (const char* row : {"  C     tilt about X         dropped      NOT MEASURED\n",
+                          "  C     zero                 dropped      NOT MEASURED\n",
+                          "  tool  tool length          dropped      NOT MEASURED\n"})
+    EXPECT_NE(text.out.find(row), std::string::npos) << row << text.out;
+  EXPECT_NE(text.out.find("not calibrated, dropped by the rank rule"), std::string::npos);
+  EXPECT_NE(text.out.find("  L: +1 L  -"), std::string::npos) << text.out;
+  EXPECT_NE(
+      html.find(
+          "data-field=\"/calibration/controller_table/entries/13/value\" data-value=\"null\""),
+      std::string::npos);
 }
 
 /// A planar 2R plan with `count` ball-bar placements spread over the reach annulus, readings by
@@ -1343,8 +1413,7 @@ TEST(LocationErrors, ControllerAndLocationTablesShowEachValueInItsHeadingsUnit) 
   }
   ASSERT_GE(plan.machine.calibrated.size(), 8u);
   constexpr double kDegPerRad = 180.0 / std::numbers::pi;
-  const json table = controllerTableToJson(plan, p);
-  const std::string text = controllerTable(plan, p);
+  const json table = controllerTableToJson(plan, p, nullptr);
   std::map<char, std::map<char, double>> cells;  // axis -> column -> expected value
   for (const int i : plan.machine.calibrated) {
     const std::string& name = infos[static_cast<std::size_t>(i)].name;
@@ -1362,12 +1431,6 @@ TEST(LocationErrors, ControllerAndLocationTablesShowEachValueInItsHeadingsUnit) 
     for (const char c : {'A', 'B', 'C'})
       EXPECT_NEAR(row["orientation_deg"][std::string(1, c)].get<double>(), expected[c], 1e-12)
           << axis << c;
-    // The printed row: the same numbers, formatted as its heading says.
-    char line[160];
-    std::snprintf(
-        line, sizeof line, "  %c     %+10.4f  %+10.4f  %+10.4f  %+10.6f  %+10.6f  %+10.6f\n", axis,
-        expected['X'], expected['Y'], expected['Z'], expected['A'], expected['B'], expected['C']);
-    EXPECT_NE(text.find(line), std::string::npos) << line << text;
   }
   // The location errors: u and the estimate in deg and urad or mm and um.
   ParameterCovariance covariance;
@@ -1389,6 +1452,52 @@ TEST(LocationErrors, ControllerAndLocationTablesShowEachValueInItsHeadingsUnit) 
     EXPECT_NEAR(row["estimate_fine"].get<double>(), angle ? p[i] * 1e6 : p[i] * 1e3, 1e-9);
     EXPECT_DOUBLE_EQ(row["confounding_index"].get<double>(), covariance.confounding[k]);
   }
+}
+
+// An entry the plan's calibrate list leaves out is held, with no value and the reason; with the
+// rank rule's resolution, a weakly determined one is held with its surviving fraction, a dropped
+// one is dropped with the kept ones its tie names. Built here by hand (no fit): L left out, E_C0C
+// weak (fraction 3e-9), E_A0C dropped tied to E_A0A, the rest determined with u = 1e-3 mm or rad.
+TEST(LocationErrors, HeldAndDroppedEntriesHaveNoValueAndSayWhy) {
+  Plan plan = loadPlan(test_support::planFile("machine-tool-trunnion-2spheres.json"));
+  const Mechanism& m = *plan.machine.mechanism;
+  const int l = m.parameterIndex("L"), c0c = m.parameterIndex("E_C0C"),
+            a0c = m.parameterIndex("E_A0C"), a0a = m.parameterIndex("E_A0A");
+  plan.machine.calibrated.clear();
+  for (int i = 0; i < m.parameterCount(); ++i)
+    if (i != l && i != c0c && i != a0c) plan.machine.calibrated.push_back(i);
+  CalibratedSetResolution resolution;
+  resolution.dropped = {a0c};
+  resolution.ties = {{{a0c, 1.0}, {a0a, -0.7}}};
+  resolution.weak = {c0c};
+  resolution.weak_fraction = {3e-9};
+  plan.calibrate_resolution = resolution;
+  ParameterCovariance covariance;
+  const auto n = static_cast<Eigen::Index>(plan.machine.calibrated.size());
+  covariance.V = Eigen::MatrixXd::Identity(n, n) * 1e-6;
+  covariance.u = Eigen::VectorXd::Constant(n, 1e-3);
+  Eigen::VectorXd p = plan.machine.nominal;
+  p[l] = 123.0;
+  const json table = controllerTableToJson(plan, p, &covariance);
+  std::map<std::string, json> entries;
+  for (const json& e : table["entries"]) entries[e["name"]] = e;
+  EXPECT_EQ(entries["L"]["status"], "held");
+  EXPECT_TRUE(entries["L"]["value"].is_null());
+  EXPECT_DOUBLE_EQ(entries["L"]["kept_value"].get<double>(), 123.0);
+  EXPECT_NE(entries["L"]["note"].get<std::string>().find("calibrate list"), std::string::npos);
+  EXPECT_EQ(entries["E_C0C"]["status"], "held");
+  EXPECT_NE(entries["E_C0C"]["note"].get<std::string>().find("3e-09"), std::string::npos)
+      << entries["E_C0C"]["note"];
+  EXPECT_EQ(entries["E_A0C"]["status"], "dropped");
+  EXPECT_EQ(entries["E_A0C"]["tied_to"], json::array({"E_A0A"}));
+  EXPECT_EQ(entries["E_Y0A"]["status"], "determined");
+  EXPECT_DOUBLE_EQ(entries["E_Y0A"]["U"].get<double>(), 2e-3);                             // mm
+  EXPECT_NEAR(entries["E_B0A"]["u"].get<double>(), 1e-3 * 180 / std::numbers::pi, 1e-15);  // deg
+  const std::string text = controllerTable(plan, p, &covariance);
+  EXPECT_NE(text.find("  tool  tool length          held         NOT MEASURED\n        L held at "
+                      "123.0000 mm in the fit; fixed by the plan's calibrate list"),
+            std::string::npos)
+      << text;
 }
 
 }  // namespace report_test

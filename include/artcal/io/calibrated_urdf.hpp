@@ -20,4 +20,18 @@ struct CalibratedUrdf {
 CalibratedUrdf calibratedUrdf(const nlohmann::json& machine, const std::string& machine_source,
                               const std::string& urdf_path);
 
+/// `artcal export-xacro`: xacro properties of the calibrated origins (docs/exports.md) that a
+/// robot description includes (<xacro:include filename="..."/>) and uses in its joints' origins:
+/// per chain joint (and per off-chain joint an offset is folded into), "<joint>_origin_xyz" (m)
+/// and "<joint>_origin_rpy" (rad), the
+/// joint name with every character outside [A-Za-z0-9_] as '_'. `summary`: {"format",
+/// "values": [{"joint", "xyz_property", "rpy_property", "xyz_m", "rpy_rad"}], "not_carried"}.
+struct XacroProperties {
+  std::string text;
+  nlohmann::json summary;
+  std::vector<std::string> warnings;  ///< as CalibratedUrdf's
+};
+XacroProperties calibratedXacro(const nlohmann::json& machine, const std::string& machine_source,
+                                const std::string& urdf_path);
+
 }  // namespace artcal

@@ -12,6 +12,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "artcal/model/mechanism.hpp"
@@ -113,5 +114,12 @@ std::vector<Eigen::VectorXd> readJointCsv(const std::string& path,
                                           std::vector<long>* lines = nullptr,
                                           const std::vector<CsvColumn>* columns = nullptr,
                                           CsvDropouts* dropouts = nullptr);
+
+/// The values of the column named `column` in the header of `path` (the file's first line), one
+/// per data row with the row's line number (from 1; blank lines skipped as readJointCsv skips
+/// them): a probing log's sphere column (docs/plan-format.md, "rows"). InputError naming the
+/// file and line when the header has no such column or a row has fewer fields.
+std::vector<std::pair<long, std::string>> readCsvColumn(const std::string& path,
+                                                        const std::string& column);
 
 }  // namespace artcal

@@ -28,6 +28,7 @@
 #include <string>
 #include <vector>
 
+#include "artcal/io/urdf_origin_edit.hpp"
 #include "artcal/model/chain.hpp"
 
 namespace artcal {
@@ -52,7 +53,16 @@ Eigen::VectorXd urdfNominal(const Chain& chain, const Eigen::VectorXd& p,
 /// parameters `p` (internal units, offsets folded as above). `machine_source` names the machine
 /// file in errors (a joint of the chain missing from the URDF, of another type, or an offset
 /// with no joint below it to fold into).
+/// `calibrated` (parameter indices; empty: every joint) limits the rewritten origins to the
+/// joints with a calibrated parameter and those an offset is folded into: every other joint keeps
+/// its text.
 std::string exportUrdf(const Chain& chain, const Eigen::VectorXd& p, const std::string& urdf_path,
-                       const std::string& machine_source);
+                       const std::string& machine_source, const std::vector<int>& calibrated = {});
+/// The origins exportUrdf writes (xyz m, rpy rad): every chain joint's and those of off-chain
+/// joints an offset is folded into, in that order.
+std::vector<OriginEdit> calibratedOrigins(const Chain& chain, const Eigen::VectorXd& p,
+                                          const std::string& urdf_path,
+                                          const std::string& machine_source,
+                                          const std::vector<int>& calibrated = {});
 
 }  // namespace artcal

@@ -41,6 +41,11 @@ nlohmann::json tipWithUnmodelledToJson(const TipWithUnmodelled& tip, const Unmod
 nlohmann::json evaluateCommandToJson(const NoisedEvaluation& noised);
 std::string tipWithUnmodelledTable(const TipWithUnmodelled& tip, const UnmodelledError& from);
 
+/// How a dropped parameter is tied to the kept ones (`tie`: the dropped one first, then the
+/// kept ones with their scaled coefficients): "not observed, ..." when alone, otherwise the
+/// combination the plan cannot tell from zero ("+1 L  -0.92 E_Z0A   (scaled parameters)").
+std::string tieText(const Plan& plan, const std::vector<std::pair<int, double>>& tie);
+
 std::string identifiabilityTable(const Plan& plan, const Identifiability& identifiability);
 std::string evaluationTable(const Plan& plan, const Evaluation& evaluation);
 /// One line: the dropped parameters to fix, each with its tie, and the kept ones to calibrate
