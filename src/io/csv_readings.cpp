@@ -24,6 +24,27 @@ std::string_view trimmed(std::string_view text) {
   return text.substr(first, last - first + 1);
 }
 
+/// A text's non-empty lines, each trimmed, with its number from 1 (blank lines counted, as an
+/// editor numbers them): `for (std::string_view line; lines.next(number, line);)`.
+class NumberedLines {
+ public:
+  explicit NumberedLines(std::string_view text) : rest_(text) {}
+  bool next(long& number, std::string_view& line) {
+    while (!rest_.empty()) {
+      const auto newline = rest_.find('\n');
+      line = trimmed(rest_.substr(0, newline));
+      rest_ = newline == std::string_view::npos ? std::string_view{} : rest_.substr(newline + 1);
+      number = ++number_;
+      if (!line.empty()) return true;
+    }
+    return false;
+  }
+
+ private:
+  std::string_view rest_;
+  long number_ = 0;
+};
+
 /// The fields of `line` split at `separator`, each without its surrounding blanks and, when
 /// quoted ("j1"), without its quotes (a separator inside the quotes is the field's). `bad_quote`,
 /// when given, is set to the field (from 0) whose opening quote is not closed, or to -1.
@@ -274,16 +295,13 @@ std::vector<Eigen::VectorXd> readJointCsv(const std::string& path,
     return out;
   };
   std::vector<Eigen::VectorXd> rows;
-  std::string_view rest(text);
+  NumberedLines lines_of(text);
   bool first_content = true;
   bool aligned = false;  // the header's names placed on the first row's fields
   CsvDialect dialect;    // read from the first line
   std::string header_line;
-  for (long line_number = 1; !rest.empty(); ++line_number) {
-    const auto newline = rest.find('\n');
-    const std::string_view line = trimmed(rest.substr(0, newline));
-    rest = newline == std::string_view::npos ? std::string_view{} : rest.substr(newline + 1);
-    if (line.empty()) continue;
+  long line_number = 0;
+  for (std::string_view line; lines_of.next(line_number, line);) {
     const std::string where = "line " + std::to_string(line_number);
     auto fail = [&](const std::string& message) { throw InputError(path, where, message); };
     if (first_content) dialect = csvDialect(line);
@@ -391,14 +409,11 @@ std::vector<std::pair<long, std::string>> readCsvColumn(const std::string& path,
                                                         const std::string& column) {
   const std::string text = readInputFile(path);
   std::vector<std::pair<long, std::string>> out;
-  std::string_view rest(text);
+  NumberedLines lines_of(text);
   CsvDialect dialect;
   int field = -1;
-  for (long line_number = 1; !rest.empty(); ++line_number) {
-    const auto newline = rest.find('\n');
-    const std::string_view line = trimmed(rest.substr(0, newline));
-    rest = newline == std::string_view::npos ? std::string_view{} : rest.substr(newline + 1);
-    if (line.empty()) continue;
+  long line_number = 0;
+  for (std::string_view line; lines_of.next(line_number, line);) {
     const std::string where = "line " + std::to_string(line_number);
     if (field < 0) {  // the header
       dialect = csvDialect(line);

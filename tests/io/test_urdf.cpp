@@ -19,6 +19,7 @@
 #include "artcal/io/plan_io.hpp"
 #include "artcal/io/urdf.hpp"
 #include "cli_runner.hpp"
+#include "random_vectors.hpp"
 #include "test_paths.hpp"
 
 namespace artcal {
@@ -39,13 +40,7 @@ const Chain& chainOf(const MachineBlock& block) {
   return static_cast<const Chain&>(*block.mechanism);
 }
 
-Eigen::VectorXd randomVector(int size, std::uint64_t seed, double range) {
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> uniform(-range, range);
-  Eigen::VectorXd v(size);
-  for (int i = 0; i < size; ++i) v[i] = uniform(rng);
-  return v;
-}
+using test_support::randomVector;
 
 Eigen::Vector3d tip(const Mechanism& model, const Eigen::VectorXd& p, const Eigen::VectorXd& q) {
   Eigen::VectorXd x;

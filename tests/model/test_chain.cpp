@@ -13,6 +13,7 @@
 #include "artcal/model/inverse_kinematics.hpp"
 #include "artcal/model/serial_dh.hpp"
 #include "finite_difference.hpp"
+#include "random_vectors.hpp"
 
 namespace artcal {
 namespace chain_test {
@@ -22,13 +23,7 @@ using testing::expectJacobianNear;
 
 constexpr double kPi = std::numbers::pi;
 
-Eigen::VectorXd randomVector(int size, std::uint64_t seed, double range) {
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> uniform(-range, range);
-  Eigen::VectorXd v(size);
-  for (int i = 0; i < size; ++i) v[i] = uniform(rng);
-  return v;
-}
+using test_support::randomVector;
 
 // The battery every model goes through (as tests/model/test_mechanism.cpp does).
 void checkJacobians(const Mechanism& model, const Eigen::VectorXd& p, int configurations,
