@@ -287,7 +287,7 @@ py::tuple evaluate(const PyPlan& p, double rank_tolerance, int profile_steps,
   // As `artcal evaluate --json`: "estimate" evaluated with the noise the readings tell.
   const auto [noised, document] = withoutGil([&] {
     NoisedEvaluation ev = evaluateWithPredictionNoise(p.plan, {rank_tolerance, profile_steps});
-    json out = evaluateCommandToJson(ev);
+    json out = evaluateCommandToJson(ev, cartesianAnswers(ev.plan, &ev.evaluation));
     return std::make_pair(std::move(ev), std::move(out));
   });
   const Plan& plan = noised.plan;

@@ -83,11 +83,11 @@ void addEvaluateCommand(CLI::App& app, Action& action) {
       const Plan& plan = noised.plan;
       const Evaluation& evaluation = noised.evaluation;
       const PredictionNoise& noise = noised.noise;
+      const CartesianAnswers cmm = cartesianAnswers(plan, &evaluation);
       if (args->json) {
-        printJson(evaluateCommandToJson(noised));
+        printJson(evaluateCommandToJson(noised, cmm));
       } else {
-        std::cout << evaluationTable(plan, evaluation)
-                  << cartesianAnswersTable(plan, cartesianAnswers(plan, &evaluation));
+        std::cout << evaluationTable(plan, evaluation) << cartesianAnswersTable(plan, cmm);
         if (noised.tip_with_unmodelled)
           std::cout << tipWithUnmodelledTable(*noised.tip_with_unmodelled, *noise.unmodelled);
         if (plan.noise.estimate_probe)

@@ -1,5 +1,4 @@
 #include "artcal/report/report.hpp"
-#include "artcal/estimation/error_functions.hpp"
 #include "artcal/report/cartesian_report.hpp"
 #include "artcal/report/location_errors.hpp"
 #include "artcal/report/text_format.hpp"
@@ -56,10 +55,9 @@ json tipWithUnmodelledToJson(const TipWithUnmodelled& tip, const UnmodelledError
           {"folds", from.folds}};
 }
 
-json evaluateCommandToJson(const NoisedEvaluation& noised) {
+json evaluateCommandToJson(const NoisedEvaluation& noised, const CartesianAnswers& cmm) {
   json out = evaluationToJson(noised.plan, noised.evaluation);
-  out.update(
-      cartesianAnswersToJson(noised.plan, cartesianAnswers(noised.plan, &noised.evaluation)));
+  out.update(cartesianAnswersToJson(noised.plan, cmm));
   const PredictionNoise& noise = noised.noise;
   out["probe_noise"] = predictionNoiseToJson(noise.probe, noise.estimated, noise.source);
   if (noised.tip_with_unmodelled)

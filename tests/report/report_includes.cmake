@@ -28,6 +28,7 @@ set(allowed
     "include/artcal/report/location_errors.hpp|artcal/estimation/evaluation_result.hpp"
     "include/artcal/report/html_report.hpp|artcal/planning/procedure_result.hpp"
     "include/artcal/report/procedure.hpp|artcal/planning/procedure_result.hpp"
+    "include/artcal/report/report.hpp|artcal/estimation/cartesian_answers.hpp"
     "include/artcal/report/report.hpp|artcal/estimation/evaluation_result.hpp"
     "include/artcal/report/sweep_report.hpp|artcal/planning/placement_sweep_result.hpp")
 foreach(header ${result_headers})

@@ -7,6 +7,7 @@
 
 #include "artcal/calibration/calibrate_readings.hpp"
 #include "artcal/calibration/unmodelled_error.hpp"
+#include "artcal/estimation/cartesian_answers.hpp"
 #include "artcal/estimation/evaluation_result.hpp"
 #include "artcal/plan/plan.hpp"
 
@@ -37,8 +38,9 @@ nlohmann::json predictionNoiseToJson(double value, bool estimated, const std::st
 /// "folds"}, and its table: two lines in um.
 nlohmann::json tipWithUnmodelledToJson(const TipWithUnmodelled& tip, const UnmodelledError& from);
 /// `artcal evaluate --json`'s document, for the command line and Python alike: the evaluation,
-/// the Cartesian answers, "probe_noise" and, where the readings told it, "tip_with_unmodelled".
-nlohmann::json evaluateCommandToJson(const NoisedEvaluation& noised);
+/// the Cartesian answers (cartesianAnswers of that evaluation), "probe_noise" and, where the
+/// readings told it, "tip_with_unmodelled".
+nlohmann::json evaluateCommandToJson(const NoisedEvaluation& noised, const CartesianAnswers& cmm);
 std::string tipWithUnmodelledTable(const TipWithUnmodelled& tip, const UnmodelledError& from);
 
 /// How a dropped parameter is tied to the kept ones (`tie`: the dropped one first, then the
