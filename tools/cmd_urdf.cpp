@@ -17,6 +17,7 @@ namespace {
 struct ImportArguments {
   std::string urdf, base, output = kStandardOutput;
   std::vector<std::string> tips;
+  bool compliance = false;
 };
 
 void addImportCommand(CLI::App& app, Action& action) {
@@ -34,10 +35,15 @@ void addImportCommand(CLI::App& app, Action& action) {
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   cmd->add_option("-o,--output", args->output, "machine file to write (- for stdout)")
       ->capture_default_str();
+  cmd->add_flag("--compliance", args->compliance,
+                "add a compliance block with the links' masses (docs/compliance.md)");
   cmd->callback([&action, args] {
     action = [args] {
       checkOutputPath(args->output);
-      writeJsonOutput(args->output, importUrdf(args->urdf, args->base, args->tips));
+      writeJsonOutput(args->output,
+                      args->compliance
+                          ? importUrdfWithCompliance(args->urdf, args->base, args->tips)
+                          : importUrdf(args->urdf, args->base, args->tips));
       return 0;
     };
   });

@@ -1,10 +1,10 @@
 #include "artcal/calibration/verification.hpp"
 
 #include <Eigen/Geometry>
-#include "artcal/core/dense_decompositions.hpp"
 #include <cmath>
 #include <map>
 #include <numbers>
+#include "artcal/core/dense_decompositions.hpp"
 
 #include "artcal/estimation/design_matrix.hpp"
 #include "artcal/estimation/normal_matrix.hpp"
@@ -25,10 +25,9 @@ struct ReadingModel {
 
 ReadingModel modelReading(const Plan& plan, const Eigen::VectorXd& p, const Measurement& m,
                           const std::vector<int>& indices) {
-  const Mechanism& mech = *plan.machine.mechanism;
   ReadingModel out;
   Eigen::MatrixXd J_x_p, J_x_q;
-  forwardOrThrow(mech, p, m.joints, out.x, &J_x_p, &J_x_q, m.stylus);
+  forwardReadingOrThrow(plan.machine, p, m, out.x, &J_x_p, &J_x_q);
   const int d = static_cast<int>(out.x.size());
   out.J.resize(d, static_cast<int>(indices.size()));
   for (std::size_t k = 0; k < indices.size(); ++k)

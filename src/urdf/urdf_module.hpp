@@ -27,6 +27,9 @@ struct UrdfSource {
 // The implementations behind io/urdf.hpp (src/urdf/urdf_import.cpp), same contracts.
 nlohmann::json importUrdf(const UrdfSource& urdf, const std::string& base,
                           const std::vector<std::string>& tips);
+/// The compliance block's "masses" of the chain from `base` to `tip` (docs/compliance.md
+/// section 1): per chain joint, the link it reaches with the links folded into it.
+nlohmann::json linkMasses(const UrdfSource& urdf, const std::string& base, const std::string& tip);
 Eigen::VectorXd urdfNominal(const Chain& chain, const Eigen::VectorXd& p, const UrdfSource& urdf);
 std::string exportUrdf(const Chain& chain, const Eigen::VectorXd& p, const UrdfSource& urdf,
                        const std::string& machine_source);
@@ -48,6 +51,8 @@ struct UrdfModuleTable {
   Eigen::VectorXd (*nominal)(const Chain&, const Eigen::VectorXd&, const urdf_module::UrdfSource&);
   std::string (*export_urdf)(const Chain&, const Eigen::VectorXd&, const urdf_module::UrdfSource&,
                              const std::string&);
+  nlohmann::json (*link_masses)(const urdf_module::UrdfSource&, const std::string&,
+                                const std::string&);
 };
 inline constexpr const char* kUrdfModuleSymbol = "artcal_urdf_module";
 

@@ -14,6 +14,7 @@
 #include "artcal/artifact/rigid_transform.hpp"
 #include "artcal/core/enum_names.hpp"
 #include "artcal/core/units.hpp"
+#include "artcal/model/joint_compliance.hpp"
 #include "artcal/model/machine.hpp"
 
 namespace artcal {
@@ -52,7 +53,39 @@ struct Measurement {
   bool stationing = false;
   /// An instrument's reading only: false when the plan left `point` out (planning only).
   bool point_given = true;
+  /// The payload the machine carried (docs/compliance.md section 1: the reading's `"payload"`,
+  /// else its placement's; no mass: none). Only a machine with compliance reads it.
+  Payload payload = {};
 };
+
+/// Reading m's gravity torques, one per joint reading (N m or N; docs/compliance.md section 2):
+/// at its joints as read and its payload, with the machine's nominal geometry; empty when the
+/// machine has no compliance. Fixed numbers per reading: whatever p is being fitted.
+Eigen::VectorXd readingTorques(const Machine& machine, const Measurement& m);
+
+/// The forward kinematics of reading m through its stylus at parameters p: its joints deflected
+/// by the compliance under its torques (forwardLoaded, model/joint_compliance.hpp); the plain
+/// forward kinematics for a machine without compliance. Every evaluation of a reading goes
+/// through these.
+[[nodiscard]] ForwardStatus forwardReading(const Machine& machine, const Eigen::VectorXd& p,
+                                           const Measurement& m, Eigen::VectorXd& x,
+                                           Eigen::MatrixXd* J_x_p = nullptr,
+                                           Eigen::MatrixXd* J_x_q = nullptr);
+[[nodiscard]] ForwardStatus forwardReadingPose(const Machine& machine, const Eigen::VectorXd& p,
+                                               const Measurement& m, Eigen::VectorXd& x,
+                                               Eigen::Matrix3d& R, Eigen::MatrixXd* J_x_p = nullptr,
+                                               Eigen::MatrixXd* J_x_q = nullptr,
+                                               Eigen::MatrixXd* J_w_p = nullptr,
+                                               Eigen::MatrixXd* J_w_q = nullptr);
+/// forwardReading() for callers with no way to go on without x: a failure raises
+/// KinematicsError.
+void forwardReadingOrThrow(const Machine& machine, const Eigen::VectorXd& p, const Measurement& m,
+                           Eigen::VectorXd& x, Eigen::MatrixXd* J_x_p = nullptr,
+                           Eigen::MatrixXd* J_x_q = nullptr);
+void forwardReadingPoseOrThrow(const Machine& machine, const Eigen::VectorXd& p,
+                               const Measurement& m, Eigen::VectorXd& x, Eigen::Matrix3d& R,
+                               Eigen::MatrixXd* J_x_p = nullptr, Eigen::MatrixXd* J_x_q = nullptr,
+                               Eigen::MatrixXd* J_w_p = nullptr, Eigen::MatrixXd* J_w_q = nullptr);
 
 /// The coordinates reading `m` targets in the artifact frame: an instrument's measured point,
 /// otherwise the artifact's feature with the systematic errors c added.
