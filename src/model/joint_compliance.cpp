@@ -1,6 +1,7 @@
 #include "artcal/model/joint_compliance.hpp"
 
 #include <Eigen/Geometry>
+#include <algorithm>
 
 namespace artcal {
 
@@ -25,6 +26,13 @@ Eigen::VectorXd JointCompliance::gravityTorques(const Eigen::VectorXd& p, const 
                                                 const Payload& payload) const {
   return torquesFromGeometry(gravityGeometry(p, q, payload), complianceSpec().gravity,
                              static_cast<int>(q.size()));
+}
+
+bool isComplianceParameter(const Mechanism& mechanism, int index) {
+  const JointCompliance* compliance = mechanism.jointCompliance();
+  if (!compliance) return false;
+  const std::vector<int>& c = compliance->complianceParameters();
+  return std::find(c.begin(), c.end(), index) != c.end();
 }
 
 void appendComplianceParameters(const std::vector<std::string>& reading_names,

@@ -104,6 +104,9 @@ class JointCompliance {
                                  const Payload& payload) const;
 };
 
+/// True when parameter `index` of `mechanism` is a compliance.
+bool isComplianceParameter(const Mechanism& mechanism, int index);
+
 /// The parameters of a compliance block: "<reading name>.compliance" per reading, after
 /// `geometric` (appended to it).
 void appendComplianceParameters(const std::vector<std::string>& reading_names,

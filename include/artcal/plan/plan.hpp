@@ -242,11 +242,18 @@ struct WeakRuleChoice {
   }
 };
 
+/// A listed parameter whose sqrt(N_kk) is below this fraction of the largest is not observed.
+inline constexpr double kUnobservedInformation = 1e-9;
+
 struct CalibratedSetResolution {
   std::vector<int> listed;  ///< the candidates in preferred order, before the resolution
   std::vector<int> kept;
   std::vector<int> dropped;
   std::vector<std::vector<std::pair<int, double>>> ties;
+  /// Of `dropped`, those with no information at all: sqrt(N_kk) of the unreduced normal matrix
+  /// below kUnobservedInformation of the largest (a compliance whose torque is zero at every
+  /// reading, docs/compliance.md section 4): named "not observed".
+  std::vector<int> unobserved;
   /// Held at nominal by calibrate on measured readings (calibration/calibrate_readings.hpp):
   /// surviving fraction below 1e-6 at the nominal parameters or at the estimate.
   std::vector<int> weak;
