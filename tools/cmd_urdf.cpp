@@ -69,6 +69,15 @@ void addExportCommand(CLI::App& app, Action& action) {
           calibratedUrdf(readJsonFile(args->machine), args->machine, args->urdf);
       writeOutputFile(args->output, urdf.text);
       for (const std::string& warning : urdf.warnings) std::cerr << "warning: " << warning << "\n";
+      if (!urdf.compliance_yaml.empty()) {  // docs/compliance.md section 5
+        const std::string apart =
+            args->output == kStandardOutput ? std::string() : args->output + ".compliance.yaml";
+        if (!apart.empty()) writeOutputFile(apart, urdf.compliance_yaml);
+        std::cerr << "note: a URDF cannot carry joint compliance; "
+                  << (apart.empty() ? "export to a file to have it written apart"
+                                    : "written apart to " + apart)
+                  << "\n";
+      }
       return 0;
     };
   });

@@ -313,6 +313,7 @@ SimulatedRun Simulator::simulate(const Eigen::VectorXd& p_true, NormalSource& no
       m.joints = undeflected(machine, p_true, *reading.q, m) + delta;
     }
   }
+  attachTorques(machine, run.placements);
   return run;
 }
 

@@ -972,6 +972,7 @@ Plan parsePlan(const nlohmann::json& document, const std::string& source, bool r
   } else if (require_placements) {
     root.at("placements");
   }
+  attachTorques(plan.machine, plan.placements);  // docs/compliance.md: once per reading
   if (const auto workspace = root.find("workspace")) {
     plan.workspace = parseWorkspace(*workspace, plan.machine, plan.warnings);
   }

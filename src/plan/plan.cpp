@@ -31,7 +31,22 @@ Eigen::VectorXd readingTarget(const Artifact& artifact, const Measurement& m,
 Eigen::VectorXd readingTorques(const Machine& machine, const Measurement& m) {
   const JointCompliance* compliance = machine.mechanism->jointCompliance();
   if (!compliance) return {};
+  const Measurement::Torques& kept = m.torques;
+  if (kept.model == machine.mechanism.get() && kept.joints.size() == m.joints.size() &&
+      kept.joints == m.joints && kept.payload.mass == m.payload.mass &&
+      kept.payload.centre == m.payload.centre)
+    return kept.tau;
   return compliance->gravityTorques(machine.nominal, m.joints, m.payload);
+}
+
+void attachTorques(const Machine& machine, std::vector<Placement>& placements) {
+  if (!machine.mechanism->jointCompliance()) return;
+  for (Placement& placement : placements) {
+    for (Measurement& m : placement.measurements) {
+      m.torques = {};
+      m.torques = {readingTorques(machine, m), m.joints, m.payload, machine.mechanism.get()};
+    }
+  }
 }
 
 ForwardStatus forwardReading(const Machine& machine, const Eigen::VectorXd& p, const Measurement& m,

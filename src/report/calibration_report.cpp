@@ -7,7 +7,7 @@
 #include <cstdio>
 #include <sstream>
 
-#include "artcal/estimation/compliance_answers.hpp"
+#include "artcal/plan/compliance_deflections.hpp"
 #include "artcal/report/model_choice_report.hpp"
 #include "artcal/report/report.hpp"
 

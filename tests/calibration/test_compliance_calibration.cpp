@@ -5,11 +5,16 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <random>
 
+#include "artcal/calibration/calibrate_readings.hpp"
 #include "artcal/internal.hpp"
+#include "artcal/io/plan_file.hpp"
+#include "artcal/model/joint_compliance.hpp"
 #include "test_paths.hpp"
 
 namespace artcal {
@@ -130,6 +135,61 @@ TEST(ComplianceCalibration, APayloadNeedsAMachineWithCompliance) {
   } catch (const InputError& e) {
     EXPECT_NE(e.describe().find("/placements/1/payload"), std::string::npos) << e.describe();
   }
+}
+
+/// tests/data/compliance-ur5-tracker.json simulated from `truth` (named values, file units).
+Plan simulatedTrackerPlan(const std::map<std::string, double>& truth_values, std::uint64_t seed) {
+  Plan plan = loadPlan(std::string(ARTCAL_TEST_DATA) + "/compliance-ur5-tracker.json");
+  Eigen::VectorXd truth = plan.machine.nominal;
+  const Mechanism& mech = *plan.machine.mechanism;
+  for (const auto& [name, value] : truth_values) {
+    const int k = mech.parameterIndex(name);
+    truth[k] = fromFileUnit(mech.parameters()[static_cast<std::size_t>(k)].quantity, value);
+  }
+  NormalSource normal(seed);
+  plan.placements = Simulator(plan).simulate(truth, normal).placements;
+  return plan;
+}
+
+int compliancesKept(const CalibrationRun& run) {
+  int n = 0;
+  for (const int k : run.kept()) n += isComplianceParameter(*run.decided.machine.mechanism, k);
+  return n;
+}
+
+// The held-out choice (docs/compliance.md section 5): with a compliance in the truth, geometric +
+// compliance holds far better than geometric only and is kept; without one, it is left out.
+TEST(ComplianceCalibration, TheHeldOutChoiceKeepsComplianceOnlyWhereItHelps) {
+  const std::map<std::string, double> sag = {{"j2.compliance", 0.0017}, {"j3.compliance", 0.0034}};
+  const CalibrationRun with = calibrateReadings(simulatedTrackerPlan(sag, 3));
+  ASSERT_TRUE(with.calibration.model_choice);
+  const ModelChoice& chosen_with = *with.calibration.model_choice;
+  const auto geometric =
+      std::find_if(chosen_with.candidates.begin(), chosen_with.candidates.end(),
+                   [](const ModelChoiceCandidate& c) { return c.geometric_only; });
+  ASSERT_NE(geometric, chosen_with.candidates.end());
+  EXPECT_FALSE(geometric->chosen);
+  EXPECT_GT(geometric->observed, 10.0 * chosen_with.candidates.front().observed);
+  EXPECT_EQ(compliancesKept(with), 5);  // j2 .. j6 (j1: vertical axis, not observed)
+  for (std::uint64_t seed : {1u, 2u}) {
+    const CalibrationRun without = calibrateReadings(simulatedTrackerPlan({}, seed));
+    ASSERT_TRUE(without.calibration.model_choice);
+    EXPECT_EQ(compliancesKept(without), 0) << "seed " << seed;
+    EXPECT_TRUE(without.calibration.model_choice
+                    ->candidates[static_cast<std::size_t>(without.calibration.model_choice->chosen)]
+                    .geometric_only);
+  }
+}
+
+TEST(ComplianceCalibration, CheckNamesAComplianceWithoutTorqueNotObserved) {
+  const Plan plan = loadPlan(std::string(ARTCAL_TEST_DATA) + "/compliance-ur5-tracker.json");
+  ASSERT_TRUE(plan.calibrate_resolution);
+  const int j1 = plan.machine.mechanism->parameterIndex("j1.compliance");
+  EXPECT_EQ(plan.calibrate_resolution->unobserved, std::vector<int>{j1});
+  const std::vector<int>& kept = plan.calibrate_resolution->kept;
+  EXPECT_NE(
+      std::find(kept.begin(), kept.end(), plan.machine.mechanism->parameterIndex("j2.compliance")),
+      kept.end());
 }
 
 }  // namespace compliance_calibration_test

@@ -7,11 +7,14 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <fstream>
+#include <iterator>
 #include <numbers>
 #include <random>
 #include <string>
 #include <vector>
 
+#include "artcal/io/calibrated_urdf.hpp"
 #include "artcal/io/chain_codec.hpp"
 #include "artcal/io/urdf.hpp"
 #include "artcal/model/joint_compliance.hpp"
@@ -113,6 +116,31 @@ TEST(UrdfCompliance, ChainTorquesMatchExplicitCrossProducts) {
 
 TEST(UrdfCompliance, ImportWithoutTheFlagCarriesNoCompliance) {
   EXPECT_FALSE(importUrdf(kUrdf, "base_link", std::string("tool")).contains("compliance"));
+}
+
+// A URDF cannot carry compliance (docs/compliance.md section 5): the export writes it apart.
+TEST(UrdfCompliance, TheExportWritesTheCompliancesApart) {
+  nlohmann::json machine = importUrdfWithCompliance(kUrdf, "base_link", {"tool"});
+  machine["compliance"]["values"] = {{"j2", 0.0025}};
+  const CalibratedUrdf urdf = calibratedUrdf(machine, "cal.json", kUrdf);
+  // The URDF text gains nothing of it (its comments name the tests, once).
+  const auto count = [](const std::string& text) {
+    std::size_t n = 0;
+    for (auto at = text.find("compliance"); at != std::string::npos;
+         at = text.find("compliance", at + 1))
+      ++n;
+    return n;
+  };
+  std::ifstream in(kUrdf);
+  const std::string original((std::istreambuf_iterator<char>(in)),
+                             std::istreambuf_iterator<char>());
+  EXPECT_EQ(count(urdf.text), count(original));
+  EXPECT_NE(urdf.compliance_yaml.find("j2: {compliance: 0.0025, unit: \"deg/(N m)\"}"),
+            std::string::npos)
+      << urdf.compliance_yaml;
+  EXPECT_NE(urdf.compliance_yaml.find("j1: {compliance: 0,"), std::string::npos);
+  EXPECT_TRUE(calibratedUrdf(importUrdf(kUrdf, "base_link", std::string("tool")), "cal.json", kUrdf)
+                  .compliance_yaml.empty());
 }
 
 }  // namespace urdf_compliance_test

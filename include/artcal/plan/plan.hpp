@@ -56,6 +56,14 @@ struct Measurement {
   /// The payload the machine carried (docs/compliance.md section 1: the reading's `"payload"`,
   /// else its placement's; no mass: none). Only a machine with compliance reads it.
   Payload payload = {};
+  /// Its torques as attachTorques computed them (docs/compliance.md section 2), with what they
+  /// were computed for: readingTorques takes them while the joints, the payload and the model
+  /// are still those, and computes afresh otherwise.
+  struct Torques {
+    Eigen::VectorXd tau, joints;
+    Payload payload;
+    const Mechanism* model = nullptr;
+  } torques = {};
 };
 
 /// Reading m's gravity torques, one per joint reading (N m or N; docs/compliance.md section 2):
@@ -134,6 +142,10 @@ struct Placement {
   std::string name = {};
   std::vector<PostureRequest> posture_requests = {};
 };
+
+/// Computes each reading's torques once and keeps them with it (Measurement::torques): the
+/// parsed plan's readings, a simulation's.
+void attachTorques(const Machine& machine, std::vector<Placement>& placements);
 
 /// The artifact-from-machine transform of a pose (placePlanar / placeSpatial, rigid_transform.hpp).
 RigidTransform poseTransform(int dimension, const Pose& pose);

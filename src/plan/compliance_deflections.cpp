@@ -1,4 +1,4 @@
-#include "artcal/estimation/compliance_answers.hpp"
+#include "artcal/plan/compliance_deflections.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -2,7 +2,8 @@
 // What a machine's joint compliance implies over a plan's readings (docs/compliance.md section 5):
 // for each compliance C_r, the largest torque, the largest deflection |C_r tau_r| (rad or mm
 // inside) and the largest tip displacement it causes |(d t / d q_r) C_r tau_r| (mm), over the
-// readings with their payloads. calibrate reports them beside each estimate and its u.
+// readings with their payloads. calibrate reports them beside each estimate and its u (a
+// computation over the plan's readings beside readingTorques, in the plan layer).
 
 #include <Eigen/Core>
 #include <vector>
