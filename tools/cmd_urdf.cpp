@@ -17,6 +17,7 @@ namespace {
 struct ImportArguments {
   std::string urdf, base, output = kStandardOutput;
   std::vector<std::string> tips;
+  bool compliance = false;
 };
 
 void addImportCommand(CLI::App& app, Action& action) {
@@ -34,10 +35,15 @@ void addImportCommand(CLI::App& app, Action& action) {
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   cmd->add_option("-o,--output", args->output, "machine file to write (- for stdout)")
       ->capture_default_str();
+  cmd->add_flag("--compliance", args->compliance,
+                "add a compliance block with the links' masses (docs/compliance.md)");
   cmd->callback([&action, args] {
     action = [args] {
       checkOutputPath(args->output);
-      writeJsonOutput(args->output, importUrdf(args->urdf, args->base, args->tips));
+      writeJsonOutput(args->output,
+                      args->compliance
+                          ? importUrdfWithCompliance(args->urdf, args->base, args->tips)
+                          : importUrdf(args->urdf, args->base, args->tips));
       return 0;
     };
   });
@@ -63,6 +69,15 @@ void addExportCommand(CLI::App& app, Action& action) {
           calibratedUrdf(readJsonFile(args->machine), args->machine, args->urdf);
       writeOutputFile(args->output, urdf.text);
       for (const std::string& warning : urdf.warnings) std::cerr << "warning: " << warning << "\n";
+      if (!urdf.compliance_yaml.empty()) {  // docs/compliance.md section 5
+        const std::string apart =
+            args->output == kStandardOutput ? std::string() : args->output + ".compliance.yaml";
+        if (!apart.empty()) writeOutputFile(apart, urdf.compliance_yaml);
+        std::cerr << "note: a URDF cannot carry joint compliance; "
+                  << (apart.empty() ? "export to a file to have it written apart"
+                                    : "written apart to " + apart)
+                  << "\n";
+      }
       return 0;
     };
   });

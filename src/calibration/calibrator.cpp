@@ -654,8 +654,7 @@ void Calibrator::fillDetails(const std::vector<Placement>& placements, Calibrati
       spread = (1.0 - leverages(blocks[j], eliminations[j], global->V).array()).max(0.0).sqrt();
     for (std::size_t i = 0; i < placement.measurements.size(); ++i) {
       const Measurement& m = placement.measurements[i];
-      forwardOrThrow(*plan.machine.mechanism, out.parameters, m.joints, x, nullptr, nullptr,
-                     m.stylus);
+      forwardReadingOrThrow(plan.machine, out.parameters, m, x);
       ResidualEntry entry;
       entry.placement = static_cast<int>(j);
       entry.measurement = static_cast<int>(i);

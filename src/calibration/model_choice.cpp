@@ -1,13 +1,14 @@
 #include "artcal/calibration/model_choice.hpp"
 
-#include "artcal/core/dense_decompositions.hpp"
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <numeric>
+#include "artcal/core/dense_decompositions.hpp"
 
 #include "artcal/calibration/corrections.hpp"
 #include "artcal/estimation/normal_matrix.hpp"
+#include "artcal/model/joint_compliance.hpp"
 
 namespace artcal {
 
@@ -97,6 +98,12 @@ bool restoresBetter(const ModelChoiceCandidate& candidate, const ModelChoiceCand
   if (!(candidate.observed < reference.observed)) return false;
   const auto folds = static_cast<int>(candidate.fold_observed.size());
   return folds == 0 || 2 * foldsLower(candidate, reference) > folds;
+}
+
+std::string numberText(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.4g", value);
+  return text;
 }
 
 std::string percent(double value) {
@@ -258,13 +265,48 @@ std::optional<ModelChoiceOutcome> chooseKeptSet(const Plan& plan, const Calibrat
     fitCandidate(std::move(candidate),
                  {calibration.parameters, calibration.systematic, calibration.poses});
   }
+  // Geometric only (docs/compliance.md section 5): the rank rule's set without its compliances,
+  // from its estimate with them at nominal. Compliance must earn its place held out.
+  int geometric = -1;
+  const Mechanism& mech = *plan.machine.mechanism;
+  if (std::any_of(rank_set.begin(), rank_set.end(),
+                  [&mech](int k) { return isComplianceParameter(mech, k); })) {
+    ModelChoiceCandidate candidate;
+    candidate.geometric_only = true;
+    CalibrationState start{calibration.parameters, calibration.systematic, calibration.poses};
+    for (const int k : rank_set) {
+      if (isComplianceParameter(mech, k))
+        start.p[k] = plan.machine.nominal[k];
+      else
+        candidate.kept.push_back(k);
+    }
+    candidate.size = static_cast<int>(candidate.kept.size());
+    geometric = static_cast<int>(choice.candidates.size());
+    fitCandidate(std::move(candidate), start);
+  }
   if (choice.candidates.size() == 1) return std::nullopt;
 
   // The smallest held-out error among the candidates clearly better than the rank rule's set.
   const ModelChoiceCandidate& reference = choice.candidates.front();
   choice.chosen = 0;
+  // Compliance kept only where geometric + compliance holds better than geometric only (the
+  // rule that restores weak directions: lower pooled and in most folds, or by Cp).
+  if (geometric >= 0) {
+    const ModelChoiceCandidate& g = choice.candidates[static_cast<std::size_t>(geometric)];
+    if (g.converged && !restoresBetter(reference, g)) {
+      choice.chosen = geometric;
+      choice.candidates[static_cast<std::size_t>(geometric)].chosen = true;
+      choice.decided_by = nameOf(kModelChoiceRuleNames, choice.rule);
+      choice.reason = "geometric + compliance is not better held out than geometric only (" +
+                      numberText(reference.observed) + " against " + numberText(g.observed) +
+                      "): the compliances are held at nominal";
+      outcome.chosen_state = states[static_cast<std::size_t>(geometric)];
+      return outcome;
+    }
+  }
   for (std::size_t i = 1; i < choice.candidates.size(); ++i) {
     const ModelChoiceCandidate& c = choice.candidates[i];
+    if (c.geometric_only) continue;
     const bool better = c.restored.empty() ? clearlyBetter(c, reference, choice.rule)
                                            : restoresBetter(c, reference);
     if (!better) continue;
@@ -290,6 +332,12 @@ std::optional<ModelChoiceOutcome> chooseKeptSet(const Plan& plan, const Calibrat
              : "fewer than " + std::to_string(kMinFolds) +
                    " placements: no held-out test can show a smaller set clearly better") +
         restored;
+    if (geometric >= 0) {
+      choice.reason += "; geometric + compliance holds better than geometric only (" +
+                       numberText(reference.observed) + " against " +
+                       numberText(choice.candidates[static_cast<std::size_t>(geometric)].observed) +
+                       ")";
+    }
   } else {
     const ModelChoiceCandidate& c = choice.candidates[static_cast<std::size_t>(choice.chosen)];
     choice.decided_by = rule;

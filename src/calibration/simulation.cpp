@@ -164,10 +164,9 @@ void simulateStation(const Plan& plan, const Eigen::VectorXd& p_true, const Rigi
   Eigen::Matrix3d R;
   for (Measurement& m : placement.measurements) {
     if (instrument.measures_pose)
-      forwardPoseOrThrow(*plan.machine.mechanism, p_true, m.joints, x, R, nullptr, nullptr, nullptr,
-                         nullptr, m.stylus);
+      forwardReadingPoseOrThrow(plan.machine, p_true, m, x, R);
     else
-      forwardOrThrow(*plan.machine.mechanism, p_true, m.joints, x, nullptr, nullptr, m.stylus);
+      forwardReadingOrThrow(plan.machine, p_true, m, x);
     m.point = station.apply(x);
     m.point_given = true;
     for (int k = 0; k < m.point.size(); ++k) m.point[k] += point_sigma * normal();
@@ -219,6 +218,27 @@ Simulator::Simulator(const Plan& plan, const SimulationOptions& options)
   poses_ = fitPlacements(plan, plan.placements, plan.machine.nominal);
   for (const RigidTransform& pose : poses_) inverse_poses_.push_back(pose.inverse());
 }
+
+namespace {
+
+// The joints a reading shows when the true machine sits at `deflected` under its load: q with
+// q + C tau(q) = deflected (docs/compliance.md section 3), by fixed-point steps (tau changes
+// with q at second order); `deflected` itself without compliance.
+Eigen::VectorXd undeflected(const Machine& machine, const Eigen::VectorXd& p_true,
+                            const Eigen::VectorXd& deflected, Measurement m) {
+  const JointCompliance* compliance = machine.mechanism->jointCompliance();
+  if (!compliance) return deflected;
+  const std::vector<int>& index = compliance->complianceParameters();
+  m.joints = deflected;
+  for (int step = 0; step < 4; ++step) {
+    const Eigen::VectorXd tau = readingTorques(machine, m);
+    for (int r = 0; r < tau.size(); ++r)
+      m.joints[r] = deflected[r] - p_true[index[static_cast<std::size_t>(r)]] * tau[r];
+  }
+  return m.joints;
+}
+
+}  // namespace
 
 SimulatedRun Simulator::simulate(const Eigen::VectorXd& p_true, NormalSource& normal) const {
   const Plan& plan = *plan_;
@@ -290,9 +310,10 @@ SimulatedRun Simulator::simulate(const Eigen::VectorXd& p_true, NormalSource& no
         throw RunError(location.file, location.where,
                        "the simulated machine cannot reach this reading's point: " + reading.why);
       }
-      m.joints = *reading.q + delta;
+      m.joints = undeflected(machine, p_true, *reading.q, m) + delta;
     }
   }
+  attachTorques(machine, run.placements);
   return run;
 }
 

@@ -25,16 +25,15 @@ struct ReadingLinearization {
 ReadingLinearization linearize(const Plan& plan, const Artifact& instrument, const Measurement& m,
                                const Eigen::VectorXd& p, const RigidTransform& station,
                                const std::vector<int>& indices) {
-  const Mechanism& mechanism = *plan.machine.mechanism;
   const int d = instrument.dimension;
   const int rows = instrument.rowsPerReading();
   Eigen::VectorXd x;
   Eigen::Matrix3d R;
   Eigen::MatrixXd J_x_p, J_x_q, J_w_p, J_w_q;
   if (instrument.measures_pose)
-    forwardPoseOrThrow(mechanism, p, m.joints, x, R, &J_x_p, &J_x_q, &J_w_p, &J_w_q, m.stylus);
+    forwardReadingPoseOrThrow(plan.machine, p, m, x, R, &J_x_p, &J_x_q, &J_w_p, &J_w_q);
   else
-    forwardOrThrow(mechanism, p, m.joints, x, &J_x_p, &J_x_q, m.stylus);
+    forwardReadingOrThrow(plan.machine, p, m, x, &J_x_p, &J_x_q);
   ReadingLinearization out;
   out.W = station.apply(x);
   out.A = Eigen::MatrixXd::Zero(rows, instrument.fullRigidDof());
@@ -250,8 +249,7 @@ StationVerification verifyStation(const Plan& plan, std::size_t j, const Eigen::
   Eigen::MatrixXd measured(d, static_cast<int>(fit_on.size()));
   Eigen::VectorXd x;
   for (std::size_t i = 0; i < fit_on.size(); ++i) {
-    forwardOrThrow(*plan.machine.mechanism, p, fit_on[i]->joints, x, nullptr, nullptr,
-                   fit_on[i]->stylus);
+    forwardReadingOrThrow(plan.machine, p, *fit_on[i], x);
     machine_points.col(static_cast<int>(i)) = x;
     measured.col(static_cast<int>(i)) = fit_on[i]->point;
   }

@@ -25,10 +25,9 @@ struct ReadingModel {
 
 ReadingModel modelReading(const Plan& plan, const Eigen::VectorXd& p, const Measurement& m,
                           const std::vector<int>& indices) {
-  const Mechanism& mech = *plan.machine.mechanism;
   ReadingModel out;
   Eigen::MatrixXd J_x_p, J_x_q;
-  forwardOrThrow(mech, p, m.joints, out.x, &J_x_p, &J_x_q, m.stylus);
+  forwardReadingOrThrow(plan.machine, p, m, out.x, &J_x_p, &J_x_q);
   const int d = static_cast<int>(out.x.size());
   out.J.resize(d, static_cast<int>(indices.size()));
   for (std::size_t k = 0; k < indices.size(); ++k)

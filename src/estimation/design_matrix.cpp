@@ -22,8 +22,7 @@ Eigen::MatrixXd DesignMatrixBuilder::probePositions(const std::vector<Measuremen
   Eigen::MatrixXd points(d, static_cast<int>(measurements.size()));
   Eigen::VectorXd x(d);
   for (std::size_t i = 0; i < measurements.size(); ++i) {
-    forwardOrThrow(*machine_->mechanism, p, measurements[i].joints, x, nullptr, nullptr,
-                   measurements[i].stylus);
+    forwardReadingOrThrow(*machine_, p, measurements[i], x);
     points.col(static_cast<int>(i)) = x;
   }
   return points;
@@ -99,11 +98,10 @@ void DesignMatrixBuilder::build(const Artifact& artifact,
       continue;
     }
     if (artifact.measures_pose) {
-      forwardPoseOrThrow(*machine.mechanism, p, m.joints, x_, R_tip_, &J_x_p_, &J_x_q_, &J_w_p_,
-                         &J_w_q_, m.stylus);
+      forwardReadingPoseOrThrow(machine, p, m, x_, R_tip_, &J_x_p_, &J_x_q_, &J_w_p_, &J_w_q_);
       orientationRows(artifact, m, r, row + k, with_residuals, block);
     } else {
-      forwardOrThrow(*machine.mechanism, p, m.joints, x_, &J_x_p_, &J_x_q_, m.stylus);
+      forwardReadingOrThrow(machine, p, m, x_, &J_x_p_, &J_x_q_);
     }
     W_.noalias() = r.R * x_;
     W_ += r.t;
@@ -296,10 +294,9 @@ void DesignMatrixBuilder::misfits(const Artifact& artifact,
       continue;
     }
     if (pose_rows)
-      forwardPoseOrThrow(*machine_->mechanism, p, m.joints, x, R, nullptr, &J_x_q, nullptr, &J_w_q,
-                         m.stylus);
+      forwardReadingPoseOrThrow(*machine_, p, m, x, R, nullptr, &J_x_q, nullptr, &J_w_q);
     else
-      forwardOrThrow(*machine_->mechanism, p, m.joints, x, nullptr, &J_x_q, m.stylus);
+      forwardReadingOrThrow(*machine_, p, m, x, nullptr, &J_x_q);
     const Eigen::MatrixXd J_valued_q = r.R.topRows(k) * J_x_q;
     ReadingMisfit misfit;
     const Eigen::VectorXd point_residual = (r.apply(x) - readingTarget(artifact, m, c)).head(k);

@@ -5,11 +5,11 @@
 #include "artcal/estimation/evaluator.hpp"
 #include "artcal/estimation/normal_matrix.hpp"
 
-#include "artcal/core/dense_decompositions.hpp"
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include "artcal/core/dense_decompositions.hpp"
 
 namespace artcal {
 
@@ -388,7 +388,13 @@ CalibratedSetResolution resolveListedSet(const Plan& plan, const std::vector<Pla
   // In place of the held, never more than the structural rule kept.
   resolution.at_nominal = weakChoiceFrom(information, listed, resolution.kept, resolution.kept,
                                          static_cast<int>(resolution.kept.size()), last);
-  for (int k : choice.dropped) resolution.dropped.push_back(listed[static_cast<std::size_t>(k)]);
+  const Eigen::VectorXd root = information.unreduced_diagonal.cwiseMax(0.0).cwiseSqrt();
+  const double largest = root.size() > 0 ? root.maxCoeff() : 0.0;
+  for (int k : choice.dropped) {
+    resolution.dropped.push_back(listed[static_cast<std::size_t>(k)]);
+    if (!(root[k] >= kUnobservedInformation * largest))
+      resolution.unobserved.push_back(listed[static_cast<std::size_t>(k)]);
+  }
   for (const auto& tie : choice.ties) {
     std::vector<std::pair<int, double>> named;
     for (const auto& [k, coefficient] : tie) {

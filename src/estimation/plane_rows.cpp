@@ -1,9 +1,9 @@
 #include "artcal/estimation/plane_rows.hpp"
 
-#include "artcal/core/dense_decompositions.hpp"
 #include <Eigen/Geometry>
 #include <cmath>
 #include <optional>
+#include "artcal/core/dense_decompositions.hpp"
 
 #include "artcal/core/error.hpp"
 #include "artcal/model/frame_turns.hpp"
@@ -43,8 +43,7 @@ std::optional<Pose> tableBallFromReadings(const Machine& machine, const Eigen::V
   for (int i = 0; i < n; ++i) {
     const Measurement& m = readings[static_cast<std::size_t>(i)];
     Eigen::VectorXd x;
-    if (machine.mechanism->forwardStylus(m.stylus, p, m.joints, x) != ForwardStatus::Ok)
-      return std::nullopt;
+    if (forwardReading(machine, p, m, x) != ForwardStatus::Ok) return std::nullopt;
     A.row(i) << 2.0 * x[0], 2.0 * x[1], 2.0 * x[2], -1.0;
     b[i] = x.head<3>().squaredNorm() - length * length;
   }
@@ -72,11 +71,11 @@ void planeRows(const Artifact& artifact, const Machine& machine, const Eigen::Ve
   Eigen::MatrixXd* J_x_p = with_jacobians ? &s.J_x_p : nullptr;
   Eigen::MatrixXd* J_x_q = with_jacobians ? &s.J_x_q : nullptr;
   if (plane.flush) {
-    forwardPoseOrThrow(*machine.mechanism, p, m.joints, s.x, s.R_tip, J_x_p, J_x_q,
-                       with_jacobians ? &s.J_w_p : nullptr, with_jacobians ? &s.J_w_q : nullptr,
-                       m.stylus);
+    forwardReadingPoseOrThrow(machine, p, m, s.x, s.R_tip, J_x_p, J_x_q,
+                              with_jacobians ? &s.J_w_p : nullptr,
+                              with_jacobians ? &s.J_w_q : nullptr);
   } else {
-    forwardOrThrow(*machine.mechanism, p, m.joints, s.x, J_x_p, J_x_q, m.stylus);
+    forwardReadingOrThrow(machine, p, m, s.x, J_x_p, J_x_q);
   }
   const Eigen::VectorXd W = r.apply(s.x);
   if (plane.shape == PlaneShape::TableBall) {
@@ -215,7 +214,7 @@ std::optional<Pose> planePoseFromTouches(const Artifact& artifact, const Machine
   const Eigen::Vector3d centroid = points.rowwise().mean();
   Pose pose;
   pose.center = centroid;
-  if (plane.flush) {  // the tool axis points into the face
+  if (plane.flush) {                                     // the tool axis points into the face
     if (axis_sum.norm() < 0.5 * n) return std::nullopt;  // axes that do not agree on a normal
     pose.direction = -axis_sum.normalized();
     return pose;
@@ -225,7 +224,8 @@ std::optional<Pose> planePoseFromTouches(const Artifact& artifact, const Machine
   const Eigen::Vector3d s = svd.singularValues();
   if (!(s[1] > 1e-6 * s[0])) return std::nullopt;  // on one line (or one point)
   Eigen::Vector3d normal = svd.matrixU().col(2);
-  const Eigen::Vector3d outward = oriented ? Eigen::Vector3d(-axis_sum) : Eigen::Vector3d(-centroid);
+  const Eigen::Vector3d outward =
+      oriented ? Eigen::Vector3d(-axis_sum) : Eigen::Vector3d(-centroid);
   if (normal.dot(outward) < 0.0) normal = -normal;
   pose.direction = normal;
   pose.center = centroid - plane.radius * normal;  // the ball centres sit rho out

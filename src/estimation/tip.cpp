@@ -1,11 +1,11 @@
 #include "artcal/estimation/tip.hpp"
 
-#include "artcal/core/dense_decompositions.hpp"
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <random>
 #include <stdexcept>
+#include "artcal/core/dense_decompositions.hpp"
 
 #include "artcal/core/linear_algebra.hpp"
 #include "artcal/core/random.hpp"
@@ -206,14 +206,18 @@ TipEvaluator::TipEvaluator(const Machine& machine, const Noise& noise,
   Eigen::MatrixXd J_x_p, J_x_q;
   const Eigen::VectorXd sigma_q2 = noise.encoder.array().square();
   int kept = 0;
+  // A workspace configuration as a reading without payload: with compliance (docs/compliance.md)
+  // its links' own weight deflects it, and the compliances' columns carry those torques.
+  Measurement reading;
   for (int g = 0; g < count; ++g) {
     const auto at = static_cast<std::size_t>(g);
+    reading.joints = configurations_[at];
+    reading.stylus = styluses_[at];
+    const ForwardStatus status =
+        forwardReading(machine, machine.nominal, reading, x, &J_x_p, &J_x_q);
     if (!drops) {
-      forwardOrThrow(*machine.mechanism, machine.nominal, configurations_[at], x, &J_x_p, &J_x_q,
-                     styluses_[at]);
-    } else if (machine.mechanism->forwardStylus(styluses_[at], machine.nominal, configurations_[at],
-                                                x, &J_x_p, &J_x_q) != ForwardStatus::Ok ||
-               !x.allFinite()) {
+      if (status != ForwardStatus::Ok) throw KinematicsError(forwardStatusName(status));
+    } else if (status != ForwardStatus::Ok || !x.allFinite()) {
       ++drops->failed;
       continue;
     }

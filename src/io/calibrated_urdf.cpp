@@ -13,6 +13,8 @@
 #include <set>
 #include <sstream>
 
+#include "artcal/model/joint_compliance.hpp"
+
 namespace artcal {
 
 namespace {
@@ -46,6 +48,28 @@ std::vector<int> calibratedIndices(const nlohmann::json& machine, const Mechanis
   return out;
 }
 
+// docs/compliance.md section 5: each reading's compliance in its file unit, and the gravity.
+std::string complianceYaml(const Mechanism& mechanism, const Eigen::VectorXd& p) {
+  const JointCompliance* compliance = mechanism.jointCompliance();
+  if (!compliance) return {};
+  std::ostringstream out;
+  out.precision(10);
+  const Eigen::Vector3d& g = compliance->complianceSpec().gravity;
+  out << "# Joint compliance (artcal, docs/compliance.md): a URDF cannot carry it.\n"
+      << "# A joint's deflection is compliance x gravity torque (payload included), added to its\n"
+      << "# reading.\ngravity: [" << g[0] << ", " << g[1] << ", " << g[2]
+      << "]  # m/s^2, base frame\n"
+      << "joints:\n";
+  for (const int k : compliance->complianceParameters()) {
+    const ParameterInfo& info = mechanism.parameters()[static_cast<std::size_t>(k)];
+    std::string joint = info.name;
+    joint.resize(joint.size() - std::string(".compliance").size());
+    out << "  " << joint << ": {compliance: " << toFileUnit(info.quantity, p[k]) << ", unit: \""
+        << unitName(info.quantity) << "\"}\n";
+  }
+  return out.str();
+}
+
 }  // namespace
 
 CalibratedUrdf calibratedUrdf(const nlohmann::json& machine, const std::string& machine_source,
@@ -56,6 +80,7 @@ CalibratedUrdf calibratedUrdf(const nlohmann::json& machine, const std::string& 
   out.text = exportUrdf(chain, block.nominal, urdf_path, machine_source,
                         calibratedIndices(machine, chain));
   out.warnings = implausibleCorrectionLines(block, urdfNominal(chain, block.nominal, urdf_path));
+  out.compliance_yaml = complianceYaml(chain, block.nominal);
   return out;
 }
 

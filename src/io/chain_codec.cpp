@@ -2,6 +2,8 @@
 
 #include "artcal/io/model_registry.hpp"
 
+#include "artcal/io/compliance_block.hpp"
+
 #include <map>
 #include <memory>
 #include <set>
@@ -115,8 +117,50 @@ std::vector<ChainTip> readTips(const Node& machine, const std::vector<ChainJoint
   return tips;
 }
 
+// docs/compliance.md, docs/plan-format.md: {"gravity": [..], "masses": {JOINT: the mass riding
+// on the frame after JOINT, centre in that frame}, "values": {READING: C, deg/(N m) or mm/N;
+// default 0}}. Joints not in "masses" carry none. The values are appended to `values`.
+ComplianceSpec readChainCompliance(const Node& compliance, const std::vector<ChainJoint>& chain,
+                                   std::vector<double>& values,
+                                   std::vector<std::string>& warnings) {
+  compliance.object();
+  compliance.warnUnknown({"gravity", "masses", "values"}, warnings);
+  ComplianceSpec spec;
+  spec.gravity = readGravity(compliance);
+  spec.masses.assign(chain.size(), MassPoint{});
+  std::map<std::string, std::size_t> index;
+  for (std::size_t i = 0; i < chain.size(); ++i) index[chain[i].name] = i;
+  const Node masses = compliance.at("masses");
+  for (const auto& [name, value] : masses.object().items()) {
+    (void)value;
+    const Node mass = masses.at(name);
+    const auto found = index.find(name);
+    if (found == index.end()) mass.fail("no joint named \"" + name + "\" in /joints");
+    spec.masses[found->second] = readMassPoint(mass, warnings);
+  }
+  // The readings (driving joints) in order, as Chain resolves them.
+  const Chain probe(chain);
+  const auto given = compliance.find("values");
+  std::set<std::string> readings;
+  for (const ChainReading& reading : probe.readings()) {
+    readings.insert(reading.name);
+    const double v = given && given->has(reading.name) ? given->at(reading.name).number() : 0.0;
+    values.push_back(reading.type == ChainJointType::Revolute
+                         ? fromFileUnit(kDegreePerNewtonMetre, v)
+                         : fromFileUnit(kMillimetrePerNewton, v));
+  }
+  if (given) {
+    for (const auto& [name, value] : given->object().items()) {
+      (void)value;
+      if (!readings.count(name))
+        given->at(name).fail("no reading (driving joint) named \"" + name + "\"");
+    }
+  }
+  return spec;
+}
+
 MachineBlock readChain(const Node& machine, std::vector<std::string>& warnings) {
-  machine.warnUnknown({"joints", "tips"}, warnings);
+  machine.warnUnknown({"joints", "tips", "compliance"}, warnings);
   const Node joints = machine.at("joints");
   const std::size_t n = joints.arraySize(1, Chain::kMaxJoints);
   std::vector<ChainJoint> chain;
@@ -144,9 +188,15 @@ MachineBlock readChain(const Node& machine, std::vector<std::string>& warnings) 
         .fail(problem->message);
   }
   std::vector<ChainTip> tips = readTips(machine, chain, warnings);
+  std::optional<ComplianceSpec> compliance;
+  if (const auto node = machine.find("compliance")) {
+    if (!tips.empty()) node->fail("compliance needs a machine of one tip (remove \"tips\")");
+    compliance = readChainCompliance(*node, chain, values, warnings);
+  }
   MachineBlock block;
   block.nominal = Eigen::Map<Eigen::VectorXd>(values.data(), static_cast<int>(values.size()));
-  block.mechanism = std::make_shared<Chain>(std::move(chain), std::move(tips));
+  block.mechanism =
+      std::make_shared<Chain>(std::move(chain), std::move(tips), std::move(compliance));
   return block;
 }
 
@@ -180,6 +230,19 @@ void writeChain(const Mechanism& mechanism, const Eigen::VectorXd& parameters,
     joints.push_back(entry);
   }
   out["joints"] = joints;
+  if (chain.jointCompliance()) {
+    nlohmann::json compliance, masses = nlohmann::json::object(), values = nlohmann::json::object();
+    writeGravity(chain.complianceSpec(), compliance);
+    for (std::size_t i = 0; i < chain.joints().size(); ++i) {
+      const MassPoint& mass = chain.complianceSpec().masses[i];
+      if (mass.mass != 0.0) masses[chain.joints()[i].name] = massPointToJson(mass);
+    }
+    for (std::size_t r = 0; r < chain.readings().size(); ++r)
+      values[chain.readings()[r].name] = fileValue(chain.complianceParameters()[r]);
+    compliance["masses"] = masses;
+    compliance["values"] = values;
+    out["compliance"] = compliance;
+  }
   if (!chain.namesTips()) return;
   nlohmann::json tips = nlohmann::json::array();
   for (const ChainTip& tip : chain.tips()) {

@@ -146,8 +146,17 @@ std::string separatorHint(std::string_view line, CsvDialect dialect) {
     if (c == dialect.separator) continue;
     const auto n = std::count(line.begin(), line.end(), c);
     if (n == 0 || (c == ',' && dialect.separator != ',' && commasAreDecimal(line))) continue;
-    seen += std::string(seen.empty() ? "" : " and ") + std::to_string(n) + " " +
-            (c == '\t' ? std::string("tab(s)") : "'" + std::string(1, c) + "'");
+    // Appended piece by piece: GCC 12's -Wrestrict false positive on "'" + std::string(...).
+    if (!seen.empty()) seen += " and ";
+    seen += std::to_string(n);
+    seen += ' ';
+    if (c == '\t') {
+      seen += "tab(s)";
+    } else {
+      seen += '\'';
+      seen += c;
+      seen += '\'';
+    }
   }
   if (seen.empty()) return {};
   return " (the file's fields are split at " + dialect.name() +

@@ -203,7 +203,7 @@ void appendCsvReadings(const Node& entry, const std::string& plan_source, const 
                        Artifact& instrument, Placement& placement, int entry_index,
                        const CheckCsvJoints& check_csv_joints, std::vector<std::string>& warnings) {
   entry.warnUnknown({"csv", "unit", "point_unit", "orientation_unit", "orientation", "columns",
-                     "stationing", "tip", "stylus"},
+                     "stationing", "tip", "stylus", "payload"},
                     warnings);
   const int stylus = readStylus(entry, *machine.mechanism);
   const OrientationForm form = orientationForm(entry, instrument);
@@ -338,9 +338,9 @@ void parseStationReadings(const Node& measurements, const std::string& plan_sour
                         check_csv_joints, warnings);
       continue;
     }
-    m.warnUnknown(
-        {"joints", "point", "point_unit", "orientation_unit", "stationing", "tip", "stylus"},
-        warnings);
+    m.warnUnknown({"joints", "point", "point_unit", "orientation_unit", "stationing", "tip",
+                   "stylus", "payload"},
+                  warnings);
     if (m.has("feature")) m.at("feature").fail("an instrument's reading has no feature");
     Measurement measurement;
     measurement.entry = static_cast<int>(i);

@@ -25,6 +25,7 @@
 #include "artcal/estimation/plane_rows.hpp"
 #include "artcal/io/acceptance_spec.hpp"
 #include "artcal/io/artifact_registry.hpp"
+#include "artcal/io/compliance_block.hpp"
 #include "artcal/io/csv_readings.hpp"
 #include "artcal/io/instrument_codec.hpp"
 #include "artcal/io/json_node.hpp"
@@ -424,7 +425,8 @@ std::optional<std::set<long>> selectedLines(const Node& entry, const std::string
 void appendCsvMeasurements(const Node& entry, const Plan& plan, const Artifact& artifact,
                            CsvFiles& files, bool explicit_limits, int entry_index,
                            std::vector<Measurement>& out, std::vector<std::string>& warnings) {
-  entry.warnUnknown({"feature", "csv", "unit", "columns", "exclude_rows", "tip", "rows"}, warnings);
+  entry.warnUnknown({"feature", "csv", "unit", "columns", "exclude_rows", "tip", "rows", "payload"},
+                    warnings);
   const int feature = static_cast<int>(entry.at("feature").integer(0, artifact.featureCount() - 1));
   const int stylus = readStylus(entry, *plan.machine.mechanism);
   const Node csv = entry.at("csv");
@@ -535,6 +537,31 @@ void parseStation(const Node& node, const Node& measurements, Plan& plan, Placem
   checkStation(node, machine, placement, label);
 }
 
+// docs/compliance.md section 1: each reading's payload, its entry's "payload" or else its
+// placement's (a CSV entry's for all its rows); only a machine with compliance takes one.
+static void applyPayloads(const Node& placement_node, const Node& measurements,
+                          const Machine& machine, Placement& placement,
+                          std::vector<std::string>& warnings) {
+  const auto read = [&](const Node& owner) -> std::optional<Payload> {
+    const auto payload = owner.find("payload");
+    if (!payload) return std::nullopt;
+    if (!machine.mechanism->jointCompliance()) {
+      payload->fail(
+          "a payload needs a machine with a compliance block (docs/compliance.md): add "
+          "\"compliance\" to the machine or remove the payload");
+    }
+    return readMassPoint(*payload, warnings);
+  };
+  const Payload common = read(placement_node).value_or(Payload{});
+  std::map<int, std::optional<Payload>> own;
+  for (Measurement& m : placement.measurements) {
+    auto found = own.find(m.entry);
+    if (found == own.end())
+      found = own.emplace(m.entry, read(measurements[static_cast<std::size_t>(m.entry)])).first;
+    m.payload = found->second.value_or(common);
+  }
+}
+
 // A plane placement without a "pose": where its touches put the plane with the nominal machine
 // (docs/planes.md); refused, naming the placement, when they fix none.
 Pose planePoseOfTouches(const Node& node, const Plan& plan, const Placement& placement) {
@@ -561,7 +588,7 @@ Placement parsePlacement(const Node& node, Plan& plan, CsvFiles& csv_files,
                          bool require_measurements, bool explicit_limits, std::size_t index,
                          std::vector<std::string>& warnings) {
   node.object();
-  node.warnUnknown({"artifact", "pose", "measurements", "name"}, warnings);
+  node.warnUnknown({"artifact", "pose", "measurements", "name", "payload"}, warnings);
   Placement placement;
   if (const auto name = node.find("name")) {
     placement.name = name->string();
@@ -588,6 +615,7 @@ Placement parsePlacement(const Node& node, Plan& plan, CsvFiles& csv_files,
   }
   if (plan.artifacts[static_cast<std::size_t>(placement.artifact)].kind().readings_are_features) {
     parseStation(node, *measurements, plan, placement, index, explicit_limits, warnings);
+    applyPayloads(node, *measurements, plan.machine, placement, warnings);
     return placement;
   }
   const std::size_t n = measurements->arraySize(1, kMaxMeasurements);
@@ -606,7 +634,7 @@ Placement parsePlacement(const Node& node, Plan& plan, CsvFiles& csv_files,
           parsePostureRequest(m, art, placement, mech, require_measurements, warnings));
       continue;
     }
-    m.warnUnknown({"feature", "joints", "stylus", "tip"}, warnings);
+    m.warnUnknown({"feature", "joints", "stylus", "tip", "payload"}, warnings);
     Measurement measurement;
     measurement.entry = static_cast<int>(i);
     measurement.feature = static_cast<int>(m.at("feature").integer(0, art.featureCount() - 1));
@@ -622,6 +650,7 @@ Placement parsePlacement(const Node& node, Plan& plan, CsvFiles& csv_files,
     if (status != ForwardStatus::Ok) m.at("joints").fail(forwardStatusName(status));
     placement.measurements.push_back(std::move(measurement));
   }
+  applyPayloads(node, *measurements, plan.machine, placement, warnings);
   if (plane && !placement.pose) placement.pose = planePoseOfTouches(node, plan, placement);
   return placement;
 }
@@ -962,6 +991,7 @@ Plan parsePlan(const nlohmann::json& document, const std::string& source, bool r
   } else if (require_placements) {
     root.at("placements");
   }
+  attachTorques(plan.machine, plan.placements);  // docs/compliance.md: once per reading
   if (const auto workspace = root.find("workspace")) {
     plan.workspace = parseWorkspace(*workspace, plan.machine, plan.warnings);
   }
@@ -1023,8 +1053,12 @@ nlohmann::json placementsToJson(const Plan& plan) {
       for (int i = 0; i < m.joints.size(); ++i) {
         joints.push_back(toFileUnit(jointQuantity(mech.jointKind(i)), m.joints[i]));
       }
+      const auto add_payload = [&m](json& entry) {
+        if (m.payload.mass != 0.0) entry["payload"] = massPointToJson(m.payload);
+      };
       if (instrument) {  // a station's reading: its joints and what was measured (mm, deg)
         json entry = {{"joints", joints}};
+        add_payload(entry);
         if (m.point_given) {  // a pose's orientation follows, as a rotation vector in deg
           std::vector<double> point(m.point.data(), m.point.data() + m.point.size());
           for (int k = 0; k < m.orientation.size(); ++k)
@@ -1038,6 +1072,7 @@ nlohmann::json placementsToJson(const Plan& plan) {
       }
       json entry = {{"feature", m.feature}, {"joints", joints}};
       addStylus(entry, mech, m.stylus);
+      add_payload(entry);
       measurements.push_back(entry);
     }
     p["measurements"] = measurements;

@@ -49,12 +49,11 @@ double valuedDistance(const Artifact& artifact, const Eigen::VectorXd& W, int fe
 /// evaluate one of them (left to the numerical code to report).
 bool probedPoints(const Plan& plan, const Eigen::VectorXd& p, const Placement& placement,
                   Eigen::MatrixXd& points) {
-  const Mechanism& mech = *plan.machine.mechanism;
   points.resize(plan.machine.dimension(), static_cast<int>(placement.measurements.size()));
   Eigen::VectorXd x;
   for (std::size_t i = 0; i < placement.measurements.size(); ++i) {
     const Measurement& m = placement.measurements[i];
-    if (mech.forwardStylus(m.stylus, p, m.joints, x) != ForwardStatus::Ok) {
+    if (forwardReading(plan.machine, p, m, x) != ForwardStatus::Ok) {
       return false;
     }
     if (x.size() != points.rows() || !x.allFinite()) return false;
@@ -137,8 +136,7 @@ double orientationResidualDeg(const Plan& plan, const Eigen::VectorXd& p,
   Eigen::VectorXd x;
   Eigen::Matrix3d R;
   for (const Measurement& m : placement.measurements) {
-    if (plan.machine.mechanism->forwardStylusPose(m.stylus, p, m.joints, x, R) != ForwardStatus::Ok)
-      return 0.0;
+    if (forwardReadingPose(plan.machine, p, m, x, R) != ForwardStatus::Ok) return 0.0;
     sum += orientationResidual(Eigen::Matrix3d(station.R * R), m.orientation).squaredNorm();
   }
   return radToDeg(std::sqrt(sum / static_cast<double>(placement.measurements.size())));

@@ -2,6 +2,7 @@
 
 #include <memory>
 
+#include "artcal/io/compliance_block.hpp"
 #include "artcal/model/serial_dh.hpp"
 
 namespace artcal {
@@ -26,9 +27,32 @@ DHConvention readConvention(const Node& machine) {
   convention->fail("unknown convention \"" + c + "\" (expected standard or modified)");
 }
 
+// docs/compliance.md, docs/plan-format.md: {"gravity": [..], "masses": [one per joint: link i's
+// mass, centre in frame i], "values": [C_i per joint, deg/(N m) or mm/N; default 0]}. The values
+// are appended to `values` (the parameters after the probe's).
+ComplianceSpec readDhCompliance(const Node& compliance, const std::vector<DHJoint>& joints,
+                                std::vector<double>& values, std::vector<std::string>& warnings) {
+  compliance.object();
+  compliance.warnUnknown({"gravity", "masses", "values"}, warnings);
+  ComplianceSpec spec;
+  spec.gravity = readGravity(compliance);
+  const Node masses = compliance.at("masses");
+  masses.arraySize(joints.size(), joints.size());
+  for (std::size_t i = 0; i < joints.size(); ++i)
+    spec.masses.push_back(readMassPoint(masses[i], warnings));
+  const auto given = compliance.find("values");
+  if (given) given->arraySize(joints.size(), joints.size());
+  for (std::size_t i = 0; i < joints.size(); ++i) {
+    const double v = given ? (*given)[i].number() : 0.0;
+    values.push_back(joints[i].kind == JointKind::Revolute ? fromFileUnit(kDegreePerNewtonMetre, v)
+                                                           : fromFileUnit(kMillimetrePerNewton, v));
+  }
+  return spec;
+}
+
 // docs/models.md section 2: a joint may carry a Hayati "beta" (deg); jN.beta exists only then.
 MachineBlock readSerialDH(const Node& machine, std::vector<std::string>& warnings) {
-  machine.warnUnknown({"joints", "probe", "convention"}, warnings);
+  machine.warnUnknown({"joints", "probe", "convention", "compliance"}, warnings);
   const DHConvention convention = readConvention(machine);
   const Node joints = machine.at("joints");
   const std::size_t n = joints.arraySize(1, SerialDH::kMaxJoints);
@@ -46,9 +70,13 @@ MachineBlock readSerialDH(const Node& machine, std::vector<std::string>& warning
   }
   const Eigen::VectorXd probe = machine.at("probe").numbers(3);
   values.insert(values.end(), probe.data(), probe.data() + 3);
+  std::optional<ComplianceSpec> compliance;
+  if (const auto node = machine.find("compliance"))
+    compliance = readDhCompliance(*node, dh_joints, values, warnings);
   MachineBlock block;
   block.nominal = Eigen::Map<Eigen::VectorXd>(values.data(), static_cast<int>(values.size()));
-  block.mechanism = std::make_shared<SerialDH>(std::move(dh_joints), convention);
+  block.mechanism =
+      std::make_shared<SerialDH>(std::move(dh_joints), convention, std::move(compliance));
   return block;
 }
 
@@ -75,6 +103,14 @@ void writeSerialDH(const Mechanism& mechanism, const Eigen::VectorXd& parameters
   out["joints"] = joints;
   const int k = arm.probeParameterOffset();
   out["probe"] = {fileValue(k), fileValue(k + 1), fileValue(k + 2)};
+  if (!arm.jointCompliance()) return;
+  nlohmann::json compliance, masses = nlohmann::json::array(), values = nlohmann::json::array();
+  writeGravity(arm.complianceSpec(), compliance);
+  for (const MassPoint& mass : arm.complianceSpec().masses) masses.push_back(massPointToJson(mass));
+  for (const int c : arm.complianceParameters()) values.push_back(fileValue(c));
+  compliance["masses"] = masses;
+  compliance["values"] = values;
+  out["compliance"] = compliance;
 }
 
 }  // namespace

@@ -193,6 +193,19 @@ nlohmann::json importUrdf(const std::string& urdf_path, const std::string& base,
   return urdfModule().import_urdf(source, base, tips);
 }
 
+nlohmann::json importUrdfWithCompliance(const std::string& urdf_path, const std::string& base,
+                                        const std::vector<std::string>& tips) {
+  nlohmann::json machine = importUrdf(urdf_path, base, tips);
+  if (tips.size() != 1) {
+    throw InputError(urdf_path, "",
+                     "--compliance needs one --tip (a machine of one tip, docs/compliance.md)");
+  }
+  const urdf_module::UrdfSource source = urdfSource(urdf_path);
+  machine["compliance"] = {{"gravity", {0.0, 0.0, -9.81}},
+                           {"masses", urdfModule().link_masses(source, base, tips.front())}};
+  return machine;
+}
+
 Eigen::VectorXd urdfNominal(const Chain& chain, const Eigen::VectorXd& p,
                             const std::string& urdf_path) {
   const urdf_module::UrdfSource source = urdfSource(urdf_path);

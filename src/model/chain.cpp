@@ -80,8 +80,9 @@ const OriginTurns& originTurns(const std::vector<int>& offsets, const Eigen::Vec
 
 }  // namespace
 
-Chain::Chain(std::vector<ChainJoint> joints, std::vector<ChainTip> tips)
-    : joints_(std::move(joints)), tips_(std::move(tips)) {
+Chain::Chain(std::vector<ChainJoint> joints, std::vector<ChainTip> tips,
+             std::optional<ComplianceSpec> compliance)
+    : joints_(std::move(joints)), tips_(std::move(tips)), compliance_(std::move(compliance)) {
   if (joints_.empty()) throw std::invalid_argument("chain: no joints");
   if (joints_.size() > static_cast<std::size_t>(kMaxJoints)) {
     throw std::invalid_argument("chain: at most " + std::to_string(kMaxJoints) + " joints");
@@ -108,6 +109,15 @@ Chain::Chain(std::vector<ChainJoint> joints, std::vector<ChainTip> tips)
   resolveReadings();
   parameters_ = chainParameters(joints_);
   checkTips();
+  if (!compliance_) return;
+  if (tips_.size() != 1)
+    throw std::invalid_argument("chain: compliance needs a machine of one tip");
+  if (compliance_->masses.size() != joints_.size())
+    throw std::invalid_argument("chain: the compliance block needs one mass per joint");
+  std::vector<bool> revolute;
+  for (const ChainReading& reading : readings_)
+    revolute.push_back(reading.type == ChainJointType::Revolute);
+  appendComplianceParameters(readingNames(), revolute, parameters_, compliance_index_);
 }
 
 // No tips: one through every joint. Named tips: distinct non-empty names, each a non-empty path
@@ -352,6 +362,8 @@ ForwardStatus Chain::forwardTipPose(int tip, const Eigen::VectorXd& p, const Eig
   }
   x.resize(3);
   Eigen::Map<Eigen::Vector3d>(x.data()) = o;
+  if (Jp)
+    for (const int c : compliance_index_) Jp->col(c).setZero();  // forwardLoaded writes them
   if (J_w_p) {
     J_w_p->setZero(3, parameterCount());
     Jacobian Jw(J_w_p->data(), 3, parameterCount());
@@ -392,6 +404,58 @@ ForwardStatus Chain::forwardTipPose(int tip, const Eigen::VectorXd& p, const Eig
     }
   }
   return ForwardStatus::Ok;
+}
+
+// docs/compliance.md section 2 along tip 0's path: each movable joint's pivot and world axis as
+// forwardTipPose() turns about them, each body's centre in the frame reached after its joint.
+GravityGeometry Chain::gravityGeometry(const Eigen::VectorXd& p, const Eigen::VectorXd& q,
+                                       const Payload& payload) const {
+  GravityGeometry out;
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d o = Eigen::Vector3d::Zero();
+  const std::vector<int>& path = tips_.front().joints;
+  for (std::size_t position = 0; position < path.size(); ++position) {
+    const int i = path[position];
+    const ChainJoint& joint = joints_[static_cast<std::size_t>(i)];
+    const Coupling& c = couplings_[static_cast<std::size_t>(i)];
+    const int k = offsets_[static_cast<std::size_t>(i)];
+    const int at = static_cast<int>(position);
+    const bool revolute = joint.type == ChainJointType::Revolute;
+    if (joint.reversed) {
+      if (isMovable(joint.type)) {
+        const double value = jointValue(i, p, q);
+        const Eigen::Vector3d axis = R * joint.axis;
+        if (revolute)
+          turnAboutAxis(R, joint.axis, -value);
+        else
+          o -= axis * value;
+        out.axes.push_back({o, -axis, revolute, at, c.reading, c.scale});
+      }
+      turnAboutX(R, -p[k + 3]);
+      turnAboutY(R, -p[k + 4]);
+      turnAboutZ(R, -p[k + 5]);
+      o -= R * p.segment<3>(k);
+    } else {
+      o += R * p.segment<3>(k);
+      turnAboutZ(R, p[k + 5]);
+      turnAboutY(R, p[k + 4]);
+      turnAboutX(R, p[k + 3]);
+      if (isMovable(joint.type)) {
+        const double value = jointValue(i, p, q);
+        const Eigen::Vector3d axis = R * joint.axis;
+        out.axes.push_back({o, axis, revolute, at, c.reading, c.scale});
+        if (revolute)
+          turnAboutAxis(R, joint.axis, value);
+        else
+          o += axis * value;
+      }
+    }
+    const MassPoint& link = compliance_->masses[static_cast<std::size_t>(i)];
+    if (link.mass != 0.0) out.bodies.push_back({o + R * link.centre, link.mass, at});
+  }
+  if (payload.mass != 0.0)
+    out.bodies.push_back({o + R * payload.centre, payload.mass, static_cast<int>(path.size())});
+  return out;
 }
 
 // The frames of forward() without the Jacobians: each joint's origin, then the probe.

@@ -44,8 +44,9 @@ struct JointAxes {
 SerialDH::SerialDH(const std::vector<JointKind>& joints)
     : SerialDH(withoutBeta(joints), DHConvention::Standard) {}
 
-SerialDH::SerialDH(std::vector<DHJoint> joints, DHConvention convention)
-    : joints_(std::move(joints)), convention_(convention) {
+SerialDH::SerialDH(std::vector<DHJoint> joints, DHConvention convention,
+                   std::optional<ComplianceSpec> compliance)
+    : joints_(std::move(joints)), convention_(convention), compliance_(std::move(compliance)) {
   if (joints_.size() > static_cast<std::size_t>(kMaxJoints)) {
     throw std::invalid_argument("serial-dh: at most " + std::to_string(kMaxJoints) + " joints");
   }
@@ -65,6 +66,18 @@ SerialDH::SerialDH(std::vector<DHJoint> joints, DHConvention convention)
   parameters_.push_back({"probe.x", Quantity::Length});
   parameters_.push_back({"probe.y", Quantity::Length});
   parameters_.push_back({"probe.z", Quantity::Length});
+  if (!compliance_) return;
+  if (compliance_->masses.size() != joints_.size())
+    throw std::invalid_argument("serial-dh: the compliance block needs one mass per joint");
+  std::vector<std::string> names;
+  std::vector<bool> revolute;
+  for (std::size_t i = 0; i < joints_.size(); ++i) {
+    std::string name = std::to_string(i + 1);
+    name.insert(name.begin(), 'j');
+    names.push_back(name);
+    revolute.push_back(joints_[i].kind == JointKind::Revolute);
+  }
+  appendComplianceParameters(names, revolute, parameters_, compliance_index_);
 }
 
 // Geometric Jacobian of the probe centre x: each elementary rotation contributes
@@ -146,6 +159,7 @@ ForwardStatus SerialDH::forwardPose(const Eigen::VectorXd& p, const Eigen::Vecto
       if (joints_[i].has_beta) J.col(k + 4) = turning(axes.beta_axis, axes.beta_pivot, i);
     }
     J.middleCols<3>(probeParameterOffset()) = R;
+    for (const int c : compliance_index_) J.col(c).setZero();  // forwardLoaded writes them
   }
   if (J_x_q) {
     J_x_q->resize(3, n);
@@ -173,6 +187,44 @@ ForwardStatus SerialDH::forwardPose(const Eigen::VectorXd& p, const Eigen::Vecto
     }
   }
   return ForwardStatus::Ok;
+}
+
+// docs/compliance.md section 2: joint i's axis is where Rz(theta_i) turns (standard: frame i-1's
+// z; modified: after Rx Tx Ry), link i's centre in the frame after A_i, the payload's in frame n.
+GravityGeometry SerialDH::gravityGeometry(const Eigen::VectorXd& p, const Eigen::VectorXd& q,
+                                          const Payload& payload) const {
+  GravityGeometry out;
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d o = Eigen::Vector3d::Zero();
+  const int n = jointCount();
+  for (int i = 0; i < n; ++i) {
+    const int k = offsets_[i];
+    double theta = p[k], d = p[k + 1];
+    (joints_[i].kind == JointKind::Revolute ? theta : d) += q[i];
+    const double a = p[k + 2], alpha = p[k + 3];
+    const double beta = joints_[i].has_beta ? p[k + 4] : 0.0;
+    auto rotateZTranslateZ = [&] {
+      out.axes.push_back({o, R.col(2), joints_[i].kind == JointKind::Revolute, i, i, 1.0});
+      turnAboutZ(R, theta);
+      o += R.col(2) * d;
+    };
+    if (convention_ == DHConvention::Standard) {
+      rotateZTranslateZ();
+      o += R.col(0) * a;
+      turnAboutX(R, alpha);
+      if (beta != 0.0) turnAboutY(R, beta);
+    } else {
+      turnAboutX(R, alpha);
+      o += R.col(0) * a;
+      if (beta != 0.0) turnAboutY(R, beta);
+      rotateZTranslateZ();
+    }
+    const MassPoint& link = compliance_->masses[static_cast<std::size_t>(i)];
+    if (link.mass != 0.0) out.bodies.push_back({o + R * link.centre, link.mass, i});
+  }
+  if (payload.mass != 0.0 && n > 0)
+    out.bodies.push_back({o + R * payload.centre, payload.mass, n - 1});
+  return out;
 }
 
 // The frames of forward() without the Jacobians, for drawings.

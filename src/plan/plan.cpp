@@ -28,16 +28,64 @@ Eigen::VectorXd readingTarget(const Artifact& artifact, const Measurement& m,
   return artifact.feature(m.feature, c);
 }
 
+Eigen::VectorXd readingTorques(const Machine& machine, const Measurement& m) {
+  const JointCompliance* compliance = machine.mechanism->jointCompliance();
+  if (!compliance) return {};
+  const Measurement::Torques& kept = m.torques;
+  if (kept.model == machine.mechanism.get() && kept.joints.size() == m.joints.size() &&
+      kept.joints == m.joints && kept.payload.mass == m.payload.mass &&
+      kept.payload.centre == m.payload.centre)
+    return kept.tau;
+  return compliance->gravityTorques(machine.nominal, m.joints, m.payload);
+}
+
+void attachTorques(const Machine& machine, std::vector<Placement>& placements) {
+  if (!machine.mechanism->jointCompliance()) return;
+  for (Placement& placement : placements) {
+    for (Measurement& m : placement.measurements) {
+      m.torques = {};
+      m.torques = {readingTorques(machine, m), m.joints, m.payload, machine.mechanism.get()};
+    }
+  }
+}
+
+ForwardStatus forwardReading(const Machine& machine, const Eigen::VectorXd& p, const Measurement& m,
+                             Eigen::VectorXd& x, Eigen::MatrixXd* J_x_p, Eigen::MatrixXd* J_x_q) {
+  return forwardLoaded(*machine.mechanism, m.stylus, p, m.joints, readingTorques(machine, m), x,
+                       J_x_p, J_x_q);
+}
+
+ForwardStatus forwardReadingPose(const Machine& machine, const Eigen::VectorXd& p,
+                                 const Measurement& m, Eigen::VectorXd& x, Eigen::Matrix3d& R,
+                                 Eigen::MatrixXd* J_x_p, Eigen::MatrixXd* J_x_q,
+                                 Eigen::MatrixXd* J_w_p, Eigen::MatrixXd* J_w_q) {
+  return forwardLoadedPose(*machine.mechanism, m.stylus, p, m.joints, readingTorques(machine, m), x,
+                           R, J_x_p, J_x_q, J_w_p, J_w_q);
+}
+
+void forwardReadingOrThrow(const Machine& machine, const Eigen::VectorXd& p, const Measurement& m,
+                           Eigen::VectorXd& x, Eigen::MatrixXd* J_x_p, Eigen::MatrixXd* J_x_q) {
+  const ForwardStatus status = forwardReading(machine, p, m, x, J_x_p, J_x_q);
+  if (status != ForwardStatus::Ok) throw KinematicsError(forwardStatusName(status));
+}
+
+void forwardReadingPoseOrThrow(const Machine& machine, const Eigen::VectorXd& p,
+                               const Measurement& m, Eigen::VectorXd& x, Eigen::Matrix3d& R,
+                               Eigen::MatrixXd* J_x_p, Eigen::MatrixXd* J_x_q,
+                               Eigen::MatrixXd* J_w_p, Eigen::MatrixXd* J_w_q) {
+  const ForwardStatus status = forwardReadingPose(machine, p, m, x, R, J_x_p, J_x_q, J_w_p, J_w_q);
+  if (status != ForwardStatus::Ok) throw KinematicsError(forwardStatusName(status));
+}
+
 void setNominalReading(const Machine& machine, const Artifact& instrument, Measurement& m) {
   Eigen::VectorXd x;
   if (!instrument.measures_pose) {
-    forwardOrThrow(*machine.mechanism, machine.nominal, m.joints, x, nullptr, nullptr, m.stylus);
+    forwardReadingOrThrow(machine, machine.nominal, m, x);
     m.point = x;
     return;
   }
   Eigen::Matrix3d R;
-  forwardPoseOrThrow(*machine.mechanism, machine.nominal, m.joints, x, R, nullptr, nullptr, nullptr,
-                     nullptr, m.stylus);
+  forwardReadingPoseOrThrow(machine, machine.nominal, m, x, R);
   m.point = x;
   m.orientation = rotationVector(R);
 }

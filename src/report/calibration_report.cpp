@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <sstream>
 
+#include "artcal/plan/compliance_deflections.hpp"
 #include "artcal/report/model_choice_report.hpp"
 #include "artcal/report/report.hpp"
 
@@ -287,6 +288,69 @@ std::string calibrationNotes(const Plan& plan, const Calibration& calibration) {
 
 }  // namespace
 
+std::string leftAligned(std::string text, std::size_t width) {
+  if (text.size() < width) text.resize(width, ' ');
+  return text;
+}
+
+// A compliance's u when it was calibrated (file units), NAN otherwise.
+double complianceU(const Machine& machine, const Calibration& calibration, int parameter) {
+  const auto at = std::find(machine.calibrated.begin(), machine.calibrated.end(), parameter);
+  if (at == machine.calibrated.end() || !calibration.covariance) return NAN;
+  const auto k = static_cast<int>(at - machine.calibrated.begin());
+  return toFileUnit(machine.calibratedInfo(k).quantity, calibration.covariance->u[k]);
+}
+
+// docs/compliance.md section 5: each compliance with its u and the largest deflection it implies
+// over the readings with their payloads, at the joint (deg or mm) and at the tip (mm).
+json complianceToJson(const Plan& plan, const std::vector<Placement>& placements,
+                      const Calibration& calibration) {
+  const Machine& machine = plan.machine;
+  json out = json::array();
+  for (const ComplianceDeflection& d :
+       complianceDeflections(machine, placements, calibration.parameters)) {
+    const ParameterInfo& info =
+        machine.mechanism->parameters()[static_cast<std::size_t>(d.parameter)];
+    const double u = complianceU(machine, calibration, d.parameter);
+    out.push_back(
+        {{"name", info.name},
+         {"estimate", finiteOrNull(toFileUnit(info.quantity, calibration.parameters[d.parameter]))},
+         {"u", std::isfinite(u) ? json(u) : json(nullptr)},
+         {"unit", std::string(unitName(info.quantity))},
+         {"largest_torque", finiteOrNull(d.largest_torque)},
+         {"torque_unit", std::string(torqueUnit(d.revolute))},
+         {"largest_deflection",
+          finiteOrNull(d.revolute ? radToDeg(d.largest_joint) : d.largest_joint)},
+         {"deflection_unit", d.revolute ? "deg" : "mm"},
+         {"largest_tip_deflection", finiteOrNull(d.largest_tip)}});
+  }
+  return out;
+}
+
+std::string complianceText(const Plan& plan, const std::vector<Placement>& placements,
+                           const Calibration& calibration) {
+  const json table = complianceToJson(plan, placements, calibration);
+  if (table.empty()) return {};
+  std::ostringstream out;
+  out << "\njoint compliance (docs/compliance.md): largest over the readings with their payloads\n"
+      << "parameter            estimate          u  unit         |tau|  unit  |C tau|  unit  "
+         "tip mm\n";
+  const auto number = [](const json& v, const char* pattern) {
+    return v.is_number() ? numberOrDash(pattern, v.get<double>()) : std::string("-");
+  };
+  for (const json& c : table) {
+    out << leftAligned(c["name"].get<std::string>(), 19)
+        << padded(number(c["estimate"], "%.4g"), 10) << padded(number(c["u"], "%.2g"), 11) << "  "
+        << leftAligned(c["unit"].get<std::string>(), 10)
+        << padded(number(c["largest_torque"], "%.1f"), 8) << "  "
+        << leftAligned(c["torque_unit"].get<std::string>(), 4)
+        << padded(number(c["largest_deflection"], "%.4f"), 9) << "  "
+        << leftAligned(c["deflection_unit"].get<std::string>(), 4)
+        << padded(number(c["largest_tip_deflection"], "%.4f"), 8) << "\n";
+  }
+  return out.str();
+}
+
 json calibrationToJson(const Plan& plan, const std::vector<Placement>& placements,
                        const Calibration& calibration) {
   const Machine& machine = plan.machine;
@@ -338,6 +402,8 @@ json calibrationToJson(const Plan& plan, const std::vector<Placement>& placement
     parameters.push_back(p);
   }
   out["parameters"] = parameters;
+  if (machine.mechanism->jointCompliance())
+    out["compliance"] = complianceToJson(plan, placements, calibration);
   if (machine.mechanism->hasLocationErrors() && calibration.covariance) {
     out["location_errors"] =
         locationErrorsToJson(plan, *calibration.covariance, &calibration.parameters);
@@ -455,6 +521,7 @@ std::string calibrationTable(const Plan& plan, const std::vector<Placement>& pla
         << padded(numberOrDash("%.3g", u), 14) << padded(numberOrDash("%.3g", up), 15) << "  "
         << unitName(info.quantity) << "\n";
   }
+  out << complianceText(plan, placements, calibration);
   if (machine.mechanism->hasLocationErrors() && calibration.covariance) {
     out << locationErrorTable(plan, *calibration.covariance, &calibration.parameters);
     out << controllerTable(plan, calibration.parameters, &*calibration.covariance);

@@ -41,6 +41,7 @@ json modelChoiceToJson(const Plan& plan, const ModelChoice& choice) {
          {"held_at_nominal", c.removed >= 0 ? json(parameterName(plan, c.removed)) : json(nullptr)},
          {"surviving_fraction", c.removed >= 0 ? finiteOrNull(c.removed_fraction) : json(nullptr)},
          {"restored", restored},
+         {"geometric_only", c.geometric_only},
          {"converged", c.converged},
          {"implausible", c.implausible},
          {"chi2_per_dof", finiteOrNull(c.chi2_per_dof)},
@@ -74,6 +75,7 @@ std::string modelChoiceTable(const Plan& plan, const ModelChoice& choice) {
   std::size_t width = 28;
   // The parameter a candidate holds at nominal, or "+ ..." the ones it calibrates again.
   auto label = [](const json& c) {
+    if (c["geometric_only"].get<bool>()) return std::string("(geometric only: compliances)");
     if (c["held_at_nominal"].is_string()) return c["held_at_nominal"].get<std::string>();
     if (c["restored"].empty()) return std::string("(rank rule)");
     std::string out = "+";
@@ -98,7 +100,9 @@ std::string modelChoiceTable(const Plan& plan, const ModelChoice& choice) {
         << (c["implausible"].get<bool>() ? "  (implausible correction)" : "") << "\n";
   }
   const ModelChoiceCandidate& chosen = choice.candidates[static_cast<std::size_t>(choice.chosen)];
-  if (!chosen.restored.empty()) {
+  if (chosen.geometric_only) {
+    out << "held at nominal by the held-out choice: the compliances (geometric only)\n";
+  } else if (!chosen.restored.empty()) {
     out << "calibrated again by the held-out choice (the weak-direction rule had held them):";
     for (const int r : chosen.restored) out << " " << parameterName(plan, r);
     out << "\n";

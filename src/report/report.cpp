@@ -1,8 +1,10 @@
 #include "artcal/report/report.hpp"
 #include "artcal/report/cartesian_report.hpp"
+#include "artcal/model/joint_compliance.hpp"
 #include "artcal/report/location_errors.hpp"
 #include "artcal/report/text_format.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -95,6 +97,11 @@ json calibrateSelectionToJson(const Plan& plan) {
   out["calibrate_resolved"] = kept;
   out["calibrate_dropped"] = dropped;
   out["calibrate_ties"] = ties;
+  if (!resolution.unobserved.empty()) {  // docs/compliance.md section 4
+    json unobserved = json::array();
+    for (int k : resolution.unobserved) unobserved.push_back(name(k));
+    out["calibrate_not_observed"] = unobserved;
+  }
   const WeakRuleChoice& weak = resolution.at_nominal;
   json weak_kept = json::array(), held = json::array(), in_place = json::array();
   for (int k : weak.kept) weak_kept.push_back(name(k));
@@ -242,12 +249,28 @@ std::string termText(bool first, double coefficient, const std::string& name) {
 
 std::string tieText(const Plan& plan, const std::vector<std::pair<int, double>>& tie) {
   const auto& params = plan.machine.mechanism->parameters();
+  const CalibratedSetResolution& resolution = *plan.calibrate_resolution;
+  const int first = tie.front().first;
+  const bool compliance = isComplianceParameter(*plan.machine.mechanism, first);
+  if (std::count(resolution.unobserved.begin(), resolution.unobserved.end(), first)) {
+    return compliance ? "not observed: its torque is zero at every reading (gravity along the "
+                        "joint's axis, or the masses' centres on it; docs/compliance.md section 4)"
+                      : "not observed: no information (sqrt(N_kk) below 1e-9 of the largest)";
+  }
   if (tie.size() == 1) return "not observed, or absorbed by the placements' rigid motions";
   std::string out;
+  bool ties_compliance = false;
   for (std::size_t i = 0; i < tie.size(); ++i) {
     out += termText(i == 0, tie[i].second, params[static_cast<std::size_t>(tie[i].first)].name);
+    ties_compliance =
+        ties_compliance || isComplianceParameter(*plan.machine.mechanism, tie[i].first);
   }
-  return out + "   (scaled parameters)";
+  out += "   (scaled parameters)";
+  if (ties_compliance)
+    out +=
+        "; a compliance whose torque does not vary over the readings is the joint's offset "
+        "again: vary the payloads and postures (docs/compliance.md section 4)";
+  return out;
 }
 
 namespace {

@@ -551,6 +551,74 @@ json importUrdf(const UrdfSource& urdf, const std::string& base,
   return machine;
 }
 
+namespace {
+
+// A link's own <inertial> in `frame` (the walk's frame of reference): kg, and kg mm.
+void addInertial(const urdf::Link& link, const Eigen::Isometry3d& frame, double& mass,
+                 Eigen::Vector3d& moment) {
+  if (!link.inertial || !(link.inertial->mass > 0.0)) return;
+  const urdf::Vector3& c = link.inertial->origin.position;  // metres; rpy does not move it
+  mass += link.inertial->mass;
+  moment += link.inertial->mass * (frame * (1000.0 * Eigen::Vector3d(c.x, c.y, c.z)));
+}
+
+// The origin transform of `joint` as the file states it (mm, rad).
+Eigen::Isometry3d jointOrigin(const UrdfDocument& doc, const urdf::Joint& joint) {
+  const tinyxml2::XMLElement* element = jointElement(doc, joint.name);
+  if (!element) doc.fail(nullptr, "joint \"" + joint.name + "\" not found in the XML");
+  const OriginValues origin = readOrigin(doc, element);
+  return originTransform(origin.xyz_mm, origin.rpy);
+}
+
+// docs/compliance.md section 1: `link`'s mass with every link reached from it through joints off
+// the chain (fixed ones; movable ones at their zero position), centre in `link`'s frame (mm).
+json foldedMass(const UrdfDocument& doc, const std::string& link_name,
+                const std::set<std::string>& chain_joints) {
+  double mass = 0.0;
+  Eigen::Vector3d moment = Eigen::Vector3d::Zero();
+  struct Step {
+    urdf::LinkConstSharedPtr link;
+    Eigen::Isometry3d frame;
+    std::string came_by;
+  };
+  std::vector<Step> stack{{doc.model->getLink(link_name), Eigen::Isometry3d::Identity(), ""}};
+  while (!stack.empty()) {
+    const Step step = stack.back();
+    stack.pop_back();
+    addInertial(*step.link, step.frame, mass, moment);
+    for (const urdf::JointSharedPtr& joint : step.link->child_joints) {
+      if (chain_joints.count(joint->name) || joint->name == step.came_by) continue;
+      stack.push_back({doc.model->getLink(joint->child_link_name),
+                       step.frame * jointOrigin(doc, *joint), joint->name});
+    }
+    const urdf::JointSharedPtr& up = step.link->parent_joint;
+    if (up && !chain_joints.count(up->name) && up->name != step.came_by) {
+      stack.push_back({doc.model->getLink(up->parent_link_name),
+                       step.frame * jointOrigin(doc, *up).inverse(), up->name});
+    }
+  }
+  const Eigen::Vector3d centre = mass > 0.0 ? Eigen::Vector3d(moment / mass) : moment;
+  return {{"mass", mass}, {"centre", vectorJson(centre)}};
+}
+
+}  // namespace
+
+json linkMasses(const UrdfSource& urdf, const std::string& base, const std::string& tip) {
+  UrdfDocument doc;
+  loadUrdf(urdf, doc);
+  const std::vector<PathJoint> path = chainJoints(doc, base, tip);
+  std::set<std::string> chain_joints;
+  for (const PathJoint& step : path) chain_joints.insert(step.joint->name);
+  json masses = json::object();
+  for (const PathJoint& step : path) {
+    const std::string& link =
+        step.reversed ? step.joint->parent_link_name : step.joint->child_link_name;
+    json mass = foldedMass(doc, link, chain_joints);
+    if (mass["mass"].get<double>() > 0.0) masses[step.joint->name] = std::move(mass);
+  }
+  return masses;
+}
+
 Eigen::VectorXd urdfNominal(const Chain& chain, const Eigen::VectorXd& p, const UrdfSource& urdf) {
   UrdfDocument doc;
   loadUrdf(urdf, doc);

@@ -28,6 +28,9 @@ struct UrdfSource {
 // The implementations behind io/urdf.hpp (src/urdf/urdf_import.cpp), same contracts.
 nlohmann::json importUrdf(const UrdfSource& urdf, const std::string& base,
                           const std::vector<std::string>& tips);
+/// The compliance block's "masses" of the chain from `base` to `tip` (docs/compliance.md
+/// section 1): per chain joint, the link it reaches with the links folded into it.
+nlohmann::json linkMasses(const UrdfSource& urdf, const std::string& base, const std::string& tip);
 Eigen::VectorXd urdfNominal(const Chain& chain, const Eigen::VectorXd& p, const UrdfSource& urdf);
 std::string exportUrdf(const Chain& chain, const Eigen::VectorXd& p, const UrdfSource& urdf,
                        const std::string& machine_source, const std::vector<int>& calibrated);
@@ -39,9 +42,9 @@ std::vector<OriginEdit> calibratedOrigins(const Chain& chain, const Eigen::Vecto
 /// What the module and its loader must agree on: the artcal version, the compiler and the sizes
 /// of the types that cross between them.
 inline std::string urdfModuleAbi() {
-  // "table 2": the entry points' signatures below (a module built before a change of them is
+  // "table 3": the entry points' signatures below (a module built before a change of them is
   // refused, not called with other arguments).
-  return std::string("artcal " ARTCAL_VERSION_STRING "; table 2; " __VERSION__ "; ") +
+  return std::string("artcal " ARTCAL_VERSION_STRING "; table 3; " __VERSION__ "; ") +
          std::to_string(sizeof(nlohmann::json)) + " " + std::to_string(sizeof(Chain)) + " " +
          std::to_string(sizeof(std::string)) + " " + std::to_string(sizeof(Eigen::VectorXd)) + " " +
          std::to_string(sizeof(OriginEdit));
@@ -58,6 +61,8 @@ struct UrdfModuleTable {
   std::vector<OriginEdit> (*origins)(const Chain&, const Eigen::VectorXd&,
                                      const urdf_module::UrdfSource&, const std::string&,
                                      const std::vector<int>&);
+  nlohmann::json (*link_masses)(const urdf_module::UrdfSource&, const std::string&,
+                                const std::string&);
 };
 inline constexpr const char* kUrdfModuleSymbol = "artcal_urdf_module";
 

@@ -10,13 +10,16 @@
 
 #include <Eigen/Core>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <random>
+#include <set>
 #include <string>
 #include <vector>
 
 #include "artcal/io/model_registry.hpp"
 #include "artcal/io/plan_io.hpp"
+#include "artcal/model/joint_compliance.hpp"
 #include "artcal/model/rotation_vector.hpp"
 #include "finite_difference.hpp"
 #include "several_tips.hpp"
@@ -195,12 +198,13 @@ TEST(RegisteredModels, AMimicChainHasExactJacobians) {
 // failed; "expected at least 1 entries, got 0"): to be fixed in the builder, not the model.
 // A chain block alone (no readings needed: configurations are drawn within the joint limits).
 Plan machineOnlyPlan(const nlohmann::json& machine) {
-  const nlohmann::json document = {{"format", "artcal-plan/1"},
-                                   {"name", "machine-only"},
-                                   {"machine", machine},
-                                   {"noise", {{"probe", 0.02}, {"encoder", 0.002}}},
-                                   {"artifacts", {{"bar", {{"type", "ball_bar"}, {"length", 100.0}}}}},
-                                   {"placements", nlohmann::json::array()}};
+  const nlohmann::json document = {
+      {"format", "artcal-plan/1"},
+      {"name", "machine-only"},
+      {"machine", machine},
+      {"noise", {{"probe", 0.02}, {"encoder", 0.002}}},
+      {"artifacts", {{"bar", {{"type", "ball_bar"}, {"length", 100.0}}}}},
+      {"placements", nlohmann::json::array()}};
   return parsePlan(document, "machine-only", false);
 }
 
@@ -217,6 +221,105 @@ TEST(RegisteredModels, ChainsUpTheTreeAndWithSeveralTipsHaveExactJacobians) {
     SCOPED_TRACE(tip);
     expectJacobiansMatchDifferences(machineOnlyPlan(importUrdf(arm, "finger", tip)), rng);
   }
+}
+
+}  // namespace registry_jacobians_test
+}  // namespace artcal
+
+namespace artcal {
+namespace registry_jacobians_test {
+
+// Joint compliance (docs/compliance.md section 3) through the battery: every serial family with a
+// compliance block (standard and modified DH with beta, URDF chains straight, up the tree and
+// with an off-chain mimic master), at compliances of 1e-4 rad/(N m) and their readings'
+// gravity torques with a payload, and at arbitrary torques: the deflected forward kinematics'
+// J_x_p and J_w_p (the compliance columns (dx/dq_r) tau_r) against central differences over
+// every parameter, torques held fixed.
+nlohmann::json withMasses(nlohmann::json machine) {
+  nlohmann::json masses = nlohmann::json::object();
+  double m = 1.0;
+  for (const nlohmann::json& joint : machine.at("joints")) {
+    masses[joint.at("name").get<std::string>()] = {{"mass", m},
+                                                   {"centre", {30.0 * m, -10.0, 20.0}}};
+    m += 0.5;
+  }
+  machine["compliance"] = {{"masses", masses}, {"gravity", {0.5, -1.0, -9.7}}};
+  return machine;
+}
+
+nlohmann::json dhWithCompliance(const char* convention) {
+  std::ifstream in(test_support::testDataFile("ur5-tracker/ur5-compliance.machine.json"));
+  nlohmann::json machine = nlohmann::json::parse(in);
+  machine["convention"] = convention;
+  machine["joints"][2]["beta"] = 0.5;
+  machine["probe"] = {60.0, 20.0, 40.0};
+  return machine;
+}
+
+void expectComplianceColumnsExact(const Plan& plan, std::mt19937_64& rng) {
+  const Machine& machine = plan.machine;
+  const Mechanism& mech = *machine.mechanism;
+  const JointCompliance* compliance = mech.jointCompliance();
+  ASSERT_NE(compliance, nullptr) << mech.modelName();
+  Eigen::VectorXd p = machine.nominal;
+  for (const int c : compliance->complianceParameters()) p[c] = 1e-4 * (1.0 + 0.1 * c);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  const std::vector<Eigen::VectorXd> configurations = randomConfigurations(plan, 3, rng);
+  ASSERT_GE(configurations.size(), 3u);
+  for (std::size_t c = 0; c < configurations.size(); ++c) {
+    Measurement m;
+    m.joints = configurations[c];
+    m.payload = {3.0, Eigen::Vector3d(20.0, -30.0, 50.0)};
+    Eigen::VectorXd arbitrary(m.joints.size());
+    for (int r = 0; r < arbitrary.size(); ++r) arbitrary[r] = 40.0 * unit(rng);
+    for (const Eigen::VectorXd& tau : {readingTorques(machine, m), arbitrary}) {
+      const std::string where = mech.modelName() + " configuration " + std::to_string(c);
+      ASSERT_GT(tau.cwiseAbs().maxCoeff(), 0.1) << where;
+      Eigen::VectorXd x;
+      Eigen::Matrix3d R0;
+      Eigen::MatrixXd J_x_p, J_x_q, J_w_p, J_w_q;
+      ASSERT_EQ(forwardLoadedPose(mech, 0, p, m.joints, tau, x, R0, &J_x_p, &J_x_q, &J_w_p, &J_w_q),
+                ForwardStatus::Ok);
+      auto of_p = [&](const Eigen::VectorXd& v) {
+        Eigen::VectorXd y;
+        EXPECT_EQ(forwardLoaded(mech, 0, v, m.joints, tau, y), ForwardStatus::Ok);
+        return y;
+      };
+      auto turn_of_p = [&](const Eigen::VectorXd& v) {
+        Eigen::VectorXd y;
+        Eigen::Matrix3d R;
+        EXPECT_EQ(forwardLoadedPose(mech, 0, v, m.joints, tau, y, R), ForwardStatus::Ok);
+        return Eigen::VectorXd(rotationVector(R * R0.transpose()));
+      };
+      expectJacobianNear(J_x_p, centralDifferenceJacobian(of_p, p, 1e-6), 1e-6, where + " J_x_p");
+      expectJacobianNear(J_w_p, centralDifferenceJacobian(turn_of_p, p, 1e-6), 1e-6,
+                         where + " J_w_p");
+      Eigen::VectorXd x_plain;
+      Eigen::MatrixXd J_plain;
+      ASSERT_EQ(forwardLoaded(mech, 0, p, m.joints, tau, x_plain, &J_plain), ForwardStatus::Ok);
+      EXPECT_EQ((J_plain - J_x_p).norm(), 0.0) << where;
+    }
+  }
+}
+
+TEST(RegisteredModels, EverySerialFamilyWithComplianceHasExactComplianceColumns) {
+  std::mt19937_64 rng(47);
+  std::set<std::string> covered;
+  std::vector<Plan> plans;
+  plans.push_back(machineOnlyPlan(dhWithCompliance("standard")));
+  plans.push_back(machineOnlyPlan(dhWithCompliance("modified")));
+  plans.push_back(machineOnlyPlan(importUrdfWithCompliance(
+      test_support::testDataFile("urdf/arm3-masses.urdf"), "base_link", {"tool"})));
+  plans.push_back(machineOnlyPlan(withMasses(
+      importUrdf(test_support::testDataFile("urdf/arm3-slide.urdf"), "finger", "world"))));
+  plans.push_back(machineOnlyPlan(withMasses(importUrdf(
+      test_support::testDataFile("urdf/lifting-column-arm6.urdf"), "base_link", "prism_link"))));
+  for (const Plan& plan : plans) {
+    SCOPED_TRACE(plan.machine.mechanism->modelName());
+    expectComplianceColumnsExact(plan, rng);
+    covered.insert(plan.machine.mechanism->modelName());
+  }
+  EXPECT_EQ(covered, (std::set<std::string>{"chain", "serial-dh"}));
 }
 
 }  // namespace registry_jacobians_test

@@ -39,6 +39,9 @@ struct ModelChoiceCandidate {
   /// The parameters the weak-direction rule held at nominal that this candidate calibrates again
   /// (model indices; empty but for the one candidate of the rank rule's set with them restored).
   std::vector<int> restored;
+  /// The rank rule's set without its compliances (docs/compliance.md section 5): geometric only,
+  /// beside the rank rule's geometric + compliance.
+  bool geometric_only = false;
   /// Its fit corrects a parameter beyond the plausibility rule (corrections.hpp): never chosen.
   bool implausible = false;
   std::vector<int> kept;  ///< model parameter indices

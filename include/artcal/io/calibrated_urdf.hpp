@@ -13,6 +13,9 @@ namespace artcal {
 struct CalibratedUrdf {
   std::string text;                   ///< the URDF file's text
   std::vector<std::string> warnings;  ///< one per implausible correction (the file is written)
+  /// A URDF cannot carry joint compliance (docs/compliance.md section 5): the machine's
+  /// compliances as YAML for the user's controller, written apart; empty without compliance.
+  std::string compliance_yaml;
 };
 
 /// The URDF at `urdf_path` with the origins of the chain machine `machine` (a machine block or a

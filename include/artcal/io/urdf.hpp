@@ -43,6 +43,14 @@ nlohmann::json importUrdf(const std::string& urdf_path, const std::string& base,
 nlohmann::json importUrdf(const std::string& urdf_path, const std::string& base,
                           const std::vector<std::string>& tips);
 
+/// importUrdf() of one tip with a compliance block (`import-urdf --compliance`,
+/// docs/compliance.md): its "masses" from the links' <inertial> (mass in kg, origin xyz in m to
+/// mm; rpy does not move the centre), each link with the links rigidly attached to it off the
+/// chain folded in (behind fixed joints; behind movable ones at their zero), by chain joint;
+/// gravity (0, 0, -9.81).
+nlohmann::json importUrdfWithCompliance(const std::string& urdf_path, const std::string& base,
+                                        const std::vector<std::string>& tips);
+
 /// `p` with the origins of `chain`'s joints as the URDF file at `urdf_path` states them (offsets
 /// 0): the nominal machine a calibrated one is compared with (export-urdf's warnings,
 /// calibration/corrections.hpp). Joints missing from the file keep their values from `p`.

@@ -23,6 +23,14 @@
 // joints from the base (a shared torso, then one arm). The joints are listed once; each tip's
 // forward kinematics runs along its own path (forwardStylus(tip, ...); forward() is tip 0), and
 // the readings are every driving joint of the list. Without tips, one tip runs every joint.
+//
+// With a compliance block (docs/compliance.md, model/joint_compliance.hpp; one tip only): one
+// parameter READING.compliance per reading after the geometric ones; the mass of chain joint i
+// is the body on the frame reached after T_i (its URDF child link's, with the links folded into
+// it; a reversed joint's URDF parent), its centre in that frame; the payload's in the last frame.
+// A joint's torque is about the axis its reading turns (a reversed joint's negated); a mimic adds
+// its torque times its multiplier to its master's reading (an off-chain master has none of its
+// own).
 
 #include <Eigen/Core>
 #include <optional>
@@ -30,6 +38,7 @@
 #include <vector>
 
 #include "artcal/core/enum_names.hpp"
+#include "artcal/model/joint_compliance.hpp"
 #include "artcal/model/mechanism.hpp"
 #include "artcal/model/rotation_vector.hpp"
 
@@ -76,7 +85,7 @@ struct ChainReading {
   int chain_joint = -1;  ///< its index among joints(); -1 for a master off the chain
 };
 
-class Chain final : public Mechanism {
+class Chain final : public Mechanism, public JointCompliance {
  public:
   static constexpr int kMaxJoints = 64;
   static constexpr int kOriginParameters = 6;  ///< x y z roll pitch yaw
@@ -86,7 +95,9 @@ class Chain final : public Mechanism {
   /// movable joints of one type (on a fixed joint, of itself, of a fixed joint or of a mimic).
   /// `tips` (none: one tip through every joint in order) must each name a non-empty path of
   /// distinct joint indices, the names distinct and non-empty, and every joint on some path.
-  explicit Chain(std::vector<ChainJoint> joints, std::vector<ChainTip> tips = {});
+  /// A compliance block needs one tip and one mass per joint.
+  explicit Chain(std::vector<ChainJoint> joints, std::vector<ChainTip> tips = {},
+                 std::optional<ComplianceSpec> compliance = std::nullopt);
 
   std::string modelName() const override { return "chain"; }
   int dimension() const override { return 3; }
@@ -126,6 +137,12 @@ class Chain final : public Mechanism {
   /// The base, each joint frame's origin in turn, the probe (for drawings).
   std::vector<Eigen::VectorXd> skeleton(const Eigen::VectorXd& p,
                                         const Eigen::VectorXd& q) const override;
+
+  const JointCompliance* jointCompliance() const override { return compliance_ ? this : nullptr; }
+  const std::vector<int>& complianceParameters() const override { return compliance_index_; }
+  const ComplianceSpec& complianceSpec() const override { return *compliance_; }
+  GravityGeometry gravityGeometry(const Eigen::VectorXd& p, const Eigen::VectorXd& q,
+                                  const Payload& payload) const override;
 
   /// Every joint of the chain (fixed ones included), in order.
   const std::vector<ChainJoint>& joints() const { return joints_; }
@@ -167,6 +184,8 @@ class Chain final : public Mechanism {
   bool named_tips_ = false;
   std::vector<int> offsets_;
   std::vector<ParameterInfo> parameters_;
+  std::optional<ComplianceSpec> compliance_;
+  std::vector<int> compliance_index_;  ///< per reading, into p
 };
 
 }  // namespace artcal

@@ -40,6 +40,7 @@ std::string forwardStatusName(ForwardStatus status);
 
 class AxisErrorFunctions;  // axis_error_functions.hpp
 class OrientedPostures;    // closed_chain.hpp
+class JointCompliance;     // joint_compliance.hpp
 
 struct ParameterInfo {
   std::string name;
@@ -143,6 +144,10 @@ class Mechanism {
   /// estimation/error_functions.hpp and the ISO 10360-2 length test ask for it; null for the
   /// others.
   virtual const AxisErrorFunctions* axisErrorFunctions() const { return nullptr; }
+  /// The machine carries joint compliance (docs/compliance.md; a serial family whose machine
+  /// block has a compliance block): its compliance parameters and gravity torques, applied to a
+  /// reading by forwardLoaded (joint_compliance.hpp); null for the others.
+  virtual const JointCompliance* jointCompliance() const { return nullptr; }
   /// The parameters are the ISO 230-7 location errors of a machine tool's axes, named
   /// E_<error>0<axis> (E_X0C, E_A0C, ...; docs/five-axis.md): evaluate and calibrate add the
   /// engineer's table (u in urad / um, the confounding index, the controller table).

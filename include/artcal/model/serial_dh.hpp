@@ -8,8 +8,15 @@
 // `probe` in the last frame. Parameters: j1.theta, j1.d, j1.a, j1.alpha[, j1.beta], ..., probe.x,
 // probe.y, probe.z. Jacobians are the geometric ones (rotation about / translation along each
 // elementary transform's axis), exact.
+//
+// With a compliance block (docs/compliance.md, model/joint_compliance.hpp): j1.compliance, ...,
+// jn.compliance follow the probe; link k's mass centre is in frame k, the frame after A_k (beta
+// included; modified convention alike), and the payload's in frame n.
+
+#include <optional>
 
 #include "artcal/core/enum_names.hpp"
+#include "artcal/model/joint_compliance.hpp"
 #include "artcal/model/mechanism.hpp"
 
 namespace artcal {
@@ -24,14 +31,16 @@ struct DHJoint {
   bool has_beta = false;  ///< the joint carries a Hayati beta parameter
 };
 
-class SerialDH final : public Mechanism {
+class SerialDH final : public Mechanism, public JointCompliance {
  public:
   static constexpr int kMaxJoints = 32;
 
   /// Standard convention, no beta (4n + 3 parameters).
   explicit SerialDH(const std::vector<JointKind>& joints);
-  /// Throws std::invalid_argument beyond kMaxJoints joints.
-  SerialDH(std::vector<DHJoint> joints, DHConvention convention);
+  /// Throws std::invalid_argument beyond kMaxJoints joints, or with a compliance block whose
+  /// masses are not one per joint.
+  SerialDH(std::vector<DHJoint> joints, DHConvention convention,
+           std::optional<ComplianceSpec> compliance = std::nullopt);
 
   std::string modelName() const override { return "serial-dh"; }
   int dimension() const override { return 3; }
@@ -51,6 +60,12 @@ class SerialDH final : public Mechanism {
   std::vector<Eigen::VectorXd> skeleton(const Eigen::VectorXd& p,
                                         const Eigen::VectorXd& q) const override;
 
+  const JointCompliance* jointCompliance() const override { return compliance_ ? this : nullptr; }
+  const std::vector<int>& complianceParameters() const override { return compliance_index_; }
+  const ComplianceSpec& complianceSpec() const override { return *compliance_; }
+  GravityGeometry gravityGeometry(const Eigen::VectorXd& p, const Eigen::VectorXd& q,
+                                  const Payload& payload) const override;
+
   DHConvention convention() const { return convention_; }
   bool hasBeta(int joint) const { return joints_[joint].has_beta; }
   /// Index in p of joint i's first parameter (theta); d, a, alpha[, beta] follow.
@@ -62,6 +77,8 @@ class SerialDH final : public Mechanism {
   DHConvention convention_;
   std::vector<int> offsets_;  ///< per joint, then the probe's
   std::vector<ParameterInfo> parameters_;
+  std::optional<ComplianceSpec> compliance_;
+  std::vector<int> compliance_index_;  ///< per joint, into p
 };
 
 }  // namespace artcal

@@ -14,6 +14,7 @@
 #include "artcal/artifact/rigid_transform.hpp"
 #include "artcal/core/enum_names.hpp"
 #include "artcal/core/units.hpp"
+#include "artcal/model/joint_compliance.hpp"
 #include "artcal/model/machine.hpp"
 
 namespace artcal {
@@ -52,7 +53,47 @@ struct Measurement {
   bool stationing = false;
   /// An instrument's reading only: false when the plan left `point` out (planning only).
   bool point_given = true;
+  /// The payload the machine carried (docs/compliance.md section 1: the reading's `"payload"`,
+  /// else its placement's; no mass: none). Only a machine with compliance reads it.
+  Payload payload = {};
+  /// Its torques as attachTorques computed them (docs/compliance.md section 2), with what they
+  /// were computed for: readingTorques takes them while the joints, the payload and the model
+  /// are still those, and computes afresh otherwise.
+  struct Torques {
+    Eigen::VectorXd tau, joints;
+    Payload payload;
+    const Mechanism* model = nullptr;
+  } torques = {};
 };
+
+/// Reading m's gravity torques, one per joint reading (N m or N; docs/compliance.md section 2):
+/// at its joints as read and its payload, with the machine's nominal geometry; empty when the
+/// machine has no compliance. Fixed numbers per reading: whatever p is being fitted.
+Eigen::VectorXd readingTorques(const Machine& machine, const Measurement& m);
+
+/// The forward kinematics of reading m through its stylus at parameters p: its joints deflected
+/// by the compliance under its torques (forwardLoaded, model/joint_compliance.hpp); the plain
+/// forward kinematics for a machine without compliance. Every evaluation of a reading goes
+/// through these.
+[[nodiscard]] ForwardStatus forwardReading(const Machine& machine, const Eigen::VectorXd& p,
+                                           const Measurement& m, Eigen::VectorXd& x,
+                                           Eigen::MatrixXd* J_x_p = nullptr,
+                                           Eigen::MatrixXd* J_x_q = nullptr);
+[[nodiscard]] ForwardStatus forwardReadingPose(const Machine& machine, const Eigen::VectorXd& p,
+                                               const Measurement& m, Eigen::VectorXd& x,
+                                               Eigen::Matrix3d& R, Eigen::MatrixXd* J_x_p = nullptr,
+                                               Eigen::MatrixXd* J_x_q = nullptr,
+                                               Eigen::MatrixXd* J_w_p = nullptr,
+                                               Eigen::MatrixXd* J_w_q = nullptr);
+/// forwardReading() for callers with no way to go on without x: a failure raises
+/// KinematicsError.
+void forwardReadingOrThrow(const Machine& machine, const Eigen::VectorXd& p, const Measurement& m,
+                           Eigen::VectorXd& x, Eigen::MatrixXd* J_x_p = nullptr,
+                           Eigen::MatrixXd* J_x_q = nullptr);
+void forwardReadingPoseOrThrow(const Machine& machine, const Eigen::VectorXd& p,
+                               const Measurement& m, Eigen::VectorXd& x, Eigen::Matrix3d& R,
+                               Eigen::MatrixXd* J_x_p = nullptr, Eigen::MatrixXd* J_x_q = nullptr,
+                               Eigen::MatrixXd* J_w_p = nullptr, Eigen::MatrixXd* J_w_q = nullptr);
 
 /// The coordinates reading `m` targets in the artifact frame: an instrument's measured point,
 /// otherwise the artifact's feature with the systematic errors c added.
@@ -101,6 +142,10 @@ struct Placement {
   std::string name = {};
   std::vector<PostureRequest> posture_requests = {};
 };
+
+/// Computes each reading's torques once and keeps them with it (Measurement::torques): the
+/// parsed plan's readings, a simulation's.
+void attachTorques(const Machine& machine, std::vector<Placement>& placements);
 
 /// The artifact-from-machine transform of a pose (placePlanar / placeSpatial, rigid_transform.hpp).
 RigidTransform poseTransform(int dimension, const Pose& pose);
@@ -209,11 +254,18 @@ struct WeakRuleChoice {
   }
 };
 
+/// A listed parameter whose sqrt(N_kk) is below this fraction of the largest is not observed.
+inline constexpr double kUnobservedInformation = 1e-9;
+
 struct CalibratedSetResolution {
   std::vector<int> listed;  ///< the candidates in preferred order, before the resolution
   std::vector<int> kept;
   std::vector<int> dropped;
   std::vector<std::vector<std::pair<int, double>>> ties;
+  /// Of `dropped`, those with no information at all: sqrt(N_kk) of the unreduced normal matrix
+  /// below kUnobservedInformation of the largest (a compliance whose torque is zero at every
+  /// reading, docs/compliance.md section 4): named "not observed".
+  std::vector<int> unobserved;
   /// Held at nominal by calibrate on measured readings (calibration/calibrate_readings.hpp):
   /// surviving fraction below 1e-6 at the nominal parameters or at the estimate.
   std::vector<int> weak;
