@@ -1,6 +1,6 @@
 #include "artcal/report/report.hpp"
-#include "artcal/report/cartesian_report.hpp"
 #include "artcal/model/joint_compliance.hpp"
+#include "artcal/report/cartesian_report.hpp"
 #include "artcal/report/location_errors.hpp"
 #include "artcal/report/text_format.hpp"
 
@@ -249,10 +249,14 @@ std::string termText(bool first, double coefficient, const std::string& name) {
 
 std::string tieText(const Plan& plan, const std::vector<std::pair<int, double>>& tie) {
   const auto& params = plan.machine.mechanism->parameters();
-  const CalibratedSetResolution& resolution = *plan.calibrate_resolution;
   const int first = tie.front().first;
   const bool compliance = isComplianceParameter(*plan.machine.mechanism, first);
-  if (std::count(resolution.unobserved.begin(), resolution.unobserved.end(), first)) {
+  // Not observed at all (docs/compliance.md section 4), where the plan's set was resolved; a
+  // design's set (calibrateFixText) names its ties alone.
+  const CalibratedSetResolution* resolution =
+      plan.calibrate_resolution ? &*plan.calibrate_resolution : nullptr;
+  if (resolution &&
+      std::count(resolution->unobserved.begin(), resolution->unobserved.end(), first)) {
     return compliance ? "not observed: its torque is zero at every reading (gravity along the "
                         "joint's axis, or the masses' centres on it; docs/compliance.md section 4)"
                       : "not observed: no information (sqrt(N_kk) below 1e-9 of the largest)";
